@@ -1,0 +1,88 @@
+#pragma once
+// Data shared by the onboard threads. Each field has one writer thread (named); readers take a
+// copy under the lock. Stage ordering in the scheduler makes the hand-over deterministic.
+#include <array>
+#include <deque>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "uav/control/estimate.hpp"
+#include "uav/control/mixer.hpp"
+#include "uav/control/task_manager.hpp"
+#include "uav/hal/vehicle_backend.hpp"
+
+namespace uav::app {
+
+struct StatusText {
+  int severity;  // status_text_t.SEVERITY_*
+  std::string text;
+};
+
+struct BlackboardData {
+  // IMU thread
+  hal::SensorSample sample;
+  control::VehicleEstimate estimate;
+  // CTL thread
+  control::ServoCommand servo;
+  bool armed = false;
+  bool airborne = false;
+  control::Task task = control::Task::kIdle;
+  // SVO thread
+  std::array<double, 4> rotor_inputs = {-1, -1, -1, -1};
+};
+
+class Blackboard {
+ public:
+  BlackboardData Snapshot() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return data_;
+  }
+  template <class F>
+  void Update(F&& f) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    f(data_);
+  }
+
+  // CMM -> CTL: validated commands.
+  void PushCommand(const control::CommandRequest& r) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    commands_.push_back(r);
+  }
+  std::vector<control::CommandRequest> TakeCommands() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<control::CommandRequest> out(commands_.begin(), commands_.end());
+    commands_.clear();
+    return out;
+  }
+  // CTL -> CMM: acknowledgements and status texts.
+  void PushReports(const std::vector<control::TaskReport>& r) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    reports_.insert(reports_.end(), r.begin(), r.end());
+  }
+  std::vector<control::TaskReport> TakeReports() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<control::TaskReport> out(reports_.begin(), reports_.end());
+    reports_.clear();
+    return out;
+  }
+  void PushStatus(int severity, std::string text) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.push_back({severity, std::move(text)});
+  }
+  std::vector<StatusText> TakeStatus() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<StatusText> out(status_.begin(), status_.end());
+    status_.clear();
+    return out;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  BlackboardData data_;
+  std::deque<control::CommandRequest> commands_;
+  std::deque<control::TaskReport> reports_;
+  std::deque<StatusText> status_;
+};
+
+}  // namespace uav::app

@@ -1,0 +1,31 @@
+#pragma once
+// DLG thread's CSV flight log (thesis 2.3.2): a header row, then one row per 20 ms with time and
+// the Table 2.3 signals under the thesis's names, readable by MATLAB, Excel and pandas.
+#include <cstdio>
+#include <string>
+
+#include "uav/app/blackboard.hpp"
+
+namespace uav::app {
+
+class FlightLog {
+ public:
+  // Creates DIR/flight_<utime>.csv (DIR is created if missing). Throws std::runtime_error
+  // naming the path when it cannot be written.
+  FlightLog(const std::string& dir, int64_t start_utime);
+  ~FlightLog();
+  FlightLog(const FlightLog&) = delete;
+  FlightLog& operator=(const FlightLog&) = delete;
+
+  static const char* Header();
+  void Write(int64_t utime, const BlackboardData& d);
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  std::FILE* file_ = nullptr;
+  int64_t start_utime_;
+  int rows_since_flush_ = 0;
+};
+
+}  // namespace uav::app

@@ -1,0 +1,26 @@
+#pragma once
+// CMM thread: the GCS link. Receives commands and GCS heartbeats, publishes telemetry (50 Hz),
+// heartbeat (1 Hz), acknowledgements and status texts. Messages stay here, at the edge.
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "uav/app/blackboard.hpp"
+#include "uav/app/command_intake.hpp"
+#include "uav/shared/bus.hpp"
+
+namespace uav::app {
+
+class LinkWorker {
+ public:
+  LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, Blackboard& board);
+  ~LinkWorker();
+  // Called at the telemetry rate (50 Hz).
+  void Tick(int64_t utime);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace uav::app

@@ -1,0 +1,68 @@
+#pragma once
+// The thread bodies of thesis Table 2.1. Each is a thin shell: read the blackboard, call the
+// algorithm class, write the blackboard. The scheduler owns the threads.
+#include <memory>
+#include <string>
+
+#include "uav/app/blackboard.hpp"
+#include "uav/app/flight_log.hpp"
+#include "uav/control/position_attitude_controller.hpp"
+#include "uav/control/task_manager.hpp"
+#include "uav/hal/vehicle_backend.hpp"
+
+namespace uav::app {
+
+// IMU: reads the INS and the RC receiver, publishes the estimate.
+class ImuWorker {
+ public:
+  ImuWorker(hal::VehicleBackend& backend, Blackboard& board) : backend_(backend), board_(board) {}
+  void Tick(int64_t utime);
+
+ private:
+  hal::VehicleBackend& backend_;
+  Blackboard& board_;
+};
+
+// CTL: task manager and position/attitude controller.
+class ControlWorker {
+ public:
+  ControlWorker(const control::TaskParams& task_params,
+                const control::ControllerParams& controller_params, double period_s,
+                Blackboard& board);
+  void Tick(int64_t utime);
+
+ private:
+  control::TaskManager tasks_;
+  control::PositionAttitudeController controller_;
+  double period_s_;
+  Blackboard& board_;
+  control::Task last_task_ = control::Task::kIdle;
+  bool last_armed_ = false;
+};
+
+// SVO: servo channels through the mixer to the rotors.
+class ServoWorker {
+ public:
+  ServoWorker(hal::VehicleBackend& backend, Blackboard& board, double rotor_input_idle)
+      : backend_(backend), board_(board), rotor_input_idle_(rotor_input_idle) {}
+  void Tick(int64_t utime);
+
+ private:
+  hal::VehicleBackend& backend_;
+  Blackboard& board_;
+  double rotor_input_idle_;
+};
+
+// DLG: CSV flight log (only when a log directory was given).
+class LogWorker {
+ public:
+  LogWorker(std::unique_ptr<FlightLog> log, Blackboard& board)
+      : log_(std::move(log)), board_(board) {}
+  void Tick(int64_t utime);
+
+ private:
+  std::unique_ptr<FlightLog> log_;
+  Blackboard& board_;
+};
+
+}  // namespace uav::app

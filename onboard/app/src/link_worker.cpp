@@ -1,0 +1,126 @@
+#include "uav/app/link_worker.hpp"
+
+#include <map>
+
+#include "uav/shared/channels.hpp"
+#include "uavmsg/command_ack_t.hpp"
+#include "uavmsg/command_t.hpp"
+#include "uavmsg/heartbeat_t.hpp"
+#include "uavmsg/status_text_t.hpp"
+#include "uavmsg/vehicle_state_t.hpp"
+
+namespace uav::app {
+
+struct LinkWorker::Impl {
+  Impl(const std::string& id, const std::string& url, Blackboard& b)
+      : vehicle_id(id), bus(url), board(b), intake(id) {}
+
+  uavmsg::header_t NextHeader(Topic t) { return {vehicle_id, ++seq[t]}; }
+  void SendReport(int64_t utime, const control::TaskReport& r) {
+    intake.Remember(r);
+    uavmsg::command_ack_t ack;
+    ack.utime = utime;
+    ack.header = NextHeader(Topic::kCommandAck);
+    ack.source = r.source;
+    ack.command_seq = r.seq;
+    ack.command = r.command;
+    ack.result = static_cast<int8_t>(r.result);
+    ack.progress_percent = static_cast<int8_t>(r.percent);
+    ack.reason = r.reason;
+    bus.Publish(Channel(vehicle_id, Topic::kCommandAck), ack);
+  }
+
+  std::string vehicle_id;
+  Bus bus;
+  Blackboard& board;
+  CommandIntake intake;
+  std::map<Topic, int64_t> seq;
+  std::map<std::string, int64_t> gcs_last_seen;  // GCS name -> vehicle utime of last heartbeat
+  int64_t start_utime = -1;
+  int64_t now = 0;
+  int64_t last_heartbeat = -1;
+};
+
+LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, Blackboard& board)
+    : impl_(std::make_unique<Impl>(vehicle_id, lcm_url, board)) {
+  Impl* im = impl_.get();
+  im->bus.Subscribe<uavmsg::command_t>(
+      Channel(vehicle_id, Topic::kCommand), [im](const std::string&, const uavmsg::command_t& m) {
+        auto r = im->intake.Receive(m.header.vehicle_id, m.source, m.command_seq, m.text);
+        for (const auto& rep : r.replies) im->SendReport(im->now, rep);
+        if (r.request) im->board.PushCommand(*r.request);
+      });
+  im->bus.Subscribe<uavmsg::heartbeat_t>(
+      Channel(vehicle_id, Topic::kGcsHeartbeat),
+      [im](const std::string&, const uavmsg::heartbeat_t& m) {
+        if (m.source_kind != uavmsg::heartbeat_t::SOURCE_GCS) return;
+        if (!im->gcs_last_seen.count(m.source_name))
+          im->board.PushStatus(6, "GCS link up: " + m.source_name);
+        im->gcs_last_seen[m.source_name] = im->now;
+      });
+}
+
+LinkWorker::~LinkWorker() = default;
+
+void LinkWorker::Tick(int64_t utime) {
+  Impl& im = *impl_;
+  im.now = utime;
+  if (im.start_utime < 0) im.start_utime = utime;
+  im.bus.Handle(0);  // commands and GCS heartbeats received since the last tick
+
+  for (const auto& r : im.board.TakeReports()) im.SendReport(utime, r);
+  for (const auto& s : im.board.TakeStatus()) {
+    uavmsg::status_text_t st;
+    st.utime = utime;
+    st.header = im.NextHeader(Topic::kStatusText);
+    st.severity = static_cast<int8_t>(s.severity);
+    st.text = s.text;
+    im.bus.Publish(Channel(im.vehicle_id, Topic::kStatusText), st);
+  }
+
+  const BlackboardData d = im.board.Snapshot();
+  const auto& e = d.estimate;
+  uavmsg::vehicle_state_t m;
+  m.utime = e.utime ? e.utime : utime;
+  m.header = im.NextHeader(Topic::kState);
+  m.x = e.p_N.x(); m.y = e.p_N.y(); m.z = e.p_N.z();
+  const Eigen::Vector3d v_B = e.q_NB.conjugate() * e.v_N;
+  m.u = v_B.x(); m.v = v_B.y(); m.w = v_B.z();
+  m.phi = e.euler.phi; m.theta = e.euler.theta; m.psi = e.euler.psi;
+  m.p = e.w_B.x(); m.q = e.w_B.y(); m.r = e.w_B.z();
+  m.acx = e.f_B.x(); m.acy = e.f_B.y(); m.acz = e.f_B.z();
+  m.gps_latitude_deg = d.sample.gps.latitude_deg;
+  m.gps_longitude_deg = d.sample.gps.longitude_deg;
+  m.gps_altitude_m = d.sample.gps.altitude_m;
+  m.gps_fix = static_cast<int8_t>(d.sample.gps_fix);
+  m.gps_satellites = static_cast<int8_t>(d.sample.gps_satellites);
+  for (int i = 0; i < 4; ++i) m.rotor_input[i] = static_cast<float>(d.rotor_inputs[i]);
+  m.servo_input[0] = static_cast<float>(d.servo.aileron);
+  m.servo_input[1] = static_cast<float>(d.servo.elevator);
+  m.servo_input[2] = static_cast<float>(d.servo.throttle);
+  m.servo_input[3] = static_cast<float>(d.servo.rudder);
+  m.flight_mode = d.sample.rc_manual ? uavmsg::vehicle_state_t::MODE_MANUAL
+                                     : uavmsg::vehicle_state_t::MODE_AUTO;
+  m.task = static_cast<int8_t>(d.task);
+  m.armed = d.armed;
+  m.landed = !d.airborne;
+  m.battery_voltage_v = static_cast<float>(d.sample.battery_voltage_v);
+  m.battery_remaining = static_cast<float>(d.sample.battery_remaining);
+  im.bus.Publish(Channel(im.vehicle_id, Topic::kState), m);
+
+  if (im.last_heartbeat < 0 || utime - im.last_heartbeat >= 1000000) {
+    im.last_heartbeat = utime;
+    uavmsg::heartbeat_t hb;
+    hb.utime = utime;
+    hb.header = im.NextHeader(Topic::kHeartbeat);
+    hb.source_kind = uavmsg::heartbeat_t::SOURCE_VEHICLE;
+    hb.source_name = im.vehicle_id;
+    hb.uptime_us = utime - im.start_utime;
+    hb.armed = d.armed;
+    hb.flight_mode = m.flight_mode;
+    hb.task = m.task;
+    im.bus.Publish(Channel(im.vehicle_id, Topic::kHeartbeat), hb);
+  }
+}
+
+}  // namespace uav::app

@@ -1,0 +1,123 @@
+// uav-onboard: the flight stack's five threads (thesis Table 2.1) against a vehicle backend.
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+
+#include "uav/app/link_worker.hpp"
+#include "uav/app/lockstep_scheduler.hpp"
+#include "uav/app/workers.hpp"
+#include "uav/shared/channels.hpp"
+#include "uav/shared/parameters.hpp"
+#include "uav/shared/time.hpp"
+#include "uav/sim/sim_vehicle.hpp"
+
+namespace {
+
+uav::GeodeticPoint ParseHome(const std::string& text) {
+  uav::GeodeticPoint g;
+  char c1 = 0, c2 = 0;
+  std::istringstream in(text);
+  if (!(in >> g.latitude_deg >> c1 >> g.longitude_deg >> c2 >> g.altitude_m) || c1 != ',' ||
+      c2 != ',' || !in.eof())
+    throw std::invalid_argument("--home must be LAT,LON,ALT (degrees, degrees, metres), got '" +
+                                text + "'");
+  uav::ValidateGeodetic(g);
+  return g;
+}
+
+double ParseSpeed(const std::string& text) {
+  if (text == "max") return 0.0;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0' || !(v >= 0.1 && v <= 1000.0))
+    throw std::invalid_argument("--speed must be 'max' or a factor in [0.1, 1000], got '" + text + "'");
+  return v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{"uav-onboard: onboard flight stack (threads IMU, CTL, SVO, DLG, CMM)"};
+  bool sim = false;
+  std::string vehicle_id = "UAV1";
+  std::string lcm_url = uav::kDefaultLcmUrl;
+  std::string speed_text = "1";
+  std::string log_dir;
+  std::string home_text = "1.2966,103.7764,15";  // NUS, Singapore: where the thesis flew
+  std::string params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
+  double duration_s = 0.0;
+  cli.add_flag("--sim", sim, "run against the simulated quadrotor (thesis 2.4 model)");
+  cli.add_option("--vehicle-id", vehicle_id, "vehicle id; channels are <ID>/<TOPIC>")->capture_default_str();
+  cli.add_option("--lcm-url", lcm_url, "LCM URL")->capture_default_str();
+  cli.add_option("--speed", speed_text, "simulated seconds per wall second, or 'max'")->capture_default_str();
+  cli.add_option("--log-dir", log_dir, "write the CSV flight log into this directory");
+  cli.add_option("--home", home_text, "home position LAT,LON,ALT (deg, deg, m WGS84)")->capture_default_str();
+  cli.add_option("--params", params_path, "vehicle parameter file")->capture_default_str();
+  cli.add_option("--duration", duration_s, "stop after this many simulated seconds (0: run until signalled)")
+      ->check(CLI::Range(0.0, 1e7));
+  CLI11_PARSE(cli, argc, argv);
+
+  try {
+    if (!sim) throw std::invalid_argument("no hardware backend in this build: use --sim");
+    if (!uav::IsValidVehicleId(vehicle_id))
+      throw std::invalid_argument("--vehicle-id must be 1-32 characters of [A-Za-z0-9_-], got '" +
+                                  vehicle_id + "'");
+    const double speed = ParseSpeed(speed_text);
+    const uav::GeodeticPoint home = ParseHome(home_text);
+    const uav::ParameterSet params = uav::ParameterSet::LoadFile(params_path);
+
+    // Block termination signals in every thread; a dedicated thread waits for them.
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGINT);
+    sigaddset(&signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+    const int64_t start = uav::WallTimeMicros();
+    constexpr int64_t kStepUs = 2000;      // physics at 500 Hz
+    constexpr int64_t kPeriodUs = 20000;   // threads at 50 Hz (thesis 2.3.2)
+    uav::sim::SimVehicle vehicle(params, home, start);
+    uav::app::Blackboard board;
+    uav::app::ImuWorker imu(vehicle, board);
+    uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
+                                uav::control::ControllerParams::FromParameters(params),
+                                kPeriodUs * 1e-6, board);
+    uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"));
+    std::unique_ptr<uav::app::FlightLog> log;
+    if (!log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(log_dir, start);
+    const std::string log_path = log ? log->path() : "";
+    uav::app::LogWorker dlg(std::move(log), board);
+    uav::app::LinkWorker cmm(vehicle_id, lcm_url, board);
+
+    uav::app::LockstepScheduler scheduler(
+        {start, kStepUs, speed, static_cast<int64_t>(duration_s * 1e6)});
+    scheduler.AddWorker("IMU", 0, kPeriodUs, [&](int64_t t) { imu.Tick(t); });
+    scheduler.AddWorker("CTL", 1, kPeriodUs, [&](int64_t t) { ctl.Tick(t); });
+    scheduler.AddWorker("SVO", 2, kPeriodUs, [&](int64_t t) { svo.Tick(t); });
+    scheduler.AddWorker("DLG", 3, kPeriodUs, [&](int64_t t) { dlg.Tick(t); });
+    scheduler.AddWorker("CMM", 3, kPeriodUs, [&](int64_t t) { cmm.Tick(t); });
+
+    std::thread signal_waiter([&] {
+      int sig = 0;
+      sigwait(&signals, &sig);
+      scheduler.Stop();
+    });
+    signal_waiter.detach();
+
+    std::printf("uav-onboard: vehicle %s, simulated quadrotor, speed %s, LCM %s%s%s\n",
+                vehicle_id.c_str(), speed_text.c_str(), lcm_url.c_str(),
+                log_path.empty() ? "" : ", log ", log_path.c_str());
+    std::fflush(stdout);
+    scheduler.Run([&](int64_t dt) { vehicle.Step(dt); });
+    std::printf("uav-onboard: stopped after %.1f s simulated\n", (scheduler.now() - start) * 1e-6);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "uav-onboard: %s\n", e.what());
+    return 2;
+  }
+}

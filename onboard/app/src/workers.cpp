@@ -1,0 +1,73 @@
+#include "uav/app/workers.hpp"
+
+#include <cstdio>
+
+#include "uav/control/mixer.hpp"
+
+namespace uav::app {
+
+void ImuWorker::Tick(int64_t utime) {
+  const hal::SensorSample s = backend_.ReadSensors();
+  control::VehicleEstimate e;
+  e.utime = s.utime;
+  e.p_N = s.p_N;
+  e.v_N = s.v_N;
+  e.q_NB = s.q_NB;
+  e.euler = EulerFromRotationNB(s.q_NB.toRotationMatrix());
+  e.w_B = s.w_B;
+  e.f_B = s.f_B;
+  board_.Update([&](BlackboardData& d) {
+    d.sample = s;
+    d.estimate = e;
+  });
+}
+
+ControlWorker::ControlWorker(const control::TaskParams& task_params,
+                             const control::ControllerParams& controller_params, double period_s,
+                             Blackboard& board)
+    : tasks_(task_params), controller_(controller_params), period_s_(period_s), board_(board) {}
+
+void ControlWorker::Tick(int64_t utime) {
+  const BlackboardData d = board_.Snapshot();
+  const double t = utime * 1e-6;
+  std::vector<control::TaskReport> reports;
+  for (const auto& req : board_.TakeCommands()) tasks_.Submit(req, d.estimate, t, &reports);
+  const control::TaskManager::Output out = tasks_.Update(d.estimate, t, &reports);
+  if (out.reset_controller) controller_.Reset();
+  control::ServoCommand servo;  // throttle -1: rotors off
+  if (out.airborne) servo = controller_.Update(d.estimate, out.setpoint, period_s_);
+  board_.Update([&](BlackboardData& b) {
+    b.servo = servo;
+    b.armed = out.armed;
+    b.airborne = out.airborne;
+    b.task = out.task;
+  });
+  board_.PushReports(reports);
+  // Operator-facing events.
+  if (out.armed != last_armed_)
+    board_.PushStatus(6, out.armed ? "armed" : "disarmed");
+  if (out.task != last_task_) {
+    char buf[160];
+    const Eigen::Vector3d& p = out.setpoint.p_N;
+    std::snprintf(buf, sizeof buf, "task %s (target N %.1f E %.1f alt %.1f m)",
+                  control::TaskName(out.task), p.x(), p.y(), -p.z());
+    board_.PushStatus(6, buf);
+  }
+  last_armed_ = out.armed;
+  last_task_ = out.task;
+}
+
+void ServoWorker::Tick(int64_t utime) {
+  const BlackboardData d = board_.Snapshot();
+  std::array<double, 4> rotors = {-1.0, -1.0, -1.0, -1.0};  // disarmed: stopped
+  if (d.armed && d.airborne) rotors = control::MixToRotors(d.servo);
+  else if (d.armed) rotors.fill(rotor_input_idle_);        // armed on the ground: idle, no lift
+  backend_.WriteRotors(rotors);
+  board_.Update([&](BlackboardData& b) { b.rotor_inputs = rotors; });
+}
+
+void LogWorker::Tick(int64_t utime) {
+  if (log_) log_->Write(utime, board_.Snapshot());
+}
+
+}  // namespace uav::app

@@ -1,0 +1,24 @@
+#pragma once
+// What the flight stack knows about its own state: the IMU thread's output (thesis 2.3.2).
+// Control reads this, never the simulator's truth.
+#include <cstdint>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "uav/shared/frames.hpp"
+
+namespace uav::control {
+
+struct VehicleEstimate {
+  int64_t utime = 0;
+  Eigen::Vector3d p_N = Eigen::Vector3d::Zero();  // [m] NED from home
+  Eigen::Vector3d v_N = Eigen::Vector3d::Zero();  // [m/s]
+  Eigen::Quaterniond q_NB = Eigen::Quaterniond::Identity();
+  EulerAngles euler;                              // of q_NB, z-y-x (Eq. 5.51)
+  Eigen::Vector3d w_B = Eigen::Vector3d::Zero();  // [rad/s]
+  Eigen::Vector3d f_B = Eigen::Vector3d::Zero();  // [m/s^2] specific force
+  double altitude() const { return -p_N.z(); }    // [m] above home
+};
+
+}  // namespace uav::control

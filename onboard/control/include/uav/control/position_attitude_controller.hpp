@@ -1,0 +1,47 @@
+#pragma once
+// Cascaded position / velocity / attitude controller (thesis 2.3.2 hierarchical control:
+// outer loop position and velocity, inner loop attitude). Plain class, fed plain data.
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "uav/control/estimate.hpp"
+#include "uav/control/mixer.hpp"
+#include "uav/shared/parameters.hpp"
+
+namespace uav::control {
+
+struct ControllerParams {
+  double mass, gravity, arm_length, thrust_gain, induced_torque_coeff, rotor_speed_gain,
+      rotor_input_zero_thrust;
+  Eigen::Vector3d inertia;
+  double pos_gain_xy, pos_gain_z, vel_gain_xy, vel_int_xy, vel_gain_z, vel_int_z, vel_int_limit;
+  double speed_max_xy, speed_max_up, speed_max_down, accel_max_xy, tilt_max;
+  double att_gain, rate_gain, yaw_gain, yaw_rate_gain;
+  static ControllerParams FromParameters(const ParameterSet& p);
+};
+
+struct Setpoint {
+  Eigen::Vector3d p_N = Eigen::Vector3d::Zero();  // [m] position to hold
+  double yaw = 0.0;                               // [rad]
+  // When set, the vertical position loop is replaced by this descent rate [m/s, down positive].
+  std::optional<double> descent_rate;
+};
+
+class PositionAttitudeController {
+ public:
+  explicit PositionAttitudeController(const ControllerParams& params);
+  // One control step of length dt [s]. Returns the servo channels for the mixer.
+  ServoCommand Update(const VehicleEstimate& est, const Setpoint& sp, double dt);
+  // Clears the integrators (on the ground, before a takeoff).
+  void Reset();
+
+  const ControllerParams& params() const { return p_; }
+
+ private:
+  ControllerParams p_;
+  Eigen::Vector2d int_xy_ = Eigen::Vector2d::Zero();
+  double int_z_ = 0.0;
+};
+
+}  // namespace uav::control

@@ -1,0 +1,89 @@
+#pragma once
+// Flight task manager (thesis 2.3.2): takes validated commands, checks that they make sense in
+// the current state, reloads the references when the task changes, and reports progress.
+// Plain class on the simulated clock: no threads, no messages.
+#include <string>
+#include <vector>
+
+#include "uav/control/estimate.hpp"
+#include "uav/control/position_attitude_controller.hpp"
+#include "uav/shared/command_grammar.hpp"
+#include "uav/shared/parameters.hpp"
+
+namespace uav::control {
+
+// Values match vehicle_state_t.TASK_*.
+enum class Task { kIdle = 0, kTakeoff = 1, kHover = 2, kGoto = 3, kLand = 4 };
+const char* TaskName(Task t);
+
+// Values match command_ack_t.RESULT_*.
+enum class AckResult { kAccepted = 0, kRejected = 1, kInProgress = 2, kCompleted = 3, kFailed = 4 };
+const char* AckResultName(AckResult r);
+
+struct CommandRequest {
+  std::string source;  // GCS instance
+  int64_t seq = 0;     // command_seq
+  Command command;
+};
+
+struct TaskReport {
+  std::string source;
+  int64_t seq = 0;
+  std::string command;
+  AckResult result = AckResult::kAccepted;
+  int percent = 0;
+  std::string reason;
+};
+
+struct TaskParams {
+  double reached_radius, reached_speed, land_speed, land_slow_alt, landed_alt, landed_time;
+  double speed_max_xy, speed_max_up;
+  static TaskParams FromParameters(const ParameterSet& p);
+};
+
+class TaskManager {
+ public:
+  explicit TaskManager(const TaskParams& params);
+
+  // Handles one command; appends its ACCEPTED/REJECTED (and, for instant ones, COMPLETED)
+  // reports to `reports`. A rejected command changes nothing.
+  void Submit(const CommandRequest& req, const VehicleEstimate& est, double t,
+              std::vector<TaskReport>* reports);
+
+  struct Output {
+    bool armed = false;
+    bool airborne = false;       // false: rotors at idle (armed) or stopped (disarmed)
+    bool reset_controller = false;
+    Task task = Task::kIdle;
+    Setpoint setpoint;
+  };
+  // One step at the control rate: advances the active task, appends progress reports.
+  Output Update(const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
+
+  Task task() const { return task_; }
+  bool armed() const { return armed_; }
+
+ private:
+  void Finish(AckResult result, const std::string& reason, std::vector<TaskReport>* reports);
+  void Begin(Task task, const CommandRequest& req, const VehicleEstimate& est, double t,
+             std::vector<TaskReport>* reports);
+  double Progress(const VehicleEstimate& est) const;
+
+  TaskParams p_;
+  bool armed_ = false;
+  bool airborne_ = false;
+  bool reset_pending_ = false;
+  Task task_ = Task::kIdle;
+  Setpoint setpoint_;
+  // The command that owns the current long task, for its progress and completion reports.
+  bool active_report_ = false;
+  CommandRequest active_;
+  Eigen::Vector3d start_p_N_ = Eigen::Vector3d::Zero();
+  double start_t_ = 0.0;
+  double deadline_ = 0.0;
+  double last_progress_t_ = -1e9;
+  int last_percent_ = -1;
+  double still_since_ = -1.0;
+};
+
+}  // namespace uav::control

@@ -1,0 +1,106 @@
+#include "uav/control/position_attitude_controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace uav::control {
+namespace {
+
+Eigen::Vector2d ClampNorm(const Eigen::Vector2d& v, double max) {
+  const double n = v.norm();
+  return n > max ? Eigen::Vector2d(v * (max / n)) : v;
+}
+
+}  // namespace
+
+ControllerParams ControllerParams::FromParameters(const ParameterSet& p) {
+  ControllerParams c;
+  c.mass = p.Get("mass");
+  c.gravity = p.Get("gravity");
+  c.arm_length = p.Get("arm_length");
+  c.thrust_gain = p.Get("thrust_gain");
+  c.induced_torque_coeff = p.Get("induced_torque_coeff");
+  c.rotor_speed_gain = p.Get("rotor_speed_gain");
+  c.rotor_input_zero_thrust = p.Get("rotor_input_zero_thrust");
+  c.inertia = {p.Get("inertia_xx"), p.Get("inertia_yy"), p.Get("inertia_zz")};
+  c.pos_gain_xy = p.Get("ctl_pos_gain_xy");
+  c.pos_gain_z = p.Get("ctl_pos_gain_z");
+  c.vel_gain_xy = p.Get("ctl_vel_gain_xy");
+  c.vel_int_xy = p.Get("ctl_vel_int_xy");
+  c.vel_gain_z = p.Get("ctl_vel_gain_z");
+  c.vel_int_z = p.Get("ctl_vel_int_z");
+  c.vel_int_limit = p.Get("ctl_vel_int_limit");
+  c.speed_max_xy = p.Get("ctl_speed_max_xy");
+  c.speed_max_up = p.Get("ctl_speed_max_up");
+  c.speed_max_down = p.Get("ctl_speed_max_down");
+  c.accel_max_xy = p.Get("ctl_accel_max_xy");
+  c.tilt_max = p.Get("ctl_tilt_max");
+  c.att_gain = p.Get("ctl_att_gain");
+  c.rate_gain = p.Get("ctl_rate_gain");
+  c.yaw_gain = p.Get("ctl_yaw_gain");
+  c.yaw_rate_gain = p.Get("ctl_yaw_rate_gain");
+  return c;
+}
+
+PositionAttitudeController::PositionAttitudeController(const ControllerParams& params) : p_(params) {}
+
+void PositionAttitudeController::Reset() {
+  int_xy_.setZero();
+  int_z_ = 0.0;
+}
+
+ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, const Setpoint& sp,
+                                                double dt) {
+  // ---- Outer loop: position -> velocity setpoint (saturated: the vehicle flies at bounded speed).
+  const Eigen::Vector3d e_p = sp.p_N - est.p_N;
+  Eigen::Vector3d v_sp;
+  v_sp.head<2>() = ClampNorm(p_.pos_gain_xy * e_p.head<2>(), p_.speed_max_xy);
+  v_sp.z() = sp.descent_rate ? *sp.descent_rate : p_.pos_gain_z * e_p.z();
+  v_sp.z() = std::clamp(v_sp.z(), -p_.speed_max_up, p_.speed_max_down);
+
+  // ---- Velocity -> acceleration setpoint, PI with clamped integrators (anti-windup).
+  const Eigen::Vector3d e_v = v_sp - est.v_N;
+  int_xy_ = ClampNorm(int_xy_ + p_.vel_int_xy * e_v.head<2>() * dt, p_.vel_int_limit);
+  int_z_ = std::clamp(int_z_ + p_.vel_int_z * e_v.z() * dt, -p_.vel_int_limit, p_.vel_int_limit);
+  Eigen::Vector3d a_sp;
+  a_sp.head<2>() = ClampNorm(p_.vel_gain_xy * e_v.head<2>() + int_xy_, p_.accel_max_xy);
+  // Never ask for a downward acceleration beyond 0.7 g: the rotors cannot push down.
+  a_sp.z() = std::clamp(p_.vel_gain_z * e_v.z() + int_z_, -p_.gravity, 0.7 * p_.gravity);
+
+  // ---- Thrust vector: desired specific force f = a - g e_z (N is NED).
+  const Eigen::Vector3d f_N = a_sp - Eigen::Vector3d(0, 0, p_.gravity);
+  const double psi = est.euler.psi;
+  const double c = std::cos(psi), s = std::sin(psi);
+  const Eigen::Vector3d f_H(c * f_N.x() + s * f_N.y(), -s * f_N.x() + c * f_N.y(), f_N.z());
+  // Body z axis must point along -f: in the yaw-aligned frame z_B = (c_phi s_theta, -s_phi,
+  // c_phi c_theta) (Eq. 5.51), so:
+  const double fn = f_H.norm();
+  double phi_sp = std::asin(std::clamp(f_H.y() / fn, -1.0, 1.0));
+  double theta_sp = std::atan2(-f_H.x(), -f_H.z());
+  phi_sp = std::clamp(phi_sp, -p_.tilt_max, p_.tilt_max);
+  theta_sp = std::clamp(theta_sp, -p_.tilt_max, p_.tilt_max);
+  // Collective thrust: the component of the wanted force along the current thrust axis.
+  const Eigen::Vector3d z_B = est.q_NB * Eigen::Vector3d::UnitZ();
+  const double thrust = std::max(0.0, -p_.mass * f_N.dot(z_B));
+
+  // ---- Inner loop: attitude PD to angular acceleration, then torque (Eq. 2.1 rotational part).
+  const Eigen::Vector3d alpha(
+      p_.att_gain * (phi_sp - est.euler.phi) - p_.rate_gain * est.w_B.x(),
+      p_.att_gain * (theta_sp - est.euler.theta) - p_.rate_gain * est.w_B.y(),
+      p_.yaw_gain * WrapAngle(sp.yaw - psi) - p_.yaw_rate_gain * est.w_B.z());
+  const Eigen::Vector3d tau =
+      p_.inertia.cwiseProduct(alpha) + est.w_B.cross(p_.inertia.cwiseProduct(est.w_B));
+
+  // ---- To servo channels (inverse of the mixer's torque gains, see mixer.hpp).
+  const double k_rp = 4.0 * p_.thrust_gain * std::sqrt(2.0) / 2.0 * p_.arm_length;
+  const double k_yaw = 4.0 * p_.induced_torque_coeff * p_.rotor_speed_gain;
+  ServoCommand out;
+  out.aileron = std::clamp(tau.x() / k_rp, -0.5, 0.5);
+  out.elevator = std::clamp(tau.y() / k_rp, -0.5, 0.5);
+  out.rudder = std::clamp(tau.z() / k_yaw, -0.3, 0.3);
+  out.throttle =
+      std::clamp(p_.rotor_input_zero_thrust + thrust / (4.0 * p_.thrust_gain), -1.0, 1.0);
+  return out;
+}
+
+}  // namespace uav::control

@@ -1,0 +1,184 @@
+#include "uav/control/task_manager.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace uav::control {
+
+const char* TaskName(Task t) {
+  switch (t) {
+    case Task::kIdle: return "idle";
+    case Task::kTakeoff: return "takeoff";
+    case Task::kHover: return "hover";
+    case Task::kGoto: return "goto";
+    case Task::kLand: return "land";
+  }
+  return "unknown";
+}
+
+const char* AckResultName(AckResult r) {
+  switch (r) {
+    case AckResult::kAccepted: return "accepted";
+    case AckResult::kRejected: return "rejected";
+    case AckResult::kInProgress: return "in_progress";
+    case AckResult::kCompleted: return "completed";
+    case AckResult::kFailed: return "failed";
+  }
+  return "unknown";
+}
+
+TaskParams TaskParams::FromParameters(const ParameterSet& p) {
+  return {p.Get("task_reached_radius"), p.Get("task_reached_speed"), p.Get("task_land_speed"),
+          p.Get("task_land_slow_alt"),  p.Get("task_landed_alt"),    p.Get("task_landed_time"),
+          p.Get("ctl_speed_max_xy"),    p.Get("ctl_speed_max_up")};
+}
+
+TaskManager::TaskManager(const TaskParams& params) : p_(params) {}
+
+void TaskManager::Finish(AckResult result, const std::string& reason,
+                         std::vector<TaskReport>* reports) {
+  if (!active_report_) return;
+  reports->push_back({active_.source, active_.seq, active_.command.Name(), result,
+                      result == AckResult::kCompleted ? 100 : last_percent_, reason});
+  active_report_ = false;
+}
+
+void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstimate& est, double t,
+                        std::vector<TaskReport>* reports) {
+  Finish(AckResult::kFailed, std::string("superseded by ") + req.command.Name(), reports);
+  task_ = task;
+  active_ = req;
+  active_report_ = true;
+  start_p_N_ = est.p_N;
+  start_t_ = t;
+  last_percent_ = 0;
+  last_progress_t_ = t;
+  still_since_ = -1.0;
+  // Deadline: three times the time the move needs at the speed limits, plus margin.
+  const double dist_xy = (setpoint_.p_N - est.p_N).head<2>().norm();
+  const double dist_z = std::abs(setpoint_.p_N.z() - est.p_N.z());
+  const double need = dist_xy / p_.speed_max_xy + dist_z / std::min(p_.speed_max_up, p_.land_speed);
+  deadline_ = t + 3.0 * need + 30.0;
+  reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kAccepted, 0, ""});
+}
+
+void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, double t,
+                         std::vector<TaskReport>* reports) {
+  auto reject = [&](const std::string& why) {
+    reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kRejected, 0, why});
+  };
+  auto instant = [&]() {
+    reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kAccepted, 0, ""});
+    reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kCompleted, 100, ""});
+  };
+  const Command& c = req.command;
+  switch (c.id) {
+    case CommandId::kArm:
+      if (armed_) return reject("already armed");
+      armed_ = true;
+      reset_pending_ = true;
+      return instant();
+    case CommandId::kDisarm:
+      if (!armed_) return reject("already disarmed");
+      if (airborne_) return reject("vehicle is flying: land first");
+      armed_ = false;
+      return instant();
+    case CommandId::kTakeoff: {
+      if (!armed_) return reject("not armed: arm first");
+      if (airborne_ && task_ != Task::kLand)
+        return reject("already flying: use goto to change altitude");
+      setpoint_.p_N = Eigen::Vector3d(est.p_N.x(), est.p_N.y(), -c.args[0]);
+      setpoint_.yaw = est.euler.psi;
+      setpoint_.descent_rate.reset();
+      if (!airborne_) reset_pending_ = true;
+      airborne_ = true;
+      return Begin(Task::kTakeoff, req, est, t, reports);
+    }
+    case CommandId::kHover:
+      if (!airborne_) return reject("not flying");
+      Finish(AckResult::kFailed, "superseded by hover", reports);
+      // Thesis 2.3.2: the current position becomes the reference.
+      setpoint_.p_N = est.p_N;
+      setpoint_.yaw = est.euler.psi;
+      setpoint_.descent_rate.reset();
+      task_ = Task::kHover;
+      return instant();
+    case CommandId::kLand:
+      if (!airborne_) return reject("not flying");
+      setpoint_.p_N = Eigen::Vector3d(est.p_N.x(), est.p_N.y(), 0.0);
+      setpoint_.yaw = est.euler.psi;
+      setpoint_.descent_rate = p_.land_speed;
+      return Begin(Task::kLand, req, est, t, reports);
+    case CommandId::kGoto:
+      if (!airborne_) return reject("not flying: take off first");
+      setpoint_.p_N = Eigen::Vector3d(c.args[0], c.args[1], -c.args[2]);
+      setpoint_.descent_rate.reset();
+      return Begin(Task::kGoto, req, est, t, reports);
+  }
+}
+
+double TaskManager::Progress(const VehicleEstimate& est) const {
+  if (task_ == Task::kLand) {
+    const double start_alt = std::max(-start_p_N_.z(), 1e-3);
+    return std::clamp(1.0 - est.altitude() / start_alt, 0.0, 1.0);
+  }
+  const double total = (setpoint_.p_N - start_p_N_).norm();
+  if (total < 1e-6) return 1.0;
+  return std::clamp(1.0 - (setpoint_.p_N - est.p_N).norm() / total, 0.0, 1.0);
+}
+
+TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
+                                        std::vector<TaskReport>* reports) {
+  if (task_ == Task::kLand && setpoint_.descent_rate) {
+    // Slow down for the touchdown.
+    setpoint_.descent_rate =
+        est.altitude() < p_.land_slow_alt ? p_.land_speed / 3.0 : p_.land_speed;
+  }
+  const bool long_task = task_ == Task::kTakeoff || task_ == Task::kGoto || task_ == Task::kLand;
+  if (long_task) {
+    const int percent = static_cast<int>(std::floor(100.0 * Progress(est) + 1e-9));
+    if (t - last_progress_t_ >= 0.5 && percent != last_percent_ && percent < 100) {
+      last_percent_ = percent;
+      last_progress_t_ = t;
+      reports->push_back({active_.source, active_.seq, active_.command.Name(),
+                          AckResult::kInProgress, percent, ""});
+    }
+    if (task_ == Task::kLand) {
+      const bool still = est.altitude() < p_.landed_alt && std::abs(est.v_N.z()) < 0.2;
+      if (!still) still_since_ = -1.0;
+      else if (still_since_ < 0.0) still_since_ = t;
+      if (still_since_ >= 0.0 && t - still_since_ >= p_.landed_time) {
+        // Touchdown: stop the rotors (PX4 auto-disarm) and report.
+        airborne_ = false;
+        armed_ = false;
+        task_ = Task::kIdle;
+        setpoint_.descent_rate.reset();
+        Finish(AckResult::kCompleted, "", reports);
+      }
+    } else {
+      const bool reached = (setpoint_.p_N - est.p_N).norm() < p_.reached_radius &&
+                           est.v_N.norm() < p_.reached_speed;
+      if (reached) {
+        task_ = Task::kHover;  // hold the reached target
+        Finish(AckResult::kCompleted, "", reports);
+      }
+    }
+    if (long_task && active_report_ && t > deadline_) {
+      // Give up safely: hold where we are and say so.
+      setpoint_.p_N = est.p_N;
+      setpoint_.descent_rate.reset();
+      task_ = Task::kHover;
+      Finish(AckResult::kFailed, "target not reached in time; holding position", reports);
+    }
+  }
+  Output o;
+  o.armed = armed_;
+  o.airborne = airborne_;
+  o.task = task_;
+  o.setpoint = setpoint_;
+  o.reset_controller = reset_pending_ || !airborne_;
+  reset_pending_ = false;
+  return o;
+}
+
+}  // namespace uav::control

@@ -1,0 +1,72 @@
+#pragma once
+// The message bus: a small interface over LCM so that the algorithms never see it and tests can
+// run on "memq://" (in-process) as well as UDP multicast.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+namespace uav {
+
+class Bus {
+ public:
+  // Throws std::runtime_error naming the URL when LCM cannot start on it.
+  explicit Bus(const std::string& url);
+  ~Bus();
+  Bus(const Bus&) = delete;
+  Bus& operator=(const Bus&) = delete;
+
+  const std::string& url() const { return url_; }
+
+  template <class Msg>
+  void Publish(const std::string& channel, const Msg& msg) {
+    lcm_.publish(channel, &msg);
+  }
+
+  // Calls `on_message(channel, msg)` for each message on channels matching the regex `pattern`.
+  // A message that does not decode as Msg is dropped and counted (DecodeErrors()).
+  template <class Msg>
+  void Subscribe(const std::string& pattern,
+                 std::function<void(const std::string& channel, const Msg&)> on_message) {
+    auto handler = std::make_unique<TypedHandler<Msg>>(std::move(on_message), &decode_errors_);
+    lcm_.subscribe(pattern, &HandlerBase::Handle, static_cast<HandlerBase*>(handler.get()));
+    handlers_.push_back(std::move(handler));
+  }
+
+  // Dispatches messages that arrive within `timeout_ms` (0: only those already queued).
+  // Returns the number of messages handled.
+  int Handle(int timeout_ms);
+
+  int64_t DecodeErrors() const { return decode_errors_; }
+
+ private:
+  struct HandlerBase {
+    virtual ~HandlerBase() = default;
+    virtual void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& channel) = 0;
+  };
+  template <class Msg>
+  struct TypedHandler : HandlerBase {
+    TypedHandler(std::function<void(const std::string&, const Msg&)> f, int64_t* errors)
+        : fn(std::move(f)), decode_errors(errors) {}
+    void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& channel) override {
+      Msg msg;
+      if (msg.decode(rbuf->data, 0, rbuf->data_size) < 0) {
+        ++*decode_errors;
+        return;
+      }
+      fn(channel, msg);
+    }
+    std::function<void(const std::string&, const Msg&)> fn;
+    int64_t* decode_errors;
+  };
+
+  std::string url_;
+  lcm::LCM lcm_;
+  std::vector<std::unique_ptr<HandlerBase>> handlers_;
+  int64_t decode_errors_ = 0;
+};
+
+}  // namespace uav

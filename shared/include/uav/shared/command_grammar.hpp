@@ -1,0 +1,56 @@
+#pragma once
+// The command language of the task manager (thesis 2.3.2: "hover", "track 3"): a name and
+// positional numeric arguments. One grammar, used by the GCS command bar to validate while the
+// operator types and by the vehicle to validate where commands enter.
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace uav {
+
+enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto };
+
+struct ArgumentSpec {
+  const char* name;   // e.g. "alt_m"
+  double min;         // inclusive
+  double max;         // inclusive
+  const char* why;    // why the limit is where it is
+};
+
+struct CommandSpec {
+  CommandId id;
+  const char* name;
+  const char* help;
+  std::vector<ArgumentSpec> args;
+};
+
+// Longest command line accepted, in characters.
+constexpr std::size_t kMaxCommandLength = 256;
+
+const std::vector<CommandSpec>& CommandSpecs();
+const CommandSpec& SpecOf(CommandId id);
+
+struct Command {
+  CommandId id;
+  std::vector<double> args;  // validated: finite, within the spec's limits
+  std::string Name() const;
+  std::string Text() const;  // canonical text, parses back to the same command
+};
+
+struct ParseResult {
+  std::optional<Command> command;
+  std::string error;  // names what was wrong when command is empty
+  bool ok() const { return command.has_value(); }
+};
+
+// Parses and validates one command line. Never throws.
+ParseResult ParseCommand(std::string_view line);
+
+// Names of commands that start with the first word of `partial` (for completion).
+std::vector<std::string> CompleteCommandName(std::string_view partial);
+
+// "takeoff <alt_m 1..120>" style hint for the command named by the first word, or "" if none.
+std::string ArgumentHint(std::string_view line);
+
+}  // namespace uav

@@ -1,0 +1,30 @@
+#include "uav/shared/channels.hpp"
+
+#include <cctype>
+
+namespace uav {
+
+const char* TopicName(Topic t) {
+  switch (t) {
+    case Topic::kHeartbeat: return "HEARTBEAT";
+    case Topic::kGcsHeartbeat: return "GCS_HEARTBEAT";
+    case Topic::kState: return "STATE";
+    case Topic::kCommand: return "COMMAND";
+    case Topic::kCommandAck: return "COMMAND_ACK";
+    case Topic::kStatusText: return "STATUS_TEXT";
+  }
+  return "UNKNOWN";
+}
+
+std::string Channel(std::string_view vehicle_id, Topic t) {
+  return std::string(vehicle_id) + "/" + TopicName(t);
+}
+
+bool IsValidVehicleId(std::string_view id) {
+  if (id.empty() || id.size() > 32) return false;
+  for (char c : id)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') return false;
+  return true;
+}
+
+}  // namespace uav

@@ -1,0 +1,156 @@
+#include "uav/shared/command_grammar.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace uav {
+namespace {
+
+std::vector<std::string> SplitWords(std::string_view s) {
+  std::vector<std::string> words;
+  std::string cur;
+  for (char c : s) {
+    if (std::isspace(static_cast<unsigned char>(c))) {
+      if (!cur.empty()) words.push_back(std::move(cur)), cur.clear();
+    } else {
+      cur.push_back(c);
+    }
+  }
+  if (!cur.empty()) words.push_back(std::move(cur));
+  return words;
+}
+
+std::string Lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string FormatNumber(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+const CommandSpec* FindSpec(const std::string& name) {
+  for (const auto& s : CommandSpecs())
+    if (name == s.name) return &s;
+  return nullptr;
+}
+
+}  // namespace
+
+const std::vector<CommandSpec>& CommandSpecs() {
+  // Altitudes are above home, positive up. 120 m is the usual legal ceiling for small UAVs
+  // (EU open category, FAA part 107); 1 m keeps the rotors out of ground effect.
+  static const std::vector<CommandSpec> kSpecs = {
+      {CommandId::kArm, "arm", "enable the rotors (on the ground)", {}},
+      {CommandId::kDisarm, "disarm", "stop the rotors (on the ground only)", {}},
+      {CommandId::kTakeoff, "takeoff", "climb vertically to alt_m above home",
+       {{"alt_m", 1.0, 120.0, "1 m clears ground effect, 120 m is the legal ceiling"}}},
+      {CommandId::kHover, "hover", "hold the current position", {}},
+      {CommandId::kLand, "land", "descend vertically and disarm on touchdown", {}},
+      {CommandId::kGoto, "goto", "fly to north_m east_m from home at alt_m above home",
+       {{"north_m", -1000.0, 1000.0, "stays within the 1 km radio range"},
+        {"east_m", -1000.0, 1000.0, "stays within the 1 km radio range"},
+        {"alt_m", 1.0, 120.0, "1 m clears ground effect, 120 m is the legal ceiling"}}},
+  };
+  return kSpecs;
+}
+
+const CommandSpec& SpecOf(CommandId id) {
+  for (const auto& s : CommandSpecs())
+    if (s.id == id) return s;
+  return CommandSpecs().front();  // unreachable: every id has a spec
+}
+
+std::string Command::Name() const { return SpecOf(id).name; }
+
+std::string Command::Text() const {
+  std::string t = Name();
+  for (double a : args) t += " " + FormatNumber(a);
+  return t;
+}
+
+ParseResult ParseCommand(std::string_view line) {
+  ParseResult r;
+  if (line.size() > kMaxCommandLength) {
+    r.error = "command is " + std::to_string(line.size()) + " characters long, the limit is " +
+              std::to_string(kMaxCommandLength);
+    return r;
+  }
+  for (char c : line) {
+    if (static_cast<unsigned char>(c) < 0x20 && !std::isspace(static_cast<unsigned char>(c))) {
+      r.error = "command contains a control character";
+      return r;
+    }
+  }
+  const auto words = SplitWords(line);
+  if (words.empty()) {
+    r.error = "empty command";
+    return r;
+  }
+  const std::string name = Lower(words[0]);
+  const CommandSpec* spec = FindSpec(name);
+  if (!spec) {
+    r.error = "unknown command '" + words[0] + "'";
+    return r;
+  }
+  const std::size_t given = words.size() - 1;
+  if (given < spec->args.size()) {
+    r.error = name + ": missing argument " + spec->args[given].name + " (" + ArgumentHint(name) + ")";
+    return r;
+  }
+  if (given > spec->args.size()) {
+    r.error = name + ": unexpected extra argument '" + words[spec->args.size() + 1] + "' (" +
+              ArgumentHint(name) + ")";
+    return r;
+  }
+  Command cmd{spec->id, {}};
+  for (std::size_t i = 0; i < spec->args.size(); ++i) {
+    const ArgumentSpec& a = spec->args[i];
+    const std::string& w = words[i + 1];
+    char* end = nullptr;
+    const double v = std::strtod(w.c_str(), &end);
+    if (end == w.c_str() || *end != '\0') {
+      r.error = name + ": argument " + a.name + " is not a number: '" + w + "'";
+      return r;
+    }
+    if (!std::isfinite(v)) {
+      r.error = name + ": argument " + a.name + " is not a finite number: '" + w + "'";
+      return r;
+    }
+    if (v < a.min || v > a.max) {
+      r.error = name + ": argument " + a.name + " = " + w + " is outside [" + FormatNumber(a.min) +
+                ", " + FormatNumber(a.max) + "]: " + a.why;
+      return r;
+    }
+    cmd.args.push_back(v);
+  }
+  r.command = std::move(cmd);
+  return r;
+}
+
+std::vector<std::string> CompleteCommandName(std::string_view partial) {
+  const auto words = SplitWords(partial);
+  const std::string prefix = words.empty() ? std::string() : Lower(words[0]);
+  std::vector<std::string> out;
+  for (const auto& s : CommandSpecs())
+    if (std::string_view(s.name).substr(0, prefix.size()) == prefix) out.emplace_back(s.name);
+  return out;
+}
+
+std::string ArgumentHint(std::string_view line) {
+  const auto words = SplitWords(line);
+  if (words.empty()) return "";
+  const CommandSpec* spec = FindSpec(Lower(words[0]));
+  if (!spec) return "";
+  std::string h = spec->name;
+  for (const auto& a : spec->args)
+    h += std::string(" <") + a.name + " " + FormatNumber(a.min) + ".." + FormatNumber(a.max) + ">";
+  return h;
+}
+
+}  // namespace uav

@@ -1,0 +1,44 @@
+#include "uav/shared/frames.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace uav {
+
+Eigen::Matrix3d RotationNBFromEuler(const EulerAngles& e) {
+  const double cf = std::cos(e.phi), sf = std::sin(e.phi);
+  const double ct = std::cos(e.theta), st = std::sin(e.theta);
+  const double cp = std::cos(e.psi), sp = std::sin(e.psi);
+  Eigen::Matrix3d R;
+  // Thesis Eq. 2.2 (with the (1,3) entry corrected), equal to Rz(psi) Ry(theta) Rx(phi), Eq. 5.51.
+  R << ct * cp, cp * st * sf - sp * cf, cp * st * cf + sp * sf,
+       sp * ct, sp * st * sf + cp * cf, sp * st * cf - cp * sf,
+       -st,     ct * sf,                ct * cf;
+  return R;
+}
+
+EulerAngles EulerFromRotationNB(const Eigen::Matrix3d& R) {
+  EulerAngles e;
+  e.theta = -std::asin(std::clamp(R(2, 0), -1.0, 1.0));
+  e.phi = std::atan2(R(2, 1), R(2, 2));
+  e.psi = std::atan2(R(1, 0), R(0, 0));
+  return e;
+}
+
+Eigen::Matrix3d EulerRateFromBodyRate(double phi, double theta) {
+  const double cf = std::cos(phi), sf = std::sin(phi);
+  const double ct = std::cos(theta), tt = std::tan(theta);
+  Eigen::Matrix3d G;
+  // Thesis Eq. 2.3.
+  G << 1.0, sf * tt, cf * tt,
+       0.0, cf, -sf,
+       0.0, sf / ct, cf / ct;
+  return G;
+}
+
+double WrapAngle(double a) {
+  a = std::remainder(a, 2.0 * M_PI);  // in [-pi, pi]
+  return a <= -M_PI ? a + 2.0 * M_PI : a;
+}
+
+}  // namespace uav

@@ -1,0 +1,95 @@
+#include <gtest/gtest.h>
+
+#include "uav/shared/command_grammar.hpp"
+
+namespace uav {
+namespace {
+
+TEST(CommandGrammar, ParsesEveryCommand) {
+  EXPECT_EQ(ParseCommand("arm").command->id, CommandId::kArm);
+  EXPECT_EQ(ParseCommand("disarm").command->id, CommandId::kDisarm);
+  EXPECT_EQ(ParseCommand("hover").command->id, CommandId::kHover);
+  EXPECT_EQ(ParseCommand("land").command->id, CommandId::kLand);
+  auto t = ParseCommand("  takeoff   10 ");
+  ASSERT_TRUE(t.ok()) << t.error;
+  EXPECT_EQ(t.command->args, std::vector<double>{10.0});
+  auto g = ParseCommand("goto 20 10 15");
+  ASSERT_TRUE(g.ok());
+  EXPECT_EQ(g.command->args, (std::vector<double>{20, 10, 15}));
+  EXPECT_EQ(ParseCommand("HOVER").command->id, CommandId::kHover);
+}
+
+TEST(CommandGrammar, TextRoundTrips) {
+  for (const char* s : {"arm", "takeoff 12.5", "goto -3 4.25 30", "land"}) {
+    const auto c = ParseCommand(s);
+    ASSERT_TRUE(c.ok());
+    const auto again = ParseCommand(c.command->Text());
+    ASSERT_TRUE(again.ok());
+    EXPECT_EQ(again.command->id, c.command->id);
+    EXPECT_EQ(again.command->args, c.command->args);
+  }
+}
+
+struct BadCase {
+  const char* text;
+  const char* error_contains;
+};
+class CommandGrammarRejects : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(CommandGrammarRejects, WithAMessageNamingTheProblem) {
+  const auto r = ParseCommand(GetParam().text);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.error.find(GetParam().error_contains), std::string::npos)
+      << "error was: " << r.error;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, CommandGrammarRejects,
+    ::testing::Values(BadCase{"", "empty"}, BadCase{"   ", "empty"},
+                      BadCase{"fly", "unknown command 'fly'"},
+                      BadCase{"takeoff", "missing argument alt_m"},
+                      BadCase{"takeoff 10 20", "unexpected extra argument '20'"},
+                      BadCase{"hover now", "unexpected extra argument 'now'"},
+                      BadCase{"goto 1 2", "missing argument alt_m"},
+                      BadCase{"takeoff ten", "not a number: 'ten'"},
+                      BadCase{"takeoff 10m", "not a number: '10m'"},
+                      BadCase{"takeoff nan", "not a finite number"},
+                      BadCase{"takeoff NaN", "not a finite number"},
+                      BadCase{"takeoff inf", "not a finite number"},
+                      BadCase{"goto 1 -inf 5", "east_m is not a finite number"},
+                      BadCase{"takeoff 0.999", "alt_m = 0.999 is outside [1, 120]"},
+                      BadCase{"takeoff 120.001", "outside [1, 120]"},
+                      BadCase{"takeoff -5", "outside"},
+                      BadCase{"goto 1000.5 0 10", "north_m = 1000.5 is outside [-1000, 1000]"},
+                      BadCase{"goto 0 -1000.5 10", "east_m"},
+                      BadCase{"goto 0 0 0.5", "alt_m"},
+                      BadCase{"goto 0 0 121", "alt_m"},
+                      BadCase{"arm\x01", "control character"}));
+
+TEST(CommandGrammar, AcceptsBothSidesOfEveryLimitInclusive) {
+  EXPECT_TRUE(ParseCommand("takeoff 1").ok());
+  EXPECT_TRUE(ParseCommand("takeoff 120").ok());
+  EXPECT_TRUE(ParseCommand("goto -1000 1000 1").ok());
+  EXPECT_TRUE(ParseCommand("goto 1000 -1000 120").ok());
+  EXPECT_TRUE(ParseCommand("goto 1e2 -2.5e1 1.5e1").ok());
+}
+
+TEST(CommandGrammar, RejectsOverlongLine) {
+  EXPECT_TRUE(ParseCommand(std::string(kMaxCommandLength - 5, ' ') + "arm").ok());
+  const auto r = ParseCommand("arm" + std::string(kMaxCommandLength, ' '));
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("limit is 256"), std::string::npos);
+}
+
+TEST(CommandGrammar, CompletionAndHints) {
+  EXPECT_EQ(CompleteCommandName("t"), std::vector<std::string>{"takeoff"});
+  EXPECT_EQ(CompleteCommandName("").size(), CommandSpecs().size());
+  EXPECT_EQ(CompleteCommandName("d"), std::vector<std::string>{"disarm"});
+  EXPECT_TRUE(CompleteCommandName("x").empty());
+  EXPECT_EQ(ArgumentHint("goto 1"), "goto <north_m -1000..1000> <east_m -1000..1000> <alt_m 1..120>");
+  EXPECT_EQ(ArgumentHint("hover"), "hover");
+  EXPECT_EQ(ArgumentHint("nope"), "");
+}
+
+}  // namespace
+}  // namespace uav

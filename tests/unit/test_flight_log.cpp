@@ -1,0 +1,49 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "uav/app/flight_log.hpp"
+
+namespace uav::app {
+namespace {
+
+TEST(FlightLog, HeaderNamesTable23SignalsAndRowsMatchIt) {
+  const auto dir = std::filesystem::temp_directory_path() / "uav_flight_log_test";
+  std::filesystem::remove_all(dir);
+  std::string path;
+  {
+    FlightLog log(dir.string(), 1000000);
+    path = log.path();
+    BlackboardData d;
+    d.estimate.p_N = {1, 2, -3};
+    d.rotor_inputs = {0.1, 0.2, 0.3, 0.4};
+    for (int i = 0; i < 5; ++i) log.Write(1000000 + i * 20000, d);
+  }
+  std::ifstream in(path);
+  std::string header, row, last;
+  std::getline(in, header);
+  EXPECT_EQ(header.rfind("t,x,y,z,u,v,w,phi,theta,psi,p,q,r,acx,acy,acz,M1,M2,M3,M4,Ua,Ue,Uth,Ur", 0), 0u);
+  int rows = 0;
+  const auto columns = std::count(header.begin(), header.end(), ',');
+  while (std::getline(in, row)) {
+    ++rows;
+    EXPECT_EQ(std::count(row.begin(), row.end(), ','), columns);
+    last = row;
+  }
+  EXPECT_EQ(rows, 5);
+  EXPECT_EQ(last.rfind("0.080,1.0000,2.0000,-3.0000", 0), 0u);
+}
+
+TEST(FlightLog, UnwritableDirectoryNamesThePath) {
+  try {
+    FlightLog log("/proc/definitely/not/here", 1);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/proc/definitely/not/here"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace uav::app

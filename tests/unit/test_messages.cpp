@@ -1,0 +1,126 @@
+// LCM message round trips: encode/decode, and through the Bus on the in-process memq:// URL.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "uav/shared/bus.hpp"
+#include "uav/shared/channels.hpp"
+#include "uavmsg/command_ack_t.hpp"
+#include "uavmsg/command_t.hpp"
+#include "uavmsg/heartbeat_t.hpp"
+#include "uavmsg/status_text_t.hpp"
+#include "uavmsg/vehicle_state_t.hpp"
+
+namespace uav {
+namespace {
+
+template <class Msg>
+Msg RoundTrip(const Msg& in) {
+  std::vector<uint8_t> buf(in.getEncodedSize());
+  EXPECT_EQ(in.encode(buf.data(), 0, static_cast<int>(buf.size())), static_cast<int>(buf.size()));
+  Msg out;
+  EXPECT_EQ(out.decode(buf.data(), 0, static_cast<int>(buf.size())), static_cast<int>(buf.size()));
+  return out;
+}
+
+TEST(Messages, VehicleStateRoundTripKeepsEveryField) {
+  uavmsg::vehicle_state_t m{};
+  m.utime = 1700000000123456;
+  m.header = {"UAV1", 42};
+  m.x = 1.5; m.y = -2.5; m.z = -10.25;
+  m.u = 0.1; m.v = 0.2; m.w = 0.3;
+  m.phi = 0.01; m.theta = -0.02; m.psi = 3.1;
+  m.p = 0.4; m.q = 0.5; m.r = 0.6;
+  m.acx = 0.7; m.acy = 0.8; m.acz = -9.81;
+  m.gps_latitude_deg = 1.2966; m.gps_longitude_deg = 103.7764; m.gps_altitude_m = 25.0;
+  m.gps_fix = 3; m.gps_satellites = 11;
+  for (int i = 0; i < 4; ++i) m.rotor_input[i] = 0.1f * i, m.servo_input[i] = -0.1f * i;
+  m.flight_mode = uavmsg::vehicle_state_t::MODE_AUTO;
+  m.task = uavmsg::vehicle_state_t::TASK_GOTO;
+  m.armed = true; m.landed = false;
+  m.battery_voltage_v = 11.9f; m.battery_remaining = 0.75f;
+  const auto o = RoundTrip(m);
+  EXPECT_EQ(o.utime, m.utime);
+  EXPECT_EQ(o.header.vehicle_id, "UAV1");
+  EXPECT_EQ(o.header.seq, 42);
+  EXPECT_EQ(o.z, -10.25);
+  EXPECT_EQ(o.psi, 3.1);
+  EXPECT_EQ(o.acz, -9.81);
+  EXPECT_EQ(o.gps_longitude_deg, 103.7764);
+  EXPECT_EQ(o.rotor_input[3], 0.3f);
+  EXPECT_EQ(o.servo_input[2], -0.2f);
+  EXPECT_EQ(o.task, +uavmsg::vehicle_state_t::TASK_GOTO);
+  EXPECT_TRUE(o.armed);
+  EXPECT_EQ(o.battery_remaining, 0.75f);
+}
+
+TEST(Messages, CommandAckAndHeartbeatRoundTrip) {
+  uavmsg::command_ack_t a{};
+  a.utime = 5; a.header = {"UAV2", 7}; a.source = "gcs-a"; a.command_seq = 99;
+  a.command = "goto"; a.result = uavmsg::command_ack_t::RESULT_IN_PROGRESS;
+  a.progress_percent = 55; a.reason = "";
+  const auto ao = RoundTrip(a);
+  EXPECT_EQ(ao.command_seq, 99);
+  EXPECT_EQ(ao.result, +uavmsg::command_ack_t::RESULT_IN_PROGRESS);
+  EXPECT_EQ(ao.progress_percent, 55);
+
+  uavmsg::heartbeat_t h{};
+  h.utime = 9; h.header = {"UAV1", 1}; h.source_kind = uavmsg::heartbeat_t::SOURCE_GCS;
+  h.source_name = "gcs-a"; h.uptime_us = 123;
+  const auto ho = RoundTrip(h);
+  EXPECT_EQ(ho.source_kind, +uavmsg::heartbeat_t::SOURCE_GCS);
+  EXPECT_EQ(ho.source_name, "gcs-a");
+}
+
+TEST(Messages, TruncatedBufferIsRejected) {
+  uavmsg::command_t c{};
+  c.utime = 1; c.header = {"UAV1", 1}; c.source = "gcs"; c.command_seq = 1; c.text = "takeoff 10";
+  std::vector<uint8_t> buf(c.getEncodedSize());
+  c.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  uavmsg::command_t out;
+  EXPECT_LT(out.decode(buf.data(), 0, static_cast<int>(buf.size()) - 3), 0);
+  buf[0] ^= 0xFF;  // corrupt the type fingerprint
+  EXPECT_LT(out.decode(buf.data(), 0, static_cast<int>(buf.size())), 0);
+}
+
+TEST(Bus, MemqDeliversByChannelPatternAndCountsBadMessages) {
+  Bus bus("memq://");
+  std::vector<std::string> got;
+  bus.Subscribe<uavmsg::status_text_t>(".*/STATUS_TEXT",
+                                       [&](const std::string& ch, const uavmsg::status_text_t& m) {
+                                         got.push_back(ch + ":" + m.text);
+                                       });
+  uavmsg::status_text_t s{};
+  s.header = {"UAV1", 1}; s.text = "hello";
+  bus.Publish(Channel("UAV1", Topic::kStatusText), s);
+  s.header = {"UAV2", 1}; s.text = "world";
+  bus.Publish(Channel("UAV2", Topic::kStatusText), s);
+  uavmsg::heartbeat_t wrong_type{};
+  wrong_type.header = {"UAV3", 1};
+  bus.Publish(Channel("UAV3", Topic::kStatusText), wrong_type);
+  bus.Handle(0);
+  EXPECT_EQ(got, (std::vector<std::string>{"UAV1/STATUS_TEXT:hello", "UAV2/STATUS_TEXT:world"}));
+  EXPECT_EQ(bus.DecodeErrors(), 1);
+}
+
+TEST(Bus, BadUrlThrowsNamingIt) {
+  try {
+    Bus bus("nonsense://x");
+    FAIL() << "expected an exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("nonsense://x"), std::string::npos);
+  }
+}
+
+TEST(Channels, NamesAndIds) {
+  EXPECT_EQ(Channel("UAV1", Topic::kState), "UAV1/STATE");
+  EXPECT_EQ(Channel("X", Topic::kGcsHeartbeat), "X/GCS_HEARTBEAT");
+  EXPECT_TRUE(IsValidVehicleId("UAV_1-b"));
+  EXPECT_FALSE(IsValidVehicleId(""));
+  EXPECT_FALSE(IsValidVehicleId("UAV/1"));
+  EXPECT_FALSE(IsValidVehicleId(std::string(33, 'a')));
+  EXPECT_TRUE(IsValidVehicleId(std::string(32, 'a')));
+}
+
+}  // namespace
+}  // namespace uav
