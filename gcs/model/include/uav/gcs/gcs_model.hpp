@@ -1,0 +1,137 @@
+#pragma once
+// Everything the operator sees and does, as plain data and actions. Panels read it and call its
+// actions; the link feeds it messages as plain structs. No ImGui, no LCM in here.
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "uav/gcs/signal_series.hpp"
+
+namespace uav::gcs {
+
+// One telemetry message flattened to named signals (group = message name, e.g. "STATE").
+struct TelemetrySample {
+  std::string vehicle_id;
+  std::string group;
+  int64_t seq = 0;
+  double t = 0.0;  // [s] vehicle clock
+  std::vector<std::pair<std::string, double>> values;
+};
+
+struct AckInfo {
+  int64_t command_seq = 0;
+  std::string command;
+  std::string result;   // accepted, rejected, in_progress, completed, failed
+  int percent = 0;
+  std::string reason;
+};
+
+struct SentCommand {
+  int64_t command_seq = 0;
+  std::string vehicle_id;
+  std::string text;
+  double first_sent = 0.0;  // [s] GCS monotonic clock
+  double last_sent = 0.0;
+  int tries = 0;
+  bool acknowledged = false;
+  bool gave_up = false;
+  std::optional<AckInfo> last_ack;
+};
+
+struct LogLine {
+  double t;  // GCS clock
+  std::string vehicle_id;
+  std::string text;
+  int severity;  // 3 error, 4 warning, 6 info
+};
+
+struct VehicleModel {
+  std::string id;
+  // Link quality, measured on the GCS's monotonic clock.
+  double last_heartbeat = -1.0;
+  double last_message = -1.0;
+  int64_t messages_total = 0;
+  int64_t sequence_gaps = 0;                 // messages missed, from header.seq jumps
+  std::map<std::string, int64_t> last_seq;   // per group
+  std::deque<double> recent_receipts;        // receive times within the last second
+  // Latest values and histories, by "GROUP.signal".
+  std::map<std::string, double> latest;
+  std::map<std::string, SignalSeries> history;
+  double first_t = -1.0;                     // vehicle time of the first sample (plot origin)
+  std::string task = "unknown";
+  bool armed = false;
+
+  double HeartbeatAge(double now) const { return last_heartbeat < 0 ? 1e9 : now - last_heartbeat; }
+  double MessageRate(double now) const;
+  bool LinkUp(double now) const { return HeartbeatAge(now) < 3.0; }
+};
+
+// An outgoing message the link must send (commands; heartbeats are the link's own business).
+struct OutgoingCommand {
+  std::string vehicle_id;
+  int64_t command_seq;
+  std::string text;
+};
+
+class GcsModel {
+ public:
+  // Commands are identified by (gcs_name, command_seq) on the vehicle, so a restarted GCS must
+  // not reuse numbers: start from something that grows across runs (wall-clock microseconds).
+  GcsModel(std::string gcs_name, int64_t first_command_seq)
+      : gcs_name_(std::move(gcs_name)), next_seq_(first_command_seq) {}
+
+  // ---- Inputs from the link (time `now` is the GCS monotonic clock in seconds).
+  void OnHeartbeat(const std::string& vehicle_id, int64_t seq, int task, bool armed, double now);
+  void OnTelemetry(const TelemetrySample& s, double now);
+  void OnAck(const std::string& vehicle_id, const std::string& source, const AckInfo& ack, double now);
+  void OnStatusText(const std::string& vehicle_id, int severity, const std::string& text, double now);
+
+  // ---- Operator actions.
+  // Validates with the shared grammar; on success queues the command for the selected vehicle.
+  // Returns false and sets command_error() when the text is invalid or no vehicle is selected.
+  bool SubmitCommand(const std::string& text, double now);
+  void SelectVehicle(const std::string& id);
+  void TogglePlotSignal(const std::string& key);  // "GROUP.signal"
+  void SetPlotWindow(double seconds);
+
+  // ---- Periodic: resends unacknowledged commands, gives up after kMaxTries.
+  void Tick(double now);
+  std::vector<OutgoingCommand> TakeOutgoing();
+
+  // ---- Views.
+  const std::string& gcs_name() const { return gcs_name_; }
+  const std::map<std::string, VehicleModel>& vehicles() const { return vehicles_; }
+  const VehicleModel* selected() const;
+  const std::string& selected_id() const { return selected_; }
+  const std::set<std::string>& plot_signals() const { return plot_signals_; }
+  double plot_window() const { return plot_window_; }
+  const std::string& command_error() const { return command_error_; }
+  const std::vector<std::string>& command_history() const { return history_; }
+  const std::deque<SentCommand>& sent_commands() const { return sent_; }
+  const std::deque<LogLine>& log() const { return log_; }
+
+  static constexpr double kResendTimeout = 1.0;  // [s] without any acknowledgement
+  static constexpr int kMaxTries = 5;
+
+ private:
+  VehicleModel& Vehicle(const std::string& id);
+  void Log(double now, const std::string& vehicle, const std::string& text, int severity);
+
+  std::string gcs_name_;
+  std::map<std::string, VehicleModel> vehicles_;
+  std::string selected_;
+  std::set<std::string> plot_signals_;
+  double plot_window_ = 60.0;
+  std::string command_error_;
+  std::vector<std::string> history_;
+  std::deque<SentCommand> sent_;
+  std::vector<OutgoingCommand> outgoing_;
+  std::deque<LogLine> log_;
+  int64_t next_seq_;
+};
+
+}  // namespace uav::gcs

@@ -1,0 +1,83 @@
+#pragma once
+// Operator scripts for the headless GCS (and the window, for end-to-end tests). One step a line:
+//   type TEXT                 type TEXT into the command bar and press Enter
+//   click LABEL               click the widget registered under LABEL (buttons, list entries)
+//   tick SIGNAL               tick a signal into the plot (click "tick:STATE.SIGNAL")
+//   select VEHICLE            pick the vehicle the panels show (click "vehicle:ID")
+//   wait SECONDS              let time pass
+//   wait_until COND [timeout SECONDS]   (default timeout 30 s)
+//   assert COND
+//   screenshot FILE           window mode only
+//   echo TEXT
+// COND is "LHS OP RHS" clauses joined by "and"; OP is == != < <= > >= contains, or
+// "~ VALUE TOL" (|LHS - VALUE| <= TOL). LHS is a signal of the selected vehicle ("alt",
+// "STATE.x", "HEARTBEAT...") or one of: ack ack.reason ack.command ack.percent tries error task
+// armed vehicles selected plots link sent gave_up log.
+// '#' starts a comment.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "uav/gcs/gcs_model.hpp"
+
+namespace uav::gcs {
+
+struct ScriptStep {
+  int line = 0;
+  std::string verb;
+  std::vector<std::string> args;
+  std::string text;  // the line as written, without the comment
+};
+
+struct Script {
+  std::string name;
+  std::vector<ScriptStep> steps;
+  // Throws std::runtime_error "NAME:LINE: ..." for an unknown verb, a missing or bad argument,
+  // or a malformed condition.
+  static Script Parse(const std::string& text, const std::string& name);
+  static Script LoadFile(const std::string& path);
+};
+
+struct ConditionResult {
+  bool holds = false;
+  std::string observed;  // "alt = 9.93 and ack = completed"
+  std::string error;     // set when a name is unknown
+};
+ConditionResult EvaluateCondition(const std::vector<std::string>& tokens, const GcsModel& model,
+                                  double now);
+
+// What a script needs from the user interface: real input delivered to the panels.
+class ScriptDriver {
+ public:
+  virtual ~ScriptDriver() = default;
+  virtual bool StartType(const std::string& text, std::string* error) = 0;
+  virtual bool StartClick(const std::string& label, std::string* error) = 0;
+  virtual bool InputPending() const = 0;
+  // 1: saved; 0: pending (call again next frame); -1: failed, *error says why.
+  virtual int Screenshot(const std::string& path, std::string* error) = 0;
+};
+
+class ScriptRunner {
+ public:
+  ScriptRunner(Script script, std::FILE* out) : script_(std::move(script)), out_(out) {}
+  // Advances the script; call once per frame. Returns false when it has finished or failed.
+  bool Update(GcsModel& model, ScriptDriver& driver, double now);
+  bool failed() const { return failed_; }
+  bool finished() const { return index_ >= script_.steps.size() || failed_; }
+  int passed() const { return passed_; }
+
+ private:
+  void Pass(const ScriptStep& s, double now, const std::string& detail);
+  void Fail(const ScriptStep& s, double now, const std::string& why);
+
+  Script script_;
+  std::FILE* out_;
+  std::size_t index_ = 0;
+  bool step_started_ = false;
+  double step_start_ = 0.0;
+  double script_start_ = -1.0;
+  bool failed_ = false;
+  int passed_ = 0;
+};
+
+}  // namespace uav::gcs

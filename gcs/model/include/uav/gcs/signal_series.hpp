@@ -1,0 +1,33 @@
+#pragma once
+// History of one telemetry signal: a ring buffer of (time, value) that keeps the newest
+// `capacity` samples (default 30 minutes at 50 Hz).
+#include <cstddef>
+#include <vector>
+
+namespace uav::gcs {
+
+class SignalSeries {
+ public:
+  static constexpr std::size_t kDefaultCapacity = 30 * 60 * 50;
+  explicit SignalSeries(std::size_t capacity = kDefaultCapacity) : capacity_(capacity) {}
+
+  void Push(double t, double value);
+  std::size_t size() const { return t_.size() < capacity_ ? t_.size() : capacity_; }
+  bool empty() const { return t_.empty(); }
+  // i = 0 is the oldest sample kept.
+  double TimeAt(std::size_t i) const { return t_[Index(i)]; }
+  double ValueAt(std::size_t i) const { return v_[Index(i)]; }
+  double LastTime() const { return TimeAt(size() - 1); }
+  double LastValue() const { return ValueAt(size() - 1); }
+  // First sample index with time >= t (binary search; times are non-decreasing).
+  std::size_t LowerBound(double t) const;
+
+ private:
+  std::size_t Index(std::size_t i) const { return t_.size() < capacity_ ? i : (head_ + i) % capacity_; }
+  std::size_t capacity_;
+  std::size_t head_ = 0;  // oldest element once full
+  std::vector<double> t_;
+  std::vector<float> v_;
+};
+
+}  // namespace uav::gcs

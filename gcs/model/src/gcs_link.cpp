@@ -1,0 +1,126 @@
+#include "uav/gcs/gcs_link.hpp"
+
+#include <map>
+
+#include "uav/shared/bus.hpp"
+#include "uav/shared/channels.hpp"
+#include "uav/shared/time.hpp"
+#include "uavmsg/command_ack_t.hpp"
+#include "uavmsg/command_t.hpp"
+#include "uavmsg/heartbeat_t.hpp"
+#include "uavmsg/status_text_t.hpp"
+#include "uavmsg/vehicle_state_t.hpp"
+
+namespace uav::gcs {
+namespace {
+
+std::string VehicleOf(const std::string& channel) { return channel.substr(0, channel.find('/')); }
+
+const char* ResultName(int8_t r) {
+  switch (r) {
+    case uavmsg::command_ack_t::RESULT_ACCEPTED: return "accepted";
+    case uavmsg::command_ack_t::RESULT_REJECTED: return "rejected";
+    case uavmsg::command_ack_t::RESULT_IN_PROGRESS: return "in_progress";
+    case uavmsg::command_ack_t::RESULT_COMPLETED: return "completed";
+    case uavmsg::command_ack_t::RESULT_FAILED: return "failed";
+  }
+  return "unknown";
+}
+
+TelemetrySample Flatten(const uavmsg::vehicle_state_t& m) {
+  TelemetrySample s{m.header.vehicle_id, "STATE", m.header.seq, m.utime * 1e-6, {}};
+  s.values = {{"x", m.x}, {"y", m.y}, {"z", m.z}, {"alt", -m.z},
+              {"u", m.u}, {"v", m.v}, {"w", m.w},
+              {"phi", m.phi}, {"theta", m.theta}, {"psi", m.psi},
+              {"p", m.p}, {"q", m.q}, {"r", m.r},
+              {"acx", m.acx}, {"acy", m.acy}, {"acz", m.acz},
+              {"gps_lat", m.gps_latitude_deg}, {"gps_lon", m.gps_longitude_deg},
+              {"gps_alt", m.gps_altitude_m}, {"gps_fix", m.gps_fix}, {"gps_sats", m.gps_satellites},
+              {"M1", m.rotor_input[0]}, {"M2", m.rotor_input[1]},
+              {"M3", m.rotor_input[2]}, {"M4", m.rotor_input[3]},
+              {"Ua", m.servo_input[0]}, {"Ue", m.servo_input[1]},
+              {"Uth", m.servo_input[2]}, {"Ur", m.servo_input[3]},
+              {"mode", m.flight_mode}, {"task", m.task}, {"armed", m.armed ? 1.0 : 0.0},
+              {"landed", m.landed ? 1.0 : 0.0},
+              {"battery_v", m.battery_voltage_v}, {"battery_remaining", m.battery_remaining}};
+  return s;
+}
+
+}  // namespace
+
+struct GcsLink::Impl {
+  Impl(const std::string& url, GcsModel& m) : bus(url), model(m) {}
+  bool Accept(const std::string& channel, const std::string& header_vehicle) {
+    if (VehicleOf(channel) == header_vehicle && IsValidVehicleId(header_vehicle)) return true;
+    ++dropped;
+    return false;
+  }
+  Bus bus;
+  GcsModel& model;
+  double now = 0.0;
+  double last_heartbeat = -1e9;
+  int64_t heartbeat_seq = 0;
+  int64_t command_msg_seq = 0;
+  int64_t dropped = 0;
+};
+
+GcsLink::GcsLink(const std::string& lcm_url, GcsModel& model)
+    : impl_(std::make_unique<Impl>(lcm_url, model)) {
+  Impl* im = impl_.get();
+  im->bus.Subscribe<uavmsg::heartbeat_t>(
+      "[^/]+/HEARTBEAT", [im](const std::string& ch, const uavmsg::heartbeat_t& m) {
+        if (!im->Accept(ch, m.header.vehicle_id) ||
+            m.source_kind != uavmsg::heartbeat_t::SOURCE_VEHICLE)
+          return;
+        im->model.OnHeartbeat(m.header.vehicle_id, m.header.seq, m.task, m.armed, im->now);
+      });
+  im->bus.Subscribe<uavmsg::vehicle_state_t>(
+      "[^/]+/STATE", [im](const std::string& ch, const uavmsg::vehicle_state_t& m) {
+        if (im->Accept(ch, m.header.vehicle_id)) im->model.OnTelemetry(Flatten(m), im->now);
+      });
+  im->bus.Subscribe<uavmsg::command_ack_t>(
+      "[^/]+/COMMAND_ACK", [im](const std::string& ch, const uavmsg::command_ack_t& m) {
+        if (!im->Accept(ch, m.header.vehicle_id)) return;
+        im->model.OnAck(m.header.vehicle_id, m.source,
+                        {m.command_seq, m.command, ResultName(m.result), m.progress_percent, m.reason},
+                        im->now);
+      });
+  im->bus.Subscribe<uavmsg::status_text_t>(
+      "[^/]+/STATUS_TEXT", [im](const std::string& ch, const uavmsg::status_text_t& m) {
+        if (im->Accept(ch, m.header.vehicle_id))
+          im->model.OnStatusText(m.header.vehicle_id, m.severity, m.text, im->now);
+      });
+}
+
+GcsLink::~GcsLink() = default;
+
+int64_t GcsLink::dropped_messages() const { return impl_->dropped + impl_->bus.DecodeErrors(); }
+
+void GcsLink::Poll(int timeout_ms, double now) {
+  Impl& im = *impl_;
+  im.now = now;
+  im.bus.Handle(timeout_ms);
+  for (const auto& c : im.model.TakeOutgoing()) {
+    uavmsg::command_t m;
+    m.utime = WallTimeMicros();
+    m.header = {c.vehicle_id, ++im.command_msg_seq};
+    m.source = im.model.gcs_name();
+    m.command_seq = c.command_seq;
+    m.text = c.text;
+    im.bus.Publish(Channel(c.vehicle_id, Topic::kCommand), m);
+  }
+  if (now - im.last_heartbeat >= 1.0) {
+    im.last_heartbeat = now;
+    ++im.heartbeat_seq;
+    for (const auto& [id, v] : im.model.vehicles()) {
+      uavmsg::heartbeat_t hb{};
+      hb.utime = WallTimeMicros();
+      hb.header = {id, im.heartbeat_seq};
+      hb.source_kind = uavmsg::heartbeat_t::SOURCE_GCS;
+      hb.source_name = im.model.gcs_name();
+      im.bus.Publish(Channel(id, Topic::kGcsHeartbeat), hb);
+    }
+  }
+}
+
+}  // namespace uav::gcs

@@ -1,0 +1,150 @@
+#include "uav/gcs/gcs_model.hpp"
+
+#include "uav/shared/command_grammar.hpp"
+
+namespace uav::gcs {
+namespace {
+constexpr std::size_t kMaxLogLines = 500;
+constexpr std::size_t kMaxSentKept = 100;
+const char* kTaskNames[] = {"idle", "takeoff", "hover", "goto", "land"};
+}  // namespace
+
+double VehicleModel::MessageRate(double now) const {
+  int n = 0;
+  for (double t : recent_receipts)
+    if (now - t <= 1.0) ++n;
+  return n;
+}
+
+VehicleModel& GcsModel::Vehicle(const std::string& id) {
+  auto [it, inserted] = vehicles_.try_emplace(id);
+  if (inserted) {
+    it->second.id = id;
+    if (selected_.empty()) selected_ = id;  // the first vehicle heard is shown
+  }
+  return it->second;
+}
+
+void GcsModel::Log(double now, const std::string& vehicle, const std::string& text, int severity) {
+  log_.push_back({now, vehicle, text, severity});
+  while (log_.size() > kMaxLogLines) log_.pop_front();
+}
+
+void GcsModel::OnHeartbeat(const std::string& vehicle_id, int64_t seq, int task, bool armed,
+                           double now) {
+  const bool fresh = !vehicles_.count(vehicle_id);
+  VehicleModel& v = Vehicle(vehicle_id);
+  if (fresh) Log(now, vehicle_id, "vehicle discovered", 6);
+  v.last_heartbeat = now;
+  v.armed = armed;
+  v.task = task >= 0 && task < 5 ? kTaskNames[task] : "unknown";
+  TelemetrySample s{vehicle_id, "HEARTBEAT", seq, -1.0, {}};
+  OnTelemetry(s, now);
+}
+
+void GcsModel::OnTelemetry(const TelemetrySample& s, double now) {
+  VehicleModel& v = Vehicle(s.vehicle_id);
+  ++v.messages_total;
+  v.last_message = now;
+  v.recent_receipts.push_back(now);
+  while (!v.recent_receipts.empty() && now - v.recent_receipts.front() > 1.0) v.recent_receipts.pop_front();
+  auto [it, first] = v.last_seq.try_emplace(s.group, s.seq);
+  if (!first) {
+    if (s.seq > it->second + 1) v.sequence_gaps += s.seq - it->second - 1;
+    if (s.seq > it->second) it->second = s.seq;
+  }
+  if (s.t < 0.0) return;  // no time base: link bookkeeping only
+  if (v.first_t < 0.0) v.first_t = s.t;
+  const double t = s.t - v.first_t;
+  for (const auto& [name, value] : s.values) {
+    const std::string key = s.group + "." + name;
+    v.latest[key] = value;
+    v.history[key].Push(t, value);
+  }
+}
+
+void GcsModel::OnAck(const std::string& vehicle_id, const std::string& source, const AckInfo& ack,
+                     double now) {
+  if (source != gcs_name_) return;  // another GCS's conversation
+  for (auto& c : sent_) {
+    if (c.command_seq != ack.command_seq || c.vehicle_id != vehicle_id) continue;
+    c.acknowledged = true;
+    const bool changed = !c.last_ack || c.last_ack->result != ack.result;
+    c.last_ack = ack;
+    if (changed && ack.result != "in_progress")
+      Log(now, vehicle_id, c.text + ": " + ack.result + (ack.reason.empty() ? "" : " (" + ack.reason + ")"),
+          ack.result == "rejected" || ack.result == "failed" ? 4 : 6);
+  }
+}
+
+void GcsModel::OnStatusText(const std::string& vehicle_id, int severity, const std::string& text,
+                            double now) {
+  Vehicle(vehicle_id);
+  Log(now, vehicle_id, text, severity);
+}
+
+bool GcsModel::SubmitCommand(const std::string& text, double now) {
+  const ParseResult parsed = ParseCommand(text);
+  if (!parsed.ok()) {
+    command_error_ = parsed.error;
+    return false;
+  }
+  if (selected_.empty()) {
+    command_error_ = "no vehicle selected";
+    return false;
+  }
+  command_error_.clear();
+  const std::string canonical = parsed.command->Text();
+  if (history_.empty() || history_.back() != text) history_.push_back(text);
+  SentCommand c;
+  c.command_seq = next_seq_++;
+  c.vehicle_id = selected_;
+  c.text = canonical;
+  c.first_sent = c.last_sent = now;
+  c.tries = 1;
+  sent_.push_back(c);
+  while (sent_.size() > kMaxSentKept) sent_.pop_front();
+  outgoing_.push_back({c.vehicle_id, c.command_seq, c.text});
+  Log(now, selected_, "sent: " + canonical, 6);
+  return true;
+}
+
+void GcsModel::SelectVehicle(const std::string& id) {
+  if (vehicles_.count(id)) selected_ = id;
+}
+
+void GcsModel::TogglePlotSignal(const std::string& key) {
+  if (!plot_signals_.erase(key)) plot_signals_.insert(key);
+}
+
+void GcsModel::SetPlotWindow(double seconds) {
+  if (seconds >= 1.0 && seconds <= 1800.0) plot_window_ = seconds;
+}
+
+void GcsModel::Tick(double now) {
+  for (auto& c : sent_) {
+    if (c.acknowledged || c.gave_up || now - c.last_sent < kResendTimeout) continue;
+    if (c.tries >= kMaxTries) {
+      c.gave_up = true;
+      Log(now, c.vehicle_id,
+          c.text + ": no acknowledgement after " + std::to_string(kMaxTries) + " tries", 3);
+      continue;
+    }
+    ++c.tries;
+    c.last_sent = now;
+    outgoing_.push_back({c.vehicle_id, c.command_seq, c.text});  // same command_seq
+  }
+}
+
+std::vector<OutgoingCommand> GcsModel::TakeOutgoing() {
+  std::vector<OutgoingCommand> out;
+  out.swap(outgoing_);
+  return out;
+}
+
+const VehicleModel* GcsModel::selected() const {
+  auto it = vehicles_.find(selected_);
+  return it == vehicles_.end() ? nullptr : &it->second;
+}
+
+}  // namespace uav::gcs

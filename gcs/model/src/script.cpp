@@ -1,0 +1,258 @@
+#include "uav/gcs/script.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace uav::gcs {
+namespace {
+
+const std::set<std::string> kOps = {"==", "!=", "<", "<=", ">", ">=", "~", "contains"};
+
+bool ToNumber(const std::string& s, double* v) {
+  char* end = nullptr;
+  *v = std::strtod(s.c_str(), &end);
+  return end != s.c_str() && *end == '\0' && std::isfinite(*v);
+}
+
+std::string Format(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", v);
+  std::string s = buf;
+  while (s.size() > 1 && s.back() == '0') s.pop_back();
+  if (s.back() == '.') s.pop_back();
+  return s;
+}
+
+// Splits a condition into clauses of {lhs, op, rhs[, tol]}; throws on malformed input.
+std::vector<std::vector<std::string>> Clauses(const std::vector<std::string>& tokens) {
+  std::vector<std::vector<std::string>> out(1);
+  for (const auto& t : tokens) {
+    if (t == "and") out.emplace_back();
+    else out.back().push_back(t);
+  }
+  for (const auto& c : out) {
+    if (c.size() < 3) throw std::runtime_error("condition needs LHS OP RHS");
+    if (!kOps.count(c[1])) throw std::runtime_error("unknown operator '" + c[1] + "'");
+    const std::size_t want = c[1] == "~" ? 4 : 3;
+    if (c[1] != "contains" && c.size() != want)
+      throw std::runtime_error(c[1] == "~" ? "'~' needs VALUE TOLERANCE" : "too many words in clause");
+    double d;
+    if (c[1] == "~" && (!ToNumber(c[2], &d) || !ToNumber(c[3], &d)))
+      throw std::runtime_error("'~' needs numeric VALUE and TOLERANCE");
+  }
+  return out;
+}
+
+// Value of a name: number (is_number) or string.
+bool Lookup(const std::string& name, const GcsModel& m, double now, double* num, std::string* str,
+            bool* is_number) {
+  const VehicleModel* v = m.selected();
+  const SentCommand* last = m.sent_commands().empty() ? nullptr : &m.sent_commands().back();
+  *is_number = false;
+  if (name == "ack") return *str = last && last->last_ack ? last->last_ack->result : "none", true;
+  if (name == "ack.reason") return *str = last && last->last_ack ? last->last_ack->reason : "", true;
+  if (name == "ack.command") return *str = last && last->last_ack ? last->last_ack->command : "", true;
+  if (name == "error") return *str = m.command_error(), true;
+  if (name == "task") return *str = v ? v->task : "none", true;
+  if (name == "selected") return *str = m.selected_id(), true;
+  if (name == "link") return *str = v && v->LinkUp(now) ? "up" : "down", true;
+  if (name == "log") {
+    str->clear();
+    for (const auto& l : m.log()) *str += l.vehicle_id + ": " + l.text + "\n";
+    return true;
+  }
+  *is_number = true;
+  if (name == "ack.percent") return *num = last && last->last_ack ? last->last_ack->percent : -1, true;
+  if (name == "tries") return *num = last ? last->tries : 0, true;
+  if (name == "vehicles") return *num = static_cast<double>(m.vehicles().size()), true;
+  if (name == "plots") return *num = static_cast<double>(m.plot_signals().size()), true;
+  if (name == "sent") return *num = static_cast<double>(m.sent_commands().size()), true;
+  if (name == "gave_up") {
+    int n = 0;
+    for (const auto& c : m.sent_commands()) n += c.gave_up;
+    return *num = n, true;
+  }
+  if (!v) return false;
+  const std::string key = name.find('.') == std::string::npos ? "STATE." + name : name;
+  if (name == "armed") return *num = v->armed, true;
+  auto it = v->latest.find(key);
+  if (it == v->latest.end()) return false;
+  *num = it->second;
+  return true;
+}
+
+}  // namespace
+
+ConditionResult EvaluateCondition(const std::vector<std::string>& tokens, const GcsModel& model,
+                                  double now) {
+  ConditionResult r;
+  r.holds = true;
+  std::vector<std::vector<std::string>> clauses;
+  try {
+    clauses = Clauses(tokens);
+  } catch (const std::exception& e) {
+    r.holds = false;
+    r.error = e.what();
+    return r;
+  }
+  for (const auto& c : clauses) {
+    double lv = 0;
+    std::string ls;
+    bool lnum = false;
+    if (!Lookup(c[0], model, now, &lv, &ls, &lnum)) {
+      r.holds = false;
+      r.observed += (r.observed.empty() ? "" : " and ") + c[0] + " = (no value yet)";
+      continue;
+    }
+    std::string rhs = c[2];
+    for (std::size_t i = 3; c[1] == "contains" && i < c.size(); ++i) rhs += " " + c[i];
+    double rv = 0;
+    bool holds = false;
+    if (c[1] == "contains") {
+      holds = (lnum ? Format(lv) : ls).find(rhs) != std::string::npos;
+    } else if (lnum && ToNumber(rhs, &rv)) {
+      const std::string& op = c[1];
+      double tol = 0;
+      if (op == "~") ToNumber(c[3], &tol);
+      holds = op == "==" ? lv == rv : op == "!=" ? lv != rv : op == "<" ? lv < rv
+            : op == "<=" ? lv <= rv : op == ">" ? lv > rv : op == ">=" ? lv >= rv
+            : std::abs(lv - rv) <= tol;
+    } else if (c[1] == "==" || c[1] == "!=") {
+      holds = (c[1] == "==") == ((lnum ? Format(lv) : ls) == rhs);
+    } else {
+      r.error = "operator " + c[1] + " needs numbers on both sides of '" + c[0] + "'";
+    }
+    if (!holds) r.holds = false;
+    if (c[0] != "log")
+      r.observed += (r.observed.empty() ? "" : " and ") + c[0] + " = " + (lnum ? Format(lv) : "'" + ls + "'");
+  }
+  if (!r.error.empty()) r.holds = false;
+  return r;
+}
+
+Script Script::Parse(const std::string& text, const std::string& name) {
+  static const std::set<std::string> kVerbs = {"type", "click", "tick", "select", "wait",
+                                               "wait_until", "assert", "screenshot", "echo"};
+  Script s;
+  s.name = name;
+  std::istringstream lines(text);
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line)) {
+    ++n;
+    if (auto h = line.find('#'); h != std::string::npos) line = line.substr(0, h);
+    std::istringstream words(line);
+    ScriptStep st;
+    st.line = n;
+    if (!(words >> st.verb)) continue;
+    for (std::string w; words >> w;) st.args.push_back(w);
+    const auto first = line.find_first_not_of(" \t");
+    const auto last = line.find_last_not_of(" \t\r");
+    st.text = line.substr(first, last - first + 1);
+    auto fail = [&](const std::string& why) {
+      throw std::runtime_error(name + ":" + std::to_string(n) + ": " + why);
+    };
+    if (!kVerbs.count(st.verb)) fail("unknown step '" + st.verb + "'");
+    const bool needs_args = st.verb != "echo";
+    if (needs_args && st.args.empty()) fail(st.verb + " needs an argument");
+    double d;
+    if (st.verb == "wait" && (st.args.size() != 1 || !ToNumber(st.args[0], &d) || d < 0))
+      fail("wait needs one non-negative number of seconds");
+    if (st.verb == "wait_until" || st.verb == "assert") {
+      std::vector<std::string> cond = st.args;
+      if (st.verb == "wait_until" && cond.size() >= 2 && cond[cond.size() - 2] == "timeout") {
+        if (!ToNumber(cond.back(), &d) || d <= 0) fail("timeout needs a positive number of seconds");
+        cond.resize(cond.size() - 2);
+      }
+      try {
+        Clauses(cond);
+      } catch (const std::exception& e) {
+        fail(e.what());
+      }
+    }
+    s.steps.push_back(std::move(st));
+  }
+  return s;
+}
+
+Script Script::LoadFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open script '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return Parse(ss.str(), path);
+}
+
+void ScriptRunner::Pass(const ScriptStep& s, double now, const std::string& detail) {
+  std::fprintf(out_, "[%7.2fs] ok    %3d: %s%s%s\n", now - script_start_, s.line, s.text.c_str(),
+               detail.empty() ? "" : "  -> ", detail.c_str());
+  std::fflush(out_);
+  ++passed_;
+  ++index_;
+  step_started_ = false;
+}
+
+void ScriptRunner::Fail(const ScriptStep& s, double now, const std::string& why) {
+  std::fprintf(out_, "[%7.2fs] FAIL  %3d: %s  -> %s\n", now - script_start_, s.line, s.text.c_str(),
+               why.c_str());
+  std::fflush(out_);
+  failed_ = true;
+}
+
+bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
+  if (script_start_ < 0) script_start_ = now;
+  if (finished()) return false;
+  const ScriptStep& s = script_.steps[index_];
+  const bool first = !step_started_;
+  if (first) {
+    step_started_ = true;
+    step_start_ = now;
+  }
+  std::string err;
+  const std::string joined = [&] {
+    std::string j;
+    for (const auto& a : s.args) j += (j.empty() ? "" : " ") + a;
+    return j;
+  }();
+  if (s.verb == "echo") {
+    Pass(s, now, "");
+  } else if (s.verb == "wait") {
+    if (now - step_start_ >= std::atof(s.args[0].c_str())) Pass(s, now, "");
+  } else if (s.verb == "type" || s.verb == "click" || s.verb == "tick" || s.verb == "select") {
+    if (first) {
+      const std::string label = s.verb == "tick" ? "tick:" + std::string(s.args[0].find('.') == std::string::npos ? "STATE." : "") + s.args[0]
+                              : s.verb == "select" ? "vehicle:" + s.args[0] : joined;
+      const bool ok = s.verb == "type" ? driver.StartType(joined, &err) : driver.StartClick(label, &err);
+      if (!ok) Fail(s, now, err);
+    } else if (!driver.InputPending()) {
+      Pass(s, now, s.verb == "type" && !model.command_error().empty()
+                       ? "command bar says: " + model.command_error() : "");
+    } else if (now - step_start_ > 10.0) {
+      Fail(s, now, "input was not consumed within 10 s");
+    }
+  } else if (s.verb == "screenshot") {
+    const int r = driver.Screenshot(s.args[0], &err);
+    if (r > 0) Pass(s, now, "saved " + s.args[0]);
+    else if (r < 0) Fail(s, now, err);
+  } else {  // wait_until, assert
+    std::vector<std::string> cond = s.args;
+    double timeout = 30.0;
+    if (s.verb == "wait_until" && cond.size() >= 2 && cond[cond.size() - 2] == "timeout") {
+      timeout = std::atof(cond.back().c_str());
+      cond.resize(cond.size() - 2);
+    }
+    const ConditionResult r = EvaluateCondition(cond, model, now);
+    if (!r.error.empty()) Fail(s, now, r.error);
+    else if (r.holds) Pass(s, now, r.observed);
+    else if (s.verb == "assert") Fail(s, now, "observed " + r.observed);
+    else if (now - step_start_ > timeout)
+      Fail(s, now, "not true within " + Format(timeout) + " s; observed " + r.observed);
+  }
+  return !finished();
+}
+
+}  // namespace uav::gcs

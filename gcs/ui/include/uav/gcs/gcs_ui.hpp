@@ -1,0 +1,18 @@
+#pragma once
+#include "uav/gcs/gcs_model.hpp"
+#include "uav/gcs/ui_context.hpp"
+
+namespace uav::gcs {
+
+// Draws every panel for one frame (between ImGui::NewFrame and ImGui::Render).
+void DrawGcs(GcsModel& model, UiContext& ctx);
+
+// The panels, one file each.
+void DrawVehiclesPanel(GcsModel& model, UiContext& ctx);
+void DrawStateListPanel(GcsModel& model, UiContext& ctx);
+void DrawPlotPanel(GcsModel& model, UiContext& ctx);
+void DrawCommandBarPanel(GcsModel& model, UiContext& ctx);
+void DrawStatusBarPanel(GcsModel& model, UiContext& ctx);
+void DrawMessagesPanel(GcsModel& model, UiContext& ctx);
+
+}  // namespace uav::gcs

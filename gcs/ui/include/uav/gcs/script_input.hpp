@@ -1,0 +1,43 @@
+#pragma once
+// Delivers a script's typing and clicks to the panels as real ImGui input (mouse moves, button
+// presses, characters, Enter), so a headless run exercises exactly the code a person drives.
+#include <deque>
+#include <functional>
+#include <string>
+
+#include "uav/gcs/script.hpp"
+#include "uav/gcs/ui_context.hpp"
+
+namespace uav::gcs {
+
+class ImGuiScriptDriver : public ScriptDriver {
+ public:
+  using ScreenshotFn = std::function<int(const std::string& path, std::string* error)>;
+  ImGuiScriptDriver(const UiContext& ctx, ScreenshotFn screenshot)
+      : ctx_(ctx), screenshot_(std::move(screenshot)) {}
+
+  bool StartType(const std::string& text, std::string* error) override;
+  bool StartClick(const std::string& label, std::string* error) override;
+  bool InputPending() const override { return !events_.empty(); }
+  int Screenshot(const std::string& path, std::string* error) override;
+
+  // Applies the next queued event; call after the platform's new-frame and before
+  // ImGui::NewFrame.
+  void ApplyNextEvent();
+
+ private:
+  struct Event {
+    enum Kind { kMove, kDown, kUp, kText, kEnterDown, kEnterUp } kind;
+    float x = 0, y = 0;
+    std::string text;
+  };
+  bool QueueClick(const std::string& label, std::string* error);
+
+  const UiContext& ctx_;
+  ScreenshotFn screenshot_;
+  std::deque<Event> events_;
+  float mouse_x_ = -1, mouse_y_ = -1;
+  bool mouse_down_ = false;
+};
+
+}  // namespace uav::gcs

@@ -1,0 +1,115 @@
+// The command bar (thesis Fig. 2.8 bottom): typed commands checked as you type with the same
+// grammar the vehicle uses, history (up/down), completion (tab), frequent actions as buttons
+// that ask for confirmation, and the acknowledgement of the last command.
+#include <cstdio>
+
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include "uav/gcs/gcs_ui.hpp"
+#include "uav/shared/command_grammar.hpp"
+
+namespace uav::gcs {
+namespace {
+
+struct CallbackData {
+  GcsModel* model;
+  UiState* state;
+};
+
+int OnInputEvent(ImGuiInputTextCallbackData* data) {
+  auto* cb = static_cast<CallbackData*>(data->UserData);
+  const auto& history = cb->model->command_history();
+  if (data->EventFlag == ImGuiInputTextFlags_CallbackCompletion) {
+    const auto names = CompleteCommandName(std::string(data->Buf, data->BufTextLen));
+    if (names.size() == 1) {
+      data->DeleteChars(0, data->BufTextLen);
+      data->InsertChars(0, (names[0] + " ").c_str());
+    }
+  } else if (data->EventFlag == ImGuiInputTextFlags_CallbackHistory && !history.empty()) {
+    int& pos = cb->state->history_pos;
+    const int n = static_cast<int>(history.size());
+    if (data->EventKey == ImGuiKey_UpArrow) pos = pos < 0 ? n - 1 : std::max(0, pos - 1);
+    else if (data->EventKey == ImGuiKey_DownArrow && pos >= 0) pos = pos + 1 >= n ? -1 : pos + 1;
+    data->DeleteChars(0, data->BufTextLen);
+    if (pos >= 0) data->InsertChars(0, history[pos].c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
+  ImGui::Begin("Command");
+  UiState& st = ctx.state;
+  CallbackData cb{&model, &st};
+  if (st.focus_command_bar) {
+    ImGui::SetKeyboardFocusHere();
+    st.focus_command_bar = false;
+  }
+  ImGui::SetNextItemWidth(-1);
+  const bool entered = ImGui::InputTextWithHint(
+      "##command", "command, e.g. takeoff 10  (tab completes, up/down recalls)", &st.command_text,
+      ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_CallbackCompletion |
+          ImGuiInputTextFlags_CallbackHistory,
+      OnInputEvent, &cb);
+  RegisterLastItem(ctx, "command");
+  if (entered) {
+    if (model.SubmitCommand(st.command_text, ctx.now)) st.command_text.clear();
+    st.history_pos = -1;
+    st.focus_command_bar = true;  // keep typing
+  }
+  // Live validation with the vehicle's own grammar.
+  if (!st.command_text.empty()) {
+    const ParseResult r = ParseCommand(st.command_text);
+    if (r.ok()) ImGui::TextColored(ImVec4(0.4f, 0.9f, 0.4f, 1), "ok: %s", r.command->Text().c_str());
+    else ImGui::TextColored(ImVec4(1.0f, 0.5f, 0.3f, 1), "%s", r.error.c_str());
+    const std::string hint = ArgumentHint(st.command_text);
+    if (!hint.empty()) ImGui::TextDisabled("%s", hint.c_str());
+  } else if (!model.command_error().empty()) {
+    ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1), "not sent: %s", model.command_error().c_str());
+  } else {
+    ImGui::TextDisabled("commands: arm disarm takeoff hover land goto");
+  }
+
+  // Frequent actions; each asks for confirmation.
+  for (const char* text : {"arm", "takeoff 10", "hover", "land", "disarm"}) {
+    if (ImGui::Button(text)) st.pending_confirmation = text;
+    RegisterLastItem(ctx, std::string("button:") + text);
+    ImGui::SameLine();
+  }
+  ImGui::NewLine();
+  if (!st.pending_confirmation.empty()) {
+    ImGui::TextColored(ImVec4(1, 0.85f, 0.3f, 1), "send '%s' to %s?", st.pending_confirmation.c_str(),
+                       model.selected_id().c_str());
+    ImGui::SameLine();
+    if (ImGui::Button("Confirm")) {
+      model.SubmitCommand(st.pending_confirmation, ctx.now);
+      st.pending_confirmation.clear();
+    }
+    RegisterLastItem(ctx, "confirm");
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) st.pending_confirmation.clear();
+    RegisterLastItem(ctx, "cancel");
+  }
+
+  ImGui::Separator();
+  // Acknowledgements of the most recent commands, newest first.
+  int shown = 0;
+  for (auto it = model.sent_commands().rbegin(); it != model.sent_commands().rend() && shown < 6; ++it, ++shown) {
+    const SentCommand& c = *it;
+    std::string state = c.gave_up ? "no answer, gave up" : !c.last_ack ? "waiting for ack" : c.last_ack->result;
+    if (c.tries > 1 && !c.acknowledged) state += " (try " + std::to_string(c.tries) + ")";
+    const bool bad = c.gave_up || (c.last_ack && (c.last_ack->result == "rejected" || c.last_ack->result == "failed"));
+    ImGui::TextColored(bad ? ImVec4(1, 0.45f, 0.35f, 1) : ImVec4(0.85f, 0.85f, 0.85f, 1), "%s  %-12s  %s",
+                       c.vehicle_id.c_str(), c.text.c_str(), state.c_str());
+    if (c.last_ack && c.last_ack->result == "in_progress") {
+      ImGui::SameLine();
+      ImGui::ProgressBar(c.last_ack->percent / 100.0f, ImVec2(120, 0));
+    }
+    if (c.last_ack && !c.last_ack->reason.empty()) ImGui::TextDisabled("    %s", c.last_ack->reason.c_str());
+  }
+  ImGui::End();
+}
+
+}  // namespace uav::gcs

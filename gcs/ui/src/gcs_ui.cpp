@@ -1,0 +1,36 @@
+#include "uav/gcs/gcs_ui.hpp"
+
+#include <imgui.h>
+
+namespace uav::gcs {
+
+void RegisterLastItem(UiContext& ctx, const std::string& label) {
+  const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+  ctx.widgets[label] = {a.x, a.y, b.x, b.y};
+}
+
+namespace {
+// Default layout for a first run; afterwards imgui.ini keeps what the operator arranged.
+void Place(float x, float y, float w, float h) {
+  const ImVec2 d = ImGui::GetIO().DisplaySize;
+  ImGui::SetNextWindowPos(ImVec2(x * d.x, y * d.y), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(w * d.x, h * d.y), ImGuiCond_FirstUseEver);
+}
+}  // namespace
+
+void DrawGcs(GcsModel& model, UiContext& ctx) {
+  ctx.widgets.clear();
+  DrawStatusBarPanel(model, ctx);
+  Place(0.0f, 0.04f, 0.24f, 0.18f);
+  DrawVehiclesPanel(model, ctx);
+  Place(0.0f, 0.22f, 0.24f, 0.78f);
+  DrawStateListPanel(model, ctx);
+  Place(0.24f, 0.04f, 0.76f, 0.60f);
+  DrawPlotPanel(model, ctx);
+  Place(0.24f, 0.64f, 0.40f, 0.36f);
+  DrawCommandBarPanel(model, ctx);
+  Place(0.64f, 0.64f, 0.36f, 0.36f);
+  DrawMessagesPanel(model, ctx);
+}
+
+}  // namespace uav::gcs

@@ -1,0 +1,64 @@
+#include "uav/gcs/script_input.hpp"
+
+#include <imgui.h>
+
+namespace uav::gcs {
+
+bool ImGuiScriptDriver::QueueClick(const std::string& label, std::string* error) {
+  auto it = ctx_.widgets.find(label);
+  if (it == ctx_.widgets.end()) {
+    *error = "no widget '" + label + "' on screen";
+    return false;
+  }
+  const float x = 0.5f * (it->second.x0 + it->second.x1), y = 0.5f * (it->second.y0 + it->second.y1);
+  events_.push_back({Event::kMove, x, y, {}});
+  events_.push_back({Event::kDown, x, y, {}});
+  events_.push_back({Event::kUp, x, y, {}});
+  return true;
+}
+
+bool ImGuiScriptDriver::StartClick(const std::string& label, std::string* error) {
+  return QueueClick(label, error);
+}
+
+bool ImGuiScriptDriver::StartType(const std::string& text, std::string* error) {
+  if (!QueueClick("command", error)) return false;  // focus the command bar as a person would
+  events_.push_back({Event::kText, 0, 0, text});
+  events_.push_back({Event::kEnterDown, 0, 0, {}});
+  events_.push_back({Event::kEnterUp, 0, 0, {}});
+  return true;
+}
+
+int ImGuiScriptDriver::Screenshot(const std::string& path, std::string* error) {
+  if (!screenshot_) {
+    *error = "screenshots need the window (not available headless)";
+    return -1;
+  }
+  return screenshot_(path, error);
+}
+
+void ImGuiScriptDriver::ApplyNextEvent() {
+  ImGuiIO& io = ImGui::GetIO();
+  const int enter = io.KeyMap[ImGuiKey_Enter];
+  if (!events_.empty()) {
+    const Event e = events_.front();
+    events_.pop_front();
+    switch (e.kind) {
+      case Event::kMove: mouse_x_ = e.x, mouse_y_ = e.y; break;
+      case Event::kDown: mouse_down_ = true; break;
+      case Event::kUp: mouse_down_ = false; break;
+      case Event::kText:
+        for (char c : e.text) io.AddInputCharacter(static_cast<unsigned char>(c));
+        break;
+      case Event::kEnterDown: if (enter >= 0) io.KeysDown[enter] = true; break;
+      case Event::kEnterUp: if (enter >= 0) io.KeysDown[enter] = false; break;
+    }
+  }
+  // Hold the scripted pointer state every frame (a window backend would overwrite it).
+  if (mouse_x_ >= 0) {
+    io.MousePos = ImVec2(mouse_x_, mouse_y_);
+    io.MouseDown[0] = mouse_down_;
+  }
+}
+
+}  // namespace uav::gcs

@@ -1,0 +1,24 @@
+// Vehicles discovered by heartbeat; the selected one is what the other panels show and command.
+#include <cstdio>
+
+#include <imgui.h>
+
+#include "uav/gcs/gcs_ui.hpp"
+
+namespace uav::gcs {
+
+void DrawVehiclesPanel(GcsModel& model, UiContext& ctx) {
+  ImGui::Begin("Vehicles");
+  if (model.vehicles().empty()) ImGui::TextDisabled("waiting for a heartbeat...");
+  for (const auto& [id, v] : model.vehicles()) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%-8s %-4s  hb %4.1fs  %3.0f msg/s  %s%s", id.c_str(),
+                  v.LinkUp(ctx.now) ? "up" : "LOST", v.HeartbeatAge(ctx.now), v.MessageRate(ctx.now),
+                  v.task.c_str(), v.armed ? " (armed)" : "");
+    if (ImGui::Selectable(line, id == model.selected_id())) model.SelectVehicle(id);
+    RegisterLastItem(ctx, "vehicle:" + id);
+  }
+  ImGui::End();
+}
+
+}  // namespace uav::gcs
