@@ -54,10 +54,16 @@ void GcsModel::OnTelemetry(const TelemetrySample& s, double now) {
     if (s.seq > it->second) it->second = s.seq;
   }
   if (s.t < 0.0) return;  // no time base: link bookkeeping only
+  for (const auto& [name, value] : s.values) {  // the 50 Hz state is fresher than the heartbeat
+    if (s.group != "STATE") break;
+    if (name == "armed") v.armed = value > 0.5;
+    if (name == "task") v.task = value >= 0 && value < 5 ? kTaskNames[static_cast<int>(value)] : "unknown";
+  }
   if (v.first_t < 0.0) v.first_t = s.t;
   const double t = s.t - v.first_t;
   for (const auto& [name, value] : s.values) {
     const std::string key = s.group + "." + name;
+    if (v.latest.emplace(key, value).second) v.signal_order.push_back(key);
     v.latest[key] = value;
     v.history[key].Push(t, value);
   }

@@ -78,7 +78,6 @@ bool Lookup(const std::string& name, const GcsModel& m, double now, double* num,
   }
   if (!v) return false;
   const std::string key = name.find('.') == std::string::npos ? "STATE." + name : name;
-  if (name == "armed") return *num = v->armed, true;
   auto it = v->latest.find(key);
   if (it == v->latest.end()) return false;
   *num = it->second;

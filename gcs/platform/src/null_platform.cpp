@@ -23,6 +23,7 @@ class NullPlatform : public Platform {
     io.KeyMap[ImGuiKey_UpArrow] = 265;
     io.KeyMap[ImGuiKey_DownArrow] = 264;
     io.KeyMap[ImGuiKey_Escape] = 256;
+    io.KeyMap[ImGuiKey_A] = 65;
   }
   ~NullPlatform() override { ImGui::DestroyContext(); }
   bool NewFrame(double dt) override {

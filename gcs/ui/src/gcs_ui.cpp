@@ -1,11 +1,15 @@
 #include "uav/gcs/gcs_ui.hpp"
 
 #include <imgui.h>
+#include <imgui_internal.h>
 
 namespace uav::gcs {
 
 void RegisterLastItem(UiContext& ctx, const std::string& label) {
+  // Only what a person could click: the widget's centre inside its window's visible area.
   const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+  const ImVec2 centre(0.5f * (a.x + b.x), 0.5f * (a.y + b.y));
+  if (!ImGui::GetCurrentWindowRead()->ClipRect.Contains(centre)) return;
   ctx.widgets[label] = {a.x, a.y, b.x, b.y};
 }
 

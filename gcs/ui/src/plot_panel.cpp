@@ -111,7 +111,7 @@ void DrawPlotPanel(GcsModel& model, UiContext& ctx) {
     dl->AddLine(ImVec2(p0.x, y), ImVec2(p1.x, y), IM_COL32(50, 52, 60, 255));
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.3g", val);
-    dl->AddText(ImVec2(p0.x + 4, y - 14), IM_COL32(150, 150, 150, 255), buf);
+    dl->AddText(ImVec2(p0.x + 4, std::clamp(y - 14, p0.y + 2, p1.y - 16)), IM_COL32(150, 150, 150, 255), buf);
   }
   char tbuf[64];
   std::snprintf(tbuf, sizeof tbuf, "t = %.1f s", t_end);

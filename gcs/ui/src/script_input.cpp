@@ -23,6 +23,9 @@ bool ImGuiScriptDriver::StartClick(const std::string& label, std::string* error)
 
 bool ImGuiScriptDriver::StartType(const std::string& text, std::string* error) {
   if (!QueueClick("command", error)) return false;  // focus the command bar as a person would
+  // Replace whatever is in the bar (a rejected line stays there for editing): Ctrl+A, type.
+  events_.push_back({Event::kSelectAllDown, 0, 0, {}});
+  events_.push_back({Event::kSelectAllUp, 0, 0, {}});
   events_.push_back({Event::kText, 0, 0, text});
   events_.push_back({Event::kEnterDown, 0, 0, {}});
   events_.push_back({Event::kEnterUp, 0, 0, {}});
@@ -47,6 +50,13 @@ void ImGuiScriptDriver::ApplyNextEvent() {
       case Event::kMove: mouse_x_ = e.x, mouse_y_ = e.y; break;
       case Event::kDown: mouse_down_ = true; break;
       case Event::kUp: mouse_down_ = false; break;
+      case Event::kSelectAllDown:
+      case Event::kSelectAllUp: {
+        const bool down = e.kind == Event::kSelectAllDown;
+        io.KeyCtrl = down;
+        if (io.KeyMap[ImGuiKey_A] >= 0) io.KeysDown[io.KeyMap[ImGuiKey_A]] = down;
+        break;
+      }
       case Event::kText:
         for (char c : e.text) io.AddInputCharacter(static_cast<unsigned char>(c));
         break;

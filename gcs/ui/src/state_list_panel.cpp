@@ -21,7 +21,8 @@ void DrawStateListPanel(GcsModel& model, UiContext& ctx) {
   }
   std::string group;
   bool open = false;
-  for (const auto& [key, value] : v->latest) {
+  for (const std::string& key : v->signal_order) {
+    const double value = v->latest.at(key);
     const std::string g = key.substr(0, key.find('.'));
     if (!ctx.state.signal_filter.empty() && key.find(ctx.state.signal_filter) == std::string::npos)
       continue;

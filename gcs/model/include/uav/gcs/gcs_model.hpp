@@ -60,6 +60,7 @@ struct VehicleModel {
   std::deque<double> recent_receipts;        // receive times within the last second
   // Latest values and histories, by "GROUP.signal".
   std::map<std::string, double> latest;
+  std::vector<std::string> signal_order;     // keys in the order the vehicle sends them (Table 2.3)
   std::map<std::string, SignalSeries> history;
   double first_t = -1.0;                     // vehicle time of the first sample (plot origin)
   std::string task = "unknown";

@@ -27,7 +27,7 @@ class ImGuiScriptDriver : public ScriptDriver {
 
  private:
   struct Event {
-    enum Kind { kMove, kDown, kUp, kText, kEnterDown, kEnterUp } kind;
+    enum Kind { kMove, kDown, kUp, kSelectAllDown, kSelectAllUp, kText, kEnterDown, kEnterUp } kind;
     float x = 0, y = 0;
     std::string text;
   };

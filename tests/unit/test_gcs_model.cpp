@@ -1,0 +1,134 @@
+// The GCS model without any window or bus: link statistics, command sending and resending,
+// vehicle isolation, telemetry history.
+#include <gtest/gtest.h>
+
+#include "uav/gcs/gcs_model.hpp"
+#include "uav/gcs/signal_series.hpp"
+
+namespace uav::gcs {
+namespace {
+
+TelemetrySample State(const std::string& id, int64_t seq, double t, double alt) {
+  return {id, "STATE", seq, t, {{"alt", alt}, {"x", 1.0}}};
+}
+
+TEST(SignalSeries, KeepsTheNewestWithinCapacityInOrder) {
+  SignalSeries s(4);
+  for (int i = 0; i < 10; ++i) s.Push(i, 10 * i);
+  ASSERT_EQ(s.size(), 4u);
+  EXPECT_EQ(s.TimeAt(0), 6);
+  EXPECT_EQ(s.LastValue(), 90);
+  EXPECT_EQ(s.LowerBound(7.5), 2u);
+  EXPECT_EQ(s.LowerBound(100), 4u);
+  EXPECT_EQ(s.LowerBound(-1), 0u);
+}
+
+TEST(SignalSeries, DefaultHoldsThirtyMinutesAtFiftyHertz) {
+  SignalSeries s;
+  for (int i = 0; i < 30 * 60 * 50 + 10; ++i) s.Push(i * 0.02, i);
+  EXPECT_EQ(s.size(), 90000u);
+  EXPECT_NEAR(s.LastTime() - s.TimeAt(0), 30 * 60 - 0.02, 1e-6);
+}
+
+TEST(GcsModel, DiscoversVehiclesAndSelectsTheFirst) {
+  GcsModel m("gcs", 100);
+  EXPECT_EQ(m.selected(), nullptr);
+  m.OnHeartbeat("UAV2", 1, 0, false, 10.0);
+  m.OnHeartbeat("UAV1", 1, 0, false, 10.1);
+  EXPECT_EQ(m.selected_id(), "UAV2");
+  EXPECT_EQ(m.vehicles().size(), 2u);
+  m.SelectVehicle("NOPE");
+  EXPECT_EQ(m.selected_id(), "UAV2");
+  m.SelectVehicle("UAV1");
+  EXPECT_EQ(m.selected_id(), "UAV1");
+}
+
+TEST(GcsModel, LinkQualityFromHeartbeatsRatesAndSequenceGaps) {
+  GcsModel m("gcs", 100);
+  m.OnHeartbeat("UAV1", 1, 2, true, 0.0);
+  for (int i = 1; i <= 50; ++i)
+    if (i % 10 != 0) m.OnTelemetry(State("UAV1", i, i * 0.02, 5), 1.0 + i * 0.02);  // 5 lost
+  const VehicleModel& v = m.vehicles().at("UAV1");
+  EXPECT_EQ(v.sequence_gaps, 4);  // 10,20,30,40 missing (50 is the newest, also missing: not yet seen)
+  EXPECT_NEAR(v.MessageRate(2.0), 45, 1);
+  EXPECT_TRUE(v.LinkUp(2.9));
+  EXPECT_FALSE(v.LinkUp(3.1));
+  EXPECT_EQ(v.task, "hover");
+  EXPECT_TRUE(v.armed);
+}
+
+TEST(GcsModel, InvalidCommandIsNotSentAndSaysWhy) {
+  GcsModel m("gcs", 100);
+  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  EXPECT_FALSE(m.SubmitCommand("takeoff nan", 1.0));
+  EXPECT_NE(m.command_error().find("not a finite number"), std::string::npos);
+  EXPECT_TRUE(m.TakeOutgoing().empty());
+  EXPECT_TRUE(m.sent_commands().empty());
+}
+
+TEST(GcsModel, CommandNeedsASelectedVehicle) {
+  GcsModel m("gcs", 100);
+  EXPECT_FALSE(m.SubmitCommand("arm", 1.0));
+  EXPECT_EQ(m.command_error(), "no vehicle selected");
+}
+
+TEST(GcsModel, ResendsWithTheSameSequenceThenGivesUp) {
+  GcsModel m("gcs", 100);
+  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  ASSERT_TRUE(m.SubmitCommand("arm", 0.0));
+  auto out = m.TakeOutgoing();
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].command_seq, 100);
+  EXPECT_EQ(out[0].vehicle_id, "UAV1");
+  std::vector<int64_t> seqs;
+  for (double t = 0.1; t < 10.0; t += 0.1) {
+    m.Tick(t);
+    for (const auto& o : m.TakeOutgoing()) seqs.push_back(o.command_seq);
+  }
+  EXPECT_EQ(seqs, std::vector<int64_t>(GcsModel::kMaxTries - 1, 100));
+  EXPECT_TRUE(m.sent_commands().back().gave_up);
+  EXPECT_EQ(m.log().back().severity, 3);
+  EXPECT_NE(m.log().back().text.find("no acknowledgement after 5 tries"), std::string::npos);
+}
+
+TEST(GcsModel, AckStopsResendingAndOnlyOurAcksCount) {
+  GcsModel m("gcs", 100);
+  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  m.SubmitCommand("arm", 0.0);
+  m.TakeOutgoing();
+  m.OnAck("UAV1", "other-gcs", {100, "arm", "completed", 100, ""}, 0.5);
+  EXPECT_FALSE(m.sent_commands().back().acknowledged);
+  m.OnAck("UAV2", "gcs", {100, "arm", "completed", 100, ""}, 0.5);  // wrong vehicle
+  EXPECT_FALSE(m.sent_commands().back().acknowledged);
+  m.OnAck("UAV1", "gcs", {100, "arm", "accepted", 0, ""}, 0.5);
+  EXPECT_TRUE(m.sent_commands().back().acknowledged);
+  m.Tick(5.0);
+  EXPECT_TRUE(m.TakeOutgoing().empty());
+}
+
+TEST(GcsModel, VehiclesDoNotLeakIntoEachOther) {
+  GcsModel m("gcs", 100);
+  m.OnTelemetry(State("UAV1", 1, 100.0, 5.0), 0.0);
+  m.OnTelemetry(State("UAV2", 1, 200.0, 50.0), 0.0);
+  EXPECT_EQ(m.vehicles().at("UAV1").latest.at("STATE.alt"), 5.0);
+  EXPECT_EQ(m.vehicles().at("UAV2").latest.at("STATE.alt"), 50.0);
+  EXPECT_EQ(m.vehicles().at("UAV1").history.at("STATE.alt").size(), 1u);
+  m.SelectVehicle("UAV2");
+  m.SubmitCommand("land", 1.0);
+  EXPECT_EQ(m.TakeOutgoing()[0].vehicle_id, "UAV2");
+}
+
+TEST(GcsModel, PlotSelectionAndWindowLimits) {
+  GcsModel m("gcs", 1);
+  m.TogglePlotSignal("STATE.alt");
+  m.TogglePlotSignal("STATE.x");
+  m.TogglePlotSignal("STATE.alt");
+  EXPECT_EQ(m.plot_signals(), std::set<std::string>{"STATE.x"});
+  m.SetPlotWindow(0.5);
+  EXPECT_EQ(m.plot_window(), 60.0);
+  m.SetPlotWindow(1800);
+  EXPECT_EQ(m.plot_window(), 1800.0);
+}
+
+}  // namespace
+}  // namespace uav::gcs
