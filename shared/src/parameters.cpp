@@ -1,5 +1,7 @@
 #include "uav/shared/parameters.hpp"
 
+#include "uav/shared/text_file.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -18,11 +20,7 @@ bool ParseFinite(const std::string& s, double* out) {
 }  // namespace
 
 ParameterSet ParameterSet::LoadFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open parameter file '" + path + "'");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return Parse(ss.str(), path);
+  return Parse(ReadTextFile(path, "parameter file"), path);
 }
 
 ParameterSet ParameterSet::Parse(const std::string& text, const std::string& source_name) {

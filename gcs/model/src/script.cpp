@@ -1,5 +1,7 @@
 #include "uav/gcs/script.hpp"
 
+#include "uav/shared/text_file.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -179,11 +181,7 @@ Script Script::Parse(const std::string& text, const std::string& name) {
 }
 
 Script Script::LoadFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open script '" + path + "'");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return Parse(ss.str(), path);
+  return Parse(ReadTextFile(path, "script"), path);
 }
 
 void ScriptRunner::Pass(const ScriptStep& s, double now, const std::string& detail) {

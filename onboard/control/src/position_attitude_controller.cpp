@@ -15,14 +15,7 @@ Eigen::Vector2d ClampNorm(const Eigen::Vector2d& v, double max) {
 
 ControllerParams ControllerParams::FromParameters(const ParameterSet& p) {
   ControllerParams c;
-  c.mass = p.Get("mass");
-  c.gravity = p.Get("gravity");
-  c.arm_length = p.Get("arm_length");
-  c.thrust_gain = p.Get("thrust_gain");
-  c.induced_torque_coeff = p.Get("induced_torque_coeff");
-  c.rotor_speed_gain = p.Get("rotor_speed_gain");
-  c.rotor_input_zero_thrust = p.Get("rotor_input_zero_thrust");
-  c.inertia = {p.Get("inertia_xx"), p.Get("inertia_yy"), p.Get("inertia_zz")};
+  c.vehicle = hal::VehicleParams::FromParameters(p);
   c.pos_gain_xy = p.Get("ctl_pos_gain_xy");
   c.pos_gain_z = p.Get("ctl_pos_gain_z");
   c.vel_gain_xy = p.Get("ctl_vel_gain_xy");
@@ -65,10 +58,10 @@ ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, cons
   Eigen::Vector3d a_sp;
   a_sp.head<2>() = ClampNorm(p_.vel_gain_xy * e_v.head<2>() + int_xy_, p_.accel_max_xy);
   // Never ask for a downward acceleration beyond 0.7 g: the rotors cannot push down.
-  a_sp.z() = std::clamp(p_.vel_gain_z * e_v.z() + int_z_, -p_.gravity, 0.7 * p_.gravity);
+  a_sp.z() = std::clamp(p_.vel_gain_z * e_v.z() + int_z_, -p_.vehicle.gravity, 0.7 * p_.vehicle.gravity);
 
   // ---- Thrust vector: desired specific force f = a - g e_z (N is NED).
-  const Eigen::Vector3d f_N = a_sp - Eigen::Vector3d(0, 0, p_.gravity);
+  const Eigen::Vector3d f_N = a_sp - Eigen::Vector3d(0, 0, p_.vehicle.gravity);
   const double psi = est.euler.psi;
   const double c = std::cos(psi), s = std::sin(psi);
   const Eigen::Vector3d f_H(c * f_N.x() + s * f_N.y(), -s * f_N.x() + c * f_N.y(), f_N.z());
@@ -81,7 +74,7 @@ ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, cons
   theta_sp = std::clamp(theta_sp, -p_.tilt_max, p_.tilt_max);
   // Collective thrust: the component of the wanted force along the current thrust axis.
   const Eigen::Vector3d z_B = est.q_NB * Eigen::Vector3d::UnitZ();
-  const double thrust = std::max(0.0, -p_.mass * f_N.dot(z_B));
+  const double thrust = std::max(0.0, -p_.vehicle.mass * f_N.dot(z_B));
 
   // ---- Inner loop: attitude PD to angular acceleration, then torque (Eq. 2.1 rotational part).
   const Eigen::Vector3d alpha(
@@ -89,17 +82,17 @@ ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, cons
       p_.att_gain * (theta_sp - est.euler.theta) - p_.rate_gain * est.w_B.y(),
       p_.yaw_gain * WrapAngle(sp.yaw - psi) - p_.yaw_rate_gain * est.w_B.z());
   const Eigen::Vector3d tau =
-      p_.inertia.cwiseProduct(alpha) + est.w_B.cross(p_.inertia.cwiseProduct(est.w_B));
+      p_.vehicle.inertia.cwiseProduct(alpha) + est.w_B.cross(p_.vehicle.inertia.cwiseProduct(est.w_B));
 
   // ---- To servo channels (inverse of the mixer's torque gains, see mixer.hpp).
-  const double k_rp = 4.0 * p_.thrust_gain * std::sqrt(2.0) / 2.0 * p_.arm_length;
-  const double k_yaw = 4.0 * p_.induced_torque_coeff * p_.rotor_speed_gain;
+  const double k_rp = 4.0 * p_.vehicle.thrust_gain * std::sqrt(2.0) / 2.0 * p_.vehicle.arm_length;
+  const double k_yaw = 4.0 * p_.vehicle.induced_torque_coeff * p_.vehicle.rotor_speed_gain;
   ServoCommand out;
   out.aileron = std::clamp(tau.x() / k_rp, -0.5, 0.5);
   out.elevator = std::clamp(tau.y() / k_rp, -0.5, 0.5);
   out.rudder = std::clamp(tau.z() / k_yaw, -0.3, 0.3);
   out.throttle =
-      std::clamp(p_.rotor_input_zero_thrust + thrust / (4.0 * p_.thrust_gain), -1.0, 1.0);
+      std::clamp(p_.vehicle.rotor_input_zero_thrust + thrust / (4.0 * p_.vehicle.thrust_gain), -1.0, 1.0);
   return out;
 }
 

@@ -5,22 +5,6 @@
 
 namespace uav::sim {
 
-QuadrotorParams QuadrotorParams::FromParameters(const ParameterSet& p) {
-  QuadrotorParams q;
-  q.mass = p.Get("mass");
-  q.inertia = {p.Get("inertia_xx"), p.Get("inertia_yy"), p.Get("inertia_zz")};
-  q.arm_length = p.Get("arm_length");
-  q.gravity = p.Get("gravity");
-  q.thrust_gain = p.Get("thrust_gain");
-  q.thrust_time_constant = p.Get("thrust_time_constant");
-  q.induced_torque_coeff = p.Get("induced_torque_coeff");
-  q.rotor_speed_gain = p.Get("rotor_speed_gain");
-  q.rotor_input_zero_thrust = p.Get("rotor_input_zero_thrust");
-  q.air_density = p.Get("air_density");
-  q.drag_area = p.Get("drag_area");
-  return q;
-}
-
 QuadrotorModel::QuadrotorModel(const QuadrotorParams& params) : params_(params) {}
 
 double QuadrotorModel::RotorThrust(double input) const {

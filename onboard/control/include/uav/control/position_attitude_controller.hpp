@@ -7,14 +7,12 @@
 
 #include "uav/control/estimate.hpp"
 #include "uav/control/mixer.hpp"
-#include "uav/shared/parameters.hpp"
+#include "uav/hal/vehicle_params.hpp"
 
 namespace uav::control {
 
 struct ControllerParams {
-  double mass, gravity, arm_length, thrust_gain, induced_torque_coeff, rotor_speed_gain,
-      rotor_input_zero_thrust;
-  Eigen::Vector3d inertia;
+  hal::VehicleParams vehicle;  // the model the controller inverts
   double pos_gain_xy, pos_gain_z, vel_gain_xy, vel_int_xy, vel_gain_z, vel_int_z, vel_int_limit;
   double speed_max_xy, speed_max_up, speed_max_down, accel_max_xy, tilt_max;
   double att_gain, rate_gain, yaw_gain, yaw_rate_gain;

@@ -6,25 +6,11 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "uav/shared/parameters.hpp"
+#include "uav/hal/vehicle_params.hpp"
 
 namespace uav::sim {
 
-struct QuadrotorParams {
-  double mass;                     // m [kg]
-  Eigen::Vector3d inertia;         // diag(J_xx, J_yy, J_zz) [kg m^2]
-  double arm_length;               // l [m]
-  double gravity;                  // g [m/s^2]
-  double thrust_gain;              // K_f [N per unit input]
-  double thrust_time_constant;     // tau_f [s]
-  double induced_torque_coeff;     // d
-  double rotor_speed_gain;         // K_v
-  double rotor_input_zero_thrust;  // input at which thrust vanishes
-  double air_density;              // rho [kg/m^3]
-  double drag_area;                // C_d * A [m^2]
-
-  static QuadrotorParams FromParameters(const ParameterSet& p);
-};
+using QuadrotorParams = hal::VehicleParams;
 
 // Continuous state. Frames: N (NED, origin at home), B (body FRD).
 struct QuadrotorState {
