@@ -25,6 +25,22 @@ void ValidateCamera(const CameraSpec& c) {
   RequirePositive(c.image_height_px, "image_height_px");
 }
 
+CameraSpec CameraFromParameters(const ParameterSet& p) {
+  CameraSpec c;
+  c.sensor_width_mm = p.Get("sensor_width_mm");
+  c.sensor_height_mm = p.Get("sensor_height_mm");
+  c.focal_length_mm = p.Get("focal_length_mm");
+  const double w = p.Get("image_width_px"), h = p.Get("image_height_px"), l = p.Get("landscape");
+  if (w != std::floor(w) || h != std::floor(h))
+    throw std::invalid_argument(p.source() + ": image_width_px and image_height_px must be whole pixels");
+  if (l != 0.0 && l != 1.0) throw std::invalid_argument(p.source() + ": landscape must be 0 or 1");
+  c.image_width_px = static_cast<int>(w);
+  c.image_height_px = static_cast<int>(h);
+  c.landscape = l == 1.0;
+  ValidateCamera(c);
+  return c;
+}
+
 Footprint FootprintAt(const CameraSpec& c, double altitude_m) {
   ValidateCamera(c);
   RequirePositive(altitude_m, "altitude_m");

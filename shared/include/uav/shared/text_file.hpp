@@ -6,4 +6,9 @@ namespace uav {
 // Whole contents of a text file. Throws std::runtime_error "cannot open WHAT 'PATH'".
 std::string ReadTextFile(const std::string& path, const std::string& what);
 
+// Writes `contents` to a temporary file beside `path`, flushes it to disk and renames it over
+// `path`: readers see the old file or the whole new one, never half of it. Throws
+// std::runtime_error naming the path when any step fails (the temporary is removed).
+void WriteFileAtomically(const std::string& path, const std::string& contents);
+
 }  // namespace uav

@@ -1,6 +1,8 @@
 #pragma once
 // Camera footprint geometry for survey planning (thesis 6.1), the same calculation as
 // QGroundControl's survey camera: GSD = H*Sw*100/(Iw*f) [cm/px].
+#include "uav/shared/parameters.hpp"
+
 namespace uav::waypoints {
 
 struct CameraSpec {
@@ -14,6 +16,11 @@ struct CameraSpec {
 
 // Throws std::invalid_argument naming the field when a value is not positive and finite.
 void ValidateCamera(const CameraSpec& c);
+
+// From a camera file in the parameter format (resources/cameras/*.camera): sensor_width_mm,
+// sensor_height_mm, focal_length_mm, image_width_px, image_height_px, landscape (1/0).
+// Throws naming the missing or invalid parameter.
+CameraSpec CameraFromParameters(const ParameterSet& p);
 
 struct Footprint {
   double gsd_cm_per_px;  // ground sample distance along the image width
