@@ -12,6 +12,8 @@ const char* TopicName(Topic t) {
     case Topic::kCommand: return "COMMAND";
     case Topic::kCommandAck: return "COMMAND_ACK";
     case Topic::kStatusText: return "STATUS_TEXT";
+    case Topic::kMissionUpload: return "MISSION_UPLOAD";
+    case Topic::kMissionAck: return "MISSION_ACK";
   }
   return "UNKNOWN";
 }

@@ -56,6 +56,10 @@ const std::vector<CommandSpec>& CommandSpecs() {
        {{"north_m", -1000.0, 1000.0, "stays within the 1 km radio range"},
         {"east_m", -1000.0, 1000.0, "stays within the 1 km radio range"},
         {"alt_m", 1.0, 120.0, "1 m clears ground effect, 120 m is the legal ceiling"}}},
+      {CommandId::kTrack, "track", "fly stored path N (waypoints/paths/track_N.waypoints)",
+       {{"N", 1.0, 99.0, "paths are numbered 1 to 99", true}}},
+      {CommandId::kMission, "mission", "fly the mission uploaded from the GCS", {}},
+      {CommandId::kReturn, "return", "fly home at a safe altitude and land", {}},
   };
   return kSpecs;
 }
@@ -120,6 +124,10 @@ ParseResult ParseCommand(std::string_view line) {
     }
     if (!std::isfinite(v)) {
       r.error = name + ": argument " + a.name + " is not a finite number: '" + w + "'";
+      return r;
+    }
+    if (a.integer && v != std::floor(v)) {
+      r.error = name + ": argument " + a.name + " must be a whole number: '" + w + "'";
       return r;
     }
     if (v < a.min || v > a.max) {

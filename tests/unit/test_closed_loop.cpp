@@ -2,10 +2,14 @@
 // and the simulated quadrotor, commands injected where the CMM thread would put them.
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include "uav/app/lockstep_scheduler.hpp"
+#include "uav/app/mission_store.hpp"
 #include "uav/app/workers.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/sim/sim_vehicle.hpp"
+#include "uav/waypoints/stored_paths.hpp"
 
 namespace uav::app {
 namespace {
@@ -13,12 +17,14 @@ namespace {
 class ClosedLoop : public ::testing::Test {
  protected:
   static constexpr int64_t kStep = 2000, kPeriod = 20000;
+  static constexpr GeodeticPoint kHome{1.2966, 103.7764, 15.0};  // the stored paths are laid out here
   ClosedLoop()
       : params_(ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params")),
-        vehicle_(params_, GeodeticPoint{1.3, 103.8, 10.0}, 0),
+        vehicle_(params_, kHome, 0),
+        missions_(waypoints::kStoredPathsDir, kHome, params_.Get("ctl_speed_max_xy")),
         imu_(vehicle_, board_),
         ctl_(control::TaskParams::FromParameters(params_),
-             control::ControllerParams::FromParameters(params_), kPeriod * 1e-6, board_),
+             control::ControllerParams::FromParameters(params_), kPeriod * 1e-6, board_, &missions_),
         svo_(vehicle_, board_, params_.Get("rotor_input_idle")) {}
 
   // Sends `text` and flies until its completion (or failure) report, at most `limit_s`.
@@ -44,6 +50,7 @@ class ClosedLoop : public ::testing::Test {
       const auto truth = vehicle_.TruthState();
       const auto e = EulerFromRotationNB(truth.q_NB.toRotationMatrix());
       max_tilt_ = std::max({max_tilt_, std::abs(e.phi), std::abs(e.theta)});
+      if (on_step_) on_step_();
       if (done) s.Stop();
     });
     s.Run([&](int64_t dt) { vehicle_.Step(dt); });
@@ -56,6 +63,8 @@ class ClosedLoop : public ::testing::Test {
 
   ParameterSet params_;
   sim::SimVehicle vehicle_;
+  MissionStore missions_;
+  std::function<void()> on_step_;  // called every control period while flying
   Blackboard board_;
   ImuWorker imu_;
   ControlWorker ctl_;
@@ -96,6 +105,85 @@ TEST_F(ClosedLoop, RejectedCommandsChangeNothing) {
   EXPECT_EQ(Fly("disarm", 1).result, control::AckResult::kCompleted);
   EXPECT_EQ(Fly("land", 1).result, control::AckResult::kRejected);
   EXPECT_NEAR(TruthPosition().norm(), 0.0, 1e-9);
+}
+
+// Flies a path and records, for every waypoint, the closest the vehicle came to it.
+std::vector<double> ClosestApproaches(const std::vector<waypoints::MissionStep>& steps,
+                                      std::vector<double>* closest, const Eigen::Vector3d& p) {
+  for (std::size_t i = 0; i < steps.size(); ++i)
+    if (steps[i].kind == waypoints::MissionStep::Kind::kWaypoint)
+      (*closest)[i] = std::min((*closest)[i], (steps[i].p_N - p).norm());
+  return *closest;
+}
+
+TEST_F(ClosedLoop, TrackFliesTheStoredPathThroughEveryWaypoint) {
+  std::string error;
+  const auto steps = missions_.StoredPath(1, &error);
+  ASSERT_TRUE(steps) << error;
+  std::vector<double> closest(steps->size(), 1e9);
+  EXPECT_EQ(Fly("track 1", 5).result, control::AckResult::kRejected);  // not armed
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  EXPECT_EQ(Fly("track 1", 5).result, control::AckResult::kRejected);  // path has no take-off
+  EXPECT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
+  EXPECT_EQ(Fly("track 99", 5).result, control::AckResult::kRejected);  // no such file
+  on_step_ = [&] { ClosestApproaches(*steps, &closest, TruthPosition()); };
+  EXPECT_EQ(Fly("track 1", 200).result, control::AckResult::kCompleted);
+  on_step_ = nullptr;
+  int waypoints = 0;
+  for (std::size_t i = 0; i < steps->size(); ++i) {
+    if ((*steps)[i].kind != waypoints::MissionStep::Kind::kWaypoint) continue;
+    ++waypoints;
+    EXPECT_LT(closest[i], 0.3) << "waypoint at step " << i;
+  }
+  EXPECT_EQ(waypoints, 5);
+  std::printf("track 1: %.1f s, closest approaches", elapsed_s_);
+  for (double c : closest)
+    if (c < 1e8) std::printf(" %.2f", c);
+  std::printf(" m\n");
+}
+
+TEST_F(ClosedLoop, SurveyMissionFromTheGroundCapturesOnTheLinesAndLandsHome) {
+  // A 40 m x 30 m field next to home, surveyed at 10 m with the simulator's camera.
+  waypoints::SurveyParams p;
+  p.camera = {4.8, 3.6, 3.6, 640, 480, true};
+  p.altitude_m = 10.0;
+  p.speed_m_s = 3.0;
+  p.turnaround_m = 3.0;
+  const LocalNedFrame frame(kHome);
+  std::vector<GeodeticPoint> area;
+  for (const Eigen::Vector2d& v : {Eigen::Vector2d(10, 5), Eigen::Vector2d(50, 5), Eigen::Vector2d(50, 35), Eigen::Vector2d(10, 35)})
+    area.push_back(frame.ToGeodetic(Eigen::Vector3d(v.x(), v.y(), 0)));
+  const waypoints::SurveyPlan plan = waypoints::PlanSurvey(area, kHome, p);
+  ASSERT_TRUE(plan.ok());
+  ASSERT_EQ(missions_.AcceptUpload(waypoints::MissionFromSurvey(area, kHome, p, plan)), "");
+
+  // While capturing, the vehicle is on a survey line: its cross-track distance to the nearest
+  // line and its speed along it are what the plan assumed.
+  double worst_cross = 0, speed_sum = 0;
+  int capturing_steps = 0;
+  on_step_ = [&] {
+    const auto d = board_.Snapshot();
+    if (!(d.capture_interval_s || d.capture_distance_m)) return;
+    ++capturing_steps;
+    const auto truth = vehicle_.TruthState();
+    double cross = 1e9;
+    for (const auto& w : plan.waypoints) cross = std::min(cross, std::abs(truth.p_N.y() - w.p_N.y()));
+    worst_cross = std::max(worst_cross, cross);
+    speed_sum += (truth.q_NB * truth.v_B).head<2>().norm();
+  };
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  const auto last = Fly("mission", 400);
+  on_step_ = nullptr;
+  EXPECT_EQ(last.result, control::AckResult::kCompleted) << last.reason;
+  EXPECT_LT(TruthPosition().head<2>().norm(), 0.5);  // landed at home
+  EXPECT_NEAR(TruthPosition().z(), 0.0, 0.05);
+  EXPECT_FALSE(board_.Snapshot().armed);
+  ASSERT_GT(capturing_steps, 100);
+  EXPECT_LT(worst_cross, 0.3);
+  const double mean_speed = speed_sum / capturing_steps;
+  EXPECT_NEAR(mean_speed, p.speed_m_s, 0.3);
+  std::printf("survey mission: %.1f s, %d lines, worst cross-track %.2f m, mean capture speed %.2f m/s\n",
+              elapsed_s_, plan.lines, worst_cross, mean_speed);
 }
 
 }  // namespace

@@ -82,7 +82,8 @@ TEST(CommandGrammar, RejectsOverlongLine) {
 }
 
 TEST(CommandGrammar, CompletionAndHints) {
-  EXPECT_EQ(CompleteCommandName("t"), std::vector<std::string>{"takeoff"});
+  EXPECT_EQ(CompleteCommandName("ta"), std::vector<std::string>{"takeoff"});
+  EXPECT_EQ(CompleteCommandName("t"), (std::vector<std::string>{"takeoff", "track"}));
   EXPECT_EQ(CompleteCommandName("").size(), CommandSpecs().size());
   EXPECT_EQ(CompleteCommandName("d"), std::vector<std::string>{"disarm"});
   EXPECT_TRUE(CompleteCommandName("x").empty());

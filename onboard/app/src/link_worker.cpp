@@ -3,6 +3,7 @@
 #include <map>
 
 #include "uav/shared/channels.hpp"
+#include "uav/waypoints/mission_messages.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
@@ -12,8 +13,8 @@
 namespace uav::app {
 
 struct LinkWorker::Impl {
-  Impl(const std::string& id, const std::string& url, Blackboard& b)
-      : vehicle_id(id), bus(url), board(b), intake(id) {}
+  Impl(const std::string& id, const std::string& url, Blackboard& b, MissionStore& m)
+      : vehicle_id(id), bus(url), board(b), missions(m), intake(id) {}
 
   uavmsg::header_t NextHeader(Topic t) { return {vehicle_id, ++seq[t]}; }
   void SendReport(int64_t utime, const control::TaskReport& r) {
@@ -33,6 +34,8 @@ struct LinkWorker::Impl {
   std::string vehicle_id;
   Bus bus;
   Blackboard& board;
+  MissionStore& missions;
+  std::map<std::string, waypoints::MissionAssembler> uploads;  // per GCS
   CommandIntake intake;
   std::map<Topic, int64_t> seq;
   std::map<std::string, int64_t> gcs_last_seen;  // GCS name -> vehicle utime of last heartbeat
@@ -41,9 +44,38 @@ struct LinkWorker::Impl {
   int64_t last_heartbeat = -1;
 };
 
-LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, Blackboard& board)
-    : impl_(std::make_unique<Impl>(vehicle_id, lcm_url, board)) {
+LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, Blackboard& board,
+                       MissionStore& missions)
+    : impl_(std::make_unique<Impl>(vehicle_id, lcm_url, board, missions)) {
   Impl* im = impl_.get();
+  im->bus.Subscribe<uavmsg::mission_upload_t>(
+      Channel(vehicle_id, Topic::kMissionUpload),
+      [im](const std::string&, const uavmsg::mission_upload_t& m) {
+        if (m.header.vehicle_id != im->vehicle_id || m.source.empty() || m.source.size() > 64) return;
+        waypoints::MissionUploadAck ack;
+        try {
+          const waypoints::MissionChunk chunk = waypoints::FromMessage(m);
+          ack = im->uploads[m.source].Receive(chunk, [im](const waypoints::Mission& mission) {
+            return im->missions.AcceptUpload(mission);
+          });
+        } catch (const std::invalid_argument& e) {
+          ack.upload_id = m.upload_id;
+          ack.result = waypoints::MissionUploadAck::Result::kRejected;
+          ack.reason = e.what();
+        }
+        if (ack.result != waypoints::MissionUploadAck::Result::kInProgress && ack.received_items == ack.total_items)
+          im->board.PushStatus(ack.result == waypoints::MissionUploadAck::Result::kAccepted ? 6 : 4,
+                               ack.result == waypoints::MissionUploadAck::Result::kAccepted
+                                   ? "mission of " + std::to_string(ack.total_items) + " items accepted from " + m.source
+                                   : "mission upload rejected: " + ack.reason);
+        else if (ack.result == waypoints::MissionUploadAck::Result::kRejected)
+          im->board.PushStatus(4, "mission upload rejected: " + ack.reason);
+        uavmsg::mission_ack_t out = waypoints::ToMessage(ack);
+        out.utime = im->now;
+        out.header = im->NextHeader(Topic::kMissionAck);
+        out.source = m.source;
+        im->bus.Publish(Channel(im->vehicle_id, Topic::kMissionAck), out);
+      });
   im->bus.Subscribe<uavmsg::command_t>(
       Channel(vehicle_id, Topic::kCommand), [im](const std::string&, const uavmsg::command_t& m) {
         auto r = im->intake.Receive(m.header.vehicle_id, m.source, m.command_seq, m.text);
@@ -102,6 +134,8 @@ void LinkWorker::Tick(int64_t utime) {
   m.flight_mode = d.sample.rc_manual ? uavmsg::vehicle_state_t::MODE_MANUAL
                                      : uavmsg::vehicle_state_t::MODE_AUTO;
   m.task = static_cast<int8_t>(d.task);
+  m.mission_item = d.mission_item;
+  m.capturing = d.capture_interval_s.has_value() || d.capture_distance_m.has_value();
   m.armed = d.armed;
   m.landed = !d.airborne;
   m.battery_voltage_v = static_cast<float>(d.sample.battery_voltage_v);

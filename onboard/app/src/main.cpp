@@ -9,6 +9,8 @@
 #include <CLI/CLI.hpp>
 
 #include "uav/app/link_worker.hpp"
+#include "uav/app/mission_store.hpp"
+#include "uav/waypoints/stored_paths.hpp"
 #include "uav/app/lockstep_scheduler.hpp"
 #include "uav/app/workers.hpp"
 #include "uav/shared/channels.hpp"
@@ -50,6 +52,7 @@ int main(int argc, char** argv) {
   std::string log_dir;
   std::string home_text = "1.2966,103.7764,15";  // NUS, Singapore: where the thesis flew
   std::string params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
+  std::string paths_dir = uav::waypoints::kStoredPathsDir;
   double duration_s = 0.0;
   cli.add_flag("--sim", sim, "run against the simulated quadrotor (thesis 2.4 model)");
   cli.add_option("--vehicle-id", vehicle_id, "vehicle id; channels are <ID>/<TOPIC>")->capture_default_str();
@@ -58,6 +61,7 @@ int main(int argc, char** argv) {
   cli.add_option("--log-dir", log_dir, "write the CSV flight log into this directory");
   cli.add_option("--home", home_text, "home position LAT,LON,ALT (deg, deg, m WGS84)")->capture_default_str();
   cli.add_option("--params", params_path, "vehicle parameter file")->capture_default_str();
+  cli.add_option("--paths", paths_dir, "directory of stored paths for 'track N'")->capture_default_str();
   cli.add_option("--duration", duration_s, "stop after this many simulated seconds (0: run until signalled)")
       ->check(CLI::Range(0.0, 1e7));
   CLI11_PARSE(cli, argc, argv);
@@ -84,15 +88,16 @@ int main(int argc, char** argv) {
     uav::sim::SimVehicle vehicle(params, home, start);
     uav::app::Blackboard board;
     uav::app::ImuWorker imu(vehicle, board);
+    uav::app::MissionStore missions(paths_dir, home, params.Get("ctl_speed_max_xy"));
     uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
                                 uav::control::ControllerParams::FromParameters(params),
-                                kPeriodUs * 1e-6, board);
+                                kPeriodUs * 1e-6, board, &missions);
     uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"));
     std::unique_ptr<uav::app::FlightLog> log;
     if (!log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(log_dir, start);
     const std::string log_path = log ? log->path() : "";
     uav::app::LogWorker dlg(std::move(log), board);
-    uav::app::LinkWorker cmm(vehicle_id, lcm_url, board);
+    uav::app::LinkWorker cmm(vehicle_id, lcm_url, board, missions);
 
     uav::app::LockstepScheduler scheduler(
         {start, kStepUs, speed, static_cast<int64_t>(duration_s * 1e6)});

@@ -24,8 +24,8 @@ void ImuWorker::Tick(int64_t utime) {
 
 ControlWorker::ControlWorker(const control::TaskParams& task_params,
                              const control::ControllerParams& controller_params, double period_s,
-                             Blackboard& board)
-    : tasks_(task_params), controller_(controller_params), period_s_(period_s), board_(board) {}
+                             Blackboard& board, control::MissionSource* missions)
+    : tasks_(task_params, missions), controller_(controller_params), period_s_(period_s), board_(board) {}
 
 void ControlWorker::Tick(int64_t utime) {
   const BlackboardData d = board_.Snapshot();
@@ -41,6 +41,9 @@ void ControlWorker::Tick(int64_t utime) {
     b.armed = out.armed;
     b.airborne = out.airborne;
     b.task = out.task;
+    b.mission_item = out.mission_item;
+    b.capture_interval_s = out.capture_interval_s;
+    b.capture_distance_m = out.capture_distance_m;
   });
   board_.PushReports(reports);
   // Operator-facing events.
@@ -53,6 +56,9 @@ void ControlWorker::Tick(int64_t utime) {
                   control::TaskName(out.task), p.x(), p.y(), -p.z());
     board_.PushStatus(6, buf);
   }
+  const bool capturing = out.capture_interval_s || out.capture_distance_m;
+  if (capturing != last_capturing_) board_.PushStatus(6, capturing ? "camera capture on" : "camera capture off");
+  last_capturing_ = capturing;
   last_armed_ = out.armed;
   last_task_ = out.task;
 }

@@ -47,8 +47,9 @@ ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, cons
   // ---- Outer loop: position -> velocity setpoint (saturated: the vehicle flies at bounded speed).
   const Eigen::Vector3d e_p = sp.p_N - est.p_N;
   Eigen::Vector3d v_sp;
-  v_sp.head<2>() = ClampNorm(p_.pos_gain_xy * e_p.head<2>(), p_.speed_max_xy);
-  v_sp.z() = sp.descent_rate ? *sp.descent_rate : p_.pos_gain_z * e_p.z();
+  const double speed_xy = sp.speed_max_xy ? std::min(*sp.speed_max_xy, p_.speed_max_xy) : p_.speed_max_xy;
+  v_sp.head<2>() = ClampNorm(sp.v_ff_N.head<2>() + p_.pos_gain_xy * e_p.head<2>(), speed_xy);
+  v_sp.z() = sp.descent_rate ? *sp.descent_rate : sp.v_ff_N.z() + p_.pos_gain_z * e_p.z();
   v_sp.z() = std::clamp(v_sp.z(), -p_.speed_max_up, p_.speed_max_down);
 
   // ---- Velocity -> acceleration setpoint, PI with clamped integrators (anti-windup).

@@ -12,6 +12,9 @@ const char* TaskName(Task t) {
     case Task::kHover: return "hover";
     case Task::kGoto: return "goto";
     case Task::kLand: return "land";
+    case Task::kTrack: return "track";
+    case Task::kMission: return "mission";
+    case Task::kReturn: return "return";
   }
   return "unknown";
 }
@@ -30,10 +33,52 @@ const char* AckResultName(AckResult r) {
 TaskParams TaskParams::FromParameters(const ParameterSet& p) {
   return {p.Get("task_reached_radius"), p.Get("task_reached_speed"), p.Get("task_land_speed"),
           p.Get("task_land_slow_alt"),  p.Get("task_landed_alt"),    p.Get("task_landed_time"),
-          p.Get("ctl_speed_max_xy"),    p.Get("ctl_speed_max_up")};
+          p.Get("ctl_speed_max_xy"),    p.Get("ctl_speed_max_up"),   p.Get("ctl_speed_max_down"),
+          p.Get("task_path_accel"),     p.Get("task_path_leash"),    p.Get("task_return_alt"),
+          p.Get("task_stall_time")};
 }
 
-TaskManager::TaskManager(const TaskParams& params) : p_(params) {}
+TaskManager::TaskManager(const TaskParams& params, MissionSource* missions)
+    : p_(params), missions_(missions) {}
+
+void TaskManager::BeginPath(Task task, std::vector<waypoints::MissionStep> steps,
+                            const CommandRequest& req, const VehicleEstimate& est, double t,
+                            std::vector<TaskReport>* reports) {
+  auto reject = [&](const std::string& why) {
+    reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kRejected, 0, why});
+  };
+  if (!armed_) return reject("not armed: arm first");
+  if (!airborne_) {
+    // From the ground a path must begin by taking off (a survey mission does).
+    auto first = std::find_if(steps.begin(), steps.end(), [](const waypoints::MissionStep& s) {
+      return s.kind != waypoints::MissionStep::Kind::kSetSpeed &&
+             s.kind != waypoints::MissionStep::Kind::kCaptureStart &&
+             s.kind != waypoints::MissionStep::Kind::kCaptureStop;
+    });
+    if (first == steps.end() || first->kind != waypoints::MissionStep::Kind::kTakeoff)
+      return reject("not flying and the path does not start with a take-off: take off first");
+    airborne_ = true;
+    reset_pending_ = true;
+  }
+  const MissionRunnerParams rp{p_.reached_radius, p_.reached_speed, p_.speed_max_xy, p_.speed_max_up, p_.speed_max_down,
+                               p_.path_accel,     p_.path_leash,   p_.return_alt};
+  setpoint_.descent_rate.reset();
+  runner_ = std::make_unique<MissionRunner>(std::move(steps), rp, est);
+  path_ = runner_->Update(est, 0.0);
+  setpoint_ = path_.setpoint;
+  Begin(task, req, est, t, reports);
+  deadline_ = t + p_.stall_time;  // extended whenever progress is made
+}
+
+void TaskManager::StartLanding(const VehicleEstimate& est) {
+  setpoint_.p_N = Eigen::Vector3d(est.p_N.x(), est.p_N.y(), 0.0);
+  setpoint_.yaw = est.euler.psi;
+  setpoint_.v_ff_N.setZero();
+  setpoint_.speed_max_xy.reset();
+  setpoint_.descent_rate = p_.land_speed;
+  start_p_N_ = est.p_N;
+  task_ = Task::kLand;
+}
 
 void TaskManager::Finish(AckResult result, const std::string& reason,
                          std::vector<TaskReport>* reports) {
@@ -46,6 +91,7 @@ void TaskManager::Finish(AckResult result, const std::string& reason,
 void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstimate& est, double t,
                         std::vector<TaskReport>* reports) {
   Finish(AckResult::kFailed, std::string("superseded by ") + req.command.Name(), reports);
+  if (task != Task::kTrack && task != Task::kMission && task != Task::kReturn) runner_.reset();
   task_ = task;
   active_ = req;
   active_report_ = true;
@@ -87,9 +133,9 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       if (!armed_) return reject("not armed: arm first");
       if (airborne_ && task_ != Task::kLand)
         return reject("already flying: use goto to change altitude");
+      setpoint_ = Setpoint{};
       setpoint_.p_N = Eigen::Vector3d(est.p_N.x(), est.p_N.y(), -c.args[0]);
       setpoint_.yaw = est.euler.psi;
-      setpoint_.descent_rate.reset();
       if (!airborne_) reset_pending_ = true;
       airborne_ = true;
       return Begin(Task::kTakeoff, req, est, t, reports);
@@ -97,7 +143,9 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
     case CommandId::kHover:
       if (!airborne_) return reject("not flying");
       Finish(AckResult::kFailed, "superseded by hover", reports);
+      runner_.reset();
       // Thesis 2.3.2: the current position becomes the reference.
+      setpoint_ = Setpoint{};
       setpoint_.p_N = est.p_N;
       setpoint_.yaw = est.euler.psi;
       setpoint_.descent_rate.reset();
@@ -105,6 +153,7 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       return instant();
     case CommandId::kLand:
       if (!airborne_) return reject("not flying");
+      setpoint_ = Setpoint{};
       setpoint_.p_N = Eigen::Vector3d(est.p_N.x(), est.p_N.y(), 0.0);
       setpoint_.yaw = est.euler.psi;
       setpoint_.descent_rate = p_.land_speed;
@@ -113,7 +162,24 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       if (!airborne_) return reject("not flying: take off first");
       setpoint_.p_N = Eigen::Vector3d(c.args[0], c.args[1], -c.args[2]);
       setpoint_.descent_rate.reset();
+      setpoint_.v_ff_N.setZero();
+      setpoint_.speed_max_xy.reset();
       return Begin(Task::kGoto, req, est, t, reports);
+    case CommandId::kTrack:
+    case CommandId::kMission: {
+      if (!missions_) return reject("this vehicle has no mission store");
+      std::string error;
+      auto steps = c.id == CommandId::kTrack ? missions_->StoredPath(static_cast<int>(c.args[0]), &error)
+                                             : missions_->UploadedMission(&error);
+      if (!steps) return reject(error);
+      return BeginPath(c.id == CommandId::kTrack ? Task::kTrack : Task::kMission, std::move(*steps), req, est, t, reports);
+    }
+    case CommandId::kReturn: {
+      if (!airborne_) return reject("not flying");
+      std::vector<waypoints::MissionStep> steps(1);
+      steps[0].kind = waypoints::MissionStep::Kind::kReturnHome;
+      return BeginPath(Task::kReturn, std::move(steps), req, est, t, reports);
+    }
   }
 }
 
@@ -129,6 +195,40 @@ double TaskManager::Progress(const VehicleEstimate& est) const {
 
 TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
                                         std::vector<TaskReport>* reports) {
+  const double dt = std::max(0.0, t - last_t_);
+  last_t_ = t;
+  const bool path_task = task_ == Task::kTrack || task_ == Task::kMission || task_ == Task::kReturn;
+  if (path_task && runner_) {
+    const int before = path_.percent;
+    path_ = runner_->Update(est, dt);
+    setpoint_ = path_.setpoint;
+    if (path_.percent > before) deadline_ = t + p_.stall_time;
+    if (path_.percent != last_percent_ && t - last_progress_t_ >= 0.5 && path_.percent < 100) {
+      last_percent_ = path_.percent;
+      last_progress_t_ = t;
+      reports->push_back({active_.source, active_.seq, active_.command.Name(), AckResult::kInProgress,
+                          path_.percent, ""});
+    }
+    if (path_.land) {
+      runner_.reset();
+      path_ = MissionRunner::Output{};
+      StartLanding(est);  // the command completes on touchdown
+    } else if (path_.done) {
+      runner_.reset();
+      path_ = MissionRunner::Output{};
+      setpoint_.v_ff_N.setZero();
+      task_ = Task::kHover;
+      Finish(AckResult::kCompleted, "", reports);
+    } else if (t > deadline_) {
+      runner_.reset();
+      path_ = MissionRunner::Output{};
+      setpoint_ = Setpoint{};
+      setpoint_.p_N = est.p_N;
+      setpoint_.yaw = est.euler.psi;
+      task_ = Task::kHover;
+      Finish(AckResult::kFailed, "no progress along the path; holding position", reports);
+    }
+  }
   if (task_ == Task::kLand && setpoint_.descent_rate) {
     // Slow down for the touchdown.
     setpoint_.descent_rate =
@@ -176,6 +276,11 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
   o.airborne = airborne_;
   o.task = task_;
   o.setpoint = setpoint_;
+  if (runner_) {
+    o.mission_item = path_.item;
+    o.capture_interval_s = path_.capture_interval_s;
+    o.capture_distance_m = path_.capture_distance_m;
+  }
   o.reset_controller = reset_pending_ || !airborne_;
   reset_pending_ = false;
   return o;

@@ -5,7 +5,16 @@
 
 namespace uav {
 
-enum class Topic { kHeartbeat, kGcsHeartbeat, kState, kCommand, kCommandAck, kStatusText };
+enum class Topic {
+  kHeartbeat,
+  kGcsHeartbeat,
+  kState,
+  kCommand,
+  kCommandAck,
+  kStatusText,
+  kMissionUpload,
+  kMissionAck
+};
 
 const char* TopicName(Topic t);
 std::string Channel(std::string_view vehicle_id, Topic t);

@@ -9,13 +9,14 @@
 
 namespace uav {
 
-enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto };
+enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto, kTrack, kMission, kReturn };
 
 struct ArgumentSpec {
   const char* name;   // e.g. "alt_m"
   double min;         // inclusive
   double max;         // inclusive
   const char* why;    // why the limit is where it is
+  bool integer = false;  // whole numbers only (a path number)
 };
 
 struct CommandSpec {

@@ -4,6 +4,7 @@
 #include <array>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,9 @@ struct BlackboardData {
   bool armed = false;
   bool airborne = false;
   control::Task task = control::Task::kIdle;
+  int mission_item = -1;
+  std::optional<double> capture_interval_s;  // survey camera on, by time ...
+  std::optional<double> capture_distance_m;  // ... or by distance
   // SVO thread
   std::array<double, 4> rotor_inputs = {-1, -1, -1, -1};
 };

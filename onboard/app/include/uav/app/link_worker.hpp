@@ -1,5 +1,5 @@
 #pragma once
-// CMM thread: the GCS link. Receives commands and GCS heartbeats, publishes telemetry (50 Hz),
+// CMM thread: the GCS link. Receives commands, mission uploads and GCS heartbeats, publishes telemetry (50 Hz),
 // heartbeat (1 Hz), acknowledgements and status texts. Messages stay here, at the edge.
 #include <cstdint>
 #include <memory>
@@ -7,13 +7,16 @@
 
 #include "uav/app/blackboard.hpp"
 #include "uav/app/command_intake.hpp"
+#include "uav/app/mission_store.hpp"
 #include "uav/shared/bus.hpp"
 
 namespace uav::app {
 
 class LinkWorker {
  public:
-  LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, Blackboard& board);
+  // Accepted mission uploads go to `missions`.
+  LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, Blackboard& board,
+             MissionStore& missions);
   ~LinkWorker();
   // Called at the telemetry rate (50 Hz).
   void Tick(int64_t utime);

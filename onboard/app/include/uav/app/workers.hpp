@@ -28,7 +28,7 @@ class ControlWorker {
  public:
   ControlWorker(const control::TaskParams& task_params,
                 const control::ControllerParams& controller_params, double period_s,
-                Blackboard& board);
+                Blackboard& board, control::MissionSource* missions = nullptr);
   void Tick(int64_t utime);
 
  private:
@@ -38,6 +38,7 @@ class ControlWorker {
   Blackboard& board_;
   control::Task last_task_ = control::Task::kIdle;
   bool last_armed_ = false;
+  bool last_capturing_ = false;
 };
 
 // SVO: servo channels through the mixer to the rotors.

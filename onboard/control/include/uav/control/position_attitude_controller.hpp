@@ -24,6 +24,10 @@ struct Setpoint {
   double yaw = 0.0;                               // [rad]
   // When set, the vertical position loop is replaced by this descent rate [m/s, down positive].
   std::optional<double> descent_rate;
+  // Velocity of a moving reference [m/s], fed forward so a path is flown without lag.
+  Eigen::Vector3d v_ff_N = Eigen::Vector3d::Zero();
+  // Horizontal speed limit below the vehicle's own (mission DO_CHANGE_SPEED) [m/s].
+  std::optional<double> speed_max_xy;
 };
 
 class PositionAttitudeController {

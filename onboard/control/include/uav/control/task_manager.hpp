@@ -2,10 +2,13 @@
 // Flight task manager (thesis 2.3.2): takes validated commands, checks that they make sense in
 // the current state, reloads the references when the task changes, and reports progress.
 // Plain class on the simulated clock: no threads, no messages.
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "uav/control/estimate.hpp"
+#include "uav/control/mission_runner.hpp"
 #include "uav/control/position_attitude_controller.hpp"
 #include "uav/shared/command_grammar.hpp"
 #include "uav/shared/parameters.hpp"
@@ -13,7 +16,7 @@
 namespace uav::control {
 
 // Values match vehicle_state_t.TASK_*.
-enum class Task { kIdle = 0, kTakeoff = 1, kHover = 2, kGoto = 3, kLand = 4 };
+enum class Task { kIdle = 0, kTakeoff = 1, kHover = 2, kGoto = 3, kLand = 4, kTrack = 5, kMission = 6, kReturn = 7 };
 const char* TaskName(Task t);
 
 // Values match command_ack_t.RESULT_*.
@@ -37,13 +40,24 @@ struct TaskReport {
 
 struct TaskParams {
   double reached_radius, reached_speed, land_speed, land_slow_alt, landed_alt, landed_time;
-  double speed_max_xy, speed_max_up;
+  double speed_max_xy, speed_max_up, speed_max_down;
+  double path_accel, path_leash, return_alt, stall_time;
   static TaskParams FromParameters(const ParameterSet& p);
+};
+
+// Where "track N" and "mission" get their steps (compiled in the vehicle's home frame). The app
+// reads stored paths from disk and keeps the last accepted upload; tests give their own.
+class MissionSource {
+ public:
+  virtual ~MissionSource() = default;
+  // Steps to fly, or nullopt with `error` naming why not (no such path, invalid file, ...).
+  virtual std::optional<std::vector<waypoints::MissionStep>> StoredPath(int n, std::string* error) = 0;
+  virtual std::optional<std::vector<waypoints::MissionStep>> UploadedMission(std::string* error) = 0;
 };
 
 class TaskManager {
  public:
-  explicit TaskManager(const TaskParams& params);
+  TaskManager(const TaskParams& params, MissionSource* missions = nullptr);
 
   // Handles one command; appends its ACCEPTED/REJECTED (and, for instant ones, COMPLETED)
   // reports to `reports`. A rejected command changes nothing.
@@ -56,6 +70,9 @@ class TaskManager {
     bool reset_controller = false;
     Task task = Task::kIdle;
     Setpoint setpoint;
+    int mission_item = -1;                      // item being flown by track/mission, else -1
+    std::optional<double> capture_interval_s;   // survey camera on (by time) ...
+    std::optional<double> capture_distance_m;   // ... or by distance
   };
   // One step at the control rate: advances the active task, appends progress reports.
   Output Update(const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
@@ -68,8 +85,15 @@ class TaskManager {
   void Begin(Task task, const CommandRequest& req, const VehicleEstimate& est, double t,
              std::vector<TaskReport>* reports);
   double Progress(const VehicleEstimate& est) const;
+  void BeginPath(Task task, std::vector<waypoints::MissionStep> steps, const CommandRequest& req,
+                 const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
+  void StartLanding(const VehicleEstimate& est);
 
   TaskParams p_;
+  MissionSource* missions_;
+  std::unique_ptr<MissionRunner> runner_;  // track, mission and return
+  MissionRunner::Output path_;             // its last output
+  double last_t_ = 0.0;
   bool armed_ = false;
   bool airborne_ = false;
   bool reset_pending_ = false;

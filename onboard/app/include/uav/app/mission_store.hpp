@@ -1,0 +1,36 @@
+#pragma once
+// Where the task manager gets "track N" and "mission" from: stored path files, and the last
+// mission the GCS uploaded (checked and compiled when it arrives, so "mission" never finds a
+// mission it cannot fly). Thread-safe: CMM stores uploads, CTL reads them.
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "uav/control/task_manager.hpp"
+#include "uav/shared/geodesy.hpp"
+#include "uav/waypoints/mission.hpp"
+
+namespace uav::app {
+
+class MissionStore : public control::MissionSource {
+ public:
+  // Missions are compiled in the NED frame at `home` with the vehicle's speed limit.
+  MissionStore(std::string paths_dir, const GeodeticPoint& home, double max_speed_m_s);
+
+  std::optional<std::vector<waypoints::MissionStep>> StoredPath(int n, std::string* error) override;
+  std::optional<std::vector<waypoints::MissionStep>> UploadedMission(std::string* error) override;
+
+  // Checks and compiles an uploaded mission; on success it replaces the stored one and ""
+  // is returned, else the reason (and the stored mission is unchanged).
+  std::string AcceptUpload(const waypoints::Mission& m);
+
+ private:
+  std::string paths_dir_;
+  LocalNedFrame frame_;
+  double max_speed_m_s_;
+  std::mutex mutex_;
+  std::optional<std::vector<waypoints::MissionStep>> uploaded_;
+};
+
+}  // namespace uav::app

@@ -1,0 +1,67 @@
+#pragma once
+// Flies a compiled mission (an uploaded survey or a stored "track N" path, waypoints/mission.hpp).
+// A reference point moves along the legs at the commanded speed with bounded acceleration and is
+// fed forward to the position loop, so straight survey lines are flown at constant speed; it
+// slows to a stop at corners sharper than 30 degrees and waits there until the vehicle has stopped within
+// the acceptance radius; it never runs more than a leash length ahead of the vehicle. Speed and
+// camera steps take effect as the reference passes them. Plain class on the simulated clock.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "uav/control/estimate.hpp"
+#include "uav/control/position_attitude_controller.hpp"
+#include "uav/waypoints/mission.hpp"
+
+namespace uav::control {
+
+struct MissionRunnerParams {
+  double reached_radius;   // [m] a stop waypoint counts as reached within this distance ...
+  double reached_speed;    // [m/s] ... and below this speed (so the turn starts from rest)
+  double speed_max_xy;     // [m/s] vehicle limit
+  double speed_max_up;     // [m/s]
+  double speed_max_down;   // [m/s]
+  double accel;            // [m/s^2] of the reference along the path
+  double leash;            // [m] longest lead of the reference over the vehicle
+  double return_alt;       // [m] lowest altitude for the flight home
+};
+
+class MissionRunner {
+ public:
+  MissionRunner(std::vector<waypoints::MissionStep> steps, const MissionRunnerParams& p,
+                const VehicleEstimate& est);
+
+  struct Output {
+    Setpoint setpoint;
+    bool land = false;        // the mission ends in a landing at setpoint.p_N (x, y)
+    bool done = false;        // every step flown (holding at the last point)
+    int percent = 0;          // of the path length flown
+    int item = -1;            // mission item of the current step
+    std::optional<double> capture_interval_s;  // camera on: every this many seconds ...
+    std::optional<double> capture_distance_m;  // ... or every this many metres
+  };
+  Output Update(const VehicleEstimate& est, double dt);
+
+  double path_length_m() const { return total_length_; }
+
+ private:
+  void Advance(const VehicleEstimate& est);  // runs non-position steps, sets the next target
+  bool IsStopAfter(std::size_t step) const;   // is the waypoint at `step` a corner?
+
+  std::vector<waypoints::MissionStep> steps_;
+  MissionRunnerParams p_;
+  std::size_t index_ = 0;
+  Eigen::Vector3d ref_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d target_ = Eigen::Vector3d::Zero();
+  double yaw_ = 0.0;
+  double speed_ = 0.0;      // commanded cruise speed
+  double ref_speed_ = 0.0;  // current speed of the reference
+  bool moving_ = false;     // a position step is in progress
+  bool waiting_ = false;    // reference at a stop waypoint, waiting for the vehicle
+  bool landing_ = false;
+  bool done_ = false;
+  double total_length_ = 0.0, flown_length_ = 0.0;
+  std::optional<double> capture_interval_s_, capture_distance_m_;
+};
+
+}  // namespace uav::control

@@ -1,0 +1,165 @@
+#include "uav/control/mission_runner.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace uav::control {
+
+using waypoints::MissionStep;
+using Kind = waypoints::MissionStep::Kind;
+
+namespace {
+bool IsPosition(const MissionStep& s) { return s.kind == Kind::kWaypoint; }
+}  // namespace
+
+MissionRunner::MissionRunner(std::vector<MissionStep> steps, const MissionRunnerParams& p,
+                             const VehicleEstimate& est)
+    : steps_(std::move(steps)), p_(p), ref_(est.p_N), target_(est.p_N), yaw_(est.euler.psi),
+      speed_(p.speed_max_xy) {
+  // Path length for progress: the waypoints in order from where we are.
+  Eigen::Vector3d at = est.p_N;
+  for (const auto& s : steps_) {
+    if (s.kind == Kind::kWaypoint) total_length_ += (s.p_N - at).norm(), at = s.p_N;
+    if (s.kind == Kind::kTakeoff) {
+      const Eigen::Vector3d up(at.x(), at.y(), -s.altitude_m);
+      total_length_ += (up - at).norm(), at = up;
+    }
+    if (s.kind == Kind::kReturnHome) {
+      const Eigen::Vector3d home(0, 0, at.z());
+      total_length_ += (home - at).norm() - at.z(), at = Eigen::Vector3d::Zero();
+    }
+  }
+  Advance(est);
+}
+
+bool MissionRunner::IsStopAfter(std::size_t step) const {
+  // A waypoint is flown through when the next position step continues within 30 degrees and no
+  // step in between needs the vehicle to be there (landing, return).
+  const Eigen::Vector3d& here = steps_[step].p_N;
+  Eigen::Vector3d before = ref_;
+  for (std::size_t k = step + 1; k < steps_.size(); ++k) {
+    const auto& s = steps_[k];
+    if (s.kind == Kind::kSetSpeed || s.kind == Kind::kCaptureStart || s.kind == Kind::kCaptureStop) continue;
+    if (!IsPosition(s)) return true;
+    const Eigen::Vector3d in = here - before, out = s.p_N - here;
+    if (in.norm() < 1e-6 || out.norm() < 1e-6) return out.norm() >= 1e-6;
+    return in.normalized().dot(out.normalized()) < std::cos(30.0 * M_PI / 180.0);
+  }
+  return true;
+}
+
+void MissionRunner::Advance(const VehicleEstimate& est) {
+  moving_ = false;
+  while (index_ < steps_.size()) {
+    const MissionStep& s = steps_[index_];
+    switch (s.kind) {
+      case Kind::kSetSpeed:
+        speed_ = std::min(s.value, p_.speed_max_xy);
+        ++index_;
+        continue;
+      case Kind::kCaptureStart:
+        if (s.value > 0) capture_interval_s_ = s.value, capture_distance_m_.reset();
+        else capture_distance_m_ = -s.value, capture_interval_s_.reset();
+        ++index_;
+        continue;
+      case Kind::kCaptureStop:
+        capture_interval_s_.reset(), capture_distance_m_.reset();
+        ++index_;
+        continue;
+      case Kind::kWaypoint:
+        target_ = s.p_N;
+        if (!std::isnan(s.yaw_rad)) yaw_ = s.yaw_rad;
+        moving_ = true;
+        return;
+      case Kind::kTakeoff:
+        target_ = Eigen::Vector3d(ref_.x(), ref_.y(), -s.altitude_m);
+        moving_ = true;
+        return;
+      case Kind::kReturnHome: {
+        // Climb (or stay) to the return altitude over here, fly home at it, then land.
+        const double alt = std::max(-ref_.z(), p_.return_alt);
+        if (-ref_.z() < alt - 0.5 * p_.reached_radius) {
+          target_ = Eigen::Vector3d(ref_.x(), ref_.y(), -alt);
+        } else if (ref_.head<2>().norm() > 0.5 * p_.reached_radius) {
+          target_ = Eigen::Vector3d(0, 0, -alt);
+        } else {
+          landing_ = true;
+          target_ = Eigen::Vector3d(0, 0, ref_.z());
+          return;
+        }
+        moving_ = true;
+        return;
+      }
+      case Kind::kLand:
+        if (!std::isnan(s.p_N.x()) && (s.p_N.head<2>() - ref_.head<2>()).norm() > 0.5 * p_.reached_radius) {
+          target_ = Eigen::Vector3d(s.p_N.x(), s.p_N.y(), ref_.z());
+          moving_ = true;
+          return;
+        }
+        landing_ = true;
+        return;
+    }
+  }
+  done_ = true;
+  (void)est;
+}
+
+MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double dt) {
+  Output o;
+  Eigen::Vector3d v_ff = Eigen::Vector3d::Zero();
+  if (moving_ && !landing_) {
+    const Eigen::Vector3d to_go = target_ - ref_;
+    const double dist = to_go.norm();
+    const bool stop = index_ < steps_.size() && (steps_[index_].kind != Kind::kWaypoint || IsStopAfter(index_));
+    if (!waiting_) {
+      const Eigen::Vector3d dir = dist > 1e-9 ? Eigen::Vector3d(to_go / dist) : Eigen::Vector3d::Zero();
+      // Cruise speed, reduced so the vertical part stays within the climb/descent limits.
+      double cruise = speed_;
+      if (std::abs(dir.z()) > 1e-6)
+        cruise = std::min(cruise, (dir.z() < 0 ? p_.speed_max_up : p_.speed_max_down) / std::abs(dir.z()));
+      double v = std::min(ref_speed_ + p_.accel * dt, cruise);
+      if (stop) v = std::min(v, std::sqrt(2.0 * p_.accel * dist));
+      // Leash: the reference waits for a vehicle that has fallen behind.
+      if ((ref_ - est.p_N).norm() > p_.leash) v = std::min(v, ref_speed_ * 0.5);
+      ref_speed_ = v;
+      const double step = v * dt;
+      if (step >= dist) {
+        ref_ = target_;
+        flown_length_ += dist;
+        if (stop) {
+          waiting_ = true;
+          ref_speed_ = 0.0;
+        } else {
+          ++index_;
+          Advance(est);
+        }
+      } else {
+        ref_ += dir * step;
+        flown_length_ += step;
+        v_ff = dir * v;
+      }
+    }
+    if (waiting_ && (est.p_N - target_).norm() < p_.reached_radius && est.v_N.norm() < p_.reached_speed) {
+      waiting_ = false;
+      if (steps_[index_].kind == Kind::kReturnHome || steps_[index_].kind == Kind::kLand) {
+        Advance(est);  // the next phase of the return/landing
+      } else {
+        ++index_;
+        Advance(est);
+      }
+    }
+  }
+  o.setpoint.p_N = ref_;
+  o.setpoint.yaw = yaw_;
+  o.setpoint.v_ff_N = v_ff;
+  o.setpoint.speed_max_xy = speed_;
+  o.land = landing_;
+  o.done = done_;
+  o.item = index_ < steps_.size() ? static_cast<int>(steps_[index_].item) : -1;
+  o.percent = total_length_ > 1e-6 ? static_cast<int>(std::clamp(100.0 * flown_length_ / total_length_, 0.0, 100.0)) : 100;
+  o.capture_interval_s = capture_interval_s_;
+  o.capture_distance_m = capture_distance_m_;
+  return o;
+}
+
+}  // namespace uav::control
