@@ -5,6 +5,7 @@
 #include "uav/shared/bus.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/time.hpp"
+#include "uav/waypoints/mission_messages.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
@@ -42,7 +43,10 @@ TelemetrySample Flatten(const uavmsg::vehicle_state_t& m) {
               {"Uth", m.servo_input[2]}, {"Ur", m.servo_input[3]},
               {"mode", m.flight_mode}, {"task", m.task}, {"armed", m.armed ? 1.0 : 0.0},
               {"landed", m.landed ? 1.0 : 0.0},
-              {"battery_v", m.battery_voltage_v}, {"battery_remaining", m.battery_remaining}};
+              {"battery_v", m.battery_voltage_v}, {"battery_remaining", m.battery_remaining},
+              {"mission_item", m.mission_item}, {"capturing", m.capturing ? 1.0 : 0.0},
+              {"home_lat", m.home_latitude_deg}, {"home_lon", m.home_longitude_deg},
+              {"home_alt", m.home_altitude_m}};
   return s;
 }
 
@@ -61,6 +65,7 @@ struct GcsLink::Impl {
   double last_heartbeat = -1e9;
   int64_t heartbeat_seq = 0;
   int64_t command_msg_seq = 0;
+  int64_t upload_msg_seq = 0;
   int64_t dropped = 0;
 };
 
@@ -85,6 +90,11 @@ GcsLink::GcsLink(const std::string& lcm_url, GcsModel& model)
                         {m.command_seq, m.command, ResultName(m.result), m.progress_percent, m.reason},
                         im->now);
       });
+  im->bus.Subscribe<uavmsg::mission_ack_t>(
+      "[^/]+/MISSION_ACK", [im](const std::string& ch, const uavmsg::mission_ack_t& m) {
+        if (im->Accept(ch, m.header.vehicle_id))
+          im->model.OnMissionAck(m.header.vehicle_id, m.source, waypoints::FromMessage(m), im->now);
+      });
   im->bus.Subscribe<uavmsg::status_text_t>(
       "[^/]+/STATUS_TEXT", [im](const std::string& ch, const uavmsg::status_text_t& m) {
         if (im->Accept(ch, m.header.vehicle_id))
@@ -108,6 +118,13 @@ void GcsLink::Poll(int timeout_ms, double now) {
     m.command_seq = c.command_seq;
     m.text = c.text;
     im.bus.Publish(Channel(c.vehicle_id, Topic::kCommand), m);
+  }
+  for (const auto& c : im.model.TakeOutgoingChunks()) {
+    uavmsg::mission_upload_t m = waypoints::ToMessage(c.chunk);
+    m.utime = WallTimeMicros();
+    m.header = {c.vehicle_id, ++im.upload_msg_seq};
+    m.source = im.model.gcs_name();
+    im.bus.Publish(Channel(c.vehicle_id, Topic::kMissionUpload), m);
   }
   if (now - im.last_heartbeat >= 1.0) {
     im.last_heartbeat = now;

@@ -1,12 +1,16 @@
 #include "uav/gcs/gcs_model.hpp"
 
+#include <cmath>
+
 #include "uav/shared/command_grammar.hpp"
 
 namespace uav::gcs {
 namespace {
 constexpr std::size_t kMaxLogLines = 500;
 constexpr std::size_t kMaxSentKept = 100;
-const char* kTaskNames[] = {"idle", "takeoff", "hover", "goto", "land"};
+// Index: vehicle_state_t.TASK_*.
+const char* kTaskNames[] = {"idle", "takeoff", "hover", "goto", "land", "track", "mission", "return"};
+constexpr int kTaskCount = 8;
 }  // namespace
 
 double VehicleModel::MessageRate(double now) const {
@@ -37,7 +41,7 @@ void GcsModel::OnHeartbeat(const std::string& vehicle_id, int64_t seq, int task,
   if (fresh) Log(now, vehicle_id, "vehicle discovered", 6);
   v.last_heartbeat = now;
   v.armed = armed;
-  v.task = task >= 0 && task < 5 ? kTaskNames[task] : "unknown";
+  v.task = task >= 0 && task < kTaskCount ? kTaskNames[task] : "unknown";
   TelemetrySample s{vehicle_id, "HEARTBEAT", seq, -1.0, {}};
   OnTelemetry(s, now);
 }
@@ -57,7 +61,22 @@ void GcsModel::OnTelemetry(const TelemetrySample& s, double now) {
   for (const auto& [name, value] : s.values) {  // the 50 Hz state is fresher than the heartbeat
     if (s.group != "STATE") break;
     if (name == "armed") v.armed = value > 0.5;
-    if (name == "task") v.task = value >= 0 && value < 5 ? kTaskNames[static_cast<int>(value)] : "unknown";
+    if (name == "task") v.task = value >= 0 && value < kTaskCount ? kTaskNames[static_cast<int>(value)] : "unknown";
+  }
+  if (s.group == "STATE") {
+    GeodeticPoint home{NAN, NAN, NAN};
+    for (const auto& [name, value] : s.values) {
+      if (name == "home_lat") home.latitude_deg = value;
+      if (name == "home_lon") home.longitude_deg = value;
+      if (name == "home_alt") home.altitude_m = value;
+    }
+    try {
+      ValidateGeodetic(home);
+      v.home = home;
+      if (s.vehicle_id == selected_) planner_.SetOrigin(home);
+    } catch (const std::invalid_argument&) {
+      // no or bad home in this sample: keep the last good one
+    }
   }
   if (v.first_t < 0.0) v.first_t = s.t;
   const double t = s.t - v.first_t;
@@ -128,6 +147,12 @@ void GcsModel::SetPlotWindow(double seconds) {
 }
 
 void GcsModel::Tick(double now) {
+  for (auto& [id, v] : vehicles_) {
+    if (!v.upload) continue;
+    const auto before = v.upload->state();
+    for (auto& c : v.upload->Tick(now)) outgoing_chunks_.push_back({id, std::move(c)});
+    if (before != v.upload->state()) Log(now, id, "mission upload failed: " + v.upload->reason(), 3);
+  }
   for (auto& c : sent_) {
     if (c.acknowledged || c.gave_up || now - c.last_sent < kResendTimeout) continue;
     if (c.tries >= kMaxTries) {
@@ -140,6 +165,71 @@ void GcsModel::Tick(double now) {
     c.last_sent = now;
     outgoing_.push_back({c.vehicle_id, c.command_seq, c.text});  // same command_seq
   }
+}
+
+void GcsModel::OnMissionAck(const std::string& vehicle_id, const std::string& source,
+                            const waypoints::MissionUploadAck& ack, double now) {
+  if (source != gcs_name_) return;
+  auto it = vehicles_.find(vehicle_id);
+  if (it == vehicles_.end() || !it->second.upload) return;
+  auto& up = *it->second.upload;
+  const auto before = up.state();
+  up.OnAck(ack, now);
+  if (up.state() == before) return;
+  using State = waypoints::MissionUploader::State;
+  if (up.state() == State::kAccepted) {
+    it->second.mission = up.mission();
+    Log(now, vehicle_id, "mission of " + std::to_string(up.total_items()) + " items accepted", 6);
+  } else {
+    Log(now, vehicle_id, "mission upload " + std::string(up.state() == State::kRejected ? "rejected: " : "failed: ") + up.reason(), 4);
+  }
+}
+
+bool GcsModel::UploadSurvey(double now) {
+  upload_error_.clear();
+  auto it = vehicles_.find(selected_);
+  if (it == vehicles_.end()) {
+    upload_error_ = "no vehicle selected";
+    return false;
+  }
+  if (it->second.upload && it->second.upload->state() == waypoints::MissionUploader::State::kSending) {
+    upload_error_ = "an upload to " + selected_ + " is in progress";
+    return false;
+  }
+  if (it->second.home) planner_.SetOrigin(*it->second.home);  // the vehicle's home is the mission's
+  std::string error;
+  const auto mission = planner_.MakeMission(&error);
+  if (!mission) {
+    upload_error_ = error;
+    return false;
+  }
+  it->second.upload.emplace(*mission, next_seq_++, now);
+  Log(now, selected_, "uploading mission of " + std::to_string(mission->items.size()) + " items", 6);
+  return true;
+}
+
+bool GcsModel::ExportSurvey(const std::string& path, double now) {
+  std::string message;
+  const bool ok = planner_.Export(path, &message);
+  Log(now, "", message, ok ? 6 : 4);
+  return ok;
+}
+
+bool GcsModel::ImportSurvey(const std::string& path, double now) {
+  std::string message;
+  const bool ok = planner_.Import(path, &message);
+  if (ok) {
+    // Keep the map on the selected vehicle's home when there is one.
+    if (const VehicleModel* v = selected(); v && v->home) planner_.SetOrigin(*v->home);
+  }
+  Log(now, "", message, ok ? 6 : 4);
+  return ok;
+}
+
+std::vector<OutgoingMissionChunk> GcsModel::TakeOutgoingChunks() {
+  std::vector<OutgoingMissionChunk> out;
+  out.swap(outgoing_chunks_);
+  return out;
 }
 
 std::vector<OutgoingCommand> GcsModel::TakeOutgoing() {

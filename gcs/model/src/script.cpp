@@ -59,6 +59,15 @@ bool Lookup(const std::string& name, const GcsModel& m, double now, double* num,
   if (name == "ack.reason") return *str = last && last->last_ack ? last->last_ack->reason : "", true;
   if (name == "ack.command") return *str = last && last->last_ack ? last->last_ack->command : "", true;
   if (name == "error") return *str = m.command_error(), true;
+  if (name == "survey.problem") return *str = m.planner().problem(), true;
+  if (name == "upload") {
+    using State = waypoints::MissionUploader::State;
+    if (!v || !v->upload) return *str = "none", true;
+    const State st = v->upload->state();
+    return *str = st == State::kSending ? "sending" : st == State::kAccepted ? "accepted"
+                : st == State::kRejected ? "rejected" : "failed", true;
+  }
+  if (name == "upload.reason") return *str = v && v->upload ? v->upload->reason() : m.upload_error(), true;
   if (name == "task") return *str = v ? v->task : "none", true;
   if (name == "selected") return *str = m.selected_id(), true;
   if (name == "link") return *str = v && v->LinkUp(now) ? "up" : "down", true;
@@ -70,6 +79,12 @@ bool Lookup(const std::string& name, const GcsModel& m, double now, double* num,
   *is_number = true;
   if (name == "ack.percent") return *num = last && last->last_ack ? last->last_ack->percent : -1, true;
   if (name == "tries") return *num = last ? last->tries : 0, true;
+  if (name == "survey.vertices") return *num = static_cast<double>(m.planner().polygon().size()), true;
+  if (name == "survey.images") return *num = m.planner().plan() ? static_cast<double>(m.planner().plan()->captures.size()) : 0.0, true;
+  if (name == "survey.lines") return *num = m.planner().plan() ? m.planner().plan()->lines : 0, true;
+  if (name == "survey.altitude") return *num = m.planner().plan() ? m.planner().plan()->altitude_m : 0.0, true;
+  if (name == "survey.ok") return *num = m.planner().plan() && m.planner().problem().empty() ? 1.0 : 0.0, true;
+  if (name == "mission.items") return *num = v && v->mission ? static_cast<double>(v->mission->items.size()) : 0.0, true;
   if (name == "vehicles") return *num = static_cast<double>(m.vehicles().size()), true;
   if (name == "plots") return *num = static_cast<double>(m.plot_signals().size()), true;
   if (name == "sent") return *num = static_cast<double>(m.sent_commands().size()), true;
@@ -136,8 +151,9 @@ ConditionResult EvaluateCondition(const std::vector<std::string>& tokens, const 
 }
 
 Script Script::Parse(const std::string& text, const std::string& name) {
-  static const std::set<std::string> kVerbs = {"type", "click", "tick", "select", "wait",
-                                               "wait_until", "assert", "screenshot", "echo"};
+  static const std::set<std::string> kVerbs = {"type", "click", "tick", "select", "wait", "wait_until", "assert",
+                                               "screenshot", "echo", "set", "map_click", "map_right_click",
+                                               "map_drag"};
   Script s;
   s.name = name;
   std::istringstream lines(text);
@@ -163,6 +179,13 @@ Script Script::Parse(const std::string& text, const std::string& name) {
     double d;
     if (st.verb == "wait" && (st.args.size() != 1 || !ToNumber(st.args[0], &d) || d < 0))
       fail("wait needs one non-negative number of seconds");
+    if (st.verb == "set" && st.args.size() < 2) fail("set needs a widget label and a value");
+    const std::size_t map_args = st.verb == "map_drag" ? 4 : 2;
+    if (st.verb.rfind("map_", 0) == 0) {
+      if (st.args.size() != map_args) fail(st.verb + " needs " + std::to_string(map_args) + " numbers (north east [m])");
+      for (const auto& a : st.args)
+        if (!ToNumber(a, &d)) fail(st.verb + ": '" + a + "' is not a number");
+    }
     if (st.verb == "wait_until" || st.verb == "assert") {
       std::vector<std::string> cond = st.args;
       if (st.verb == "wait_until" && cond.size() >= 2 && cond[cond.size() - 2] == "timeout") {
@@ -219,11 +242,20 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
     Pass(s, now, "");
   } else if (s.verb == "wait") {
     if (now - step_start_ >= std::atof(s.args[0].c_str())) Pass(s, now, "");
-  } else if (s.verb == "type" || s.verb == "click" || s.verb == "tick" || s.verb == "select") {
+  } else if (s.verb == "type" || s.verb == "click" || s.verb == "tick" || s.verb == "select" ||
+             s.verb == "set" || s.verb.rfind("map_", 0) == 0) {
     if (first) {
       const std::string label = s.verb == "tick" ? "tick:" + std::string(s.args[0].find('.') == std::string::npos ? "STATE." : "") + s.args[0]
                               : s.verb == "select" ? "vehicle:" + s.args[0] : joined;
-      const bool ok = s.verb == "type" ? driver.StartType(joined, &err) : driver.StartClick(label, &err);
+      std::vector<double> xy;
+      for (const auto& a : s.args) xy.push_back(std::atof(a.c_str()));
+      bool ok;
+      if (s.verb == "type") ok = driver.StartType(joined, &err);
+      else if (s.verb == "set") ok = driver.StartSet(s.args[0], joined.substr(s.args[0].size() + 1), &err);
+      else if (s.verb == "map_click") ok = driver.StartMapClick(xy[0], xy[1], false, &err);
+      else if (s.verb == "map_right_click") ok = driver.StartMapClick(xy[0], xy[1], true, &err);
+      else if (s.verb == "map_drag") ok = driver.StartMapDrag(xy[0], xy[1], xy[2], xy[3], &err);
+      else ok = driver.StartClick(label, &err);
       if (!ok) Fail(s, now, err);
     } else if (!driver.InputPending()) {
       Pass(s, now, s.verb == "type" && !model.command_error().empty()

@@ -24,17 +24,22 @@ void Place(float x, float y, float w, float h) {
 
 void DrawGcs(GcsModel& model, UiContext& ctx) {
   ctx.widgets.clear();
+  ctx.map.valid = false;
   DrawStatusBarPanel(model, ctx);
-  Place(0.0f, 0.04f, 0.24f, 0.18f);
+  Place(0.0f, 0.04f, 0.22f, 0.18f);
   DrawVehiclesPanel(model, ctx);
-  Place(0.0f, 0.22f, 0.24f, 0.78f);
+  Place(0.0f, 0.22f, 0.22f, 0.78f);
   DrawStateListPanel(model, ctx);
-  Place(0.24f, 0.04f, 0.76f, 0.60f);
+  Place(0.22f, 0.04f, 0.40f, 0.51f);
   DrawPlotPanel(model, ctx);
-  Place(0.24f, 0.64f, 0.40f, 0.36f);
+  Place(0.22f, 0.55f, 0.40f, 0.22f);
   DrawCommandBarPanel(model, ctx);
-  Place(0.64f, 0.64f, 0.36f, 0.36f);
+  Place(0.22f, 0.77f, 0.40f, 0.23f);
   DrawMessagesPanel(model, ctx);
+  Place(0.62f, 0.04f, 0.38f, 0.54f);
+  DrawMapPanel(model, ctx);
+  Place(0.62f, 0.58f, 0.38f, 0.42f);
+  DrawSurveyPanel(model, ctx);
 }
 
 }  // namespace uav::gcs

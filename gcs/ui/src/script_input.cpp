@@ -22,7 +22,51 @@ bool ImGuiScriptDriver::StartClick(const std::string& label, std::string* error)
 }
 
 bool ImGuiScriptDriver::StartType(const std::string& text, std::string* error) {
-  if (!QueueClick("command", error)) return false;  // focus the command bar as a person would
+  return QueueTyping("command", text, error);  // focus the command bar as a person would
+}
+
+bool ImGuiScriptDriver::StartSet(const std::string& label, const std::string& text, std::string* error) {
+  return QueueTyping(label, text, error);
+}
+
+bool ImGuiScriptDriver::MapToScreen(double north, double east, float* x, float* y, std::string* error) const {
+  const MapTransform& m = ctx_.map;
+  if (!m.valid) {
+    *error = "the map is not on screen";
+    return false;
+  }
+  *x = m.screen_cx + static_cast<float>((east - m.center_e) * m.px_per_m);
+  *y = m.screen_cy - static_cast<float>((north - m.center_n) * m.px_per_m);
+  const auto it = ctx_.widgets.find("map");
+  if (it == ctx_.widgets.end() || *x < it->second.x0 || *x > it->second.x1 || *y < it->second.y0 || *y > it->second.y1) {
+    *error = "map point N " + std::to_string(north) + " E " + std::to_string(east) + " is outside the visible map";
+    return false;
+  }
+  return true;
+}
+
+bool ImGuiScriptDriver::StartMapClick(double north, double east, bool right, std::string* error) {
+  float x, y;
+  if (!MapToScreen(north, east, &x, &y, error)) return false;
+  events_.push_back({Event::kMove, x, y, {}});
+  events_.push_back({right ? Event::kRightDown : Event::kDown, x, y, {}});
+  events_.push_back({right ? Event::kRightUp : Event::kUp, x, y, {}});
+  return true;
+}
+
+bool ImGuiScriptDriver::StartMapDrag(double n1, double e1, double n2, double e2, std::string* error) {
+  float x1, y1, x2, y2;
+  if (!MapToScreen(n1, e1, &x1, &y1, error) || !MapToScreen(n2, e2, &x2, &y2, error)) return false;
+  events_.push_back({Event::kMove, x1, y1, {}});
+  events_.push_back({Event::kDown, x1, y1, {}});
+  for (int i = 1; i <= 8; ++i)  // a hand moves over several frames
+    events_.push_back({Event::kMove, x1 + (x2 - x1) * i / 8.0f, y1 + (y2 - y1) * i / 8.0f, {}});
+  events_.push_back({Event::kUp, x2, y2, {}});
+  return true;
+}
+
+bool ImGuiScriptDriver::QueueTyping(const std::string& label, const std::string& text, std::string* error) {
+  if (!QueueClick(label, error)) return false;
   // Replace whatever is in the bar (a rejected line stays there for editing): Ctrl+A, type.
   events_.push_back({Event::kSelectAllDown, 0, 0, {}});
   events_.push_back({Event::kSelectAllUp, 0, 0, {}});
@@ -50,6 +94,8 @@ void ImGuiScriptDriver::ApplyNextEvent() {
       case Event::kMove: mouse_x_ = e.x, mouse_y_ = e.y; break;
       case Event::kDown: mouse_down_ = true; break;
       case Event::kUp: mouse_down_ = false; break;
+      case Event::kRightDown: right_down_ = true; break;
+      case Event::kRightUp: right_down_ = false; break;
       case Event::kSelectAllDown:
       case Event::kSelectAllUp: {
         const bool down = e.kind == Event::kSelectAllDown;
@@ -68,6 +114,7 @@ void ImGuiScriptDriver::ApplyNextEvent() {
   if (mouse_x_ >= 0) {
     io.MousePos = ImVec2(mouse_x_, mouse_y_);
     io.MouseDown[0] = mouse_down_;
+    io.MouseDown[1] = right_down_;
   }
 }
 

@@ -135,6 +135,9 @@ void LinkWorker::Tick(int64_t utime) {
                                      : uavmsg::vehicle_state_t::MODE_AUTO;
   m.task = static_cast<int8_t>(d.task);
   m.mission_item = d.mission_item;
+  m.home_latitude_deg = im.missions.home().latitude_deg;
+  m.home_longitude_deg = im.missions.home().longitude_deg;
+  m.home_altitude_m = im.missions.home().altitude_m;
   m.capturing = d.capture_interval_s.has_value() || d.capture_distance_m.has_value();
   m.armed = d.armed;
   m.landed = !d.airborne;

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "uav/gcs/signal_series.hpp"
+#include "uav/gcs/survey_planner.hpp"
+#include "uav/waypoints/mission_transfer.hpp"
 
 namespace uav::gcs {
 
@@ -65,10 +67,20 @@ struct VehicleModel {
   double first_t = -1.0;                     // vehicle time of the first sample (plot origin)
   std::string task = "unknown";
   bool armed = false;
+  std::optional<GeodeticPoint> home;         // origin of the vehicle's x, y, z
+  // Mission uploads to this vehicle: the one in progress (or last finished) and the last
+  // mission it accepted, which the map draws.
+  std::optional<waypoints::MissionUploader> upload;
+  std::optional<waypoints::Mission> mission;
 
   double HeartbeatAge(double now) const { return last_heartbeat < 0 ? 1e9 : now - last_heartbeat; }
   double MessageRate(double now) const;
   bool LinkUp(double now) const { return HeartbeatAge(now) < 3.0; }
+};
+
+struct OutgoingMissionChunk {
+  std::string vehicle_id;
+  waypoints::MissionChunk chunk;
 };
 
 // An outgoing message the link must send (commands; heartbeats are the link's own business).
@@ -83,13 +95,18 @@ class GcsModel {
   // Commands are identified by (gcs_name, command_seq) on the vehicle, so a restarted GCS must
   // not reuse numbers: start from something that grows across runs (wall-clock microseconds).
   GcsModel(std::string gcs_name, int64_t first_command_seq)
-      : gcs_name_(std::move(gcs_name)), next_seq_(first_command_seq) {}
+      : gcs_name_(std::move(gcs_name)), planner_(UAV_CAMERA_DIR, kDefaultMapOrigin), next_seq_(first_command_seq) {}
+
+  // Map origin until a vehicle reports its home: the simulator's default home (NUS, Singapore).
+  static constexpr GeodeticPoint kDefaultMapOrigin{1.2966, 103.7764, 15.0};
 
   // ---- Inputs from the link (time `now` is the GCS monotonic clock in seconds).
   void OnHeartbeat(const std::string& vehicle_id, int64_t seq, int task, bool armed, double now);
   void OnTelemetry(const TelemetrySample& s, double now);
   void OnAck(const std::string& vehicle_id, const std::string& source, const AckInfo& ack, double now);
   void OnStatusText(const std::string& vehicle_id, int severity, const std::string& text, double now);
+  void OnMissionAck(const std::string& vehicle_id, const std::string& source,
+                    const waypoints::MissionUploadAck& ack, double now);
 
   // ---- Operator actions.
   // Validates with the shared grammar; on success queues the command for the selected vehicle.
@@ -98,10 +115,18 @@ class GcsModel {
   void SelectVehicle(const std::string& id);
   void TogglePlotSignal(const std::string& key);  // "GROUP.signal"
   void SetPlotWindow(double seconds);
+  // Uploads the planner's survey mission to the selected vehicle. Returns false and sets
+  // upload_error() when there is no vehicle, no valid plan, or an upload is already running.
+  bool UploadSurvey(double now);
+  SurveyPlanner& planner() { return planner_; }
+  // File actions of the planner; the outcome goes to the log.
+  bool ExportSurvey(const std::string& path, double now);
+  bool ImportSurvey(const std::string& path, double now);
 
   // ---- Periodic: resends unacknowledged commands, gives up after kMaxTries.
   void Tick(double now);
   std::vector<OutgoingCommand> TakeOutgoing();
+  std::vector<OutgoingMissionChunk> TakeOutgoingChunks();
 
   // ---- Views.
   const std::string& gcs_name() const { return gcs_name_; }
@@ -114,6 +139,8 @@ class GcsModel {
   const std::vector<std::string>& command_history() const { return history_; }
   const std::deque<SentCommand>& sent_commands() const { return sent_; }
   const std::deque<LogLine>& log() const { return log_; }
+  const SurveyPlanner& planner() const { return planner_; }
+  const std::string& upload_error() const { return upload_error_; }
 
   static constexpr double kResendTimeout = 1.0;  // [s] without any acknowledgement
   static constexpr int kMaxTries = 5;
@@ -132,6 +159,9 @@ class GcsModel {
   std::deque<SentCommand> sent_;
   std::vector<OutgoingCommand> outgoing_;
   std::deque<LogLine> log_;
+  SurveyPlanner planner_;
+  std::vector<OutgoingMissionChunk> outgoing_chunks_;
+  std::string upload_error_;
   int64_t next_seq_;
 };
 

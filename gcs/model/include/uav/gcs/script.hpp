@@ -3,6 +3,10 @@
 //   type TEXT                 type TEXT into the command bar and press Enter
 //   click LABEL               click the widget registered under LABEL (buttons, list entries)
 //   tick SIGNAL               tick a signal into the plot (click "tick:STATE.SIGNAL")
+//   set LABEL VALUE           click the input field LABEL, select all, type VALUE, Enter
+//   map_click N E             left click on the map at north N, east E [m from the map origin]
+//   map_right_click N E       right click there (deletes a survey vertex)
+//   map_drag N1 E1 N2 E2      press at the first point, drag to the second, release
 //   select VEHICLE            pick the vehicle the panels show (click "vehicle:ID")
 //   wait SECONDS              let time pass
 //   wait_until COND [timeout SECONDS]   (default timeout 30 s)
@@ -12,7 +16,8 @@
 // COND is "LHS OP RHS" clauses joined by "and"; OP is == != < <= > >= contains, or
 // "~ VALUE TOL" (|LHS - VALUE| <= TOL). LHS is a signal of the selected vehicle ("alt",
 // "STATE.x", "HEARTBEAT...") or one of: ack ack.reason ack.command ack.percent tries error task
-// armed vehicles selected plots link sent gave_up log.
+// armed vehicles selected plots link sent gave_up log survey.vertices survey.images
+// survey.lines survey.altitude survey.ok survey.problem upload upload.reason mission.items.
 // '#' starts a comment.
 #include <cstdio>
 #include <string>
@@ -52,6 +57,9 @@ class ScriptDriver {
   virtual ~ScriptDriver() = default;
   virtual bool StartType(const std::string& text, std::string* error) = 0;
   virtual bool StartClick(const std::string& label, std::string* error) = 0;
+  virtual bool StartSet(const std::string& label, const std::string& text, std::string* error) = 0;
+  virtual bool StartMapClick(double north, double east, bool right, std::string* error) = 0;
+  virtual bool StartMapDrag(double n1, double e1, double n2, double e2, std::string* error) = 0;
   virtual bool InputPending() const = 0;
   // 1: saved; 0: pending (call again next frame); -1: failed, *error says why.
   virtual int Screenshot(const std::string& path, std::string* error) = 0;

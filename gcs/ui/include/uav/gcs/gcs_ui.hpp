@@ -14,5 +14,7 @@ void DrawPlotPanel(GcsModel& model, UiContext& ctx);
 void DrawCommandBarPanel(GcsModel& model, UiContext& ctx);
 void DrawStatusBarPanel(GcsModel& model, UiContext& ctx);
 void DrawMessagesPanel(GcsModel& model, UiContext& ctx);
+void DrawMapPanel(GcsModel& model, UiContext& ctx);
+void DrawSurveyPanel(GcsModel& model, UiContext& ctx);
 
 }  // namespace uav::gcs

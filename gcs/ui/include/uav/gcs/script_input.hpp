@@ -18,6 +18,9 @@ class ImGuiScriptDriver : public ScriptDriver {
 
   bool StartType(const std::string& text, std::string* error) override;
   bool StartClick(const std::string& label, std::string* error) override;
+  bool StartSet(const std::string& label, const std::string& text, std::string* error) override;
+  bool StartMapClick(double north, double east, bool right, std::string* error) override;
+  bool StartMapDrag(double n1, double e1, double n2, double e2, std::string* error) override;
   bool InputPending() const override { return !events_.empty(); }
   int Screenshot(const std::string& path, std::string* error) override;
 
@@ -27,17 +30,21 @@ class ImGuiScriptDriver : public ScriptDriver {
 
  private:
   struct Event {
-    enum Kind { kMove, kDown, kUp, kSelectAllDown, kSelectAllUp, kText, kEnterDown, kEnterUp } kind;
+    enum Kind { kMove, kDown, kUp, kRightDown, kRightUp, kSelectAllDown, kSelectAllUp, kText, kEnterDown, kEnterUp } kind;
     float x = 0, y = 0;
     std::string text;
   };
   bool QueueClick(const std::string& label, std::string* error);
+  bool QueueTyping(const std::string& label, const std::string& text, std::string* error);
+  // Screen position of a map point; false (and *error) when the map is not on screen.
+  bool MapToScreen(double north, double east, float* x, float* y, std::string* error) const;
 
   const UiContext& ctx_;
   ScreenshotFn screenshot_;
   std::deque<Event> events_;
   float mouse_x_ = -1, mouse_y_ = -1;
   bool mouse_down_ = false;
+  bool right_down_ = false;
 };
 
 }  // namespace uav::gcs

@@ -23,6 +23,22 @@ struct UiState {
   double plot_paused_at = 0.0;
   bool plot_auto_y = true;
   float plot_y_min = -10.0f, plot_y_max = 10.0f;
+  // Map view: centre [m north, east of the map origin] and zoom.
+  double map_center_n = 0.0, map_center_e = 0.0;
+  double map_px_per_m = 3.0;
+  bool map_edit_survey = true;   // clicks edit the survey polygon
+  int map_pressed_vertex = -1;   // vertex under the pointer when the button went down
+  bool map_dragged = false;
+  float map_press_x = 0, map_press_y = 0;
+  // Survey panel.
+  std::string survey_file = "survey.plan";
+};
+
+// Where the map was drawn this frame: screen = centre + (east, -north) * px_per_m.
+struct MapTransform {
+  bool valid = false;
+  float screen_cx = 0, screen_cy = 0;
+  double center_n = 0, center_e = 0, px_per_m = 1;
 };
 
 struct UiContext {
@@ -31,6 +47,7 @@ struct UiContext {
   UiState state;
   // Rebuilt every frame: label -> screen rectangle of the widget.
   std::map<std::string, WidgetRect> widgets;
+  MapTransform map;
 };
 
 // Records the last ImGui item under `label` (call right after drawing it).

@@ -25,6 +25,8 @@ class MissionStore : public control::MissionSource {
   // is returned, else the reason (and the stored mission is unchanged).
   std::string AcceptUpload(const waypoints::Mission& m);
 
+  const GeodeticPoint& home() const { return frame_.home(); }
+
  private:
   std::string paths_dir_;
   LocalNedFrame frame_;
