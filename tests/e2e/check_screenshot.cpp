@@ -32,13 +32,18 @@ int main(int argc, char** argv) {
   cv::Mat edges;
   cv::Canny(gray, edges, 50, 150);
   const int W = a.cols, H = a.rows;
+  auto region = [&](int x0, int y0, int x1, int y1) {  // percent of the window, inset 1 %
+    return cv::Rect(W * (x0 + 1) / 100, H * (y0 + 1) / 100, W * (x1 - x0 - 2) / 100, H * (y1 - y0 - 2) / 100);
+  };
   const struct { const char* name; cv::Rect r; } panels[] = {
       {"status bar has text", cv::Rect(0, 0, W, H * 4 / 100)},
-      {"vehicles panel has text", cv::Rect(0, H * 5 / 100, W * 23 / 100, H * 16 / 100)},
-      {"state list has text", cv::Rect(0, H * 23 / 100, W * 23 / 100, H * 70 / 100)},
-      {"plot has curves", cv::Rect(W * 25 / 100, H * 10 / 100, W * 74 / 100, H * 52 / 100)},
-      {"command bar has text", cv::Rect(W * 25 / 100, H * 65 / 100, W * 38 / 100, H * 33 / 100)},
-      {"messages panel has text", cv::Rect(W * 65 / 100, H * 65 / 100, W * 34 / 100, H * 33 / 100)}};
+      {"vehicles panel has text", region(0, 4, 22, 22)},
+      {"state list has text", region(0, 22, 22, 100)},
+      {"plot has curves", region(22, 4, 62, 55)},
+      {"command bar has text", region(22, 55, 62, 77)},
+      {"messages panel has text", region(22, 77, 62, 100)},
+      {"map has detail", region(62, 4, 100, 58)},
+      {"survey panel has text", region(62, 58, 100, 100)}};
   for (const auto& p : panels) {
     const double frac = cv::countNonZero(edges(p.r)) / static_cast<double>(p.r.area());
     check(frac > 0.003, p.name, frac);
@@ -47,8 +52,14 @@ int main(int argc, char** argv) {
   cv::Mat diff;
   cv::absdiff(a, b, diff);
   cv::cvtColor(diff, diff, cv::COLOR_BGR2GRAY);
-  const cv::Rect plot(W * 25 / 100, H * 10 / 100, W * 74 / 100, H * 52 / 100);
+  const cv::Rect plot = region(22, 4, 62, 55);
   const double changed = cv::countNonZero(diff(plot) > 30) / static_cast<double>(plot.area());
   check(changed > 0.002, "plot changed between frames (live, not frozen)", changed);
+  // The map shows the survey the script drew: polygon outline (green) and coverage (blue).
+  cv::Mat map = a(region(62, 4, 100, 58)), green, blue;
+  cv::inRange(map, cv::Scalar(60, 190, 50), cv::Scalar(130, 255, 120), green);  // BGR of (80, 220, 100)
+  check(cv::countNonZero(green) > 200, "map shows the survey polygon (green pixels)", cv::countNonZero(green));
+  cv::inRange(map, cv::Scalar(70, 50, 35), cv::Scalar(140, 90, 75), blue);  // coverage blended on the background
+  check(cv::countNonZero(blue) > 2000, "map shows the survey coverage (blue pixels)", cv::countNonZero(blue));
   return failures ? 1 : 0;
 }

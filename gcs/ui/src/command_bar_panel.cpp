@@ -69,11 +69,13 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
   } else if (!model.command_error().empty()) {
     ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1), "not sent: %s", model.command_error().c_str());
   } else {
-    ImGui::TextDisabled("commands: arm disarm takeoff hover land goto");
+    std::string names = "commands:";
+    for (const auto& spec : CommandSpecs()) names += std::string(" ") + spec.name;  // one list: the grammar's
+    ImGui::TextDisabled("%s", names.c_str());
   }
 
   // Frequent actions; each asks for confirmation.
-  for (const char* text : {"arm", "takeoff 10", "hover", "land", "disarm"}) {
+  for (const char* text : {"arm", "takeoff 10", "hover", "land", "return", "mission", "disarm"}) {
     if (ImGui::Button(text)) st.pending_confirmation = text;
     RegisterLastItem(ctx, std::string("button:") + text);
     ImGui::SameLine();
