@@ -6,15 +6,8 @@
 # Usage: fly_mission.sh BIN_DIR SCRIPT
 set -euo pipefail
 bin=$1 script=$2
-work=$(mktemp -d)
-trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
-url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
-"$bin/uav-onboard" --sim --speed 4 --vehicle-id UAV1 --lcm-url "$url" --log-dir "$work/log" > "$work/onboard.log" 2>&1 &
-status=0
-timeout 180 "$bin/uav-gcs" --headless --name itest --lcm-url "$url" --script "$script" || status=$?
-kill %1 2>/dev/null || true
-wait || true
-echo "--- onboard output"; cat "$work/onboard.log"
+source "$(dirname "$0")/sim_and_gcs.sh"
+run_sim_and_gcs "$bin" 4 itest "$script" 180
 # The flight log exists, has the thesis's header and one row per 20 ms.
 log=$(ls "$work"/log/flight_*.csv)
 head -1 "$log" | grep -q '^t,x,y,z,u,v,w,phi,theta,psi,p,q,r,acx,acy,acz,M1,M2,M3,M4,Ua,Ue,Uth,Ur' \

@@ -1,17 +1,23 @@
 #!/usr/bin/env bash
 # Integration test: the survey planned and uploaded in the GCS (headless, mouse on the map) is
 # flown by uav-onboard --sim over LCM in a private network namespace. The flight log must show
-# the vehicle at the survey altitude while it flew the lines.
+# the vehicle at the survey altitude, across the whole area, whenever the camera was capturing.
 # Usage: survey_mission.sh BIN_DIR SCRIPT
 set -euo pipefail
 bin=$1 script=$2
-work=$(mktemp -d)
-trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
-url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
-"$bin/uav-onboard" --sim --speed 8 --vehicle-id UAV1 --lcm-url "$url" --log-dir "$work/log" > "$work/onboard.log" 2>&1 &
-status=0
-timeout 240 "$bin/uav-gcs" --headless --name survey --lcm-url "$url" --script "$script" || status=$?
-kill %1 2>/dev/null || true
-wait || true
-echo "--- onboard output"; cat "$work/onboard.log"
-exit $status
+source "$(dirname "$0")/sim_and_gcs.sh"
+run_sim_and_gcs "$bin" 8 survey "$script" 240
+[ $status -eq 0 ] || exit $status
+python3 - "$work"/log/flight_*.csv <<'PY'
+import csv, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["capturing"] == "1"]
+assert rows, "no rows with the camera capturing"
+alt = [-float(r["z"]) for r in rows]
+north = [float(r["x"]) for r in rows]
+east = [float(r["y"]) for r in rows]
+assert 9.7 < min(alt) and max(alt) < 10.3, f"altitude {min(alt):.2f}..{max(alt):.2f} m while capturing, planned 10 m"
+# The area spans 8..30 m north and -15..15 m east: the lines must reach across it.
+assert min(east) < -9 and max(east) > 9 and min(north) < 14 and max(north) > 24, (min(east), max(east), min(north), max(north))
+print(f"flight log: {len(rows)} rows capturing, altitude {min(alt):.2f}..{max(alt):.2f} m, east {min(east):.1f}..{max(east):.1f} m, "
+      f"north {min(north):.1f}..{max(north):.1f} m")
+PY
