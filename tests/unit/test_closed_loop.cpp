@@ -24,7 +24,8 @@ class ClosedLoop : public ::testing::Test {
         missions_(waypoints::kStoredPathsDir, kHome, params_.Get("ctl_speed_max_xy")),
         imu_(vehicle_, board_),
         ctl_(control::TaskParams::FromParameters(params_),
-             control::ControllerParams::FromParameters(params_), kPeriod * 1e-6, board_, &missions_),
+             control::ControllerParams::FromParameters(params_),
+             control::FailsafeParams::FromParameters(params_), kPeriod * 1e-6, board_, &missions_),
         svo_(vehicle_, board_, params_.Get("rotor_input_idle")) {}
 
   // Sends `text` and flies until its completion (or failure) report, at most `limit_s`.

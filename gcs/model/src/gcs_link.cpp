@@ -41,7 +41,7 @@ TelemetrySample Flatten(const uavmsg::vehicle_state_t& m) {
               {"M3", m.rotor_input[2]}, {"M4", m.rotor_input[3]},
               {"Ua", m.servo_input[0]}, {"Ue", m.servo_input[1]},
               {"Uth", m.servo_input[2]}, {"Ur", m.servo_input[3]},
-              {"mode", m.flight_mode}, {"task", m.task}, {"armed", m.armed ? 1.0 : 0.0},
+              {"mode", m.flight_mode}, {"task", m.task}, {"failsafe", m.failsafe}, {"armed", m.armed ? 1.0 : 0.0},
               {"landed", m.landed ? 1.0 : 0.0},
               {"battery_v", m.battery_voltage_v}, {"battery_remaining", m.battery_remaining},
               {"mission_item", m.mission_item}, {"capturing", m.capturing ? 1.0 : 0.0},

@@ -3,6 +3,7 @@
 #include <map>
 
 #include "uav/shared/channels.hpp"
+#include "uav/shared/time.hpp"
 #include "uav/waypoints/mission_messages.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
@@ -42,6 +43,7 @@ struct LinkWorker::Impl {
   int64_t start_utime = -1;
   int64_t now = 0;
   int64_t last_heartbeat = -1;
+  int64_t last_gcs_wall_us = -1;  // monotonic wall clock of the last GCS heartbeat
 };
 
 LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, Blackboard& board,
@@ -89,6 +91,7 @@ LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url
         if (!im->gcs_last_seen.count(m.source_name))
           im->board.PushStatus(6, "GCS link up: " + m.source_name);
         im->gcs_last_seen[m.source_name] = im->now;
+        im->last_gcs_wall_us = MonotonicMicros();
       });
 }
 
@@ -99,6 +102,8 @@ void LinkWorker::Tick(int64_t utime) {
   im.now = utime;
   if (im.start_utime < 0) im.start_utime = utime;
   im.bus.Handle(0);  // commands and GCS heartbeats received since the last tick
+  const double link_age = im.last_gcs_wall_us < 0 ? -1.0 : (MonotonicMicros() - im.last_gcs_wall_us) * 1e-6;
+  im.board.Update([&](BlackboardData& b) { b.gcs_link_age_s = link_age; });
 
   for (const auto& r : im.board.TakeReports()) im.SendReport(utime, r);
   for (const auto& s : im.board.TakeStatus()) {
@@ -134,6 +139,7 @@ void LinkWorker::Tick(int64_t utime) {
   m.flight_mode = d.sample.rc_manual ? uavmsg::vehicle_state_t::MODE_MANUAL
                                      : uavmsg::vehicle_state_t::MODE_AUTO;
   m.task = static_cast<int8_t>(d.task);
+  m.failsafe = static_cast<int8_t>(d.failsafe);
   m.mission_item = d.mission_item;
   m.home_latitude_deg = im.missions.home().latitude_deg;
   m.home_longitude_deg = im.missions.home().longitude_deg;

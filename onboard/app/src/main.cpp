@@ -91,7 +91,8 @@ int main(int argc, char** argv) {
     uav::app::MissionStore missions(paths_dir, home, params.Get("ctl_speed_max_xy"));
     uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
                                 uav::control::ControllerParams::FromParameters(params),
-                                kPeriodUs * 1e-6, board, &missions);
+                                uav::control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6,
+                                board, &missions);
     uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"));
     std::unique_ptr<uav::app::FlightLog> log;
     if (!log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(log_dir, start);

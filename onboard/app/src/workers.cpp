@@ -23,24 +23,50 @@ void ImuWorker::Tick(int64_t utime) {
 }
 
 ControlWorker::ControlWorker(const control::TaskParams& task_params,
-                             const control::ControllerParams& controller_params, double period_s,
+                             const control::ControllerParams& controller_params,
+                             const control::FailsafeParams& failsafe_params, double period_s,
                              Blackboard& board, control::MissionSource* missions)
-    : tasks_(task_params, missions), controller_(controller_params), period_s_(period_s), board_(board) {}
+    : tasks_(task_params, missions), controller_(controller_params), failsafe_params_(failsafe_params),
+      failsafes_(failsafe_params), period_s_(period_s), board_(board) {}
 
 void ControlWorker::Tick(int64_t utime) {
   const BlackboardData d = board_.Snapshot();
   const double t = utime * 1e-6;
   std::vector<control::TaskReport> reports;
+  // Failsafes, then commands (refused if they would do less than the failsafes need), then the task.
+  std::vector<std::string> events;
+  control::FailsafeInputs fin;
+  fin.t = t;
+  fin.airborne = d.airborne;
+  fin.gcs_link_age_s = d.gcs_link_age_s;
+  fin.battery_remaining = d.sample.battery_remaining;
+  fin.p_N = d.estimate.p_N;
+  fin.rc_manual = d.sample.rc_manual;
+  const control::FailsafeAction required = failsafes_.Update(fin, &events);
+  for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? 4 : 6, e);
+  tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports);
   for (const auto& req : board_.TakeCommands()) tasks_.Submit(req, d.estimate, t, &reports);
   const control::TaskManager::Output out = tasks_.Update(d.estimate, t, &reports);
   if (out.reset_controller) controller_.Reset();
+  // A setpoint that is not finite or leaves the envelope never reaches the controller.
+  const std::string bad = control::CheckSetpoint(out.setpoint, failsafe_params_, controller_.params().speed_max_xy);
+  if (bad.empty()) last_valid_setpoint_ = out.setpoint;
+  if (bad != last_setpoint_error_ && !bad.empty()) board_.PushStatus(3, "setpoint rejected: " + bad + "; holding the last valid one");
+  last_setpoint_error_ = bad;
   control::ServoCommand servo;  // throttle -1: rotors off
-  if (out.airborne) servo = controller_.Update(d.estimate, out.setpoint, period_s_);
+  if (required == control::FailsafeAction::kManual && out.airborne) {
+    // Thesis 2.3.2 fail-safe switch: the pilot's sticks go straight to the servos.
+    servo = {d.sample.rc_sticks[0], d.sample.rc_sticks[1], d.sample.rc_sticks[2], d.sample.rc_sticks[3]};
+    controller_.Reset();
+  } else if (out.airborne) {
+    servo = controller_.Update(d.estimate, last_valid_setpoint_, period_s_);
+  }
   board_.Update([&](BlackboardData& b) {
     b.servo = servo;
     b.armed = out.armed;
     b.airborne = out.airborne;
     b.task = out.task;
+    b.failsafe = required;
     b.mission_item = out.mission_item;
     b.capture_interval_s = out.capture_interval_s;
     b.capture_distance_m = out.capture_distance_m;

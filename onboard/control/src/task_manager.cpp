@@ -35,7 +35,47 @@ TaskParams TaskParams::FromParameters(const ParameterSet& p) {
           p.Get("task_land_slow_alt"),  p.Get("task_landed_alt"),    p.Get("task_landed_time"),
           p.Get("ctl_speed_max_xy"),    p.Get("ctl_speed_max_up"),   p.Get("ctl_speed_max_down"),
           p.Get("task_path_accel"),     p.Get("task_path_leash"),    p.Get("task_return_alt"),
-          p.Get("task_stall_time")};
+          p.Get("task_stall_time"),     p.Get("fs_fence_radius"),    p.Get("fs_fence_alt")};
+}
+
+bool TaskManager::OutsideFence(const Eigen::Vector3d& p_N) const {
+  return p_N.head<2>().norm() > p_.fence_radius || -p_N.z() > p_.fence_alt;
+}
+
+void TaskManager::Hold(const VehicleEstimate& est) {
+  runner_.reset();
+  path_ = MissionRunner::Output{};
+  setpoint_ = Setpoint{};
+  setpoint_.p_N = est.p_N;
+  setpoint_.yaw = est.euler.psi;
+  task_ = Task::kHover;
+}
+
+void TaskManager::EnforceFailsafe(FailsafeAction required, const std::string& reason, const VehicleEstimate& est,
+                                  double t, std::vector<TaskReport>* reports) {
+  required_ = required;
+  failsafe_reason_ = reason;
+  if (enforced_ == FailsafeAction::kManual && required != FailsafeAction::kManual) {
+    // Pilot hands back: the autopilot holds where the pilot left it (then the stricter rest).
+    enforced_ = FailsafeAction::kNone;
+    if (airborne_) Hold(est);
+    reset_pending_ = true;
+  }
+  if (required <= enforced_ || !airborne_) return;
+  enforced_ = required;
+  Finish(AckResult::kFailed, "failsafe " + std::string(FailsafeActionName(required)) + ": " + reason, reports);
+  switch (required) {
+    case FailsafeAction::kNone: break;
+    case FailsafeAction::kManual:
+    case FailsafeAction::kHold: Hold(est); break;
+    case FailsafeAction::kReturn: {
+      std::vector<waypoints::MissionStep> steps(1);
+      steps[0].kind = waypoints::MissionStep::Kind::kReturnHome;
+      StartPath(Task::kReturn, std::move(steps), est, t);
+      break;
+    }
+    case FailsafeAction::kLand: StartLanding(est); break;
+  }
 }
 
 TaskManager::TaskManager(const TaskParams& params, MissionSource* missions)
@@ -60,14 +100,28 @@ void TaskManager::BeginPath(Task task, std::vector<waypoints::MissionStep> steps
     airborne_ = true;
     reset_pending_ = true;
   }
-  const MissionRunnerParams rp{p_.reached_radius, p_.reached_speed, p_.speed_max_xy, p_.speed_max_up, p_.speed_max_down,
-                               p_.path_accel,     p_.path_leash,   p_.return_alt};
-  setpoint_.descent_rate.reset();
+  // Steps outside the geofence are refused before anything moves.
+  for (const auto& s : steps)
+    if (s.kind == waypoints::MissionStep::Kind::kWaypoint && OutsideFence(s.p_N))
+      return reject("item " + std::to_string(s.item) + " is outside the geofence (" +
+                    std::to_string(static_cast<int>(p_.fence_radius)) + " m, " +
+                    std::to_string(static_cast<int>(p_.fence_alt)) + " m high)");
+  StartPath(task, std::move(steps), est, t);
+  Begin(task, req, est, t, reports);
+  deadline_ = t + p_.stall_time;  // extended whenever progress is made
+}
+
+void TaskManager::StartPath(Task task, std::vector<waypoints::MissionStep> steps, const VehicleEstimate& est,
+                            double t) {
+  const MissionRunnerParams rp{p_.reached_radius, p_.reached_speed, p_.speed_max_xy, p_.speed_max_up,
+                               p_.speed_max_down, p_.path_accel,    p_.path_leash,   p_.return_alt};
   runner_ = std::make_unique<MissionRunner>(std::move(steps), rp, est);
   path_ = runner_->Update(est, 0.0);
   setpoint_ = path_.setpoint;
-  Begin(task, req, est, t, reports);
-  deadline_ = t + p_.stall_time;  // extended whenever progress is made
+  task_ = task;
+  last_percent_ = 0;
+  last_progress_t_ = t;
+  deadline_ = t + p_.stall_time;
 }
 
 void TaskManager::StartLanding(const VehicleEstimate& est) {
@@ -118,6 +172,19 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
     reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kCompleted, 100, ""});
   };
   const Command& c = req.command;
+  // Failsafes first: nothing less strict than what they require is accepted.
+  if (required_ == FailsafeAction::kManual && c.id != CommandId::kDisarm)
+    return reject("pilot has control (RC fail-safe switch)");
+  const FailsafeAction level = c.id == CommandId::kHover    ? FailsafeAction::kHold
+                               : c.id == CommandId::kReturn ? FailsafeAction::kReturn
+                               : c.id == CommandId::kLand   ? FailsafeAction::kLand
+                                                            : FailsafeAction::kNone;
+  if (c.id != CommandId::kDisarm && level < required_)
+    return reject("failsafe " + std::string(FailsafeActionName(required_)) + " active: " + failsafe_reason_);
+  if (c.id == CommandId::kGoto && OutsideFence(Eigen::Vector3d(c.args[0], c.args[1], -c.args[2])))
+    return reject("target is outside the geofence");
+  if (c.id == CommandId::kTakeoff && c.args[0] > p_.fence_alt) return reject("altitude is above the geofence");
+  if (airborne_ && c.id != CommandId::kArm && c.id != CommandId::kDisarm) enforced_ = level;
   switch (c.id) {
     case CommandId::kArm:
       if (armed_) return reject("already armed");
@@ -250,6 +317,7 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
       if (still_since_ >= 0.0 && t - still_since_ >= p_.landed_time) {
         // Touchdown: stop the rotors (PX4 auto-disarm) and report.
         airborne_ = false;
+        enforced_ = FailsafeAction::kNone;
         armed_ = false;
         task_ = Task::kIdle;
         setpoint_.descent_rate.reset();

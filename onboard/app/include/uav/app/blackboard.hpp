@@ -30,6 +30,9 @@ struct BlackboardData {
   bool airborne = false;
   control::Task task = control::Task::kIdle;
   int mission_item = -1;
+  control::FailsafeAction failsafe = control::FailsafeAction::kNone;
+  // CMM thread
+  double gcs_link_age_s = -1.0;  // [s] wall clock since the last GCS heartbeat; < 0: none heard yet
   std::optional<double> capture_interval_s;  // survey camera on, by time ...
   std::optional<double> capture_distance_m;  // ... or by distance
   // SVO thread

@@ -27,13 +27,18 @@ class ImuWorker {
 class ControlWorker {
  public:
   ControlWorker(const control::TaskParams& task_params,
-                const control::ControllerParams& controller_params, double period_s,
-                Blackboard& board, control::MissionSource* missions = nullptr);
+                const control::ControllerParams& controller_params,
+                const control::FailsafeParams& failsafe_params, double period_s, Blackboard& board,
+                control::MissionSource* missions = nullptr);
   void Tick(int64_t utime);
 
  private:
   control::TaskManager tasks_;
   control::PositionAttitudeController controller_;
+  control::FailsafeParams failsafe_params_;
+  control::FailsafeMonitor failsafes_;
+  control::Setpoint last_valid_setpoint_;
+  std::string last_setpoint_error_;
   double period_s_;
   Blackboard& board_;
   control::Task last_task_ = control::Task::kIdle;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "uav/control/estimate.hpp"
+#include "uav/control/failsafe.hpp"
 #include "uav/control/mission_runner.hpp"
 #include "uav/control/position_attitude_controller.hpp"
 #include "uav/shared/command_grammar.hpp"
@@ -42,6 +43,7 @@ struct TaskParams {
   double reached_radius, reached_speed, land_speed, land_slow_alt, landed_alt, landed_time;
   double speed_max_xy, speed_max_up, speed_max_down;
   double path_accel, path_leash, return_alt, stall_time;
+  double fence_radius, fence_alt;  // targets beyond the geofence are refused
   static TaskParams FromParameters(const ParameterSet& p);
 };
 
@@ -74,6 +76,14 @@ class TaskManager {
     std::optional<double> capture_interval_s;   // survey camera on (by time) ...
     std::optional<double> capture_distance_m;   // ... or by distance
   };
+  // Carries out what the failsafes require (call before Update each step): an action stricter
+  // than the one being flown takes over at once (an active command fails with the reason);
+  // nothing is downgraded when a failsafe clears. While one is required, commands that would do
+  // less are refused.
+  void EnforceFailsafe(FailsafeAction required, const std::string& reason, const VehicleEstimate& est,
+                       double t, std::vector<TaskReport>* reports);
+  FailsafeAction enforced() const { return enforced_; }
+
   // One step at the control rate: advances the active task, appends progress reports.
   Output Update(const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
 
@@ -88,6 +98,9 @@ class TaskManager {
   void BeginPath(Task task, std::vector<waypoints::MissionStep> steps, const CommandRequest& req,
                  const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
   void StartLanding(const VehicleEstimate& est);
+  void StartPath(Task task, std::vector<waypoints::MissionStep> steps, const VehicleEstimate& est, double t);
+  void Hold(const VehicleEstimate& est);
+  bool OutsideFence(const Eigen::Vector3d& p_N) const;
 
   TaskParams p_;
   MissionSource* missions_;
@@ -96,6 +109,9 @@ class TaskManager {
   double last_t_ = 0.0;
   bool armed_ = false;
   bool airborne_ = false;
+  FailsafeAction required_ = FailsafeAction::kNone;  // what the failsafes ask for now
+  FailsafeAction enforced_ = FailsafeAction::kNone;  // what they made the vehicle do
+  std::string failsafe_reason_;
   bool reset_pending_ = false;
   Task task_ = Task::kIdle;
   Setpoint setpoint_;

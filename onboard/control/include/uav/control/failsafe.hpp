@@ -1,0 +1,75 @@
+#pragma once
+// Failsafes (PX4's commander is the bar): each is a small state machine on the vehicle clock that
+// says what the vehicle must at least do; the monitor reports the strictest. Plain class, fed
+// plain data; the task manager carries the action out and refuses commands that would do less.
+//
+//   GCS link   no GCS heartbeat for link_hold_s: hold; for link_return_s: return home. Only once a
+//              GCS has been heard (a vehicle flown without a GCS is not "lost"). When the link
+//              comes back it is reported; the action already taken is not downgraded.
+//   battery    remaining below battery_return: return home; below battery_land: land now.
+//              Latched: a battery does not recover in flight.
+//   geofence   farther than fence_radius_m from home or higher than fence_alt_m: hold or return
+//              (fence_action). Clears when back inside.
+//   manual     the RC fail-safe switch (thesis 2.3.2): the pilot flies, at once, whatever else.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "uav/shared/parameters.hpp"
+
+namespace uav::control {
+
+// Ordered by strictness: a larger value wins.
+enum class FailsafeAction { kNone = 0, kHold = 1, kReturn = 2, kLand = 3, kManual = 4 };
+const char* FailsafeActionName(FailsafeAction a);
+
+struct FailsafeParams {
+  double link_hold_s;      // [s]
+  double link_return_s;    // [s] > link_hold_s
+  double battery_return;   // [0..1] remaining
+  double battery_land;     // [0..1] remaining, < battery_return
+  double fence_radius_m;   // [m] horizontal distance from home
+  double fence_alt_m;      // [m] above home
+  FailsafeAction fence_action;  // kHold or kReturn
+  static FailsafeParams FromParameters(const ParameterSet& p);
+};
+
+struct FailsafeInputs {
+  double t = 0;                    // [s] vehicle clock
+  bool airborne = false;
+  // [s] since the last GCS heartbeat, on the wall clock (the link is real even when the
+  // simulation runs faster than real time); < 0: no GCS heard yet.
+  double gcs_link_age_s = -1;
+  double battery_remaining = 1;    // [0..1]
+  Eigen::Vector3d p_N = Eigen::Vector3d::Zero();
+  bool rc_manual = false;
+};
+
+// Last line of defence before the controller: "" when the setpoint is finite and within the
+// geofence (plus `margin_m`) and the speed limits, else what is wrong ("p_N.z is NaN"). A
+// rejected setpoint never reaches the controller; the previous valid one is held instead.
+std::string CheckSetpoint(const struct Setpoint& sp, const FailsafeParams& p, double speed_max_xy,
+                          double margin_m = 10.0);
+
+class FailsafeMonitor {
+ public:
+  explicit FailsafeMonitor(const FailsafeParams& p);
+
+  // One step; appends operator messages (a failsafe triggering, escalating or clearing) and
+  // returns the strictest action required now.
+  FailsafeAction Update(const FailsafeInputs& in, std::vector<std::string>* events);
+  FailsafeAction required() const { return required_; }
+  // Why the current requirement holds ("battery 9 % below 10 %").
+  const std::string& reason() const { return reason_; }
+
+ private:
+  FailsafeParams p_;
+  FailsafeAction link_ = FailsafeAction::kNone, battery_ = FailsafeAction::kNone;
+  FailsafeAction fence_ = FailsafeAction::kNone, manual_ = FailsafeAction::kNone;
+  FailsafeAction required_ = FailsafeAction::kNone;
+  std::string reason_;
+  std::string link_reason_, battery_reason_, fence_reason_;
+};
+
+}  // namespace uav::control
