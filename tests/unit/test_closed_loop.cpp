@@ -8,6 +8,7 @@
 #include "uav/app/mission_store.hpp"
 #include "uav/app/workers.hpp"
 #include "uav/shared/parameters.hpp"
+#include "uav/shared/text_file.hpp"
 #include "uav/sim/sim_vehicle.hpp"
 #include "uav/waypoints/stored_paths.hpp"
 
@@ -18,8 +19,10 @@ class ClosedLoop : public ::testing::Test {
  protected:
   static constexpr int64_t kStep = 2000, kPeriod = 20000;
   static constexpr GeodeticPoint kHome{1.2966, 103.7764, 15.0};  // the stored paths are laid out here
-  ClosedLoop()
-      : params_(ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params")),
+  static ParameterSet VehicleFile() { return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params"); }
+  ClosedLoop() : ClosedLoop(VehicleFile()) {}
+  explicit ClosedLoop(const ParameterSet& params)
+      : params_(params),
         vehicle_(params_, kHome, 0),
         missions_(waypoints::kStoredPathsDir, kHome, params_.Get("ctl_speed_max_xy")),
         imu_(vehicle_, board_),
@@ -30,10 +33,13 @@ class ClosedLoop : public ::testing::Test {
 
   // Sends `text` and flies until its completion (or failure) report, at most `limit_s`.
   // Returns the final report; records the worst attitude seen on the way.
+  // With an empty `text`, flies without a new command until `until_` holds or the limit.
   control::TaskReport Fly(const std::string& text, double limit_s) {
-    const auto parsed = ParseCommand(text);
-    EXPECT_TRUE(parsed.ok()) << parsed.error;
-    board_.PushCommand({"test", ++seq_, *parsed.command});
+    if (!text.empty()) {
+      const auto parsed = ParseCommand(text);
+      EXPECT_TRUE(parsed.ok()) << parsed.error;
+      board_.PushCommand({"test", ++seq_, *parsed.command});
+    }
     control::TaskReport last;
     bool done = false;
     LockstepScheduler s({vehicle_.utime(), kStep, 0.0, static_cast<int64_t>(limit_s * 1e6)});
@@ -52,6 +58,7 @@ class ClosedLoop : public ::testing::Test {
       const auto e = EulerFromRotationNB(truth.q_NB.toRotationMatrix());
       max_tilt_ = std::max({max_tilt_, std::abs(e.phi), std::abs(e.theta)});
       if (on_step_) on_step_();
+      if (until_ && until_()) done = true;
       if (done) s.Stop();
     });
     s.Run([&](int64_t dt) { vehicle_.Step(dt); });
@@ -66,6 +73,7 @@ class ClosedLoop : public ::testing::Test {
   sim::SimVehicle vehicle_;
   MissionStore missions_;
   std::function<void()> on_step_;  // called every control period while flying
+  std::function<bool()> until_;    // stops Fly early when it holds
   Blackboard board_;
   ImuWorker imu_;
   ControlWorker ctl_;
@@ -185,6 +193,87 @@ TEST_F(ClosedLoop, SurveyMissionFromTheGroundCapturesOnTheLinesAndLandsHome) {
   EXPECT_NEAR(mean_speed, p.speed_m_s, 0.3);
   std::printf("survey mission: %.1f s, %d lines, worst cross-track %.2f m, mean capture speed %.2f m/s\n",
               elapsed_s_, plan.lines, worst_cross, mean_speed);
+}
+
+// ---- Failsafes in closed loop (the integration over LCM is integration.link_loss).
+
+TEST_F(ClosedLoop, LinkLossHoldsAtFiveSecondsThenReturnsHomeAndLands) {
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  EXPECT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
+  // A GCS is heard, then the link drops while a goto is under way.
+  const double lost_at = vehicle_.utime() * 1e-6;
+  on_step_ = [&] { board_.Update([&](BlackboardData& b) { b.gcs_link_age_s = vehicle_.utime() * 1e-6 - lost_at; }); };
+  const auto r = Fly("goto 60 0 10", 60);
+  EXPECT_EQ(r.result, control::AckResult::kFailed);
+  EXPECT_NE(r.reason.find("failsafe hold"), std::string::npos) << r.reason;
+  EXPECT_NEAR(vehicle_.utime() * 1e-6 - lost_at, 5.0, 0.05);  // at 5 s, not before
+  const Eigen::Vector3d held = TruthPosition();
+  until_ = [&] { return board_.Snapshot().task == control::Task::kReturn; };
+  Fly("", 30);
+  EXPECT_NEAR(vehicle_.utime() * 1e-6 - lost_at, 20.0, 0.05);  // return at 20 s
+  EXPECT_LT((TruthPosition() - held).head<2>().norm(), 1.0);  // it held meanwhile
+  until_ = [&] { return !board_.Snapshot().armed; };
+  Fly("", 120);
+  on_step_ = nullptr;
+  until_ = nullptr;
+  EXPECT_LT(TruthPosition().head<2>().norm(), 0.5);
+  EXPECT_NEAR(TruthPosition().z(), 0.0, 0.05);
+}
+
+TEST_F(ClosedLoop, ManualOverrideGivesThePilotTheServosAtOnce) {
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  EXPECT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
+  // The pilot flips the switch with the throttle a little above the hover trim (0.18): the
+  // vehicle climbs, whatever the autopilot wanted.
+  vehicle_.SetRc({0, 0, 0.25, 0}, true);
+  until_ = [&] { return -TruthPosition().z() > 12.0; };
+  Fly("", 10);
+  EXPECT_GT(-TruthPosition().z(), 12.0);
+  EXPECT_EQ(board_.Snapshot().failsafe, control::FailsafeAction::kManual);
+  EXPECT_NEAR(board_.Snapshot().servo.throttle, 0.25, 1e-12);
+  // Switch back: the autopilot holds where the pilot left it.
+  vehicle_.SetRc({0, 0, 0.25, 0}, false);
+  until_ = nullptr;
+  Fly("", 10);
+  const double alt = -TruthPosition().z();
+  Fly("", 5);
+  EXPECT_NEAR(-TruthPosition().z(), alt, 0.3);
+  EXPECT_EQ(board_.Snapshot().task, control::Task::kHover);
+}
+
+// A 1 Ah battery: 200 s of hover, so the thresholds come within a short flight.
+class LowBattery : public ClosedLoop {
+ protected:
+  static ParameterSet SmallBattery() {
+    std::string text = ReadTextFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", "params");
+    const auto at = text.find("battery_capacity          5.0");
+    EXPECT_NE(at, std::string::npos);
+    text.replace(at, 29, "battery_capacity          1.0");
+    return ParameterSet::Parse(text, "x650 with a 1 Ah battery");
+  }
+  LowBattery() : ClosedLoop(SmallBattery()) {}
+};
+
+TEST_F(LowBattery, ReturnsBelowTwentyFivePercentThenLandsBelowTenWhereverItIs) {
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  EXPECT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
+  const auto r = Fly("goto 480 0 10", 300);
+  EXPECT_EQ(r.result, control::AckResult::kFailed);
+  EXPECT_NE(r.reason.find("failsafe return: battery 24.9 % below 25 %"), std::string::npos) << r.reason;
+  std::printf("at the return: %s, x %.1f m\n", r.reason.c_str(), TruthPosition().x());
+  EXPECT_NEAR(board_.Snapshot().sample.battery_remaining, 0.25, 0.01);
+  const double turned_at = TruthPosition().x();
+  until_ = [&] { return board_.Snapshot().task == control::Task::kLand; };
+  Fly("", 60);
+  EXPECT_NEAR(board_.Snapshot().sample.battery_remaining, 0.10, 0.01);
+  std::printf("at the landing: x %.1f m (turned at %.1f m)\n", TruthPosition().x(), turned_at);
+  EXPECT_LT(TruthPosition().x(), turned_at - 10.0);  // it was flying home
+  EXPECT_EQ(Fly("return", 1).result, control::AckResult::kRejected);  // less strict than land
+  until_ = [&] { return !board_.Snapshot().armed; };
+  Fly("", 60);
+  until_ = nullptr;
+  EXPECT_NEAR(TruthPosition().z(), 0.0, 0.05);
+  EXPECT_GT(TruthPosition().x(), 5.0);  // landed where it was, not at home
 }
 
 }  // namespace

@@ -82,7 +82,8 @@ FailsafeAction FailsafeMonitor::Update(const FailsafeInputs& in, std::vector<std
   if (in.battery_remaining < p_.battery_land) battery = FailsafeAction::kLand;
   else if (in.battery_remaining < p_.battery_return) battery = std::max(battery, FailsafeAction::kReturn);
   if (battery > battery_) {
-    battery_reason_ = Format("battery %.0f %% below %.0f %%", 100 * in.battery_remaining,
+    // Rounded down, so the message never shows a value at the threshold it is below.
+    battery_reason_ = Format("battery %.1f %% below %.0f %%", std::floor(1000 * in.battery_remaining) / 10,
                              100 * (battery == FailsafeAction::kLand ? p_.battery_land : p_.battery_return));
     events->push_back("failsafe: " + battery_reason_ + ": " + FailsafeActionName(battery));
   }

@@ -33,10 +33,18 @@ void SimVehicle::Step(int64_t dt_us) {
   utime_ += dt_us;
 }
 
+void SimVehicle::SetRc(const std::array<double, 4>& sticks, bool manual) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (int i = 0; i < 4; ++i) rc_sticks_[i] = std::clamp(sticks[i], -1.0, 1.0);
+  rc_manual_ = manual;
+}
+
 hal::SensorSample SimVehicle::ReadSensors() {
   std::lock_guard<std::mutex> lock(mutex_);
   hal::SensorSample s;
   s.utime = utime_;
+  s.rc_sticks = rc_sticks_;
+  s.rc_manual = rc_manual_;
   s.p_N = state_.p_N;
   s.v_N = state_.q_NB * state_.v_B;
   s.q_NB = state_.q_NB;

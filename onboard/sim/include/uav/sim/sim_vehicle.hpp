@@ -27,6 +27,10 @@ class SimVehicle : public hal::VehicleBackend {
   hal::SensorSample ReadSensors() override;
   void WriteRotors(const std::array<double, 4>& rotor_inputs) override;
 
+  // The simulated RC transmitter: sticks (aileron, elevator, throttle, rudder in -1..1) and the
+  // fail-safe switch (true: the pilot flies).
+  void SetRc(const std::array<double, 4>& sticks, bool manual);
+
   // Ground truth, for tests and the simulator's own logging; never for the flight stack.
   QuadrotorState TruthState() const;
   int64_t utime() const;
@@ -42,6 +46,8 @@ class SimVehicle : public hal::VehicleBackend {
   double battery_used_ah_ = 0.0;
   int64_t utime_;
   Eigen::Vector3d wind_N_ = Eigen::Vector3d::Zero();
+  std::array<double, 4> rc_sticks_ = {0, 0, -1, 0};
+  bool rc_manual_ = false;
 };
 
 }  // namespace uav::sim
