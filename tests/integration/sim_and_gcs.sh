@@ -1,9 +1,11 @@
 # Sourced by the integration tests: runs uav-onboard --sim and a headless uav-gcs script against
 # it over LCM (inside netns.sh), then prints the vehicle's output.
 # Sets: work (temporary directory with log/ and onboard.log), status (the GCS's exit code).
-# Usage: run_sim_and_gcs BIN_DIR SPEED GCS_NAME SCRIPT TIMEOUT_S
+# Usage: run_sim_and_gcs BIN_DIR SPEED GCS_NAME SCRIPT TIMEOUT_S [LINGER_S UNTIL_FUNCTION]
+# With LINGER_S, the vehicle keeps flying after the GCS exits, until UNTIL_FUNCTION succeeds or
+# LINGER_S pass.
 run_sim_and_gcs() {
-  local bin=$1 speed=$2 name=$3 script=$4 limit=$5
+  local bin=$1 speed=$2 name=$3 script=$4 limit=$5 linger=${6:-0} until=${7:-false}
   local url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
   work=$(mktemp -d)
   trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
@@ -11,6 +13,8 @@ run_sim_and_gcs() {
     > "$work/onboard.log" 2>&1 &
   status=0
   timeout "$limit" "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" --script "$script" || status=$?
+  local waited=0
+  while [ "$waited" -lt "$linger" ] && ! "$until"; do sleep 1; waited=$((waited + 1)); done
   kill %1 2>/dev/null || true
   wait || true
   echo "--- onboard output"
