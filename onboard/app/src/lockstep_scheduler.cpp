@@ -16,8 +16,11 @@ struct LockstepScheduler::Worker {
   std::function<void(int64_t)> work;
   std::thread thread;
   uint64_t go_generation = 0;    // incremented by the driver to release the worker
-  uint64_t done_generation = 0;  // set by the worker when it has finished that release
+  std::atomic<uint64_t> done_generation{0};  // set by the worker when it has finished that release
   int64_t utime = 0;
+  // Its own wake-up: releasing a stage wakes only the workers that are due, not every thread
+  // (a shared condition variable woke all six threads four times per period).
+  std::condition_variable go;
 };
 
 LockstepScheduler::LockstepScheduler(const Options& options)
@@ -30,7 +33,7 @@ LockstepScheduler::~LockstepScheduler() {
     std::lock_guard<std::mutex> lock(mutex_);
     shutting_down_ = true;
   }
-  cv_.notify_all();
+  for (auto& w : workers_) w->go.notify_all();
   for (auto& w : workers_)
     if (w->thread.joinable()) w->thread.join();
 }
@@ -52,7 +55,7 @@ void LockstepScheduler::AddWorker(const std::string& name, int stage, int64_t pe
       int64_t t;
       {
         std::unique_lock<std::mutex> lock(mutex_);
-        cv_.wait(lock, [&] { return shutting_down_ || raw->go_generation != seen; });
+        raw->go.wait(lock, [&] { return shutting_down_ || raw->go_generation != seen; });
         if (shutting_down_) return;
         seen = raw->go_generation;
         t = raw->utime;
@@ -62,7 +65,7 @@ void LockstepScheduler::AddWorker(const std::string& name, int stage, int64_t pe
         std::lock_guard<std::mutex> lock(mutex_);
         raw->done_generation = seen;
       }
-      cv_.notify_all();
+      cv_.notify_one();  // only the driver waits on cv_
     }
   });
   workers_.push_back(std::move(w));
@@ -76,7 +79,7 @@ void LockstepScheduler::RunStage(const std::vector<Worker*>& due, int64_t utime)
       ++w->go_generation;
     }
   }
-  cv_.notify_all();
+  for (Worker* w : due) w->go.notify_one();
   std::unique_lock<std::mutex> lock(mutex_);
   cv_.wait(lock, [&] {
     return std::all_of(due.begin(), due.end(),
