@@ -44,12 +44,19 @@ struct LinkWorker::Impl {
   int64_t now = 0;
   int64_t last_heartbeat = -1;
   int64_t last_gcs_wall_us = -1;  // monotonic wall clock of the last GCS heartbeat
+  std::unique_ptr<EventLog> events;
 };
 
 LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, Blackboard& board,
-                       MissionStore& missions)
+                       MissionStore& missions, std::unique_ptr<EventLog> events)
     : impl_(std::make_unique<Impl>(vehicle_id, lcm_url, board, missions)) {
   Impl* im = impl_.get();
+  im->events = std::move(events);
+  if (im->events) {
+    im->bus.SubscribeRaw(".*", [im](const std::string& channel, const lcm::ReceiveBuffer& rbuf) {
+      im->events->Write(channel, rbuf.data, static_cast<int>(rbuf.data_size), rbuf.recv_utime);
+    });
+  }
   im->bus.Subscribe<uavmsg::mission_upload_t>(
       Channel(vehicle_id, Topic::kMissionUpload),
       [im](const std::string&, const uavmsg::mission_upload_t& m) {
@@ -164,6 +171,7 @@ void LinkWorker::Tick(int64_t utime) {
     hb.task = m.task;
     im.bus.Publish(Channel(im.vehicle_id, Topic::kHeartbeat), hb);
   }
+  if (im.events) im.events->Flush();
 }
 
 }  // namespace uav::app

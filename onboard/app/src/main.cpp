@@ -98,7 +98,10 @@ int main(int argc, char** argv) {
     if (!log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(log_dir, start);
     const std::string log_path = log ? log->path() : "";
     uav::app::LogWorker dlg(std::move(log), board);
-    uav::app::LinkWorker cmm(vehicle_id, lcm_url, board, missions);
+    std::unique_ptr<uav::app::EventLog> events;
+    if (!log_dir.empty()) events = std::make_unique<uav::app::EventLog>(log_dir, start);
+    const std::string events_path = events ? events->path() : "";
+    uav::app::LinkWorker cmm(vehicle_id, lcm_url, board, missions, std::move(events));
 
     uav::app::LockstepScheduler scheduler(
         {start, kStepUs, speed, static_cast<int64_t>(duration_s * 1e6)});
@@ -115,9 +118,10 @@ int main(int argc, char** argv) {
     });
     signal_waiter.detach();
 
-    std::printf("uav-onboard: vehicle %s, simulated quadrotor, speed %s, LCM %s%s%s\n",
+    std::printf("uav-onboard: vehicle %s, simulated quadrotor, speed %s, LCM %s%s%s%s%s\n",
                 vehicle_id.c_str(), speed_text.c_str(), lcm_url.c_str(),
-                log_path.empty() ? "" : ", log ", log_path.c_str());
+                log_path.empty() ? "" : ", log ", log_path.c_str(),
+                events_path.empty() ? "" : ", events ", events_path.c_str());
     std::fflush(stdout);
     scheduler.Run([&](int64_t dt) { vehicle.Step(dt); });
     std::printf("uav-onboard: stopped after %.1f s simulated\n", (scheduler.now() - start) * 1e-6);

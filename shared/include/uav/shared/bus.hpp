@@ -36,6 +36,14 @@ class Bus {
     handlers_.push_back(std::move(handler));
   }
 
+  // Every message on channels matching `pattern`, undecoded (for the event log).
+  void SubscribeRaw(const std::string& pattern,
+                    std::function<void(const std::string& channel, const lcm::ReceiveBuffer& rbuf)> on_message) {
+    auto handler = std::make_unique<RawHandler>(std::move(on_message));
+    lcm_.subscribe(pattern, &HandlerBase::Handle, static_cast<HandlerBase*>(handler.get()));
+    handlers_.push_back(std::move(handler));
+  }
+
   // Dispatches messages that arrive within `timeout_ms` (0: only those already queued).
   // Returns the number of messages handled.
   int Handle(int timeout_ms);
@@ -61,6 +69,12 @@ class Bus {
     }
     std::function<void(const std::string&, const Msg&)> fn;
     int64_t* decode_errors;
+  };
+
+  struct RawHandler : HandlerBase {
+    explicit RawHandler(std::function<void(const std::string&, const lcm::ReceiveBuffer&)> f) : fn(std::move(f)) {}
+    void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& channel) override { fn(channel, *rbuf); }
+    std::function<void(const std::string&, const lcm::ReceiveBuffer&)> fn;
   };
 
   std::string url_;
