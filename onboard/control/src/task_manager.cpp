@@ -42,6 +42,7 @@ bool TaskManager::OutsideFence(const Eigen::Vector3d& p_N) const {
   return p_N.head<2>().norm() > p_.fence_radius || -p_N.z() > p_.fence_alt;
 }
 
+// Holds the current position and heading (hover command, failsafe hold, stalled path).
 void TaskManager::Hold(const VehicleEstimate& est) {
   runner_.reset();
   path_ = MissionRunner::Output{};
@@ -210,13 +211,7 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
     case CommandId::kHover:
       if (!airborne_) return reject("not flying");
       Finish(AckResult::kFailed, "superseded by hover", reports);
-      runner_.reset();
-      // Thesis 2.3.2: the current position becomes the reference.
-      setpoint_ = Setpoint{};
-      setpoint_.p_N = est.p_N;
-      setpoint_.yaw = est.euler.psi;
-      setpoint_.descent_rate.reset();
-      task_ = Task::kHover;
+      Hold(est);  // thesis 2.3.2: the current position becomes the reference
       return instant();
     case CommandId::kLand:
       if (!airborne_) return reject("not flying");
@@ -287,12 +282,7 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
       task_ = Task::kHover;
       Finish(AckResult::kCompleted, "", reports);
     } else if (t > deadline_) {
-      runner_.reset();
-      path_ = MissionRunner::Output{};
-      setpoint_ = Setpoint{};
-      setpoint_.p_N = est.p_N;
-      setpoint_.yaw = est.euler.psi;
-      task_ = Task::kHover;
+      Hold(est);
       Finish(AckResult::kFailed, "no progress along the path; holding position", reports);
     }
   }
