@@ -1,5 +1,7 @@
 // The GCS model without any window or bus: link statistics, command sending and resending,
 // vehicle isolation, telemetry history.
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include "uav/gcs/gcs_model.hpp"
@@ -128,6 +130,39 @@ TEST(GcsModel, PlotSelectionAndWindowLimits) {
   EXPECT_EQ(m.plot_window(), 60.0);
   m.SetPlotWindow(1800);
   EXPECT_EQ(m.plot_window(), 1800.0);
+}
+
+}  // namespace
+}  // namespace uav::gcs
+
+namespace uav::gcs {
+namespace {
+
+TEST(PlotCsvExport, WritesTheTickedSignalsOverTheRangeAndNothingElse) {
+  GcsModel m("gcs", 1);
+  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  for (int i = 0; i <= 100; ++i)  // 2 s at 50 Hz
+    m.OnTelemetry({"UAV1", "STATE", i + 1, 10.0 + 0.02 * i, {{"alt", 0.1 * i}, {"x", -1.0 * i}, {"y", 7.0}}}, 0.0);
+  const std::string path = testing::TempDir() + "/plot_export_test.csv";
+  std::remove(path.c_str());
+  EXPECT_FALSE(m.ExportPlotCsv(path, 0.0, 2.0, 1.0));  // nothing ticked
+  EXPECT_NE(m.log().back().text.find("nothing to export"), std::string::npos);
+  m.TogglePlotSignal("STATE.alt");
+  m.TogglePlotSignal("STATE.x");
+  ASSERT_TRUE(m.ExportPlotCsv(path, 0.5, 1.0, 1.0));
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "t,STATE.alt,STATE.x");
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 26u);  // 0.50, 0.52, ..., 1.00
+  EXPECT_EQ(rows.front(), "0.500,2.5,-25");
+  EXPECT_EQ(rows.back(), "1.000,5,-50");
+  EXPECT_NE(m.log().back().text.find("exported 26 rows of 2 signals"), std::string::npos);
+  EXPECT_FALSE(m.ExportPlotCsv("/nonexistent-dir/x.csv", 0.0, 2.0, 1.0));
+  EXPECT_NE(m.log().back().text.find("CSV export failed"), std::string::npos);
+  std::remove(path.c_str());
 }
 
 }  // namespace

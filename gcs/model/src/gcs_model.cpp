@@ -1,6 +1,9 @@
 #include "uav/gcs/gcs_model.hpp"
 
 #include <cmath>
+#include <limits>
+
+#include "uav/shared/text_file.hpp"
 
 #include "uav/shared/command_grammar.hpp"
 
@@ -205,6 +208,58 @@ bool GcsModel::UploadSurvey(double now) {
   }
   it->second.upload.emplace(*mission, next_seq_++, now);
   Log(now, selected_, "uploading mission of " + std::to_string(mission->items.size()) + " items", 6);
+  return true;
+}
+
+bool GcsModel::ExportPlotCsv(const std::string& path, double t0, double t1, double now) {
+  const VehicleModel* v = selected();
+  if (!v || plot_signals_.empty() || !(t0 <= t1)) {
+    Log(now, "", "CSV export: nothing to export (no vehicle, no ticked signal or an empty range)", 4);
+    return false;
+  }
+  std::vector<const SignalSeries*> series;
+  std::vector<std::string> names;
+  for (const auto& key : plot_signals_) {
+    auto it = v->history.find(key);
+    if (it == v->history.end()) continue;
+    series.push_back(&it->second);
+    names.push_back(key);
+  }
+  // Merge the sample times of all series (signals of one message share them).
+  std::vector<std::size_t> next(series.size());
+  for (std::size_t k = 0; k < series.size(); ++k) next[k] = series[k]->LowerBound(t0);
+  std::string out = "t";
+  for (const auto& n : names) out += "," + n;
+  out += "\n";
+  char buf[64];
+  std::size_t rows = 0;
+  for (;;) {
+    double t = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < series.size(); ++k)
+      if (next[k] < series[k]->size()) t = std::min(t, series[k]->TimeAt(next[k]));
+    if (!(t <= t1)) break;
+    std::snprintf(buf, sizeof buf, "%.3f", t);
+    out += buf;
+    for (std::size_t k = 0; k < series.size(); ++k) {
+      out += ',';
+      if (next[k] < series[k]->size() && series[k]->TimeAt(next[k]) == t) {
+        std::snprintf(buf, sizeof buf, "%.9g", series[k]->ValueAt(next[k]));
+        out += buf;
+        ++next[k];
+      }
+    }
+    out += '\n';
+    ++rows;
+  }
+  try {
+    WriteFileAtomically(path, out);
+  } catch (const std::exception& e) {
+    Log(now, "", std::string("CSV export failed: ") + e.what(), 4);
+    return false;
+  }
+  std::snprintf(buf, sizeof buf, "%.1f..%.1f s", t0, t1);
+  Log(now, selected_, "exported " + std::to_string(rows) + " rows of " + std::to_string(names.size()) +
+                          " signals (" + buf + ") to " + path, 6);
   return true;
 }
 

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include <imgui.h>
+#include <imgui_stdlib.h>
 
 #include "uav/gcs/gcs_ui.hpp"
 
@@ -60,7 +61,7 @@ void DrawPlotPanel(GcsModel& model, UiContext& ctx) {
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImVec2 size = ImGui::GetContentRegionAvail();
   size.x = std::max(size.x, 100.0f);
-  size.y = std::max(size.y - 4.0f, 60.0f);
+  size.y = std::max(size.y - 30.0f, 60.0f);  // room for the export row below
   ImGui::InvisibleButton("plot_canvas", size);
   const bool hovered = ImGui::IsItemHovered();
   ImDrawList* dl = ImGui::GetWindowDrawList();
@@ -85,6 +86,14 @@ void DrawPlotPanel(GcsModel& model, UiContext& ctx) {
     t_end = st.plot_paused_at;
   }
   const double t_start = t_end - model.plot_window();
+  // CSV export of what the plot shows (ticked signals over the visible window).
+  ImGui::SetCursorScreenPos(ImVec2(p0.x, p1.y + 2));
+  if (ImGui::Button("Export CSV")) model.ExportPlotCsv(st.plot_csv_file, t_start, t_end, ctx.now);
+  RegisterLastItem(ctx, "plot:export");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(220);
+  ImGui::InputText("##plot:file", &st.plot_csv_file);
+  RegisterLastItem(ctx, "plot:file");
   const int width = std::max(2, static_cast<int>(size.x));
 
   std::vector<std::pair<std::string, std::vector<Column>>> reduced;

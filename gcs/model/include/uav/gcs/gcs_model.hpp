@@ -115,6 +115,11 @@ class GcsModel {
   void SelectVehicle(const std::string& id);
   void TogglePlotSignal(const std::string& key);  // "GROUP.signal"
   void SetPlotWindow(double seconds);
+  // Writes the plotted signals of the selected vehicle over [t0, t1] (plot time, seconds since
+  // its first sample) as CSV: a column t, then one per signal, a row per sample time (empty
+  // where a signal has no sample then). Written to a temporary name and renamed; the outcome
+  // goes to the log. Returns false when there is nothing to write or the file cannot be written.
+  bool ExportPlotCsv(const std::string& path, double t0, double t1, double now);
   // Uploads the planner's survey mission to the selected vehicle. Returns false and sets
   // upload_error() when there is no vehicle, no valid plan, or an upload is already running.
   bool UploadSurvey(double now);

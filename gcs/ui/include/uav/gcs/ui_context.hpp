@@ -23,6 +23,7 @@ struct UiState {
   double plot_paused_at = 0.0;
   bool plot_auto_y = true;
   float plot_y_min = -10.0f, plot_y_max = 10.0f;
+  std::string plot_csv_file = "plot.csv";
   // Map view: centre [m north, east of the map origin] and zoom.
   double map_center_n = 0.0, map_center_e = 0.0;
   double map_px_per_m = 3.0;
