@@ -29,6 +29,13 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
               v->HeartbeatAge(ctx.now), v->MessageRate(ctx.now), static_cast<long long>(v->sequence_gaps),
               v->task.c_str(), v->armed ? "ARMED" : "disarmed", get("STATE.mode") > 0.5 ? "auto" : "manual",
               get("STATE.alt"), get("STATE.battery_v"), 100.0 * get("STATE.battery_remaining"));
+  // The vehicle's failsafe in red, so it cannot be missed (the reason is in the messages).
+  static const char* const kFailsafe[] = {"", "HOLD", "RETURN", "LAND", "PILOT (RC switch)"};
+  const int fs = static_cast<int>(get("STATE.failsafe"));
+  if (fs > 0 && fs < 5) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| FAILSAFE %s", kFailsafe[fs]);
+  }
   ImGui::End();
 }
 
