@@ -67,7 +67,7 @@ Outcome Upload(const Mission& m, double loss, double dup, unsigned seed,
     if (why.empty()) stored = got;
     return why;
   };
-  MissionUploader gcs(m, 42, 0.0);
+  MissionUploader gcs(m, 42);
   double t = 0;
   for (; t < 120 && gcs.state() == MissionUploader::State::kSending; t += 0.05) {
     for (const auto& c : gcs.Tick(t)) up.Send(ToMessage(c));
@@ -155,7 +155,7 @@ TEST(MissionTransfer, ANewUploadReplacesAHalfReceivedOne) {
 }
 
 TEST(MissionTransfer, GivesUpWhenTheVehicleIsSilent) {
-  MissionUploader gcs(BigMission(5), 1, 0.0);
+  MissionUploader gcs(BigMission(5), 1);
   int sent = 0;
   for (double t = 0; t < 30; t += 0.05) sent += static_cast<int>(gcs.Tick(t).size());
   EXPECT_EQ(gcs.state(), MissionUploader::State::kFailed);

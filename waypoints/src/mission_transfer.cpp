@@ -99,11 +99,9 @@ MissionUploadAck MissionAssembler::Receive(const MissionChunk& c,
   return ack;
 }
 
-MissionUploader::MissionUploader(const Mission& m, int64_t upload_id, double now)
+MissionUploader::MissionUploader(const Mission& m, int64_t upload_id)
     : mission_(m), chunks_(SplitMission(m, upload_id)), upload_id_(upload_id),
-      total_(static_cast<int>(m.items.size())), digest_(MissionDigest(m)) {
-  (void)now;
-}
+      total_(static_cast<int>(m.items.size())), digest_(MissionDigest(m)) {}
 
 std::vector<MissionChunk> MissionUploader::Tick(double now) {
   if (state_ != State::kSending || next_ >= chunks_.size()) return {};

@@ -206,7 +206,7 @@ bool GcsModel::UploadSurvey(double now) {
     upload_error_ = error;
     return false;
   }
-  it->second.upload.emplace(*mission, next_seq_++, now);
+  it->second.upload.emplace(*mission, next_seq_++);
   Log(now, selected_, "uploading mission of " + std::to_string(mission->items.size()) + " items", 6);
   return true;
 }

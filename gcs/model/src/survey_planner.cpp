@@ -8,8 +8,8 @@
 
 namespace uav::gcs {
 
-SurveyPlanner::SurveyPlanner(const std::string& camera_dir, const GeodeticPoint& origin) : origin_(origin) {
-  ValidateGeodetic(origin);
+SurveyPlanner::SurveyPlanner(const std::string& camera_dir, const GeodeticPoint& origin)
+    : origin_(origin), frame_(std::make_unique<LocalNedFrame>(origin)) {
   std::vector<std::filesystem::path> files;
   std::error_code ec;
   for (const auto& e : std::filesystem::directory_iterator(camera_dir, ec))
@@ -38,19 +38,18 @@ void SurveyPlanner::SetOrigin(const GeodeticPoint& origin) {
       origin.altitude_m == origin_.altitude_m)
     return;
   origin_ = origin;
+  frame_ = std::make_unique<LocalNedFrame>(origin);
   Replan();
 }
 
 Eigen::Vector2d SurveyPlanner::ToMap(const GeodeticPoint& g) const {
-  LocalNedFrame frame(origin_);
   GeodeticPoint flat = g;
   flat.altitude_m = origin_.altitude_m;
-  return frame.ToNed(flat).head<2>();
+  return frame_->ToNed(flat).head<2>();
 }
 
 GeodeticPoint SurveyPlanner::FromMap(const Eigen::Vector2d& ne) const {
-  LocalNedFrame frame(origin_);
-  return frame.ToGeodetic(Eigen::Vector3d(ne.x(), ne.y(), 0.0));
+  return frame_->ToGeodetic(Eigen::Vector3d(ne.x(), ne.y(), 0.0));
 }
 
 void SurveyPlanner::AddVertex(const Eigen::Vector2d& ne) { InsertVertex(polygon_.size(), ne); }
@@ -161,6 +160,7 @@ bool SurveyPlanner::Import(const std::string& path, std::string* message) {
     for (std::size_t i = 0; i < cameras_.size(); ++i)
       if (cameras_[i].name == m.survey->camera_name) camera_index_ = static_cast<int>(i);
     origin_ = m.home;
+    frame_ = std::make_unique<LocalNedFrame>(m.home);
     Replan();
     *message = "imported " + std::to_string(polygon_.size()) + "-vertex survey from " + path;
     return true;

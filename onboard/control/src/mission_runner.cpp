@@ -29,7 +29,7 @@ MissionRunner::MissionRunner(std::vector<MissionStep> steps, const MissionRunner
       total_length_ += (home - at).norm() - at.z(), at = Eigen::Vector3d::Zero();
     }
   }
-  Advance(est);
+  Advance();
 }
 
 bool MissionRunner::IsStopAfter(std::size_t step) const {
@@ -48,7 +48,7 @@ bool MissionRunner::IsStopAfter(std::size_t step) const {
   return true;
 }
 
-void MissionRunner::Advance(const VehicleEstimate& est) {
+void MissionRunner::Advance() {
   moving_ = false;
   while (index_ < steps_.size()) {
     const MissionStep& s = steps_[index_];
@@ -101,7 +101,6 @@ void MissionRunner::Advance(const VehicleEstimate& est) {
     }
   }
   done_ = true;
-  (void)est;
 }
 
 MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double dt) {
@@ -131,7 +130,7 @@ MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double d
           ref_speed_ = 0.0;
         } else {
           ++index_;
-          Advance(est);
+          Advance();
         }
       } else {
         ref_ += dir * step;
@@ -142,10 +141,10 @@ MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double d
     if (waiting_ && (est.p_N - target_).norm() < p_.reached_radius && est.v_N.norm() < p_.reached_speed) {
       waiting_ = false;
       if (steps_[index_].kind == Kind::kReturnHome || steps_[index_].kind == Kind::kLand) {
-        Advance(est);  // the next phase of the return/landing
+        Advance();  // the next phase of the return/landing
       } else {
         ++index_;
-        Advance(est);
+        Advance();
       }
     }
   }

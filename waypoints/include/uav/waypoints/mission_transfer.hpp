@@ -62,7 +62,7 @@ class MissionUploader {
   static constexpr double kResendTimeout = 0.5;  // [s]
   static constexpr int kMaxTries = 8;            // per chunk
 
-  MissionUploader(const Mission& m, int64_t upload_id, double now);
+  MissionUploader(const Mission& m, int64_t upload_id);
   // Chunks to send now (the first one at once, a resend after the timeout).
   std::vector<MissionChunk> Tick(double now);
   void OnAck(const MissionUploadAck& ack, double now);

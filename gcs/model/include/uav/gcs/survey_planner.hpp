@@ -2,6 +2,7 @@
 // The survey planner behind the map and survey panels: the area polygon (latitude/longitude, so
 // it does not move when the map origin does), the survey parameters, and the plan, recomputed
 // on every edit. Import and export of .plan / QGC WPL files. No ImGui here.
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -66,6 +67,7 @@ class SurveyPlanner {
   std::vector<CameraChoice> cameras_;
   int camera_index_ = 0;
   GeodeticPoint origin_;
+  std::unique_ptr<LocalNedFrame> frame_;  // at origin_: the map draws every vertex each frame
   std::vector<GeodeticPoint> polygon_;
   waypoints::SurveyParams params_;
   std::optional<waypoints::SurveyPlan> plan_;

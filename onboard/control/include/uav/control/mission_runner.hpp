@@ -45,7 +45,7 @@ class MissionRunner {
   double path_length_m() const { return total_length_; }
 
  private:
-  void Advance(const VehicleEstimate& est);  // runs non-position steps, sets the next target
+  void Advance();  // runs non-position steps, sets the next target
   bool IsStopAfter(std::size_t step) const;   // is the waypoint at `step` a corner?
 
   std::vector<waypoints::MissionStep> steps_;
