@@ -1,0 +1,165 @@
+#pragma once
+// The simulated world (issue 4): a textured ground, buildings, trees, poles, people, power-line
+// cables, rooms and calibration boards, lit by a sun under drifting cloud shadows. Positions are
+// in the local NED frame N (metres; the ground is the plane d = 0, heights are negative d).
+// A scene is data: it is read from a JSON file (resources/scenes/*.scene.json, format in the
+// README) or built in code by tests, and it knows the exact geometry of everything it renders.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "uav/world/camera_model.hpp"
+
+namespace uav::world {
+
+// Object ids in rendered id maps: 0 nothing (sky), 1 ground, objects from 2 upwards.
+constexpr int kNoObject = 0;
+constexpr int kGroundId = 1;
+
+// Ground truth of one obstacle. Cylinders (trees, poles, people) use radius and height; boxes
+// (buildings, crates, walls) use size and yaw. `base_N` is the centre of the footprint.
+struct Obstacle {
+  int id = 0;
+  std::string kind;          // building, tree, pole, person, box, cylinder, sphere, wall
+  Eigen::Vector3d base_N = Eigen::Vector3d::Zero();
+  double radius = 0.0;       // [m] cylinders and trees: trunk or crown radius, whichever is larger
+  double height = 0.0;       // [m] above the base
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();  // [m] boxes: extent along their own n, e, d
+  double yaw = 0.0;          // [rad] boxes: rotation about d
+};
+
+// A power-line cable hanging between two attachment points as a catenary (thesis 3.6):
+// below the chord by sag_m at mid-span.
+struct Cable {
+  int id = 0;
+  Eigen::Vector3d a_N, b_N;  // attachment points
+  double sag_m = 0.0;
+  double radius_m = 0.0;
+  double catenary_a = 0.0;   // [m] catenary parameter a of z = a cosh(s/a)
+  // Point at fraction s in [0, 1] along the span.
+  Eigen::Vector3d PointAt(double s) const;
+  // The curve sampled at n points (n >= 2), a_N first.
+  std::vector<Eigen::Vector3d> Sample(int n) const;
+};
+
+// A chessboard target: cols x rows inner corners, squares of square_m, a white margin of one
+// square. Board frame: x along the columns, y along the rows, z the normal; its origin is the
+// first inner corner.
+struct Chessboard {
+  int id = 0;
+  int cols = 9;
+  int rows = 6;
+  double square_m = 0.05;
+  Eigen::Isometry3d T_N_board = Eigen::Isometry3d::Identity();
+  // Inner corners in the board frame (z = 0), row by row: (c * square, r * square, 0).
+  std::vector<Eigen::Vector3d> CornersInBoard() const;
+};
+
+struct SunLight {
+  Eigen::Vector3d to_sun_N = Eigen::Vector3d(-0.4, -0.4, -0.82).normalized();
+  double ambient = 0.35;  // fraction of light that reaches surfaces facing away from the sun
+};
+
+// Cloud shadows (thesis Fig. 6.10): a smooth random field drifting with the wind darkens the
+// ground where cloud cover exceeds 1 - coverage.
+struct CloudShadows {
+  bool enabled = false;
+  double coverage = 0.3;   // fraction of the ground in shadow
+  double darkness = 0.45;  // fraction of light removed in full shadow
+  double scale_m = 120.0;  // typical cloud size
+  Eigen::Vector2d velocity_NE = Eigen::Vector2d(3.0, 1.0);  // [m/s] drift
+};
+
+// How the ground looks.
+struct GroundSpec {
+  bool enabled = true;
+  enum class Layout { kUniform, kFields } layout = Layout::kUniform;
+  std::string material = "grass";               // kUniform
+  std::vector<std::string> parcel_materials;    // kFields: picked per parcel from the seed
+  double parcel_m = 36.0;                       // kFields: parcel size
+  double grid_yaw = 0.0;                        // [rad] kFields: orientation of the parcel grid
+  int road_every = 4;                           // kFields: a road along every n-th grid line (0: none)
+  double road_width_m = 5.0;
+};
+
+struct RayHit {
+  double t = 0.0;                 // ray parameter: point = origin + t * direction
+  Eigen::Vector3d p_N = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal_N = Eigen::Vector3d::Zero();  // unit, facing the ray
+  int object_id = kNoObject;
+};
+
+class Scene {
+ public:
+  // An empty world: no ground, no sun shadows, seed 0.
+  explicit Scene(uint64_t seed = 0);
+  ~Scene();
+  Scene(Scene&&) noexcept;
+  Scene& operator=(Scene&&) noexcept;
+
+  // Reads a scene file. Throws std::runtime_error naming the file and the JSON path of the first
+  // bad entry (unknown type or material, missing field, non-finite or out-of-range value).
+  static Scene LoadFile(const std::string& path);
+  static Scene Parse(const std::string& json_text, const std::string& source_name);
+
+  uint64_t seed() const;
+  const std::string& name() const;
+  void SetName(const std::string& name);
+
+  // ---- Building the world (each returns the object id) ------------------------------------
+  void SetGround(const GroundSpec& ground);
+  void SetSun(const SunLight& sun);
+  void SetClouds(const CloudShadows& clouds);
+  void SetSky(bool visible);  // false: rays that hit nothing are black (indoors)
+  // Box of `size` (n, e, d extents) centred at center_N, rotated by yaw about d. The top face
+  // uses `top_material` (roofs) when given.
+  int AddBox(const std::string& kind, const Eigen::Vector3d& center_N, const Eigen::Vector3d& size,
+             double yaw, const std::string& material, const std::string& top_material = "");
+  // Vertical cylinder standing on base_N (its bottom centre), `height` upwards.
+  int AddCylinder(const std::string& kind, const Eigen::Vector3d& base_N, double radius,
+                  double height, const std::string& material);
+  int AddSphere(const std::string& kind, const Eigen::Vector3d& center_N, double radius,
+                const std::string& material);
+  // Tree: bark trunk and a foliage crown sphere whose top is at `height`.
+  int AddTree(const Eigen::Vector3d& base_N, double height, double crown_radius);
+  // Person: 1.45 m body cylinder and a head, `height` tall in total.
+  int AddPerson(const Eigen::Vector3d& base_N, double height);
+  // Room seen from inside: floor, walls and ceiling of a box (featureless by default).
+  int AddRoom(const Eigen::Vector3d& center_N, const Eigen::Vector3d& size, const std::string& material);
+  // Cable between a_N and b_N sagging sag_m at mid-span (catenary).
+  int AddCable(const Eigen::Vector3d& a_N, const Eigen::Vector3d& b_N, double sag_m, double radius_m);
+  int AddChessboard(int cols, int rows, double square_m, const Eigen::Isometry3d& T_N_board);
+
+  // ---- Ground truth -----------------------------------------------------------------------
+  const std::vector<Obstacle>& obstacles() const;
+  const std::vector<Cable>& cables() const;
+  const std::vector<Chessboard>& chessboards() const;
+  // Cameras declared by the scene file (defaults when the file has none).
+  const std::optional<CameraSetup>& downward_camera() const;
+  const std::optional<StereoSetup>& stereo_camera() const;
+  void SetDownwardCamera(const CameraSetup& c);
+  void SetStereoCamera(const StereoSetup& s);
+
+  // Nearest surface along origin + t * direction for t in (t_min, t_max); cables at their true
+  // radius. Thread-safe.
+  std::optional<RayHit> Intersect(const Eigen::Vector3d& origin_N, const Eigen::Vector3d& direction_N,
+                                  double t_min = 1e-6, double t_max = 1e9) const;
+
+  // The renderer's view of the scene (implementation detail).
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Known material names: grass, grass_low, field, soil, gravel, asphalt, roof_tiles, roof_metal,
+// brick, plaster, concrete, bark, foliage, plain, dark.
+const std::vector<std::string>& MaterialNames();
+
+}  // namespace uav::world

@@ -1,0 +1,199 @@
+#pragma once
+// Internal: the scene's primitives, textures and ray intersections, shared by scene.cpp and
+// renderer.cpp so the hot loop can inline them. Not installed.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "uav/world/scene.hpp"
+
+namespace uav::world {
+
+inline uint64_t SplitMix64(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+inline uint64_t HashCombine(uint64_t a, uint64_t b) { return SplitMix64(a ^ SplitMix64(b)); }
+inline uint64_t HashString(const std::string& s) {
+  uint64_t h = 1469598103934665603ull;  // FNV-1a
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+// Uniform in [0, 1) from a hash.
+inline double Unit(uint64_t h) { return (h >> 11) * (1.0 / 9007199254740992.0); }
+
+// floor() without a libm call (the x86-64 baseline has no rounding instruction).
+inline int64_t FastFloor(double x) {
+  const int64_t i = static_cast<int64_t>(x);
+  return i - (static_cast<double>(i) > x);
+}
+
+// A tileable, mip-mapped BGR texture covering size * texel_m metres before it repeats.
+struct Texture {
+  Texture() = default;
+  Texture(Texture&&) = default;  // level_data points into levels, which a move keeps
+  Texture& operator=(Texture&&) = default;
+  Texture(const Texture&) = delete;
+
+  int size = 0;        // level-0 texels per side, a power of two
+  double texel_m = 0.01;
+  std::vector<std::vector<uint8_t>> levels;  // BGR, row-major, size >> level per side
+  // Filled by Finish(): per level, texels per metre and the data, so sampling divides nothing.
+  double inv_texel = 100.0;
+  std::vector<double> level_scale;
+  std::vector<const uint8_t*> level_data;
+  void Finish() {
+    inv_texel = 1.0 / texel_m;
+    level_scale.clear();
+    level_data.clear();
+    for (size_t l = 0; l < levels.size(); ++l) {
+      level_scale.push_back(1.0 / (texel_m * (1 << l)));
+      level_data.push_back(levels[l].data());
+    }
+  }
+
+  // Bilinear sample at (u, v) metres from the level whose texel matches `footprint_m` (the
+  // pixel's size on the surface); colours in 0..1.
+  inline Eigen::Vector3f Sample(double u, double v, double footprint_m) const {
+    int level = 0;
+    const int top = static_cast<int>(level_data.size()) - 1;
+    for (double ratio = footprint_m * inv_texel; ratio >= 2.0 && level < top; ratio *= 0.5) ++level;
+    const int n = size >> level;
+    const int mask = n - 1;
+    const double scale = level_scale[level];
+    const double x = u * scale - 0.5, y = v * scale - 0.5;
+    const int64_t ix = FastFloor(x), iy = FastFloor(y);
+    const float ax = static_cast<float>(x - ix), ay = static_cast<float>(y - iy);
+    const int x0 = static_cast<int>(ix & mask), x1 = static_cast<int>((ix + 1) & mask);
+    const int y0 = static_cast<int>(iy & mask), y1 = static_cast<int>((iy + 1) & mask);
+    const uint8_t* d = level_data[level];
+    const uint8_t* p00 = d + (y0 * n + x0) * 3;
+    const uint8_t* p01 = d + (y0 * n + x1) * 3;
+    const uint8_t* p10 = d + (y1 * n + x0) * 3;
+    const uint8_t* p11 = d + (y1 * n + x1) * 3;
+    const float w00 = (1 - ax) * (1 - ay), w01 = ax * (1 - ay), w10 = (1 - ax) * ay, w11 = ax * ay;
+    constexpr float k = 1.0f / 255.0f;
+    return Eigen::Vector3f((w00 * p00[0] + w01 * p01[0] + w10 * p10[0] + w11 * p11[0]) * k,
+                           (w00 * p00[1] + w01 * p01[1] + w10 * p10[1] + w11 * p11[1]) * k,
+                           (w00 * p00[2] + w01 * p01[2] + w10 * p10[2] + w11 * p11[2]) * k);
+  }
+};
+
+// Builds the named material's texture from the seed. Throws std::invalid_argument for an
+// unknown name.
+Texture MakeMaterialTexture(const std::string& name, uint64_t seed);
+// Large-scale brightness variation of the ground (0.75..1.25), 128 m period.
+Texture MakeMacroTexture(uint64_t seed);
+// Smooth non-periodic value noise in [0, 1] (cloud shadows).
+double ValueNoise2(double x, double y, uint64_t seed);
+
+enum class Shape : uint8_t { kBox, kRoom, kCylinder, kSphere, kCable, kBoard };
+
+struct Primitive {
+  Shape shape = Shape::kBox;
+  int object_id = 0;
+  int material = 0;
+  int top_material = 0;  // boxes: material of the face pointing up
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();  // box/room/sphere centre, cylinder base, cable end a
+  Eigen::Vector3d h = Eigen::Vector3d::Zero();  // box/room half extents; cable b - a
+  double radius = 0.0;
+  double height = 0.0;
+  double cos_yaw = 1.0, sin_yaw = 0.0;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // board: columns x, y, normal in N
+  int board = -1;        // index into chessboards
+  Eigen::Vector3d box_lo = Eigen::Vector3d::Zero();  // axis-aligned bounds in N
+  Eigen::Vector3d box_hi = Eigen::Vector3d::Zero();
+};
+
+constexpr int kBoardMaterial = -1;
+constexpr int kSkyMaterial = -2;
+
+struct SurfaceHit {
+  double t = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, not yet flipped to face the ray
+  double u = 0.0, v = 0.0;  // texture coordinates [m]
+  int material = kSkyMaterial;
+  int object_id = kNoObject;
+  int prim = -1;          // primitive index, -1 for the ground
+  float coverage = 1.0f;  // thin cables: fraction of the pixel covered
+};
+
+// Ray against one primitive; updates `hit` when nearer than hit.t and beyond t_min.
+// `pixel_angle` > 0 widens cables to half a pixel and reports their coverage instead.
+bool IntersectPrimitive(const Primitive& p, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                        double t_min, double pixel_angle, SurfaceHit* hit);
+
+struct Scene::Impl {
+  uint64_t seed = 0;
+  std::string name = "unnamed";
+  GroundSpec ground;
+  int ground_material = -1;
+  int road_material = -1;
+  std::vector<int> parcel_materials;
+  SunLight sun;
+  CloudShadows clouds;
+  bool sky = true;
+  std::vector<std::string> material_names;  // index = material id
+  std::vector<Texture> textures;
+  Texture macro;
+  std::vector<Primitive> prims;
+  std::vector<Obstacle> obstacles;
+  std::vector<Cable> cables;
+  std::vector<Chessboard> boards;
+  std::optional<CameraSetup> downward;
+  std::optional<StereoSetup> stereo;
+  int next_id = 2;
+  double cloud_threshold = 2.0;
+  double grid_cos = 1.0, grid_sin = 0.0;  // ground parcel grid orientation
+  double inv_parcel = 1.0, inv_road_every = 0.0;  // noise level above which the ground is in cloud shadow
+
+  void ComputeCloudThreshold();
+  inline Eigen::Vector3f macro_sample(double n, double e, double footprint_m) const {
+    return 2.0f * macro.Sample(n, e, footprint_m);  // stored halved
+  }
+
+  int Material(const std::string& name);  // builds the texture on first use
+  void AddPrimitive(Primitive p);
+
+  // Ground: plane d = 0 seen from above.
+  inline bool IntersectGround(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_min,
+                              SurfaceHit* hit) const {
+    if (!ground.enabled || d.z() == 0.0) return false;
+    const double t = -o.z() / d.z();
+    if (!(t > t_min && t < hit->t)) return false;
+    hit->t = t;
+    hit->normal = Eigen::Vector3d(0, 0, -1);
+    hit->u = o.x() + t * d.x();
+    hit->v = o.y() + t * d.y();
+    hit->material = ground_material;  // kFields picks per parcel when shading
+    hit->object_id = kGroundId;
+    hit->prim = -1;
+    hit->coverage = 1.0f;
+    return true;
+  }
+
+  // What GroundAlbedo derives from a parcel's hash; neighbouring pixels share a parcel.
+  struct ParcelCache {
+    int64_t i = INT64_MIN, j = INT64_MIN;
+    int material = 0;
+    double ox = 0, oy = 0;
+    bool turn = false;
+    float tint = 1.0f;
+  };
+  // Ground colour at (n, e) for the parcel layout, before lighting and before the large-scale
+  // brightness variation macro_sample(), which the renderer applies.
+  Eigen::Vector3f GroundAlbedo(double n, double e, double footprint_m, ParcelCache* cache) const;
+  // Cloud shadow light factor at ground point (n, e) at time t_s.
+  double CloudLight(double n, double e, double t_s) const;
+  // Albedo of a hit (board squares, textures).
+  Eigen::Vector3f Albedo(const SurfaceHit& hit, double footprint_m, ParcelCache* cache) const;
+};
+
+}  // namespace uav::world
