@@ -14,6 +14,7 @@ const char* TopicName(Topic t) {
     case Topic::kStatusText: return "STATUS_TEXT";
     case Topic::kMissionUpload: return "MISSION_UPLOAD";
     case Topic::kMissionAck: return "MISSION_ACK";
+    case Topic::kVideo: return "VIDEO";
   }
   return "UNKNOWN";
 }

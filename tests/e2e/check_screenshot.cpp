@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
   const struct { const char* name; cv::Rect r; } panels[] = {
       {"status bar has text", cv::Rect(0, 0, W, H * 4 / 100)},
       {"vehicles panel has text", region(0, 4, 22, 22)},
-      {"state list has text", region(0, 22, 22, 100)},
+      {"state list has text", region(0, 22, 22, 64)},
+      {"video panel has the camera image", region(0, 64, 22, 100)},
       {"plot has curves", region(22, 4, 62, 55)},
       {"command bar has text", region(22, 55, 62, 77)},
       {"messages panel has text", region(22, 77, 62, 100)},

@@ -8,7 +8,8 @@ bin=$1 script=$2 out=$3
 mkdir -p "$out"
 rm -f "$out"/gcs_*.png
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
-"$bin/uav-onboard" --sim --speed 2 --lcm-url "$url" > "$out/onboard.log" 2>&1 &
+"$bin/uav-onboard" --sim --speed 2 --lcm-url "$url" \
+  --scene "$(dirname "$0")/../../resources/scenes/survey_village.scene.json" > "$out/onboard.log" 2>&1 &
 trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 cd "$out"
 status=0

@@ -9,7 +9,8 @@ run_sim_and_gcs() {
   local url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
   work=$(mktemp -d)
   trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
-  "$bin/uav-onboard" --sim --speed "$speed" --vehicle-id UAV1 --lcm-url "$url" --log-dir "$work/log" \
+  # shellcheck disable=SC2086  # ONBOARD_ARGS: extra options, word-split on purpose
+  "$bin/uav-onboard" --sim --speed "$speed" --vehicle-id UAV1 --lcm-url "$url" --log-dir "$work/log" ${ONBOARD_ARGS:-} \
     > "$work/onboard.log" 2>&1 &
   status=0
   timeout "$limit" "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" --script "$script" || status=$?

@@ -3,6 +3,7 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "uav/gcs/gcs_model.hpp"
 #include "uav/gcs/signal_series.hpp"
@@ -163,6 +164,56 @@ TEST(PlotCsvExport, WritesTheTickedSignalsOverTheRangeAndNothingElse) {
   EXPECT_FALSE(m.ExportPlotCsv("/nonexistent-dir/x.csv", 0.0, 2.0, 1.0));
   EXPECT_NE(m.log().back().text.find("CSV export failed"), std::string::npos);
   std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace uav::gcs
+
+namespace uav::gcs {
+namespace {
+
+// A real 4x2 JPEG (encoded by OpenCV) for the video feed tests.
+std::vector<uint8_t> TinyJpeg(int w, int h) {
+  cv::Mat img(h, w, CV_8UC3, cv::Scalar(30, 120, 200));
+  std::vector<uint8_t> out;
+  cv::imencode(".jpg", img, out);
+  return out;
+}
+
+TEST(GcsVideo, DecodesFramesPerVehicleAndRejectsBadOnesNamingWhy) {
+  GcsModel m("test", 1);
+  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV2", 1, 0, false, 0.0);
+  VideoFrameIn f;
+  f.camera = "downward";
+  f.width = 8;
+  f.height = 6;
+  f.source_width = 640;
+  f.source_height = 480;
+  f.jpeg = TinyJpeg(8, 6);
+  m.OnVideoFrame("UAV1", f, 0.1);
+  m.OnVideoFrame("UAV1", f, 0.3);
+  const VideoFeed& feed = m.vehicles().at("UAV1").video;
+  EXPECT_EQ(feed.frames, 2);
+  EXPECT_EQ(feed.rgba.size(), 8u * 6u * 4u);
+  EXPECT_EQ(feed.rgba[0], 200);  // RGBA: red first (BGR 30,120,200 encoded)
+  EXPECT_NEAR(feed.rgba[1], 120, 3);
+  EXPECT_EQ(m.vehicles().at("UAV2").video.frames, 0);  // nothing leaks to the other vehicle
+  // Truncated data, wrong stated size, empty: rejected, counted, the last good frame kept.
+  VideoFrameIn bad = f;
+  bad.jpeg.resize(20);
+  m.OnVideoFrame("UAV1", bad, 0.4);
+  bad = f;
+  bad.width = 9;
+  m.OnVideoFrame("UAV1", bad, 0.5);
+  bad.jpeg.clear();
+  m.OnVideoFrame("UAV1", bad, 0.6);
+  EXPECT_EQ(feed.frames, 2);
+  EXPECT_EQ(feed.rejected, 3);
+  EXPECT_EQ(feed.width, 8);
+  bool logged = false;
+  for (const auto& l : m.log()) logged |= l.text.find("video frame rejected") != std::string::npos;
+  EXPECT_TRUE(logged);
 }
 
 }  // namespace

@@ -65,6 +65,9 @@ int main(int argc, char** argv) {
 
     const double start = Now();
     ctx.start_time = start;
+    ctx.update_texture = [&platform](int slot, const uint8_t* rgba, int w, int h) {
+      return platform->UpdateTexture(slot, rgba, w, h);
+    };
     double last = start;
     while (!g_stop) {
       const double now = Now();

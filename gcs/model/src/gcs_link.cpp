@@ -10,6 +10,7 @@
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/status_text_t.hpp"
+#include "uavmsg/video_frame_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 
 namespace uav::gcs {
@@ -94,6 +95,19 @@ GcsLink::GcsLink(const std::string& lcm_url, GcsModel& model)
       "[^/]+/MISSION_ACK", [im](const std::string& ch, const uavmsg::mission_ack_t& m) {
         if (im->Accept(ch, m.header.vehicle_id))
           im->model.OnMissionAck(m.header.vehicle_id, m.source, waypoints::FromMessage(m), im->now);
+      });
+  im->bus.Subscribe<uavmsg::video_frame_t>(
+      "[^/]+/VIDEO", [im](const std::string& ch, const uavmsg::video_frame_t& m) {
+        if (!im->Accept(ch, m.header.vehicle_id)) return;
+        VideoFrameIn f;
+        f.utime = m.utime;
+        f.camera = m.camera;
+        f.width = m.width;
+        f.height = m.height;
+        f.source_width = m.source_width;
+        f.source_height = m.source_height;
+        f.jpeg = m.jpeg;
+        im->model.OnVideoFrame(m.header.vehicle_id, f, im->now);
       });
   im->bus.Subscribe<uavmsg::status_text_t>(
       "[^/]+/STATUS_TEXT", [im](const std::string& ch, const uavmsg::status_text_t& m) {

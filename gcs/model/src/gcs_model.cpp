@@ -1,3 +1,4 @@
+#include <stb_image.h>
 #include "uav/gcs/gcs_model.hpp"
 
 #include <cmath>
@@ -103,6 +104,46 @@ void GcsModel::OnAck(const std::string& vehicle_id, const std::string& source, c
       Log(now, vehicle_id, c.text + ": " + ack.result + (ack.reason.empty() ? "" : " (" + ack.reason + ")"),
           ack.result == "rejected" || ack.result == "failed" ? 4 : 6);
   }
+}
+
+double VideoFeed::Rate(double now) const {
+  int n = 0;
+  for (double t : recent) n += now - t <= 1.0;
+  return n;
+}
+
+void GcsModel::OnVideoFrame(const std::string& vehicle_id, const VideoFrameIn& f, double now) {
+  VehicleModel& v = Vehicle(vehicle_id);
+  std::string problem;
+  int w = 0, h = 0, channels = 0;
+  unsigned char* pixels = nullptr;
+  if (f.jpeg.empty() || f.jpeg.size() > 60000) {
+    problem = "JPEG of " + std::to_string(f.jpeg.size()) + " bytes (1..60000 allowed)";
+  } else {
+    pixels = stbi_load_from_memory(f.jpeg.data(), static_cast<int>(f.jpeg.size()), &w, &h, &channels, 4);
+    if (!pixels)
+      problem = std::string("undecodable JPEG: ") + stbi_failure_reason();
+    else if (w != f.width || h != f.height)
+      problem = "JPEG is " + std::to_string(w) + "x" + std::to_string(h) + ", message says " +
+                std::to_string(f.width) + "x" + std::to_string(f.height);
+  }
+  if (!problem.empty()) {
+    if (pixels) stbi_image_free(pixels);
+    if (v.video.rejected++ == 0) Log(now, vehicle_id, "video frame rejected: " + problem, 4);
+    return;
+  }
+  VideoFeed& feed = v.video;
+  feed.rgba.assign(pixels, pixels + static_cast<size_t>(w) * h * 4);
+  stbi_image_free(pixels);
+  feed.width = w;
+  feed.height = h;
+  feed.source_width = f.source_width;
+  feed.source_height = f.source_height;
+  feed.camera = f.camera;
+  feed.utime = f.utime;
+  ++feed.frames;
+  feed.recent.push_back(now);
+  while (!feed.recent.empty() && now - feed.recent.front() > 1.0) feed.recent.pop_front();
 }
 
 void GcsModel::OnStatusText(const std::string& vehicle_id, int severity, const std::string& text,

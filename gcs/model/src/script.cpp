@@ -84,6 +84,10 @@ bool Lookup(const std::string& name, const GcsModel& m, double now, double* num,
   if (name == "survey.lines") return *num = m.planner().plan() ? m.planner().plan()->lines : 0, true;
   if (name == "survey.altitude") return *num = m.planner().plan() ? m.planner().plan()->altitude_m : 0.0, true;
   if (name == "survey.ok") return *num = m.planner().plan() && m.planner().problem().empty() ? 1.0 : 0.0, true;
+  if (name == "video.frames") return *num = v ? static_cast<double>(v->video.frames) : 0.0, true;
+  if (name == "video.rejected") return *num = v ? static_cast<double>(v->video.rejected) : 0.0, true;
+  if (name == "video.width") return *num = v ? v->video.width : 0.0, true;
+  if (name == "video.source_width") return *num = v ? v->video.source_width : 0.0, true;
   if (name == "mission.items") return *num = v && v->mission ? static_cast<double>(v->mission->items.size()) : 0.0, true;
   if (name == "vehicles") return *num = static_cast<double>(m.vehicles().size()), true;
   if (name == "plots") return *num = static_cast<double>(m.plot_signals().size()), true;

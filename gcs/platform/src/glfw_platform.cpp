@@ -1,3 +1,4 @@
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -41,11 +42,22 @@ class GlfwPlatform : public Platform {
     ImGui_ImplOpenGL3_Init("#version 330 core");
   }
   ~GlfwPlatform() override {
+    for (const auto& t : textures_) glDeleteTextures(1, &t.second);
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
     ImGui::DestroyContext();
     glfwDestroyWindow(window_);
     glfwTerminate();
+  }
+  void* UpdateTexture(int slot, const uint8_t* rgba, int width, int height) override {
+    GLuint& tex = textures_[slot];
+    if (tex == 0) glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    return reinterpret_cast<void*>(static_cast<intptr_t>(tex));
   }
   bool NewFrame(double) override {
     glfwPollEvents();
@@ -97,6 +109,7 @@ class GlfwPlatform : public Platform {
   std::string pending_screenshot_;
   std::string requested_;
   bool screenshot_ok_ = false;
+  std::map<int, GLuint> textures_;
 };
 
 }  // namespace

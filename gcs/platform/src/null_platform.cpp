@@ -36,6 +36,7 @@ class NullPlatform : public Platform {
     return -1;
   }
   bool has_display() const override { return false; }
+  void* UpdateTexture(int, const uint8_t*, int, int) override { return nullptr; }
 };
 
 }  // namespace

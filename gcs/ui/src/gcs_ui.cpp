@@ -28,8 +28,10 @@ void DrawGcs(GcsModel& model, UiContext& ctx) {
   DrawStatusBarPanel(model, ctx);
   Place(0.0f, 0.04f, 0.22f, 0.18f);
   DrawVehiclesPanel(model, ctx);
-  Place(0.0f, 0.22f, 0.22f, 0.78f);
+  Place(0.0f, 0.22f, 0.22f, 0.42f);
   DrawStateListPanel(model, ctx);
+  Place(0.0f, 0.64f, 0.22f, 0.36f);
+  DrawVideoPanel(model, ctx);
   Place(0.22f, 0.04f, 0.40f, 0.51f);
   DrawPlotPanel(model, ctx);
   Place(0.22f, 0.55f, 0.40f, 0.22f);

@@ -10,6 +10,7 @@
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
+#include "uavmsg/video_frame_t.hpp"
 
 namespace uav::app {
 
@@ -170,6 +171,21 @@ void LinkWorker::Tick(int64_t utime) {
     hb.flight_mode = m.flight_mode;
     hb.task = m.task;
     im.bus.Publish(Channel(im.vehicle_id, Topic::kHeartbeat), hb);
+  }
+  if (auto preview = im.board.TakePreview()) {
+    if (preview->jpeg.size() <= static_cast<size_t>(uavmsg::video_frame_t::MAX_JPEG_BYTES)) {
+      uavmsg::video_frame_t v;
+      v.utime = preview->utime;
+      v.header = im.NextHeader(Topic::kVideo);
+      v.camera = preview->camera;
+      v.width = static_cast<int16_t>(preview->width);
+      v.height = static_cast<int16_t>(preview->height);
+      v.source_width = static_cast<int16_t>(preview->source_width);
+      v.source_height = static_cast<int16_t>(preview->source_height);
+      v.size = static_cast<int32_t>(preview->jpeg.size());
+      v.jpeg = std::move(preview->jpeg);
+      im.bus.Publish(Channel(im.vehicle_id, Topic::kVideo), v);
+    }
   }
   if (im.events) im.events->Flush();
 }

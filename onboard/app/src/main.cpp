@@ -1,4 +1,5 @@
 // uav-onboard: the flight stack's five threads (thesis Table 2.1) against a vehicle backend.
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -8,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "uav/app/camera_worker.hpp"
 #include "uav/app/link_worker.hpp"
 #include "uav/app/mission_store.hpp"
 #include "uav/waypoints/stored_paths.hpp"
@@ -54,6 +56,7 @@ int main(int argc, char** argv) {
   std::string params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
   std::string paths_dir = uav::waypoints::kStoredPathsDir;
   double duration_s = 0.0;
+  std::string scene_path;
   cli.add_flag("--sim", sim, "run against the simulated quadrotor (thesis 2.4 model)");
   cli.add_option("--vehicle-id", vehicle_id, "vehicle id; channels are <ID>/<TOPIC>")->capture_default_str();
   cli.add_option("--lcm-url", lcm_url, "LCM URL")->capture_default_str();
@@ -62,6 +65,9 @@ int main(int argc, char** argv) {
   cli.add_option("--home", home_text, "home position LAT,LON,ALT (deg, deg, m WGS84)")->capture_default_str();
   cli.add_option("--params", params_path, "vehicle parameter file")->capture_default_str();
   cli.add_option("--paths", paths_dir, "directory of stored paths for 'track N'")->capture_default_str();
+  cli.add_option("--scene", scene_path,
+                 "simulated world (resources/scenes/*.scene.json): renders the scene's downward camera, "
+                 "streams it to the GCS and records survey captures into LOG_DIR/captures");
   cli.add_option("--duration", duration_s, "stop after this many simulated seconds (0: run until signalled)")
       ->check(CLI::Range(0.0, 1e7));
   CLI11_PARSE(cli, argc, argv);
@@ -103,6 +109,25 @@ int main(int argc, char** argv) {
     const std::string events_path = events ? events->path() : "";
     uav::app::LinkWorker cmm(vehicle_id, lcm_url, board, missions, std::move(events));
 
+    std::unique_ptr<uav::world::Scene> scene;
+    std::unique_ptr<uav::app::CameraWorker> cam;
+    if (!scene_path.empty()) {
+      scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(scene_path));
+      if (!scene->downward_camera()) throw std::invalid_argument(scene_path + ": the scene declares no downward camera");
+      uav::app::CameraWorker::Options cam_options;
+      if (!log_dir.empty()) cam_options.capture_dir = log_dir + "/captures_" + std::to_string(start);
+      cam = std::make_unique<uav::app::CameraWorker>(
+          *scene, *scene->downward_camera(),
+          [&vehicle] {
+            const auto s = vehicle.TruthState();
+            Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+            T.linear() = s.q_NB.toRotationMatrix();
+            T.translation() = s.p_N;
+            return T;
+          },
+          board, cam_options);
+    }
+
     uav::app::LockstepScheduler scheduler(
         {start, kStepUs, speed, static_cast<int64_t>(duration_s * 1e6)});
     scheduler.AddWorker("IMU", 0, kPeriodUs, [&](int64_t t) { imu.Tick(t); });
@@ -110,6 +135,11 @@ int main(int argc, char** argv) {
     scheduler.AddWorker("SVO", 2, kPeriodUs, [&](int64_t t) { svo.Tick(t); });
     scheduler.AddWorker("DLG", 3, kPeriodUs, [&](int64_t t) { dlg.Tick(t); });
     scheduler.AddWorker("CMM", 3, kPeriodUs, [&](int64_t t) { cmm.Tick(t); });
+    if (cam) {
+      // The camera period on the physics grid (5 Hz -> 200 ms).
+      const int64_t period = std::max<int64_t>(kStepUs, static_cast<int64_t>(std::lround(1e6 / scene->downward_camera()->rate_hz / kStepUs)) * kStepUs);
+      scheduler.AddWorker("CAM", 2, period, [&](int64_t t) { cam->Tick(t); });
+    }
 
     std::thread signal_waiter([&] {
       int sig = 0;
@@ -124,7 +154,8 @@ int main(int argc, char** argv) {
                 events_path.empty() ? "" : ", events ", events_path.c_str());
     std::fflush(stdout);
     scheduler.Run([&](int64_t dt) { vehicle.Step(dt); });
-    std::printf("uav-onboard: stopped after %.1f s simulated\n", (scheduler.now() - start) * 1e-6);
+    std::printf("uav-onboard: stopped after %.1f s simulated%s\n", (scheduler.now() - start) * 1e-6,
+                cam ? (", " + std::to_string(cam->captures()) + " survey images captured").c_str() : "");
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "uav-onboard: %s\n", e.what());

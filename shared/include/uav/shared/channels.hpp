@@ -13,7 +13,8 @@ enum class Topic {
   kCommandAck,
   kStatusText,
   kMissionUpload,
-  kMissionAck
+  kMissionAck,
+  kVideo
 };
 
 const char* TopicName(Topic t);

@@ -51,6 +51,28 @@ struct LogLine {
   int severity;  // 3 error, 4 warning, 6 info
 };
 
+// A JPEG preview frame as received (issue 4 item 6; the video panel of issue 6).
+struct VideoFrameIn {
+  int64_t utime = 0;
+  std::string camera;
+  int width = 0, height = 0;
+  int source_width = 0, source_height = 0;
+  std::vector<uint8_t> jpeg;
+};
+
+// The newest decoded frame of a vehicle's camera stream.
+struct VideoFeed {
+  int64_t frames = 0;    // accepted frames; panels redraw when it changes
+  int64_t rejected = 0;  // frames that were not a decodable JPEG of the stated size
+  std::deque<double> recent;  // receive times within the last second
+  int64_t utime = 0;
+  std::string camera;
+  int width = 0, height = 0;
+  int source_width = 0, source_height = 0;
+  std::vector<uint8_t> rgba;  // width * height * 4
+  double Rate(double now) const;
+};
+
 struct VehicleModel {
   std::string id;
   // Link quality, measured on the GCS's monotonic clock.
@@ -72,6 +94,7 @@ struct VehicleModel {
   // mission it accepted, which the map draws.
   std::optional<waypoints::MissionUploader> upload;
   std::optional<waypoints::Mission> mission;
+  VideoFeed video;
 
   double HeartbeatAge(double now) const { return last_heartbeat < 0 ? 1e9 : now - last_heartbeat; }
   double MessageRate(double now) const;
@@ -107,6 +130,9 @@ class GcsModel {
   void OnStatusText(const std::string& vehicle_id, int severity, const std::string& text, double now);
   void OnMissionAck(const std::string& vehicle_id, const std::string& source,
                     const waypoints::MissionUploadAck& ack, double now);
+  // Decodes the JPEG; a frame that does not decode to its stated size is counted as rejected
+  // (the first one is logged with the reason) and the previous frame stays on screen.
+  void OnVideoFrame(const std::string& vehicle_id, const VideoFrameIn& frame, double now);
 
   // ---- Operator actions.
   // Validates with the shared grammar; on success queues the command for the selected vehicle.

@@ -1,6 +1,7 @@
 #pragma once
 // The display behind the panels. Both platforms own the ImGui context; the same DrawGcs runs
 // between NewFrame() and Render() on either.
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -16,6 +17,9 @@ class Platform {
   // 1: saved; 0: pending, call again after the next Render(); -1: failed, *error says why.
   virtual int Screenshot(const std::string& path, std::string* error) = 0;
   virtual bool has_display() const = 0;
+  // Uploads an RGBA image into texture `slot` (created on first use, replaced after) and returns
+  // its ImTextureID; nullptr where nothing is drawn (headless).
+  virtual void* UpdateTexture(int slot, const uint8_t* rgba, int width, int height) = 0;
 };
 
 // Headless: ImGui's null backend (no renderer; fonts built, draw data produced and discarded).

@@ -2,6 +2,8 @@
 // State of the user interface itself (not of the vehicles): what the operator is typing, the
 // filters and plot settings, and where each clickable widget was drawn this frame. Owned by the
 // application and passed to every panel; panels keep no state of their own.
+#include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -33,6 +35,10 @@ struct UiState {
   float map_press_x = 0, map_press_y = 0;
   // Survey panel.
   std::string survey_file = "survey.plan";
+  // Video panel: which frame of which vehicle is in the texture.
+  std::string video_vehicle;
+  int64_t video_frames_shown = -1;
+  void* video_texture = nullptr;
 };
 
 // Where the map was drawn this frame: screen = centre + (east, -north) * px_per_m.
@@ -49,6 +55,9 @@ struct UiContext {
   // Rebuilt every frame: label -> screen rectangle of the widget.
   std::map<std::string, WidgetRect> widgets;
   MapTransform map;
+  // Set by the application from its platform: uploads RGBA into a texture slot and returns the
+  // ImTextureID (nullptr headless). Unset: panels draw no images.
+  std::function<void*(int slot, const uint8_t* rgba, int width, int height)> update_texture;
 };
 
 // Records the last ImGui item under `label` (call right after drawing it).

@@ -20,6 +20,15 @@ struct StatusText {
   std::string text;
 };
 
+// A compressed camera preview for the GCS video panel (issue 4 item 6).
+struct PreviewFrame {
+  int64_t utime = 0;
+  std::string camera;
+  int width = 0, height = 0;                // of the JPEG
+  int source_width = 0, source_height = 0;  // of the camera image
+  std::vector<uint8_t> jpeg;
+};
+
 struct BlackboardData {
   // IMU thread
   hal::SensorSample sample;
@@ -37,6 +46,8 @@ struct BlackboardData {
   std::optional<double> capture_distance_m;  // ... or by distance
   // SVO thread
   std::array<double, 4> rotor_inputs = {-1, -1, -1, -1};
+  // CAM thread
+  int captures = 0;  // survey images written this flight
 };
 
 class Blackboard {
@@ -77,6 +88,17 @@ class Blackboard {
     std::lock_guard<std::mutex> lock(mutex_);
     status_.push_back({severity, std::move(text)});
   }
+  // CAM -> CMM: the newest preview replaces one not yet sent (video is live, not queued).
+  void PutPreview(PreviewFrame f) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    preview_ = std::move(f);
+  }
+  std::optional<PreviewFrame> TakePreview() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<PreviewFrame> out = std::move(preview_);
+    preview_.reset();
+    return out;
+  }
   std::vector<StatusText> TakeStatus() {
     std::lock_guard<std::mutex> lock(mutex_);
     std::vector<StatusText> out(status_.begin(), status_.end());
@@ -90,6 +112,7 @@ class Blackboard {
   std::deque<control::CommandRequest> commands_;
   std::deque<control::TaskReport> reports_;
   std::deque<StatusText> status_;
+  std::optional<PreviewFrame> preview_;
 };
 
 }  // namespace uav::app

@@ -1,0 +1,89 @@
+#include "uav/app/camera_worker.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "uav/shared/frames.hpp"
+#include "uav/shared/text_file.hpp"
+
+namespace uav::app {
+
+CameraWorker::CameraWorker(const world::Scene& scene, const world::CameraSetup& camera,
+                           std::function<Eigen::Isometry3d()> truth_T_NB, Blackboard& board, const Options& options)
+    : renderer_(scene, camera), truth_T_NB_(std::move(truth_T_NB)), board_(board), options_(options) {
+  if (!options_.capture_dir.empty()) {
+    std::filesystem::create_directories(options_.capture_dir);
+    const std::string path = options_.capture_dir + "/captures.csv";
+    csv_ = std::fopen(path.c_str(), "w");
+    if (!csv_) throw std::runtime_error("cannot write '" + path + "': " + std::strerror(errno));
+    // One row per image: true pose (what the camera saw) and the flight stack's estimate
+    // (what a stitcher onboard knows). Angles z-y-x (Eq. 5.51).
+    std::fprintf(csv_,
+                 "index,utime,file,north_m,east_m,down_m,roll_rad,pitch_rad,yaw_rad,"
+                 "est_north_m,est_east_m,est_down_m,est_roll_rad,est_pitch_rad,est_yaw_rad,"
+                 "fx_px,fy_px,cx_px,cy_px\n");
+    std::fflush(csv_);
+  }
+}
+
+CameraWorker::~CameraWorker() {
+  if (csv_) std::fclose(csv_);
+}
+
+void CameraWorker::Tick(int64_t utime) {
+  const Eigen::Isometry3d T_NB = truth_T_NB_();
+  const world::Frame frame = renderer_.Render(T_NB * renderer_.camera().T_BC, utime);
+  const BlackboardData d = board_.Snapshot();
+
+  PreviewFrame preview;
+  preview.utime = utime;
+  preview.camera = renderer_.camera().name;
+  preview.source_width = frame.image.cols;
+  preview.source_height = frame.image.rows;
+  cv::Mat small;
+  const double scale = static_cast<double>(options_.preview_width) / frame.image.cols;
+  cv::resize(frame.image, small, cv::Size(), scale, scale, cv::INTER_AREA);
+  preview.width = small.cols;
+  preview.height = small.rows;
+  cv::imencode(".jpg", small, preview.jpeg, {cv::IMWRITE_JPEG_QUALITY, options_.preview_quality});
+  board_.PutPreview(std::move(preview));
+
+  // Survey capture by time or by distance, as the mission's camera item asked.
+  bool due = false;
+  if (d.capture_interval_s)
+    due = last_capture_utime_ < 0 || (utime - last_capture_utime_) * 1e-6 >= *d.capture_interval_s - 1e-3;
+  else if (d.capture_distance_m)
+    due = last_capture_utime_ < 0 || (T_NB.translation() - last_capture_p_N_).norm() >= *d.capture_distance_m;
+  else
+    last_capture_utime_ = -1;  // the next capture run starts at once
+  if (due && csv_) Capture(utime, frame, T_NB, d);
+}
+
+void CameraWorker::Capture(int64_t utime, const world::Frame& frame, const Eigen::Isometry3d& T_NB,
+                           const BlackboardData& d) {
+  char name[32];
+  std::snprintf(name, sizeof name, "IMG_%06d.jpg", captures_);
+  std::vector<uint8_t> jpeg;
+  cv::imencode(".jpg", frame.image, jpeg, {cv::IMWRITE_JPEG_QUALITY, options_.capture_quality});
+  WriteFileAtomically(options_.capture_dir + "/" + name, std::string(jpeg.begin(), jpeg.end()));
+  const EulerAngles e = EulerFromRotationNB(T_NB.linear());
+  const auto& est = d.estimate;
+  const auto& k = renderer_.camera().intrinsics;
+  const Eigen::Vector3d p = T_NB.translation();
+  std::fprintf(csv_, "%d,%lld,%s,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.3f,%.3f,%.3f,%.3f\n",
+               captures_, static_cast<long long>(utime), name, p.x(), p.y(), p.z(), e.phi, e.theta, e.psi,
+               est.p_N.x(), est.p_N.y(), est.p_N.z(), est.euler.phi, est.euler.theta, est.euler.psi, k.fx, k.fy,
+               k.cx, k.cy);
+  std::fflush(csv_);
+  ++captures_;
+  last_capture_utime_ = utime;
+  last_capture_p_N_ = T_NB.translation();
+  board_.Update([&](BlackboardData& b) { b.captures = captures_; });
+}
+
+}  // namespace uav::app
