@@ -83,7 +83,6 @@ void CameraWorker::Capture(int64_t utime, const world::Frame& frame, const Eigen
   ++captures_;
   last_capture_utime_ = utime;
   last_capture_p_N_ = T_NB.translation();
-  board_.Update([&](BlackboardData& b) { b.captures = captures_; });
 }
 
 }  // namespace uav::app

@@ -428,28 +428,50 @@ int Scene::AddBox(const std::string& kind, const Eigen::Vector3d& center_N, cons
   return p.object_id;
 }
 
+void Scene::Impl::AddCylinderPrimitive(int id, const Eigen::Vector3d& base_N, double radius, double height,
+                                       const std::string& material_name) {
+  Primitive p;
+  p.shape = Shape::kCylinder;
+  p.object_id = id;
+  p.material = Material(material_name);
+  p.c = base_N;
+  p.radius = radius;
+  p.height = height;
+  AddPrimitive(p);
+}
+
+void Scene::Impl::AddSpherePrimitive(int id, const Eigen::Vector3d& center_N, double radius,
+                                     const std::string& material_name) {
+  Primitive p;
+  p.shape = Shape::kSphere;
+  p.object_id = id;
+  p.material = Material(material_name);
+  p.c = center_N;
+  p.radius = radius;
+  AddPrimitive(p);
+}
+
+void Scene::Impl::AddRoundObstacle(int id, const std::string& kind, const Eigen::Vector3d& base_N, double radius,
+                                   double height) {
+  Obstacle o;
+  o.id = id;
+  o.kind = kind;
+  o.base_N = base_N;
+  o.radius = radius;
+  o.height = height;
+  obstacles.push_back(o);
+}
+
 int Scene::AddCylinder(const std::string& kind, const Eigen::Vector3d& base_N, double radius,
                        double height, const std::string& material) {
   RequireFinite(base_N, kind + " base");
   RequirePositive(radius, kind + " radius");
   RequirePositive(height, kind + " height");
   Impl& s = *impl_;
-  Primitive p;
-  p.shape = Shape::kCylinder;
-  p.object_id = s.next_id++;
-  p.material = s.Material(material);
-  p.c = base_N;
-  p.radius = radius;
-  p.height = height;
-  s.AddPrimitive(p);
-  Obstacle o;
-  o.id = p.object_id;
-  o.kind = kind;
-  o.base_N = base_N;
-  o.radius = radius;
-  o.height = height;
-  s.obstacles.push_back(o);
-  return p.object_id;
+  const int id = s.next_id++;
+  s.AddCylinderPrimitive(id, base_N, radius, height, material);
+  s.AddRoundObstacle(id, kind, base_N, radius, height);
+  return id;
 }
 
 int Scene::AddSphere(const std::string& kind, const Eigen::Vector3d& center_N, double radius,
@@ -457,21 +479,10 @@ int Scene::AddSphere(const std::string& kind, const Eigen::Vector3d& center_N, d
   RequireFinite(center_N, kind + " centre");
   RequirePositive(radius, kind + " radius");
   Impl& s = *impl_;
-  Primitive p;
-  p.shape = Shape::kSphere;
-  p.object_id = s.next_id++;
-  p.material = s.Material(material);
-  p.c = center_N;
-  p.radius = radius;
-  s.AddPrimitive(p);
-  Obstacle o;
-  o.id = p.object_id;
-  o.kind = kind;
-  o.base_N = center_N + Eigen::Vector3d(0, 0, radius);
-  o.radius = radius;
-  o.height = 2 * radius;
-  s.obstacles.push_back(o);
-  return p.object_id;
+  const int id = s.next_id++;
+  s.AddSpherePrimitive(id, center_N, radius, material);
+  s.AddRoundObstacle(id, kind, center_N + Eigen::Vector3d(0, 0, radius), radius, 2 * radius);
+  return id;
 }
 
 int Scene::AddTree(const Eigen::Vector3d& base_N, double height, double crown_radius) {
@@ -481,28 +492,9 @@ int Scene::AddTree(const Eigen::Vector3d& base_N, double height, double crown_ra
   if (!(2 * crown_radius < height)) throw std::invalid_argument("tree crown diameter must be below its height");
   Impl& s = *impl_;
   const int id = s.next_id++;
-  Primitive trunk;
-  trunk.shape = Shape::kCylinder;
-  trunk.object_id = id;
-  trunk.material = s.Material("bark");
-  trunk.c = base_N;
-  trunk.radius = std::max(0.08, 0.06 * crown_radius);
-  trunk.height = height - crown_radius;
-  s.AddPrimitive(trunk);
-  Primitive crown;
-  crown.shape = Shape::kSphere;
-  crown.object_id = id;
-  crown.material = s.Material("foliage");
-  crown.c = base_N - Eigen::Vector3d(0, 0, height - crown_radius);
-  crown.radius = crown_radius;
-  s.AddPrimitive(crown);
-  Obstacle o;
-  o.id = id;
-  o.kind = "tree";
-  o.base_N = base_N;
-  o.radius = crown_radius;
-  o.height = height;
-  s.obstacles.push_back(o);
+  s.AddCylinderPrimitive(id, base_N, std::max(0.08, 0.06 * crown_radius), height - crown_radius, "bark");
+  s.AddSpherePrimitive(id, base_N - Eigen::Vector3d(0, 0, height - crown_radius), crown_radius, "foliage");
+  s.AddRoundObstacle(id, "tree", base_N, crown_radius, height);
   return id;
 }
 
@@ -512,28 +504,9 @@ int Scene::AddPerson(const Eigen::Vector3d& base_N, double height) {
   Impl& s = *impl_;
   const int id = s.next_id++;
   const double head = 0.11 * height / 1.75;
-  Primitive body;
-  body.shape = Shape::kCylinder;
-  body.object_id = id;
-  body.material = s.Material("concrete");
-  body.c = base_N;
-  body.radius = 0.2;
-  body.height = height - 2.2 * head;
-  s.AddPrimitive(body);
-  Primitive skull;
-  skull.shape = Shape::kSphere;
-  skull.object_id = id;
-  skull.material = s.Material("soil");
-  skull.c = base_N - Eigen::Vector3d(0, 0, height - head);
-  skull.radius = head;
-  s.AddPrimitive(skull);
-  Obstacle o;
-  o.id = id;
-  o.kind = "person";
-  o.base_N = base_N;
-  o.radius = 0.2;
-  o.height = height;
-  s.obstacles.push_back(o);
+  s.AddCylinderPrimitive(id, base_N, 0.2, height - 2.2 * head, "concrete");
+  s.AddSpherePrimitive(id, base_N - Eigen::Vector3d(0, 0, height - head), head, "soil");
+  s.AddRoundObstacle(id, "person", base_N, 0.2, height);
   return id;
 }
 

@@ -161,6 +161,10 @@ struct Scene::Impl {
 
   int Material(const std::string& name);  // builds the texture on first use
   void AddPrimitive(Primitive p);
+  void AddCylinderPrimitive(int id, const Eigen::Vector3d& base_N, double radius, double height, const std::string& material);
+  void AddSpherePrimitive(int id, const Eigen::Vector3d& center_N, double radius, const std::string& material);
+  // Obstacle of a cylinder-like object (tree, pole, person, sphere): footprint centre, radius, height.
+  void AddRoundObstacle(int id, const std::string& kind, const Eigen::Vector3d& base_N, double radius, double height);
 
   // Ground: plane d = 0 seen from above.
   inline bool IntersectGround(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_min,

@@ -46,8 +46,6 @@ struct BlackboardData {
   std::optional<double> capture_distance_m;  // ... or by distance
   // SVO thread
   std::array<double, 4> rotor_inputs = {-1, -1, -1, -1};
-  // CAM thread
-  int captures = 0;  // survey images written this flight
 };
 
 class Blackboard {
