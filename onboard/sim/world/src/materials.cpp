@@ -77,25 +77,25 @@ Texture Build(int size, double texel_m, const std::function<Bgr(int, int)>& texe
   Texture t;
   t.size = size;
   t.texel_m = texel_m;
-  std::vector<uint8_t> level(static_cast<size_t>(size) * size * 3);
+  std::vector<uint8_t> level(static_cast<size_t>(size) * size * 4);
   for (int j = 0; j < size; ++j)
     for (int i = 0; i < size; ++i) {
       const Bgr c = texel(i, j);
       for (int k = 0; k < 3; ++k)
-        level[(j * size + i) * 3 + k] =
+        level[(j * size + i) * 4 + k] =
             static_cast<uint8_t>(std::clamp(std::lround(c[k] * 255.0), 0L, 255L));
     }
   t.levels.push_back(std::move(level));
   for (int n = size / 2; n >= 1; n /= 2) {
     const std::vector<uint8_t>& up = t.levels.back();
-    std::vector<uint8_t> down(static_cast<size_t>(n) * n * 3);
+    std::vector<uint8_t> down(static_cast<size_t>(n) * n * 4);
     const int m = n * 2;
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
         for (int k = 0; k < 3; ++k) {
-          const int s = up[((2 * j) * m + 2 * i) * 3 + k] + up[((2 * j) * m + 2 * i + 1) * 3 + k] +
-                        up[((2 * j + 1) * m + 2 * i) * 3 + k] + up[((2 * j + 1) * m + 2 * i + 1) * 3 + k];
-          down[(j * n + i) * 3 + k] = static_cast<uint8_t>((s + 2) / 4);
+          const int s = up[((2 * j) * m + 2 * i) * 4 + k] + up[((2 * j) * m + 2 * i + 1) * 4 + k] +
+                        up[((2 * j + 1) * m + 2 * i) * 4 + k] + up[((2 * j + 1) * m + 2 * i + 1) * 4 + k];
+          down[(j * n + i) * 4 + k] = static_cast<uint8_t>((s + 2) / 4);
         }
     t.levels.push_back(std::move(down));
   }

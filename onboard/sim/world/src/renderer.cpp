@@ -187,10 +187,17 @@ struct Renderer::Impl {
     const Scene::Impl& s = scene.impl();
     Cast c;
     s.IntersectGround(o, d, kNear, &c.solid);
+    // Solid primitives write straight into the nearest hit (IntersectPrimitive only touches it
+    // when nearer); only cables, which may come back thinner than a pixel, need a candidate.
     auto test = [&](int i) {
+      const Primitive& prim = s.prims[i];
+      if (prim.shape != Shape::kCable) {
+        if (IntersectPrimitive(prim, o, d, kNear, pixel_angle, &c.solid)) c.solid.prim = i;
+        return;
+      }
       SurfaceHit cand;
       cand.t = c.solid.t;
-      if (!IntersectPrimitive(s.prims[i], o, d, kNear, pixel_angle, &cand)) return;
+      if (!IntersectPrimitive(prim, o, d, kNear, pixel_angle, &cand)) return;
       cand.prim = i;
       if (cand.coverage < 1.0f) {
         if (cand.t < c.thin.t) c.thin = cand;
@@ -305,6 +312,9 @@ struct Renderer::Impl {
     const float sigma = static_cast<float>(cam.noise_sigma);
     const uint64_t frame_seed = HashCombine(HashCombine(s.seed, HashString(cam.name)), static_cast<uint64_t>(utime));
     const std::vector<float>& noise = NoiseTable();
+    // Ground lighting (normal up, -z in NED): ambient plus Lambert times the cloud factor.
+    const float ground_ambient = static_cast<float>(s.sun.ambient);
+    const float ground_direct = static_cast<float>((1.0 - s.sun.ambient) * std::max(0.0, -s.sun.to_sun_N.z()));
 
     cv::parallel_for_(cv::Range(0, tiles_y), [&](const cv::Range& range) {
       Scene::Impl::ParcelCache parcel;
@@ -327,9 +337,25 @@ struct Renderer::Impl {
               const Eigen::Vector4f* cl = &p.light_grid[gy * cloud_w + gx];
               const Eigen::Vector4f light = (cl[0] * (1 - fx) + cl[1] * fx) * (1 - fy) +
                                             (cl[cloud_w] * (1 - fx) + cl[cloud_w + 1] * fx) * fy;
+              const bool ground_only = p.tiles[tile].empty() && p.everywhere.empty() && s.ground.enabled;
               for (int a = 0; a < samples; ++a) {
                 const Eigen::Vector3f& r = rays[(static_cast<size_t>(v) * W + u) * samples + a];
                 const Eigen::Vector3d d = p.R_NC * Eigen::Vector3d(r.x(), r.y(), 1.0);
+                if (ground_only && d.z() > 0 && p.o.z() < -kNear * d.z()) {
+                  // Nothing but the ground can show in this tile: the plane hit and its shading
+                  // without the general cast (the same arithmetic as IntersectGround and Shade).
+                  const double t = -p.o.z() / d.z();
+                  const double length = r.z();
+                  const double footprint = t * length * length * pixel_angle / std::max(0.15 * length, d.z());
+                  sum += s.GroundAlbedo(p.o.x() + t * d.x(), p.o.y() + t * d.y(), footprint, &parcel)
+                             .cwiseProduct(light.tail<3>()) *
+                         (ground_ambient + ground_direct * light.x());
+                  if (truth_in_pass && k == mid) {
+                    depth[u] = static_cast<float>(t);
+                    ids[u] = static_cast<uint16_t>(kGroundId);
+                  }
+                  continue;
+                }
                 const Cast c = CastRay(p.o, d, p.tiles[tile], p.everywhere);
                 Eigen::Vector3f colour = Shade(c.solid, d, r.z(), light, &parcel);
                 if (c.thin.object_id != kNoObject)

@@ -126,7 +126,7 @@ bool IntersectPrimitive(const Primitive& p, const Eigen::Vector3d& o, const Eige
                 best = t;
                 const double nx = (wx + t * d.x()) / p.radius, ny = (wy + t * d.y()) / p.radius;
                 normal = Eigen::Vector3d(nx, ny, 0);
-                u = std::atan2(ny, nx) * p.radius;
+                u = TextureAtan2(ny, nx) * p.radius;
                 v = z;
                 break;
               }
@@ -170,8 +170,8 @@ bool IntersectPrimitive(const Primitive& p, const Eigen::Vector3d& o, const Eige
       const Eigen::Vector3d n = (w + t * d) / p.radius;
       hit->t = t;
       hit->normal = n;
-      hit->u = std::atan2(n.y(), n.x()) * p.radius;
-      hit->v = std::asin(std::clamp(n.z(), -1.0, 1.0)) * p.radius;
+      hit->u = TextureAtan2(n.y(), n.x()) * p.radius;
+      hit->v = TextureAtan2(n.z(), std::sqrt(std::max(0.0, 1.0 - n.z() * n.z()))) * p.radius;  // asin
       hit->material = p.material;
       hit->object_id = p.object_id;
       hit->coverage = 1.0f;
@@ -278,54 +278,12 @@ void Scene::Impl::AddPrimitive(Primitive p) {
   prims.push_back(p);
 }
 
-Eigen::Vector3f Scene::Impl::GroundAlbedo(double n, double e, double footprint_m, ParcelCache* cache) const {
-  if (ground.layout == GroundSpec::Layout::kUniform) return textures[ground_material].Sample(n, e, footprint_m);
-  const double gx = grid_cos * n + grid_sin * e, gy = -grid_sin * n + grid_cos * e;
-  const double P = ground.parcel_m;
-  const int64_t i = FastFloor(gx * inv_parcel), j = FastFloor(gy * inv_parcel);
-  const double lx = gx - i * P, ly = gy - j * P;
-  if (ground.road_every > 0) {
-    const int64_t k = ground.road_every;
-    const bool road_i = i - k * FastFloor(i * inv_road_every) == 0;
-    const bool road_j = j - k * FastFloor(j * inv_road_every) == 0;
-    if ((road_i && lx < ground.road_width_m) || (road_j && ly < ground.road_width_m))
-      return textures[road_material].Sample(gx, gy, footprint_m);
-  }
-  ParcelCache& c = *cache;
-  if (c.i != i || c.j != j) {
-    const uint64_t h = HashCombine(seed, (static_cast<uint64_t>(i) << 32) ^ static_cast<uint32_t>(j));
-    c.i = i;
-    c.j = j;
-    c.material = parcel_materials[((h >> 32) * parcel_materials.size()) >> 32];
-    c.ox = (h & 0xffff) * (5.12 / 65536.0);
-    c.oy = ((h >> 16) & 0xffff) * (5.12 / 65536.0);
-    c.turn = (h >> 60) & 1;
-    c.tint = 0.85f + 0.3f * static_cast<float>((h >> 48) & 0xfff) / 4096.0f;
-  }
-  const Texture& t = textures[c.material];
-  return c.tint * (c.turn ? t.Sample(ly + c.ox, lx + c.oy, footprint_m) : t.Sample(lx + c.ox, ly + c.oy, footprint_m));
-}
-
 double Scene::Impl::CloudLight(double n, double e, double t_s) const {
   if (!clouds.enabled) return 1.0;
   const double x = (n - clouds.velocity_NE.x() * t_s) / clouds.scale_m;
   const double y = (e - clouds.velocity_NE.y() * t_s) / clouds.scale_m;
   const double v = 0.65 * ValueNoise2(x, y, seed) + 0.35 * ValueNoise2(2.03 * x + 17.1, 2.03 * y - 5.3, seed + 1);
   return 1.0 - clouds.darkness * Smoothstep(cloud_threshold - 0.03, cloud_threshold + 0.03, v);
-}
-
-Eigen::Vector3f Scene::Impl::Albedo(const SurfaceHit& hit, double footprint_m, ParcelCache* cache) const {
-  if (hit.material == kBoardMaterial) {
-    const Chessboard& b = boards[prims[hit.prim].board];
-    const double s = b.square_m;
-    const double x = hit.u / s, y = hit.v / s;
-    const bool inside = x >= -1 && x < b.cols && y >= -1 && y < b.rows;
-    if (!inside) return Eigen::Vector3f::Constant(0.85f);  // white margin
-    const int64_t i = static_cast<int64_t>(std::floor(x)) + 1, j = static_cast<int64_t>(std::floor(y)) + 1;
-    return Eigen::Vector3f::Constant(((i + j) % 2 == 0) ? 0.04f : 0.85f);
-  }
-  if (hit.object_id == kGroundId) return GroundAlbedo(hit.u, hit.v, footprint_m, cache);
-  return textures[hit.material].Sample(hit.u, hit.v, footprint_m);
 }
 
 // ---- Scene ------------------------------------------------------------------------------------
