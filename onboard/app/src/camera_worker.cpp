@@ -1,6 +1,7 @@
 #include "uav/app/camera_worker.hpp"
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -40,6 +41,29 @@ void CameraWorker::Tick(int64_t utime) {
   const world::Frame frame = renderer_.Render(T_NB * renderer_.camera().T_BC, utime);
   const BlackboardData d = board_.Snapshot();
 
+  // The preview has its own rate: the GCS link need not carry every frame the camera takes.
+  // A schedule (not "time since the last one") keeps the average rate when it does not divide
+  // the frame rate.
+  const double preview_rate = renderer_.camera().preview_rate_hz;
+  if (preview_rate > 0 && (next_preview_utime_ < 0 || utime >= next_preview_utime_ - 1000)) {
+    SendPreview(utime, frame);
+    const int64_t period = static_cast<int64_t>(std::llround(1e6 / preview_rate));
+    next_preview_utime_ = next_preview_utime_ < 0 || utime - next_preview_utime_ > period ? utime + period
+                                                                                          : next_preview_utime_ + period;
+  }
+
+  // Survey capture by time or by distance, as the mission's camera item asked.
+  bool due = false;
+  if (d.capture_interval_s)
+    due = last_capture_utime_ < 0 || (utime - last_capture_utime_) * 1e-6 >= *d.capture_interval_s - 1e-3;
+  else if (d.capture_distance_m)
+    due = last_capture_utime_ < 0 || (T_NB.translation() - last_capture_p_N_).norm() >= *d.capture_distance_m;
+  else
+    last_capture_utime_ = -1;  // the next capture run starts at once
+  if (due && csv_) Capture(utime, frame, T_NB, d);
+}
+
+void CameraWorker::SendPreview(int64_t utime, const world::Frame& frame) {
   PreviewFrame preview;
   preview.utime = utime;
   preview.camera = renderer_.camera().name;
@@ -53,15 +77,7 @@ void CameraWorker::Tick(int64_t utime) {
   cv::imencode(".jpg", small, preview.jpeg, {cv::IMWRITE_JPEG_QUALITY, options_.preview_quality});
   board_.PutPreview(std::move(preview));
 
-  // Survey capture by time or by distance, as the mission's camera item asked.
-  bool due = false;
-  if (d.capture_interval_s)
-    due = last_capture_utime_ < 0 || (utime - last_capture_utime_) * 1e-6 >= *d.capture_interval_s - 1e-3;
-  else if (d.capture_distance_m)
-    due = last_capture_utime_ < 0 || (T_NB.translation() - last_capture_p_N_).norm() >= *d.capture_distance_m;
-  else
-    last_capture_utime_ = -1;  // the next capture run starts at once
-  if (due && csv_) Capture(utime, frame, T_NB, d);
+  ++previews_;
 }
 
 void CameraWorker::Capture(int64_t utime, const world::Frame& frame, const Eigen::Isometry3d& T_NB,

@@ -12,6 +12,7 @@
 #include "uav/app/camera_worker.hpp"
 #include "uav/app/link_worker.hpp"
 #include "uav/app/mission_store.hpp"
+#include "uav/app/stereo_worker.hpp"
 #include "uav/waypoints/stored_paths.hpp"
 #include "uav/app/lockstep_scheduler.hpp"
 #include "uav/app/workers.hpp"
@@ -66,8 +67,9 @@ int main(int argc, char** argv) {
   cli.add_option("--params", params_path, "vehicle parameter file")->capture_default_str();
   cli.add_option("--paths", paths_dir, "directory of stored paths for 'track N'")->capture_default_str();
   cli.add_option("--scene", scene_path,
-                 "simulated world (resources/scenes/*.scene.json): renders the scene's downward camera, "
-                 "streams it to the GCS and records survey captures into LOG_DIR/captures");
+                 "simulated world (resources/scenes/*.scene.json): renders the scene's cameras; the downward "
+                 "camera streams to the GCS and records survey captures into LOG_DIR/captures_<utime>, the "
+                 "stereo pair measures the nearest obstacle ahead");
   cli.add_option("--duration", duration_s, "stop after this many simulated seconds (0: run until signalled)")
       ->check(CLI::Range(0.0, 1e7));
   CLI11_PARSE(cli, argc, argv);
@@ -111,21 +113,27 @@ int main(int argc, char** argv) {
 
     std::unique_ptr<uav::world::Scene> scene;
     std::unique_ptr<uav::app::CameraWorker> cam;
+    std::unique_ptr<uav::app::StereoWorker> stereo;
     if (!scene_path.empty()) {
       scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(scene_path));
-      if (!scene->downward_camera()) throw std::invalid_argument(scene_path + ": the scene declares no downward camera");
-      uav::app::CameraWorker::Options cam_options;
-      if (!log_dir.empty()) cam_options.capture_dir = log_dir + "/captures_" + std::to_string(start);
-      cam = std::make_unique<uav::app::CameraWorker>(
-          *scene, *scene->downward_camera(),
-          [&vehicle] {
-            const auto s = vehicle.TruthState();
-            Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-            T.linear() = s.q_NB.toRotationMatrix();
-            T.translation() = s.p_N;
-            return T;
-          },
-          board, cam_options);
+      if (!scene->downward_camera() && !scene->stereo_camera())
+        throw std::invalid_argument(scene_path + ": the scene declares no camera");
+      // Cameras see the world from the true pose, as real ones do.
+      auto truth_T_NB = [&vehicle] {
+        const auto s = vehicle.TruthState();
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.linear() = s.q_NB.toRotationMatrix();
+        T.translation() = s.p_N;
+        return T;
+      };
+      if (scene->downward_camera()) {
+        uav::app::CameraWorker::Options cam_options;
+        if (!log_dir.empty()) cam_options.capture_dir = log_dir + "/captures_" + std::to_string(start);
+        cam = std::make_unique<uav::app::CameraWorker>(*scene, *scene->downward_camera(), truth_T_NB, board,
+                                                       cam_options);
+      }
+      if (scene->stereo_camera())
+        stereo = std::make_unique<uav::app::StereoWorker>(*scene, *scene->stereo_camera(), truth_T_NB, board);
     }
 
     uav::app::LockstepScheduler scheduler(
@@ -135,11 +143,14 @@ int main(int argc, char** argv) {
     scheduler.AddWorker("SVO", 2, kPeriodUs, [&](int64_t t) { svo.Tick(t); });
     scheduler.AddWorker("DLG", 3, kPeriodUs, [&](int64_t t) { dlg.Tick(t); });
     scheduler.AddWorker("CMM", 3, kPeriodUs, [&](int64_t t) { cmm.Tick(t); });
-    if (cam) {
-      // The camera period on the physics grid (5 Hz -> 200 ms).
-      const int64_t period = std::max<int64_t>(kStepUs, static_cast<int64_t>(std::lround(1e6 / scene->downward_camera()->rate_hz / kStepUs)) * kStepUs);
-      scheduler.AddWorker("CAM", 2, period, [&](int64_t t) { cam->Tick(t); });
-    }
+    // Camera periods on the physics grid (5 Hz -> 200 ms).
+    auto camera_period = [&](double rate_hz) {
+      return std::max<int64_t>(kStepUs, static_cast<int64_t>(std::lround(1e6 / rate_hz / kStepUs)) * kStepUs);
+    };
+    if (cam) scheduler.AddWorker("CAM", 2, camera_period(scene->downward_camera()->rate_hz), [&](int64_t t) { cam->Tick(t); });
+    if (stereo)
+      scheduler.AddWorker("STEREO", 2, camera_period(scene->stereo_camera()->left.rate_hz),
+                          [&](int64_t t) { stereo->Tick(t); });
 
     std::thread signal_waiter([&] {
       int sig = 0;
@@ -154,8 +165,11 @@ int main(int argc, char** argv) {
                 events_path.empty() ? "" : ", events ", events_path.c_str());
     std::fflush(stdout);
     scheduler.Run([&](int64_t dt) { vehicle.Step(dt); });
-    std::printf("uav-onboard: stopped after %.1f s simulated%s\n", (scheduler.now() - start) * 1e-6,
-                cam ? (", " + std::to_string(cam->captures()) + " survey images captured").c_str() : "");
+    std::string cameras;
+    if (cam) cameras += ", " + std::to_string(cam->captures()) + " survey images captured, " +
+                        std::to_string(cam->previews()) + " previews";
+    if (stereo) cameras += ", " + std::to_string(stereo->frames()) + " stereo pairs";
+    std::printf("uav-onboard: stopped after %.1f s simulated%s\n", (scheduler.now() - start) * 1e-6, cameras.c_str());
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "uav-onboard: %s\n", e.what());

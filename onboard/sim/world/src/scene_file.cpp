@@ -170,6 +170,7 @@ CameraSetup ReadCamera(const Reader& rd, const json& j, const std::string& path,
     rd.Fail(path + ".file", e.what());
   }
   c.rate_hz = rd.Number(j, path, "rate_hz", 0.1, 100, default_rate);
+  c.preview_rate_hz = rd.Number(j, path, "preview_rate_hz", 0, c.rate_hz, std::min(c.rate_hz, 5.0));
   c.noise_sigma = rd.Number(j, path, "noise_sigma", 0, 49, c.noise_sigma);
   c.exposure_s = rd.Number(j, path, "exposure_s", 0, 0.5, c.exposure_s);
   c.blur_samples = rd.Integer(j, path, "blur_samples", 1, 16, c.blur_samples);

@@ -46,6 +46,8 @@ struct BlackboardData {
   std::optional<double> capture_distance_m;  // ... or by distance
   // SVO thread
   std::array<double, 4> rotor_inputs = {-1, -1, -1, -1};
+  // STEREO thread: nearest obstacle in the forward corridor [m]; < 0: none seen or no stereo pair
+  double obstacle_range_m = -1.0;
 };
 
 class Blackboard {

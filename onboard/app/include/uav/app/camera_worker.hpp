@@ -1,7 +1,7 @@
 #pragma once
 // CAM: the simulated downward camera on the simulated clock (issue 4 item 6). A thin shell
 // around world::Renderer: renders at the camera rate from the simulator's true pose, hands a
-// JPEG preview to CMM for the GCS video panel, and while the survey camera is on (mission
+// JPEG preview to CMM for the GCS video panel at the camera's preview rate, and while the survey camera is on (mission
 // capture start .. stop) writes each capture with its pose to the capture directory, which
 // is what the stitcher consumes. Runs whether or not the GCS link is up.
 #include <cstdio>
@@ -31,8 +31,10 @@ class CameraWorker {
   ~CameraWorker();
   void Tick(int64_t utime);
   int captures() const { return captures_; }
+  int previews() const { return previews_; }
 
  private:
+  void SendPreview(int64_t utime, const world::Frame& frame);
   void Capture(int64_t utime, const world::Frame& frame, const Eigen::Isometry3d& T_NB, const BlackboardData& d);
 
   world::Renderer renderer_;
@@ -41,6 +43,8 @@ class CameraWorker {
   Options options_;
   std::FILE* csv_ = nullptr;
   int captures_ = 0;
+  int previews_ = 0;
+  int64_t next_preview_utime_ = -1;
   int64_t last_capture_utime_ = -1;
   Eigen::Vector3d last_capture_p_N_ = Eigen::Vector3d::Zero();
 };

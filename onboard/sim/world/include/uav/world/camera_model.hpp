@@ -1,6 +1,6 @@
 #pragma once
-// Pinhole camera with OpenCV's Brown-Conrady distortion (k1 k2 p1 p2 k3) and camera mounts on the
-// vehicle. Frames (DESIGN.md 4): C = camera x-right y-down z-optical, B = body forward-right-down.
+// Camera mounts on the vehicle, the laser emitter and the stereo rig; the lens model is
+// uav::CameraIntrinsics (shared, as real cameras use it too). Frames (DESIGN.md 4): C = camera x-right y-down z-optical, B = body forward-right-down.
 // Pixel centres sit at integer coordinates, as in OpenCV.
 #include <array>
 #include <string>
@@ -8,33 +8,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "uav/shared/parameters.hpp"
+#include "uav/shared/camera_intrinsics.hpp"
 
 namespace uav::world {
-
-struct CameraIntrinsics {
-  int width = 640;
-  int height = 480;
-  double fx = 500.0;  // [px]
-  double fy = 500.0;  // [px]
-  double cx = 319.5;  // [px]
-  double cy = 239.5;  // [px]
-  std::array<double, 5> distortion{};  // k1 k2 p1 p2 k3 (OpenCV order)
-};
-
-// Throws std::invalid_argument naming the field: sizes 16..20000, focal lengths positive,
-// principal point inside the image, distortion finite with |k| < 10.
-void ValidateIntrinsics(const CameraIntrinsics& k);
-
-// From a camera file (resources/cameras/*.camera): image_width_px, image_height_px and
-// focal_length_mm / sensor_width_mm / sensor_height_mm, optionally cx_px, cy_px and k1 k2 p1 p2 k3.
-CameraIntrinsics IntrinsicsFromParameters(const ParameterSet& p);
-
-// Pixel of the camera-frame point p_C (z > 0), distortion applied.
-Eigen::Vector2d Project(const CameraIntrinsics& k, const Eigen::Vector3d& p_C);
-// Normalised undistorted image coordinates (x/z, y/z) of pixel (u, v); the inverse of Project,
-// iterated to 1e-12.
-Eigen::Vector2d Unproject(const CameraIntrinsics& k, const Eigen::Vector2d& uv);
 
 // Camera orientations in the body frame. A downward camera looks along body z with the top of
 // the image towards the nose (image width across the flight direction, as the survey planner
@@ -62,7 +38,8 @@ struct CameraSetup {
   std::string name;
   CameraIntrinsics intrinsics;
   Eigen::Isometry3d T_BC = Eigen::Isometry3d::Identity();  // camera pose in the body frame
-  double rate_hz = 5.0;        // capture rate on the simulated clock
+  double rate_hz = 5.0;        // frame rate on the simulated clock
+  double preview_rate_hz = 5.0;  // JPEG previews to the GCS (<= rate_hz; 0: none)
   double noise_sigma = 2.0;    // [DN] Gaussian read noise per channel
   double exposure_s = 0.004;   // shutter time; used for motion blur
   int blur_samples = 1;        // > 1: average this many poses across the shutter time

@@ -1,0 +1,84 @@
+// The onboard camera threads (issue 4 item 6) on the simulated clock: the downward camera's
+// preview rate is independent of its frame and capture rates, and the stereo worker turns
+// rendered pairs into the obstacle range the GCS and the log receive.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "uav/app/camera_worker.hpp"
+#include "uav/app/stereo_worker.hpp"
+
+namespace uav::app {
+namespace {
+
+world::Scene LoadScene(const std::string& name) {
+  return world::Scene::LoadFile(std::string(UAV_RESOURCE_DIR) + "/scenes/" + name + ".scene.json");
+}
+
+Eigen::Isometry3d Pose(double n, double e, double d) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(n, e, d);
+  return T;
+}
+
+int CountLines(const std::string& path) {
+  std::ifstream in(path);
+  int n = 0;
+  for (std::string line; std::getline(in, line);) ++n;
+  return n;
+}
+
+TEST(CameraWorker, PreviewRateIsIndependentOfFrameAndCaptureRates) {
+  const world::Scene scene = LoadScene("survey_village");
+  world::CameraSetup camera = *scene.downward_camera();
+  camera.rate_hz = 10;
+  camera.preview_rate_hz = 4;  // does not divide 10 Hz: the schedule keeps the average
+  const std::string dir = (std::filesystem::temp_directory_path() / "uav_test_camera_worker").string();
+  std::filesystem::remove_all(dir);
+  Blackboard board;
+  board.Update([](BlackboardData& d) { d.capture_interval_s = 0.2; });
+  CameraWorker::Options options;
+  options.capture_dir = dir;
+  CameraWorker worker(scene, camera, [] { return Pose(0, 0, -20); }, board, options);
+  int previews_taken = 0;
+  for (int i = 0; i < 50; ++i) {  // 5 s at 10 Hz
+    worker.Tick(1'000'000 + i * 100'000);
+    if (board.TakePreview()) ++previews_taken;
+  }
+  EXPECT_EQ(worker.previews(), 20);  // 4 Hz for 5 s
+  EXPECT_EQ(previews_taken, 20);
+  EXPECT_EQ(worker.captures(), 25);  // every 0.2 s
+  EXPECT_EQ(CountLines(dir + "/captures.csv"), 26);  // header + one row per image
+  EXPECT_TRUE(std::filesystem::exists(dir + "/IMG_000024.jpg"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CameraWorker, ZeroPreviewRateSendsNoPreview) {
+  const world::Scene scene = LoadScene("survey_village");
+  world::CameraSetup camera = *scene.downward_camera();
+  camera.preview_rate_hz = 0;
+  Blackboard board;
+  CameraWorker worker(scene, camera, [] { return Pose(0, 0, -20); }, board, CameraWorker::Options());
+  for (int i = 0; i < 5; ++i) worker.Tick(1'000'000 + i * 200'000);
+  EXPECT_EQ(worker.previews(), 0);
+  EXPECT_FALSE(board.TakePreview());
+}
+
+TEST(StereoWorker, PostsTheObstacleRangeAhead) {
+  const world::Scene scene = LoadScene("forest");
+  Blackboard board;
+  Eigen::Isometry3d T_NB = Pose(4, 3, -1.5);  // the pole at (8, 3) 4 m ahead
+  StereoWorker worker(scene, *scene.stereo_camera(), [&] { return T_NB; }, board);
+  worker.Tick(1'000'000);
+  EXPECT_NEAR(board.Snapshot().obstacle_range_m, 3.7, 0.15);  // truth 3.70 m (test_vision)
+  T_NB = Pose(-58, 55, -1.5);  // the corner of the forest, looking out over open ground
+  T_NB.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  worker.Tick(1'066'667);
+  EXPECT_LT(board.Snapshot().obstacle_range_m, 0.0);
+  EXPECT_EQ(worker.frames(), 2);
+}
+
+}  // namespace
+}  // namespace uav::app
