@@ -3,6 +3,7 @@
 // two frames.
 #include <benchmark/benchmark.h>
 
+#include "uav/vision/stereo_range.hpp"
 #include "uav/world/renderer.hpp"
 
 namespace {
@@ -45,6 +46,28 @@ void BM_StereoPair(benchmark::State& state, const char* scene_name) {
 }
 BENCHMARK_CAPTURE(BM_StereoPair, indoor_room, "indoor_room")->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_StereoPair, forest, "forest")->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The STEREO worker's consumer: rectification, matching at half resolution and the corridor
+// range for one rendered forest pair.
+void BM_StereoRange(benchmark::State& state) {
+  const Scene scene = LoadScene("forest");
+  const uav::world::StereoSetup& setup = *scene.stereo_camera();
+  const uav::world::StereoRenderer renderer(scene, setup);
+  Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
+  T_NB.translation() = Eigen::Vector3d(4, 3, -1.5);
+  const auto pair = renderer.Render(T_NB, 1000000);
+  uav::vision::StereoRig rig;
+  rig.left = setup.left.intrinsics;
+  rig.right = setup.right.intrinsics;
+  rig.T_LR = setup.left.T_BC.inverse() * setup.right.T_BC;
+  const uav::vision::StereoRange range(rig, uav::vision::StereoRangeParams());
+  for (auto _ : state) {
+    const auto r = range.Process(pair.left.image, pair.right.image);
+    benchmark::DoNotOptimize(r.range_m);
+  }
+  state.SetLabel("640x480 pair, matched at 320x240");
+}
+BENCHMARK(BM_StereoRange)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
