@@ -1,0 +1,51 @@
+#pragma once
+// Frame-to-frame registration of the downward camera (thesis 6.2-6.3, Algorithm 1): good
+// features to track in the previous frame, pyramidal Lucas-Kanade tracking into the current
+// one, a homography by RANSAC refined by Levenberg-Marquardt on the inliers (Eq. 6.1-6.3), and
+// the failure checks of Algorithm 1 (area change beyond +-20 %, translation beyond half the
+// image diagonal). The stitcher chains the result (Eq. 6.4) and falls back to the navigation
+// solution when a check fails. A plain class: grey images in, homography out.
+#include <string>
+
+#include <Eigen/Core>
+#include <opencv2/core/mat.hpp>
+
+namespace uav::vision {
+
+struct RegistrationParams {
+  int max_corners = 400;           // good features to track in the previous frame
+  double corner_quality = 0.01;    // relative to the strongest corner
+  double corner_spacing_px = 10;   // minimum distance between corners
+  int klt_window_px = 21;          // Lucas-Kanade window
+  int klt_levels = 3;              // pyramid levels above the image
+  double ransac_threshold_px = 2.0;
+  int min_inliers = 30;
+  double max_area_change = 0.20;           // Algorithm 1: |area ratio - 1|
+  double max_translation_fraction = 0.5;   // Algorithm 1: of the image diagonal
+};
+
+struct Registration {
+  bool ok = false;
+  std::string failure;  // why not, for the report and the operator
+  // Maps a pixel of the current frame to the previous frame (homogeneous, H(2,2) = 1).
+  Eigen::Matrix3d H_prev_cur = Eigen::Matrix3d::Identity();
+  int corners = 0;      // found in the previous frame
+  int tracked = 0;      // followed into the current frame
+  int inliers = 0;      // agreeing with the homography
+  double area_ratio = 1.0;      // area of the current frame's outline mapped into the previous
+  double translation_px = 0.0;  // displacement of the image centre
+};
+
+class FrameRegistration {
+ public:
+  // Throws std::invalid_argument naming a bad parameter.
+  explicit FrameRegistration(const RegistrationParams& params = RegistrationParams());
+  // 8-bit grey images of the same size. Throws std::invalid_argument for empty, mismatched or
+  // non-grey images; a registration that fails its checks returns ok = false with the reason.
+  Registration Register(const cv::Mat& prev_grey, const cv::Mat& cur_grey) const;
+
+ private:
+  RegistrationParams params_;
+};
+
+}  // namespace uav::vision
