@@ -68,6 +68,9 @@ Registration FrameRegistration::Register(const cv::Mat& prev, const cv::Mat& cur
     return r;
   }
   r.inliers = cv::countNonZero(inlier_mask);
+  r.tracked_cur = a;
+  r.tracked_prev = b;
+  r.inlier.assign(inlier_mask.begin(), inlier_mask.end());
   cv::cv2eigen(H, r.H_prev_cur);
   r.H_prev_cur /= r.H_prev_cur(2, 2);
   // Algorithm 1's checks: the outline's area and the centre's displacement.

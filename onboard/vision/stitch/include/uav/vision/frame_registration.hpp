@@ -6,9 +6,11 @@
 // image diagonal). The stitcher chains the result (Eq. 6.4) and falls back to the navigation
 // solution when a check fails. A plain class: grey images in, homography out.
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <opencv2/core/mat.hpp>
+#include <opencv2/core/types.hpp>
 
 namespace uav::vision {
 
@@ -34,6 +36,10 @@ struct Registration {
   int inliers = 0;      // agreeing with the homography
   double area_ratio = 1.0;      // area of the current frame's outline mapped into the previous
   double translation_px = 0.0;  // displacement of the image centre
+  // Every tracked corner in each frame, and whether it agrees with the homography. Over 3-D
+  // structure the homography follows the dominant plane, which need not be the ground.
+  std::vector<cv::Point2f> tracked_prev, tracked_cur;
+  std::vector<uint8_t> inlier;
 };
 
 class FrameRegistration {

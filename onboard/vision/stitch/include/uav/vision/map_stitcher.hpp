@@ -1,0 +1,87 @@
+#pragma once
+// Onboard 2-D map stitching (thesis ch. 6) with what the thesis named as next steps (6.5).
+//
+// Per frame: register it to the previous one (FrameRegistration: KLT + RANSAC/LM homography,
+// Algorithm 1's checks). The first frame, and any frame whose registration fails, is placed by
+// the navigation solution: its camera pose projected onto the ground plane (the first frame so
+// "parallel to the ground", 6.3.1; the fallback homography of Algorithm 1). A registered frame
+// is placed by the navigation solution corrected by a rotation and shift in map space that
+// carry its matched corners onto where the previous frame put them; the correction is carried
+// from frame to frame (the chain of Eq. 6.4) and decays by `nav_anchor_gain` each frame, so
+// neighbouring frames join by image registration while the map keeps the navigation
+// solution's ground position, scale and perspective over 1000 frames. Each warped frame is
+// gain-compensated block by block against the map under it (exposure and cloud-shadow steps do
+// not show as patches), then written newest-on-top (Eq. 6.5) into 256 px tiles of a north-up
+// canvas in local NED metres: memory grows with the area covered, not with a fixed canvas.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <opencv2/core/mat.hpp>
+
+#include "uav/shared/camera_intrinsics.hpp"
+#include "uav/vision/frame_registration.hpp"
+
+namespace uav::vision {
+
+struct StitcherParams {
+  double gsd_m = 0.0;              // [m/px] of the map; 0: the first frame's ground sample distance
+  int tile_px = 256;               // canvas tile size
+  double nav_anchor_gain = 0.1;    // share of the image-registration correction dropped per frame
+  double ground_down_m = 0.0;      // ground plane, NED down [m]
+  bool gain_compensation = true;
+  int gain_blocks = 4;             // gain grid per frame (gain_blocks x gain_blocks)
+  RegistrationParams registration;
+};
+
+// One image with the navigation solution's camera pose when it was taken.
+struct StitchInput {
+  cv::Mat image;                 // 8-bit BGR, the camera's size
+  int64_t utime = 0;
+  Eigen::Isometry3d T_NC = Eigen::Isometry3d::Identity();  // camera in local NED (estimate)
+};
+
+struct StitchStep {
+  bool placed = false;      // false: the frame could not be placed at all (camera not seeing the ground)
+  bool registered = false;  // placed by image registration (else by the navigation fallback)
+  std::string failure;      // why registration failed, if it did
+  Registration registration;
+  double seconds = 0.0;     // processing time
+};
+
+// The map cropped to its content, north up: pixel (c, r) covers north = north_top_m - (r + 0.5)
+// gsd, east = east_left_m + (c + 0.5) gsd.
+struct Mosaic {
+  cv::Mat bgr;
+  cv::Mat mask;  // 255 where an image was written
+  double north_top_m = 0.0;
+  double east_left_m = 0.0;
+  double gsd_m = 0.0;
+};
+
+class MapStitcher {
+ public:
+  // Throws std::invalid_argument naming a bad intrinsic or parameter.
+  MapStitcher(const CameraIntrinsics& camera, const StitcherParams& params = StitcherParams());
+  ~MapStitcher();
+  MapStitcher(MapStitcher&&) noexcept;
+
+  // Throws std::invalid_argument for an image of the wrong size or type, or a non-finite pose.
+  StitchStep Add(const StitchInput& frame);
+
+  Mosaic Render() const;
+  int frames() const;
+  // Ground position (north, east) [m] where frame k's principal point was placed, and the
+  // placed ground size of one image pixel there [m] (for accuracy checks and reports).
+  Eigen::Vector2d PlacedCentreNE(int k) const;
+  double PlacedPixelSize(int k) const;
+  size_t tiles() const;
+  size_t memory_bytes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace uav::vision
