@@ -29,6 +29,22 @@ CameraWorker::CameraWorker(const world::Scene& scene, const world::CameraSetup& 
                  "est_north_m,est_east_m,est_down_m,est_roll_rad,est_pitch_rad,est_yaw_rad,"
                  "fx_px,fy_px,cx_px,cy_px\n");
     std::fflush(csv_);
+    // session.json makes the folder self-describing for uav-stitch: the NED origin and the
+    // camera (size, lens, mount) the poses refer to.
+    const CameraIntrinsics& k = camera.intrinsics;
+    const Eigen::Matrix3d& R = camera.T_BC.linear();
+    const Eigen::Vector3d& t = camera.T_BC.translation();
+    char text[1024];
+    std::snprintf(text, sizeof text,
+                  "{\n  \"home\": {\"latitude_deg\": %.9f, \"longitude_deg\": %.9f, \"altitude_m\": %.3f},\n"
+                  "  \"camera\": {\"name\": \"%s\", \"width\": %d, \"height\": %d, \"fx\": %.6f, \"fy\": %.6f, "
+                  "\"cx\": %.6f, \"cy\": %.6f,\n             \"distortion\": [%.9g, %.9g, %.9g, %.9g, %.9g],\n"
+                  "             \"R_BC\": [%.9f, %.9f, %.9f, %.9f, %.9f, %.9f, %.9f, %.9f, %.9f], \"p_B\": [%.6f, %.6f, %.6f]}\n}\n",
+                  options_.home.latitude_deg, options_.home.longitude_deg, options_.home.altitude_m, camera.name.c_str(),
+                  k.width, k.height, k.fx, k.fy, k.cx, k.cy, k.distortion[0], k.distortion[1], k.distortion[2],
+                  k.distortion[3], k.distortion[4], R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1),
+                  R(2, 2), t.x(), t.y(), t.z());
+    WriteFileAtomically(options_.capture_dir + "/session.json", text);
   }
 }
 

@@ -129,6 +129,7 @@ int main(int argc, char** argv) {
       if (scene->downward_camera()) {
         uav::app::CameraWorker::Options cam_options;
         if (!log_dir.empty()) cam_options.capture_dir = log_dir + "/captures_" + std::to_string(start);
+        cam_options.home = home;
         cam = std::make_unique<uav::app::CameraWorker>(*scene, *scene->downward_camera(), truth_T_NB, board,
                                                        cam_options);
       }

@@ -38,6 +38,7 @@ struct MapStitcher::Impl {
   bool started = false;
   cv::Mat prev_grey;
   Eigen::Matrix3d H_map_prev = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d C_prev = Eigen::Matrix3d::Identity();  // the previous frame's correction
   std::vector<Eigen::Matrix3d> placements;  // image pixel -> map pixel, per frame
   std::unordered_map<int64_t, Tile> tiles;
 
@@ -85,13 +86,31 @@ struct MapStitcher::Impl {
   // village survey, chained homographies drifted 13 % in scale over a turn (matches on roofs and
   // trees bias the scale of each step) and a fitted scale in C still reached 4.5 %.
   bool Correction(const Registration& r, const Eigen::Matrix3d& H_nav, Eigen::Matrix3d* C) const {
-    std::vector<cv::Point2f> from, to;
+    // Ground corners agree with the correction carried from the previous frame; corners on
+    // roofs and tree crowns do not (parallax: a roof 10 m up, seen from 30 m while moving 1 m
+    // per frame, is off by half a metre) and would drag the map along the track. So the fit
+    // uses the corners within kGroundGatePx of the carried correction, when there are enough.
+    constexpr double kGroundGatePx = 3.0;
+    std::vector<cv::Point2f> from, to, near_from, near_to;
+    // Every tracked corner is a candidate for the gate: over a village the homography's
+    // inliers may be the roofs' plane rather than the ground.
     for (size_t i = 0; i < r.tracked_cur.size(); ++i) {
-      if (!r.inlier[i]) continue;
       const Eigen::Vector2d a = Apply(H_nav, Eigen::Vector2d(r.tracked_cur[i].x, r.tracked_cur[i].y));
       const Eigen::Vector2d b = Apply(H_map_prev, Eigen::Vector2d(r.tracked_prev[i].x, r.tracked_prev[i].y));
-      from.emplace_back(static_cast<float>(a.x()), static_cast<float>(a.y()));
-      to.emplace_back(static_cast<float>(b.x()), static_cast<float>(b.y()));
+      const cv::Point2f fa(static_cast<float>(a.x()), static_cast<float>(a.y()));
+      const cv::Point2f fb(static_cast<float>(b.x()), static_cast<float>(b.y()));
+      if (r.inlier[i]) {
+        from.push_back(fa);
+        to.push_back(fb);
+      }
+      if ((Apply(C_prev, a) - b).norm() <= kGroundGatePx) {
+        near_from.push_back(fa);
+        near_to.push_back(fb);
+      }
+    }
+    if (static_cast<int>(near_from.size()) >= p.registration.min_inliers / 2) {
+      from.swap(near_from);
+      to.swap(near_to);
     }
     const cv::Mat M = cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::RANSAC, 1.5);
     if (M.empty()) return false;
@@ -270,12 +289,14 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   Eigen::Matrix3d C;
   if (step.registered && have_nav && m.Correction(step.registration, H_nav, &C)) {
     H = C * H_nav;
+    m.C_prev = C;
   } else if (step.registered && !have_nav) {
     H = m.H_map_prev * step.registration.H_prev_cur;  // Eq. 6.4 alone
   } else if (have_nav) {
     if (step.registered) step.failure = "no similarity between the placements";
     step.registered = false;
     H = H_nav;  // first frame, or Algorithm 1's fallback
+    m.C_prev.setIdentity();
   } else {
     if (step.failure.empty()) step.failure = "the camera does not see the ground";
     m.prev_grey = grey;  // the next frame registers against this one and chains from the last placement

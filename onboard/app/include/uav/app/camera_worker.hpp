@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "uav/app/blackboard.hpp"
+#include "uav/shared/geodesy.hpp"
 #include "uav/world/renderer.hpp"
 
 namespace uav::app {
@@ -23,6 +24,7 @@ class CameraWorker {
     int preview_quality = 70;     // JPEG quality of the preview
     int capture_quality = 95;     // JPEG quality of survey captures
     std::string capture_dir;      // "" = do not record captures
+    GeodeticPoint home;           // origin of the poses' local NED frame, for the session file
   };
   // `truth_T_NB` returns the vehicle's true pose (the simulator's), which is what a real
   // camera sees; the recorded pose columns also carry the flight stack's estimate.

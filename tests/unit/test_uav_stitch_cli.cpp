@@ -1,0 +1,85 @@
+// uav-stitch on a capture folder written by the onboard camera thread (CameraWorker): a 60 m
+// line at 30 m over the village. Checks the outputs exist, the report, and that the world file
+// puts the map where the vehicle flew.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "uav/app/camera_worker.hpp"
+#include "uav/shared/frames.hpp"
+#include "uav/shared/geodesy.hpp"
+
+namespace uav::app {
+namespace {
+
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(UavStitch, StitchesACaptureFolderIntoGeoreferencedFiles) {
+  const world::Scene scene =
+      world::Scene::LoadFile(std::string(UAV_RESOURCE_DIR) + "/scenes/survey_village.scene.json");
+  const std::string dir = (std::filesystem::temp_directory_path() / "uav_test_stitch_cli").string();
+  std::filesystem::remove_all(dir);
+  GeodeticPoint home;
+  home.latitude_deg = 52.2383;  // Oostdorp (thesis 6.5)
+  home.longitude_deg = 4.5234;
+  home.altitude_m = 40;
+  Blackboard board;
+  board.Update([](BlackboardData& d) { d.capture_interval_s = 0.2; });
+  CameraWorker::Options options;
+  options.capture_dir = dir + "/captures";
+  options.home = home;
+  Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
+  CameraWorker worker(scene, *scene.downward_camera(), [&] { return T_NB; }, board, options);
+  for (int i = 0; i < 60; ++i) {  // north at 5 m/s, 5 Hz
+    T_NB.translation() = Eigen::Vector3d(-30 + i, 10, -30);
+    board.Update([&](BlackboardData& d) {
+      d.estimate.p_N = T_NB.translation();
+      d.estimate.euler = EulerAngles();
+    });
+    worker.Tick(1'000'000 + i * 200'000);
+  }
+  ASSERT_EQ(worker.captures(), 60);
+  const std::string command = std::string(UAV_STITCH_BIN) + " " + dir + "/captures --out " + dir + "/map --report " + dir +
+                              "/report.json > " + dir + "/stdout.txt 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << Slurp(dir + "/stdout.txt");
+  for (const char* ext : {".tif", ".png", ".pgw", ".prj", ".kml"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/map" + ext)) << ext;
+  const std::string report = Slurp(dir + "/report.json");
+  EXPECT_NE(report.find("\"placed\": 60"), std::string::npos) << report;
+
+  // The world file's upper-left pixel against the flown area: the line runs north -30 .. 29 m at
+  // east 10 m; at 30 m the footprint is 40 x 30 m, so the map's north-west corner lies near
+  // (29 + 15, 10 - 20) m from home.
+  std::istringstream pgw(Slurp(dir + "/map.pgw"));
+  double a, d, b, e, lon, lat;
+  pgw >> a >> d >> b >> e >> lon >> lat;
+  const LocalNedFrame frame(home);
+  const Eigen::Vector3d corner = frame.ToNed({lat, lon, home.altitude_m});
+  EXPECT_NEAR(corner.x(), 29 + 15, 2.0);
+  EXPECT_NEAR(corner.y(), 10 - 20, 2.0);
+  EXPECT_GT(a, 0);
+  EXPECT_LT(e, 0);
+  if (!HasFailure()) std::filesystem::remove_all(dir);
+}
+
+TEST(UavStitch, RefusesAFolderWithoutCaptures) {
+  const std::string dir = (std::filesystem::temp_directory_path() / "uav_test_stitch_empty").string();
+  std::filesystem::create_directories(dir);
+  const std::string command = std::string(UAV_STITCH_BIN) + " " + dir + " --out " + dir + "/map > " + dir + "/out.txt 2>&1";
+  EXPECT_NE(std::system(command.c_str()), 0);
+  EXPECT_NE(Slurp(dir + "/out.txt").find("session.json"), std::string::npos) << Slurp(dir + "/out.txt");
+  EXPECT_FALSE(std::filesystem::exists(dir + "/map.tif"));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace uav::app
