@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -43,17 +44,19 @@ void PrintTo(const MotionCase& c, std::ostream* os) {
   *os << c.altitude_m << " m, moved " << c.dn_m << "," << c.de_m << " m, yaw " << c.dyaw_deg << " deg";
 }
 
-class FrameRegistrationAccuracy : public ::testing::TestWithParam<MotionCase> {};
+class FrameRegistrationAccuracy : public ::testing::TestWithParam<std::tuple<MotionCase, Detector>> {};
 
 TEST_P(FrameRegistrationAccuracy, GroundMatchesTheTrueHomography) {
-  const MotionCase& c = GetParam();
+  const MotionCase& c = std::get<0>(GetParam());
+  RegistrationParams params;
+  params.detector = std::get<1>(GetParam());
   const world::CameraSetup& cam = *Village().downward_camera();
   const world::Renderer renderer(Village(), cam);
   const Eigen::Isometry3d T_prev = CameraPose(cam, 10, 20, c.altitude_m, 0.3);
   const Eigen::Isometry3d T_cur = CameraPose(cam, 10 + c.dn_m, 20 + c.de_m, c.altitude_m, 0.3 + c.dyaw_deg * M_PI / 180);
   const world::Frame prev = renderer.Render(T_prev, 1'000'000);
   const world::Frame cur = renderer.Render(T_cur, 1'000'000 + static_cast<int64_t>(c.dt_s * 1e6));
-  const Registration r = FrameRegistration().Register(Grey(prev.image), Grey(cur.image));
+  const Registration r = FrameRegistration(params).Register(Grey(prev.image), Grey(cur.image));
   ASSERT_TRUE(r.ok) << r.failure;
 
   // Truth on a grid of ground pixels: back-project with the exact depth, project into prev.
@@ -73,18 +76,37 @@ TEST_P(FrameRegistrationAccuracy, GroundMatchesTheTrueHomography) {
   ASSERT_GT(errors.size(), 200u);
   std::sort(errors.begin(), errors.end());
   const double median = errors[errors.size() / 2], p90 = errors[errors.size() * 9 / 10];
-  std::printf("[ register ] %.0f m: %d corners, %d tracked, %d inliers; ground error median %.3f px, 90%% %.3f px\n",
-              c.altitude_m, r.corners, r.tracked, r.inliers, median, p90);
+  std::printf("[ register ] %s %.0f m: %d corners, %d tracked, %d inliers; ground error median %.3f px, 90%% %.3f px\n",
+              DetectorName(params.detector), c.altitude_m, r.corners, r.tracked, r.inliers, median, p90);
   EXPECT_LT(median, 0.5);
   EXPECT_LT(p90, 1.5);
 }
 
-INSTANTIATE_TEST_SUITE_P(Village, FrameRegistrationAccuracy,
-                         // 40 m at 5 Hz and ~30 m/s. Lower flights (20 m: 90 % error 1.8 px;
-                         // 10 m: no registration) and cloud shadows that moved between the frames
-                         // (median 3.7 px) do not meet these limits yet: issue 7's work.
-                         ::testing::Values(MotionCase{40, 6, 1, 3, 0.2}, MotionCase{40, -5, 2, -2, 0.2}),
-                         [](const auto& info) { return "case" + std::to_string(info.index); });
+// 40 m at 5 Hz and ~30 m/s, for GFTT + KLT and SIFT + FLANN. FAST + ORB matches mostly roofs
+// and crowns here (ground error median 5.6 px): see FastOrbRegistersTheVillage. Lower flights (20 m: 90 %
+// error 1.8 px; 10 m: no registration) and cloud shadows that moved between the frames (median
+// 3.7 px) do not meet these limits yet.
+INSTANTIATE_TEST_SUITE_P(
+    Village, FrameRegistrationAccuracy,
+    ::testing::Combine(::testing::Values(MotionCase{40, 6, 1, 3, 0.2}, MotionCase{40, -5, 2, -2, 0.2}),
+                       ::testing::Values(Detector::kGfttKlt, Detector::kSiftFlann)),
+    [](const auto& info) {
+      return std::string(DetectorName(std::get<1>(info.param))) + "_case" + std::to_string(info.index);
+    });
+
+// The third detector of Table 6.1 registers the same pair within Algorithm 1's checks; its
+// accuracy over the ground is the study's finding, not a pass mark (README).
+TEST(FrameRegistration, FastOrbRegistersTheVillage) {
+  const world::CameraSetup& cam = *Village().downward_camera();
+  const world::Renderer renderer(Village(), cam);
+  const world::Frame a = renderer.Render(CameraPose(cam, 10, 20, 40, 0.3), 1'000'000);
+  const world::Frame b = renderer.Render(CameraPose(cam, 16, 21, 40, 0.35), 1'200'000);
+  RegistrationParams p;
+  p.detector = Detector::kFastOrb;
+  const Registration r = FrameRegistration(p).Register(Grey(a.image), Grey(b.image));
+  EXPECT_TRUE(r.ok) << r.failure;
+  EXPECT_GT(r.inliers, 50);
+}
 
 TEST(FrameRegistration, FailsWithAReasonWhenFramesDoNotOverlap) {
   const world::CameraSetup& cam = *Village().downward_camera();
@@ -103,6 +125,8 @@ TEST(FrameRegistration, RejectsBadParametersAndImages) {
   p = RegistrationParams();
   p.min_inliers = 3;
   EXPECT_THROW(FrameRegistration{p}, std::invalid_argument);
+  EXPECT_THROW(ParseDetector("surf"), std::invalid_argument);
+  EXPECT_EQ(ParseDetector("orb"), Detector::kFastOrb);
   const FrameRegistration reg;
   const cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(90));
   EXPECT_THROW(reg.Register(cv::Mat(), grey), std::invalid_argument);

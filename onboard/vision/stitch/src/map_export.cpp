@@ -94,6 +94,7 @@ GeoBox MapBounds(const Mosaic& map, const GeodeticPoint& home) {
 
 std::vector<std::string> ExportMap(const Mosaic& map, const GeodeticPoint& home, const std::string& prefix) {
   if (map.bgr.empty()) throw std::invalid_argument("map export: the map is empty");
+  if (!map.georeferenced) throw std::invalid_argument("map export: the map has no ground reference (no poses)");
   ValidateGeodetic(home);
   const Affine a = Transform(map, home);
   cv::Mat bgra;

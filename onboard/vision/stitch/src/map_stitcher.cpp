@@ -36,6 +36,7 @@ struct MapStitcher::Impl {
   double gsd = 0.0;
   double north0 = 0.0, east0 = 0.0;  // map pixel (0, 0) centre
   bool started = false;
+  bool georeferenced = false;
   cv::Mat prev_grey;
   Eigen::Matrix3d H_map_prev = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d C_prev = Eigen::Matrix3d::Identity();  // the previous frame's correction
@@ -191,7 +192,27 @@ struct MapStitcher::Impl {
       t.mask(in_tile).copyTo(old_mask(in_patch));
     });
     if (p.gain_compensation) Compensate(old, old_mask, new_mask, &warped);
-    warped.copyTo(old, new_mask);  // newest on top (Eq. 6.5)
+    // Newest on top (Eq. 6.5), feathered: within feather_px of the new frame's edge it fades
+    // into the map already there, so the edge leaves no seam; beyond that it replaces it.
+    if (p.feather_px > 0) {
+      cv::Mat distance;
+      cv::distanceTransform(new_mask, distance, cv::DIST_L2, 3);
+      for (int v = 0; v < size.height; ++v) {
+        const float* dist = distance.ptr<float>(v);
+        const uint8_t* had = old_mask.ptr<uint8_t>(v);
+        const uint8_t* in = new_mask.ptr<uint8_t>(v);
+        const cv::Vec3b* src = warped.ptr<cv::Vec3b>(v);
+        cv::Vec3b* dst = old.ptr<cv::Vec3b>(v);
+        for (int u = 0; u < size.width; ++u) {
+          if (!in[u]) continue;
+          const float w = had[u] ? std::min(1.0f, dist[u] / static_cast<float>(p.feather_px)) : 1.0f;
+          for (int c = 0; c < 3; ++c)
+            dst[u][c] = static_cast<uint8_t>(w * src[u][c] + (1.0f - w) * dst[u][c] + 0.5f);
+        }
+      }
+    } else {
+      warped.copyTo(old, new_mask);
+    }
     cv::bitwise_or(old_mask, new_mask, old_mask);
     ForTiles(origin, size, true, [&](Tile& t, const cv::Rect& in_tile, const cv::Rect& in_patch) {
       old(in_patch).copyTo(t.bgr(in_tile), new_mask(in_patch));
@@ -241,6 +262,7 @@ MapStitcher::MapStitcher(const CameraIntrinsics& camera, const StitcherParams& p
   Require(params.nav_anchor_gain >= 0 && params.nav_anchor_gain <= 1, "nav_anchor_gain must be in [0, 1]");
   Require(std::isfinite(params.ground_down_m), "ground_down_m must be finite");
   Require(params.gain_blocks >= 1 && params.gain_blocks <= 32, "gain_blocks must be 1..32");
+  Require(params.feather_px >= 0 && params.feather_px <= 500, "feather_px must be 0..500");
   const auto& d = camera.distortion;
   if (d[0] != 0 || d[1] != 0 || d[2] != 0 || d[3] != 0 || d[4] != 0) {
     const cv::Mat K = (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
@@ -259,25 +281,32 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   Require(frame.image.cols == m.k.width && frame.image.rows == m.k.height,
           "image is " + std::to_string(frame.image.cols) + "x" + std::to_string(frame.image.rows) + ", the camera's is " +
               std::to_string(m.k.width) + "x" + std::to_string(m.k.height));
-  Require(frame.T_NC.matrix().allFinite(), "pose must be finite");
+  Require(!frame.T_NC || frame.T_NC->matrix().allFinite(), "pose must be finite");
   cv::Mat image = frame.image;
   if (!m.undistort_x.empty()) cv::remap(frame.image, image, m.undistort_x, m.undistort_y, cv::INTER_LINEAR);
 
   StitchStep step;
   if (!m.started) {
-    // The map's scale and origin come from the first frame (6.3.1).
     Eigen::Vector2d centre;
-    if (!m.GroundPoint(frame.T_NC, m.k.cx, m.k.cy, &centre)) {
+    if (!frame.T_NC) {
+      // No pose: the map is the first frame's pixel grid.
+      m.gsd = 1.0;
+      m.georeferenced = false;
+    } else if (!m.GroundPoint(*frame.T_NC, m.k.cx, m.k.cy, &centre)) {
       step.failure = "the camera does not see the ground";
       return step;
+    } else {
+      // The map's scale and origin come from the first frame (6.3.1).
+      const double range =
+          (frame.T_NC->translation() - Eigen::Vector3d(centre.x(), centre.y(), m.p.ground_down_m)).norm();
+      m.gsd = m.p.gsd_m > 0 ? m.p.gsd_m : range / std::sqrt(m.k.fx * m.k.fy);
+      m.north0 = centre.x();
+      m.east0 = centre.y();
+      m.georeferenced = true;
     }
-    const double range = (frame.T_NC.translation() - Eigen::Vector3d(centre.x(), centre.y(), m.p.ground_down_m)).norm();
-    m.gsd = m.p.gsd_m > 0 ? m.p.gsd_m : range / std::sqrt(m.k.fx * m.k.fy);
-    m.north0 = centre.x();
-    m.east0 = centre.y();
   }
   Eigen::Matrix3d H_nav;
-  const bool have_nav = m.NavPlacement(frame.T_NC, &H_nav);
+  const bool have_nav = m.georeferenced && frame.T_NC && m.NavPlacement(*frame.T_NC, &H_nav);
   cv::Mat grey;
   cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
   Eigen::Matrix3d H;
@@ -297,6 +326,8 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
     step.registered = false;
     H = H_nav;  // first frame, or Algorithm 1's fallback
     m.C_prev.setIdentity();
+  } else if (!m.started && !frame.T_NC) {
+    H.setIdentity();  // the first frame defines the pixel map
   } else {
     if (step.failure.empty()) step.failure = "the camera does not see the ground";
     m.prev_grey = grey;  // the next frame registers against this one and chains from the last placement
@@ -316,6 +347,7 @@ Mosaic MapStitcher::Render() const {
   const Impl& m = *impl_;
   Mosaic out;
   out.gsd_m = m.gsd;
+  out.georeferenced = m.georeferenced;
   if (m.tiles.empty()) return out;
   const int T = m.p.tile_px;
   cv::Rect content;

@@ -1,4 +1,4 @@
-// uav-stitch IMAGES_DIR --out MAP [--poses POSES.csv] [--report REPORT.json]
+// uav-stitch IMAGES_DIR --out MAP [--poses POSES.csv] [--report REPORT.json] [--detector gftt|orb|sift]
 // The onboard stitcher on a folder of captures (as uav-onboard writes them: IMG_*.jpg,
 // captures.csv with the navigation solution per image, session.json with home and camera).
 // Writes MAP.tif (GeoTIFF), MAP.png + .pgw + .prj, MAP.kml, and a JSON report.
@@ -118,18 +118,23 @@ void Progress(size_t done, size_t total) {
 
 int main(int argc, char** argv) {
   CLI::App cli{"uav-stitch: stitch a folder of survey captures into a geo-referenced map"};
-  std::string dir, out, poses_path, report_path;
+  std::string dir, out, poses_path, report_path, detector = "gftt";
   cli.add_option("IMAGES_DIR", dir, "folder of captures (IMG_*.jpg, captures.csv, session.json)")->required();
   cli.add_option("--out", out, "output prefix: writes OUT.tif, OUT.png (+ .pgw, .prj) and OUT.kml")->required();
   cli.add_option("--poses", poses_path, "poses CSV (default IMAGES_DIR/captures.csv)");
   cli.add_option("--report", report_path, "write a JSON report here");
+  cli.add_option("--detector", detector,
+                 "gftt: good features + Lucas-Kanade (thesis); orb: FAST + ORB + brute force; sift: SIFT + FLANN")
+      ->capture_default_str();
   CLI11_PARSE(cli, argc, argv);
   try {
     if (poses_path.empty()) poses_path = dir + "/captures.csv";
     const Session session = ReadSession(dir + "/session.json");
     const std::vector<Capture> captures = ReadPoses(poses_path);
     if (captures.empty()) Fail(poses_path + ": no captures");
-    uav::vision::MapStitcher stitcher(session.camera);
+    uav::vision::StitcherParams params;
+    params.registration.detector = uav::vision::ParseDetector(detector);
+    uav::vision::MapStitcher stitcher(session.camera, params);
     std::vector<double> ms;
     std::map<std::string, int> failures;
     int registered = 0, placed = 0;
@@ -152,7 +157,8 @@ int main(int argc, char** argv) {
     std::vector<double> sorted = ms;
     std::sort(sorted.begin(), sorted.end());
     const uav::vision::GeoBox box = uav::vision::MapBounds(map, session.home);
-    json report = {{"frames", captures.size()},
+    json report = {{"detector", detector},
+                   {"frames", captures.size()},
                    {"placed", placed},
                    {"registered", registered},
                    {"fallbacks", placed - registered - 1},

@@ -5,6 +5,7 @@
 // the failure checks of Algorithm 1 (area change beyond +-20 %, translation beyond half the
 // image diagonal). The stitcher chains the result (Eq. 6.4) and falls back to the navigation
 // solution when a check fails. A plain class: grey images in, homography out.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,8 +15,21 @@
 
 namespace uav::vision {
 
+// How corners are found and paired (the study of thesis Table 6.1).
+enum class Detector {
+  kGfttKlt,   // good features to track, followed by pyramidal Lucas-Kanade (the thesis's choice)
+  kFastOrb,   // FAST corners with ORB descriptors, brute-force Hamming matching
+  kSiftFlann,  // SIFT keypoints and descriptors, FLANN kd-tree matching
+  kAsift       // SIFT on affine-simulated views of both frames (Morel and Yu's ASIFT, as OpenCV's
+               // asift sample): for oblique pairs with large viewpoint change; seconds per pair
+};
+// "gftt", "orb", "sift", "asift"; throws std::invalid_argument naming the choices.
+Detector ParseDetector(const std::string& name);
+const char* DetectorName(Detector d);
+
 struct RegistrationParams {
-  int max_corners = 400;           // good features to track in the previous frame
+  Detector detector = Detector::kGfttKlt;
+  int max_corners = 400;           // corners (keypoints) in the previous frame
   double corner_quality = 0.01;    // relative to the strongest corner
   double corner_spacing_px = 10;   // minimum distance between corners
   int klt_window_px = 21;          // Lucas-Kanade window
@@ -32,7 +46,7 @@ struct Registration {
   // Maps a pixel of the current frame to the previous frame (homogeneous, H(2,2) = 1).
   Eigen::Matrix3d H_prev_cur = Eigen::Matrix3d::Identity();
   int corners = 0;      // found in the previous frame
-  int tracked = 0;      // followed into the current frame
+  int tracked = 0;      // followed (or matched) into the current frame
   int inliers = 0;      // agreeing with the homography
   double area_ratio = 1.0;      // area of the current frame's outline mapped into the previous
   double translation_px = 0.0;  // displacement of the image centre
@@ -46,11 +60,15 @@ class FrameRegistration {
  public:
   // Throws std::invalid_argument naming a bad parameter.
   explicit FrameRegistration(const RegistrationParams& params = RegistrationParams());
+  ~FrameRegistration();
+  FrameRegistration(FrameRegistration&&) noexcept;
   // 8-bit grey images of the same size. Throws std::invalid_argument for empty, mismatched or
   // non-grey images; a registration that fails its checks returns ok = false with the reason.
   Registration Register(const cv::Mat& prev_grey, const cv::Mat& cur_grey) const;
 
  private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
   RegistrationParams params_;
 };
 

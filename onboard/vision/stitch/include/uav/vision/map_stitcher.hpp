@@ -11,9 +11,10 @@
 // neighbouring frames join by image registration while the map keeps the navigation
 // solution's ground position, scale and perspective over 1000 frames. Each warped frame is
 // gain-compensated block by block against the map under it (exposure and cloud-shadow steps do
-// not show as patches), then written newest-on-top (Eq. 6.5) into 256 px tiles of a north-up
+// not show as patches), then written newest-on-top (Eq. 6.5, feathered at its edge) into 256 px tiles of a north-up
 // canvas in local NED metres: memory grows with the area covered, not with a fixed canvas.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,7 @@ struct StitcherParams {
   double ground_down_m = 0.0;      // ground plane, NED down [m]
   bool gain_compensation = true;
   int gain_blocks = 4;             // gain grid per frame (gain_blocks x gain_blocks)
+  int feather_px = 24;             // [map px] a new frame fades in over this distance from its edge
   RegistrationParams registration;
 };
 
@@ -39,7 +41,9 @@ struct StitcherParams {
 struct StitchInput {
   cv::Mat image;                 // 8-bit BGR, the camera's size
   int64_t utime = 0;
-  Eigen::Isometry3d T_NC = Eigen::Isometry3d::Identity();  // camera in local NED (estimate)
+  // Camera in local NED (the navigation estimate). Without poses the map is in the first
+  // frame's pixels (gsd 1, not geo-referenced) and frames chain by registration alone (Eq. 6.4).
+  std::optional<Eigen::Isometry3d> T_NC;
 };
 
 struct StitchStep {
@@ -53,6 +57,7 @@ struct StitchStep {
 // The map cropped to its content, north up: pixel (c, r) covers north = north_top_m - (r + 0.5)
 // gsd, east = east_left_m + (c + 0.5) gsd.
 struct Mosaic {
+  bool georeferenced = false;  // false: the first frame had no pose; units are its pixels
   cv::Mat bgr;
   cv::Mat mask;  // 255 where an image was written
   double north_top_m = 0.0;
