@@ -41,3 +41,25 @@ alt = [-float(r["down_m"]) for r in rows]
 assert 9.5 < min(alt) and max(alt) < 10.5, (min(alt), max(alt))
 print(f"captures: {len(rows)} images, median interval {steady:.3f} s, altitude {min(alt):.2f}..{max(alt):.2f} m")
 PY
+# The onboard map: written at landing, geo-referenced over the surveyed area (8..30 m north,
+# -15..15 m east of home, seen from 10 m: the footprint adds ~5 m around the lines).
+python3 - "$work"/log/maps_*/ "$work"/log/captures_*/session.json <<'PY'
+import json, math, os, sys
+d, session = sys.argv[1], json.load(open(sys.argv[2]))
+for ext in ("tif", "png", "pgw", "prj", "kml"):
+    path = os.path.join(d, "map_1." + ext)
+    assert os.path.getsize(path) > 50, path
+png = open(os.path.join(d, "map_1.png"), "rb").read()
+assert png[:8] == b"\x89PNG\r\n\x1a\n"
+width, height = int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
+a, _, _, e, lon, lat = (float(x) for x in open(os.path.join(d, "map_1.pgw")).read().split())
+home = session["home"]
+m_lat = 111132.954 - 559.822 * math.cos(2 * math.radians(home["latitude_deg"]))
+m_lon = 111412.84 * math.cos(math.radians(home["latitude_deg"]))
+west = (lon - home["longitude_deg"]) * m_lon
+north = (lat - home["latitude_deg"]) * m_lat
+east = west + width * a * m_lon
+south = north + height * e * m_lat
+assert 28 < north < 40 and -25 < west < -14 and 14 < east < 25 and 0 < south < 9, (north, south, west, east)
+print(f"map: {width}x{height} px, north {north:.1f} m, south {south:.1f} m, west {west:.1f} m, east {east:.1f} m")
+PY

@@ -76,7 +76,23 @@ void CameraWorker::Tick(int64_t utime) {
     due = last_capture_utime_ < 0 || (T_NB.translation() - last_capture_p_N_).norm() >= *d.capture_distance_m;
   else
     last_capture_utime_ = -1;  // the next capture run starts at once
-  if (due && csv_) Capture(utime, frame, T_NB, d);
+  if (due) {
+    // To the onboard stitcher (STITCH), with the pose the flight stack estimated.
+    SurveyCapture c;
+    c.utime = utime;
+    c.width = frame.image.cols;
+    c.height = frame.image.rows;
+    c.bgr.assign(frame.image.data, frame.image.data + frame.image.total() * 3);
+    Eigen::Isometry3d T_NB_estimate = Eigen::Isometry3d::Identity();
+    T_NB_estimate.linear() = RotationNBFromEuler(d.estimate.euler);
+    T_NB_estimate.translation() = d.estimate.p_N;
+    c.T_NC_estimate = T_NB_estimate * renderer_.camera().T_BC;
+    board_.PushCapture(std::move(c));
+    if (csv_) Record(utime, frame, T_NB, d);
+    ++captures_;
+    last_capture_utime_ = utime;
+    last_capture_p_N_ = T_NB.translation();
+  }
 }
 
 void CameraWorker::SendPreview(int64_t utime, const world::Frame& frame) {
@@ -96,7 +112,7 @@ void CameraWorker::SendPreview(int64_t utime, const world::Frame& frame) {
   ++previews_;
 }
 
-void CameraWorker::Capture(int64_t utime, const world::Frame& frame, const Eigen::Isometry3d& T_NB,
+void CameraWorker::Record(int64_t utime, const world::Frame& frame, const Eigen::Isometry3d& T_NB,
                            const BlackboardData& d) {
   char name[32];
   std::snprintf(name, sizeof name, "IMG_%06d.jpg", captures_);
@@ -112,9 +128,6 @@ void CameraWorker::Capture(int64_t utime, const world::Frame& frame, const Eigen
                est.p_N.x(), est.p_N.y(), est.p_N.z(), est.euler.phi, est.euler.theta, est.euler.psi, k.fx, k.fy,
                k.cx, k.cy);
   std::fflush(csv_);
-  ++captures_;
-  last_capture_utime_ = utime;
-  last_capture_p_N_ = T_NB.translation();
 }
 
 }  // namespace uav::app

@@ -13,6 +13,7 @@
 #include "uav/app/link_worker.hpp"
 #include "uav/app/mission_store.hpp"
 #include "uav/app/stereo_worker.hpp"
+#include "uav/app/stitch_worker.hpp"
 #include "uav/waypoints/stored_paths.hpp"
 #include "uav/app/lockstep_scheduler.hpp"
 #include "uav/app/workers.hpp"
@@ -114,6 +115,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<uav::world::Scene> scene;
     std::unique_ptr<uav::app::CameraWorker> cam;
     std::unique_ptr<uav::app::StereoWorker> stereo;
+    std::unique_ptr<uav::app::StitchWorker> stitch;
     if (!scene_path.empty()) {
       scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(scene_path));
       if (!scene->downward_camera() && !scene->stereo_camera())
@@ -132,6 +134,10 @@ int main(int argc, char** argv) {
         cam_options.home = home;
         cam = std::make_unique<uav::app::CameraWorker>(*scene, *scene->downward_camera(), truth_T_NB, board,
                                                        cam_options);
+        if (!log_dir.empty())
+          stitch = std::make_unique<uav::app::StitchWorker>(
+              scene->downward_camera()->intrinsics, board,
+              uav::app::StitchWorker::Options{log_dir + "/maps_" + std::to_string(start), home});
       }
       if (scene->stereo_camera())
         stereo = std::make_unique<uav::app::StereoWorker>(*scene, *scene->stereo_camera(), truth_T_NB, board);
@@ -149,6 +155,8 @@ int main(int argc, char** argv) {
       return std::max<int64_t>(kStepUs, static_cast<int64_t>(std::lround(1e6 / rate_hz / kStepUs)) * kStepUs);
     };
     if (cam) scheduler.AddWorker("CAM", 2, camera_period(scene->downward_camera()->rate_hz), [&](int64_t t) { cam->Tick(t); });
+    // STITCH after CAM (stage 3): this tick's capture is stitched in the same tick.
+    if (stitch) scheduler.AddWorker("STITCH", 3, kPeriodUs * 5, [&](int64_t t) { stitch->Tick(t); });
     if (stereo)
       scheduler.AddWorker("STEREO", 2, camera_period(scene->stereo_camera()->left.rate_hz),
                           [&](int64_t t) { stereo->Tick(t); });
@@ -170,6 +178,7 @@ int main(int argc, char** argv) {
     if (cam) cameras += ", " + std::to_string(cam->captures()) + " survey images captured, " +
                         std::to_string(cam->previews()) + " previews";
     if (stereo) cameras += ", " + std::to_string(stereo->frames()) + " stereo pairs";
+    if (stitch && stitch->maps_written() > 0) cameras += ", map " + stitch->last_map() + ".tif";
     std::printf("uav-onboard: stopped after %.1f s simulated%s\n", (scheduler.now() - start) * 1e-6, cameras.c_str());
     return 0;
   } catch (const std::exception& e) {

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "uav/control/estimate.hpp"
 #include "uav/control/mixer.hpp"
 #include "uav/control/task_manager.hpp"
@@ -27,6 +29,15 @@ struct PreviewFrame {
   int width = 0, height = 0;                // of the JPEG
   int source_width = 0, source_height = 0;  // of the camera image
   std::vector<uint8_t> jpeg;
+};
+
+// A survey capture handed from CAM to STITCH: the image and where the flight stack thought the
+// camera was (the estimate, never the simulator's truth).
+struct SurveyCapture {
+  int64_t utime = 0;
+  int width = 0, height = 0;
+  std::vector<uint8_t> bgr;  // width * height * 3, row-major (OpenCV stays out of this header)
+  Eigen::Isometry3d T_NC_estimate = Eigen::Isometry3d::Identity();
 };
 
 struct BlackboardData {
@@ -99,6 +110,17 @@ class Blackboard {
     preview_.reset();
     return out;
   }
+  // CAM -> STITCH: every capture, in order (a survey frame is never dropped).
+  void PushCapture(SurveyCapture c) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    captures_.push_back(std::move(c));
+  }
+  std::vector<SurveyCapture> TakeCaptures() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<SurveyCapture> out(std::make_move_iterator(captures_.begin()), std::make_move_iterator(captures_.end()));
+    captures_.clear();
+    return out;
+  }
   std::vector<StatusText> TakeStatus() {
     std::lock_guard<std::mutex> lock(mutex_);
     std::vector<StatusText> out(status_.begin(), status_.end());
@@ -113,6 +135,7 @@ class Blackboard {
   std::deque<control::TaskReport> reports_;
   std::deque<StatusText> status_;
   std::optional<PreviewFrame> preview_;
+  std::deque<SurveyCapture> captures_;
 };
 
 }  // namespace uav::app

@@ -32,12 +32,13 @@ class CameraWorker {
                std::function<Eigen::Isometry3d()> truth_T_NB, Blackboard& board, const Options& options);
   ~CameraWorker();
   void Tick(int64_t utime);
-  int captures() const { return captures_; }
+  int captures() const { return captures_; }  // taken (and recorded when there is a capture dir)
   int previews() const { return previews_; }
 
  private:
   void SendPreview(int64_t utime, const world::Frame& frame);
-  void Capture(int64_t utime, const world::Frame& frame, const Eigen::Isometry3d& T_NB, const BlackboardData& d);
+  // Writes the capture's JPEG and its captures.csv row.
+  void Record(int64_t utime, const world::Frame& frame, const Eigen::Isometry3d& T_NB, const BlackboardData& d);
 
   world::Renderer renderer_;
   std::function<Eigen::Isometry3d()> truth_T_NB_;

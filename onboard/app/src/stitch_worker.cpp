@@ -1,0 +1,57 @@
+#include "uav/app/stitch_worker.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+#include <opencv2/core/mat.hpp>
+
+#include "uav/vision/map_export.hpp"
+#include "uav/vision/map_stitcher.hpp"
+
+namespace uav::app {
+
+StitchWorker::StitchWorker(const CameraIntrinsics& camera, Blackboard& board, const Options& options)
+    : camera_(camera), board_(board), options_(options), stitcher_(std::make_unique<vision::MapStitcher>(camera)) {
+  std::filesystem::create_directories(options_.map_dir);
+}
+
+StitchWorker::~StitchWorker() = default;
+
+void StitchWorker::Tick(int64_t utime) {
+  for (SurveyCapture& c : board_.TakeCaptures()) {
+    const cv::Mat image(c.height, c.width, CV_8UC3, c.bgr.data());
+    const vision::StitchStep step = stitcher_->Add({image, c.utime, c.T_NC_estimate});
+    frames_ += step.placed;
+    registered_ += step.registered;
+  }
+  // The survey is over when the camera is off and the vehicle is on the ground: the map is
+  // written then, so it is ready at landing.
+  const BlackboardData d = board_.Snapshot();
+  const bool capturing = d.capture_interval_s || d.capture_distance_m;
+  if (frames_ > 0 && !capturing && !d.airborne) Finish(utime);
+}
+
+void StitchWorker::Finish(int64_t utime) {
+  const vision::Mosaic map = stitcher_->Render();
+  char name[32];
+  std::snprintf(name, sizeof name, "map_%d", maps_written_ + 1);
+  const std::string prefix = (std::filesystem::path(options_.map_dir) / name).string();
+  try {
+    vision::ExportMap(map, options_.home, prefix);
+    ++maps_written_;
+    last_map_ = prefix;
+    char text[256];
+    std::snprintf(text, sizeof text, "map ready: %s.tif, %d frames (%d registered), %dx%d px at %.3f m/px", name,
+                  frames_, registered_, map.bgr.cols, map.bgr.rows, map.gsd_m);
+    board_.PushStatus(6, text);
+  } catch (const std::exception& e) {
+    board_.PushStatus(3, std::string("map not written: ") + e.what());
+  }
+  (void)utime;
+  // The next survey starts a new map.
+  stitcher_ = std::make_unique<vision::MapStitcher>(camera_);
+  frames_ = 0;
+  registered_ = 0;
+}
+
+}  // namespace uav::app
