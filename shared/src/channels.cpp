@@ -15,6 +15,9 @@ const char* TopicName(Topic t) {
     case Topic::kMissionUpload: return "MISSION_UPLOAD";
     case Topic::kMissionAck: return "MISSION_ACK";
     case Topic::kVideo: return "VIDEO";
+    case Topic::kFileOffer: return "FILE_OFFER";
+    case Topic::kFileRequest: return "FILE_REQUEST";
+    case Topic::kFileChunk: return "FILE_CHUNK";
   }
   return "UNKNOWN";
 }

@@ -43,8 +43,9 @@ int main(int argc, char** argv) {
       {"plot has curves", region(22, 4, 62, 55)},
       {"command bar has text", region(22, 55, 62, 77)},
       {"messages panel has text", region(22, 77, 62, 100)},
-      {"map has detail", region(62, 4, 100, 58)},
-      {"survey panel has text", region(62, 58, 100, 100)}};
+      {"map has detail", region(62, 4, 100, 50)},
+      {"survey panel has text", region(62, 50, 100, 82)},
+      {"live map panel has text", region(62, 82, 100, 100)}};
   for (const auto& p : panels) {
     const double frac = cv::countNonZero(edges(p.r)) / static_cast<double>(p.r.area());
     check(frac > 0.003, p.name, frac);
@@ -57,7 +58,7 @@ int main(int argc, char** argv) {
   const double changed = cv::countNonZero(diff(plot) > 30) / static_cast<double>(plot.area());
   check(changed > 0.002, "plot changed between frames (live, not frozen)", changed);
   // The map shows the survey the script drew: polygon outline (green) and coverage (blue).
-  cv::Mat map = a(region(62, 4, 100, 58)), green, blue;
+  cv::Mat map = a(region(62, 4, 100, 50)), green, blue;
   cv::inRange(map, cv::Scalar(60, 190, 50), cv::Scalar(130, 255, 120), green);  // BGR of (80, 220, 100)
   check(cv::countNonZero(green) > 200, "map shows the survey polygon (green pixels)", cv::countNonZero(green));
   cv::inRange(map, cv::Scalar(70, 50, 35), cv::Scalar(140, 90, 75), blue);  // coverage blended on the background

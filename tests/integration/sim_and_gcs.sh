@@ -13,7 +13,8 @@ run_sim_and_gcs() {
   "$bin/uav-onboard" --sim --speed "$speed" --vehicle-id UAV1 --lcm-url "$url" --log-dir "$work/log" ${ONBOARD_ARGS:-} \
     > "$work/onboard.log" 2>&1 &
   status=0
-  timeout "$limit" "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" --script "$script" || status=$?
+  # From inside the work directory: relative paths the script types (downloads) land there.
+  (cd "$work" && timeout "$limit" "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" --script "$script") || status=$?
   local waited=0
   while [ "$waited" -lt "$linger" ] && ! "$until"; do sleep 1; waited=$((waited + 1)); done
   kill %1 2>/dev/null || true

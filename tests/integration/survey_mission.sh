@@ -63,3 +63,8 @@ south = north + height * e * m_lat
 assert 28 < north < 40 and -25 < west < -14 and 14 < east < 25 and 0 < south < 9, (north, south, west, east)
 print(f"map: {width}x{height} px, north {north:.1f} m, south {south:.1f} m, west {west:.1f} m, east {east:.1f} m")
 PY
+# The downloaded files are byte-identical to the onboard ones.
+for f in "$work"/log/maps_*/map_1.*; do
+  cmp "$f" "$work/downloads/$(basename "$f")"
+done
+echo "download: $(ls "$work/downloads" | tr '\n' ' ')identical to the onboard map"

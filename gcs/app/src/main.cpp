@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   bool headless = false, demo = false;
   std::string script_path, vehicle, layout = "uav-gcs.ini";
   double exit_after = 0.0;
+  std::string download_dir;
   cli.add_option("--lcm-url", lcm_url, "LCM URL")->capture_default_str();
   cli.add_option("--name", name, "this GCS's name on the bus (commands are answered to it)");
   cli.add_flag("--headless", headless, "no window: ImGui null backend, same panels");
@@ -38,6 +39,8 @@ int main(int argc, char** argv) {
   cli.add_flag("--demo", demo, "run the built-in demo flight script")->excludes("--script");
   cli.add_option("--vehicle", vehicle, "vehicle to show first (default: the first one heard)");
   cli.add_option("--layout", layout, "window layout file, kept between runs")->capture_default_str();
+  cli.add_option("--download-dir", download_dir,
+                 "download every map a vehicle offers into this directory as soon as it is offered");
   cli.add_option("--exit-after", exit_after, "quit after this many seconds (0: never)")->check(CLI::Range(0.0, 1e6));
   CLI11_PARSE(cli, argc, argv);
 
@@ -54,6 +57,10 @@ int main(int argc, char** argv) {
         headless ? uav::gcs::MakeNullPlatform(1600, 900)
                  : uav::gcs::MakeGlfwPlatform(1600, 900, "uav-gcs", layout);
     uav::gcs::UiContext ctx;
+    if (!download_dir.empty()) {
+      model.SetAutoDownload(download_dir);
+      ctx.state.download_dir = download_dir;
+    }
     uav::gcs::Platform* p = platform.get();
     uav::gcs::ImGuiScriptDriver driver(
         ctx, p->has_display() ? uav::gcs::ImGuiScriptDriver::ScreenshotFn(

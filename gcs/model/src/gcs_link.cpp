@@ -8,6 +8,9 @@
 #include "uav/waypoints/mission_messages.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
+#include "uavmsg/file_chunk_t.hpp"
+#include "uavmsg/file_offer_t.hpp"
+#include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
@@ -68,6 +71,7 @@ struct GcsLink::Impl {
   int64_t heartbeat_seq = 0;
   int64_t command_msg_seq = 0;
   int64_t upload_msg_seq = 0;
+  int64_t file_request_seq = 0;
   int64_t dropped = 0;
 };
 
@@ -110,6 +114,28 @@ GcsLink::GcsLink(const std::string& lcm_url, GcsModel& model)
         f.jpeg = m.jpeg;
         im->model.OnVideoFrame(m.header.vehicle_id, f, im->now);
       });
+  im->bus.Subscribe<uavmsg::file_offer_t>(
+      "[^/]+/FILE_OFFER", [im](const std::string& ch, const uavmsg::file_offer_t& m) {
+        if (!im->Accept(ch, m.header.vehicle_id)) return;
+        FileOffer o;
+        o.transfer_id = m.transfer_id;
+        o.name = m.name;
+        o.size = m.size;
+        o.chunk_bytes = m.chunk_bytes;
+        o.chunks = m.chunks;
+        o.sha256 = m.sha256;
+        im->model.OnFileOffer(m.header.vehicle_id, o, im->now);
+      });
+  im->bus.Subscribe<uavmsg::file_chunk_t>(
+      "[^/]+/FILE_CHUNK", [im](const std::string& ch, const uavmsg::file_chunk_t& m) {
+        if (!im->Accept(ch, m.header.vehicle_id)) return;
+        FileChunk c;
+        c.transfer_id = m.transfer_id;
+        c.index = m.index;
+        c.crc32 = static_cast<uint32_t>(m.crc32);
+        c.data = m.data;
+        im->model.OnFileChunk(m.header.vehicle_id, c, im->now);
+      });
   im->bus.Subscribe<uavmsg::status_text_t>(
       "[^/]+/STATUS_TEXT", [im](const std::string& ch, const uavmsg::status_text_t& m) {
         if (im->Accept(ch, m.header.vehicle_id))
@@ -140,6 +166,21 @@ void GcsLink::Poll(int timeout_ms, double now) {
     m.header = {c.vehicle_id, ++im.upload_msg_seq};
     m.source = im.model.gcs_name();
     im.bus.Publish(Channel(c.vehicle_id, Topic::kMissionUpload), m);
+  }
+  for (const auto& r : im.model.TakeOutgoingFileRequests()) {
+    uavmsg::file_request_t m;
+    m.utime = WallTimeMicros();
+    m.header = {r.vehicle_id, ++im.file_request_seq};
+    m.source = im.model.gcs_name();
+    m.transfer_id = r.request.transfer_id;
+    m.complete = r.request.complete;
+    for (const FileRange& range : r.request.ranges) {
+      if (m.first.size() >= 1000) break;  // the rest next time
+      m.first.push_back(range.first);
+      m.count.push_back(range.count);
+    }
+    m.n_ranges = static_cast<int16_t>(m.first.size());
+    im.bus.Publish(Channel(r.vehicle_id, Topic::kFileRequest), m);
   }
   if (now - im.last_heartbeat >= 1.0) {
     im.last_heartbeat = now;

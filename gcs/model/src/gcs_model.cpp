@@ -2,6 +2,8 @@
 #include "uav/gcs/gcs_model.hpp"
 
 #include <cmath>
+#include <filesystem>
+#include <utility>
 #include <limits>
 
 #include "uav/shared/text_file.hpp"
@@ -190,7 +192,80 @@ void GcsModel::SetPlotWindow(double seconds) {
   if (seconds >= 1.0 && seconds <= 1800.0) plot_window_ = seconds;
 }
 
+void GcsModel::OnFileOffer(const std::string& vehicle_id, const FileOffer& offer, double now) {
+  VehicleModel& v = Vehicle(vehicle_id);
+  const bool known = v.files.progress(offer.transfer_id).has_value();
+  std::string error;
+  if (!v.files.OnOffer(offer, &error)) {
+    Log(now, vehicle_id, "file offer refused: " + error, 4);
+    return;
+  }
+  if (known) return;
+  Log(now, vehicle_id, "file offered: " + offer.name + " (" + std::to_string((offer.size + 1023) / 1024) + " kB)", 6);
+  // Once the operator started a download (or asked for automatic downloads), files offered
+  // later (the rest of a map's files) follow it.
+  if (!auto_download_dir_.empty() || !download_dir_.empty()) StartDownloads(v, now);
+}
+
+void GcsModel::OnFileChunk(const std::string& vehicle_id, const FileChunk& chunk, double /*now*/) {
+  auto it = vehicles_.find(vehicle_id);
+  if (it != vehicles_.end()) it->second.files.OnChunk(chunk);
+}
+
+bool GcsModel::StartDownload(const std::string& dir, double now) {
+  download_error_.clear();
+  VehicleModel* v = selected_.empty() ? nullptr : &vehicles_.at(selected_);
+  if (!v) {
+    download_error_ = "no vehicle selected";
+    return false;
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir)) {
+    download_error_ = "cannot use '" + dir + "' as the download directory";
+    Log(now, v->id, "download: " + download_error_, 3);
+    return false;
+  }
+  download_dir_ = dir;
+  StartDownloads(*v, now);
+  Log(now, v->id, "download to " + dir + ": " + std::to_string(v->files.offers().size()) + " file(s) offered so far", 6);
+  return true;
+}
+
+void GcsModel::StartDownloads(VehicleModel& v, double now) {
+  for (const FileOffer& o : v.files.offers()) {
+    const auto p = v.files.progress(o.transfer_id);
+    if (p->started && !p->failed) continue;
+    std::string error;
+    if (!v.files.Start(o.transfer_id, &error)) Log(now, v.id, "download of " + o.name + ": " + error, 3);
+  }
+}
+
+std::vector<OutgoingFileRequest> GcsModel::TakeOutgoingFileRequests() { return std::exchange(outgoing_file_requests_, {}); }
+
 void GcsModel::Tick(double now) {
+  for (auto& [id, v] : vehicles_) {
+    for (FileRequest& r : v.files.Poll(now)) outgoing_file_requests_.push_back({id, std::move(r)});
+    for (const FileOffer& o : v.files.offers()) {
+      const auto p = v.files.progress(o.transfer_id);
+      if (p->failed && !v.saved.count(o.transfer_id)) {
+        v.saved[o.transfer_id] = "";
+        Log(now, id, "download of " + o.name + " failed: " + p->error, 3);
+      }
+      if (!p->complete || v.saved.count(o.transfer_id)) continue;
+      const std::string dir = !auto_download_dir_.empty() ? auto_download_dir_ : download_dir_;
+      const std::string path = (std::filesystem::path(dir) / o.name).string();
+      try {
+        std::filesystem::create_directories(dir);
+        WriteFileAtomically(path, *v.files.Contents(o.transfer_id));
+        v.saved[o.transfer_id] = path;
+        Log(now, id, "saved " + path + " (" + std::to_string((o.size + 1023) / 1024) + " kB, SHA-256 verified)", 6);
+      } catch (const std::exception& e) {
+        v.saved[o.transfer_id] = "";
+        Log(now, id, "download of " + o.name + ": " + e.what(), 3);
+      }
+    }
+  }
   for (auto& [id, v] : vehicles_) {
     if (!v.upload) continue;
     const auto before = v.upload->state();

@@ -89,6 +89,13 @@ bool Lookup(const std::string& name, const GcsModel& m, double now, double* num,
   if (name == "video.width") return *num = v ? v->video.width : 0.0, true;
   if (name == "video.source_width") return *num = v ? v->video.source_width : 0.0, true;
   if (name == "mission.items") return *num = v && v->mission ? static_cast<double>(v->mission->items.size()) : 0.0, true;
+  if (name == "download.offered") return *num = v ? static_cast<double>(v->files.offers().size()) : 0.0, true;
+  if (name == "download.saved") {
+    int n = 0;
+    if (v)
+      for (const auto& [id, path] : v->saved) n += !path.empty();
+    return *num = n, true;
+  }
   if (name == "vehicles") return *num = static_cast<double>(m.vehicles().size()), true;
   if (name == "plots") return *num = static_cast<double>(m.plot_signals().size()), true;
   if (name == "sent") return *num = static_cast<double>(m.sent_commands().size()), true;

@@ -38,10 +38,12 @@ void DrawGcs(GcsModel& model, UiContext& ctx) {
   DrawCommandBarPanel(model, ctx);
   Place(0.22f, 0.77f, 0.40f, 0.23f);
   DrawMessagesPanel(model, ctx);
-  Place(0.62f, 0.04f, 0.38f, 0.54f);
+  Place(0.62f, 0.04f, 0.38f, 0.46f);
   DrawMapPanel(model, ctx);
-  Place(0.62f, 0.58f, 0.38f, 0.42f);
+  Place(0.62f, 0.50f, 0.38f, 0.32f);
   DrawSurveyPanel(model, ctx);
+  Place(0.62f, 0.82f, 0.38f, 0.18f);
+  DrawLiveMapPanel(model, ctx);
 }
 
 }  // namespace uav::gcs

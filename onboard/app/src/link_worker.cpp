@@ -3,16 +3,31 @@
 #include <map>
 
 #include "uav/shared/channels.hpp"
+#include "uav/shared/file_transfer.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/waypoints/mission_messages.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
+#include "uavmsg/file_chunk_t.hpp"
+#include "uavmsg/file_offer_t.hpp"
+#include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
 
 namespace uav::app {
+
+namespace {
+FileRequest FileRequestFromMessage(const uavmsg::file_request_t& m) {
+  FileRequest r;
+  r.transfer_id = m.transfer_id;
+  r.complete = m.complete;
+  for (int i = 0; i < m.n_ranges && i < static_cast<int>(m.first.size()) && i < static_cast<int>(m.count.size()); ++i)
+    r.ranges.push_back({m.first[i], m.count[i]});
+  return r;
+}
+}  // namespace
 
 struct LinkWorker::Impl {
   Impl(const std::string& id, const std::string& url, Blackboard& b, MissionStore& m)
@@ -46,6 +61,7 @@ struct LinkWorker::Impl {
   int64_t last_heartbeat = -1;
   int64_t last_gcs_wall_us = -1;  // monotonic wall clock of the last GCS heartbeat
   std::unique_ptr<EventLog> events;
+  FileSender files;  // finished maps, offered until a GCS has them
 };
 
 LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, Blackboard& board,
@@ -101,9 +117,15 @@ LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url
         im->gcs_last_seen[m.source_name] = im->now;
         im->last_gcs_wall_us = MonotonicMicros();
       });
+  im->bus.Subscribe<uavmsg::file_request_t>(
+      Channel(vehicle_id, Topic::kFileRequest), [im](const std::string&, const uavmsg::file_request_t& m) {
+        if (m.header.vehicle_id != im->vehicle_id) return;
+        im->files.OnRequest(FileRequestFromMessage(m));
+      });
 }
 
 LinkWorker::~LinkWorker() = default;
+
 
 void LinkWorker::Tick(int64_t utime) {
   Impl& im = *impl_;
@@ -187,6 +209,31 @@ void LinkWorker::Tick(int64_t utime) {
       v.jpeg = std::move(preview->jpeg);
       im.bus.Publish(Channel(im.vehicle_id, Topic::kVideo), v);
     }
+  }
+  for (auto& [name, contents] : im.board.TakeDownloads()) im.files.Offer(name, contents);
+  const FileSender::Output files = im.files.Poll(utime * 1e-6);
+  for (const FileOffer& o : files.offers) {
+    uavmsg::file_offer_t m;
+    m.utime = utime;
+    m.header = im.NextHeader(Topic::kFileOffer);
+    m.transfer_id = o.transfer_id;
+    m.name = o.name;
+    m.size = o.size;
+    m.chunk_bytes = o.chunk_bytes;
+    m.chunks = o.chunks;
+    m.sha256 = o.sha256;
+    im.bus.Publish(Channel(im.vehicle_id, Topic::kFileOffer), m);
+  }
+  for (const FileChunk& c : files.chunks) {
+    uavmsg::file_chunk_t m;
+    m.utime = utime;
+    m.header = im.NextHeader(Topic::kFileChunk);
+    m.transfer_id = c.transfer_id;
+    m.index = c.index;
+    m.crc32 = static_cast<int32_t>(c.crc32);
+    m.size = static_cast<int32_t>(c.data.size());
+    m.data = c.data;
+    im.bus.Publish(Channel(im.vehicle_id, Topic::kFileChunk), m);
   }
   if (im.events) im.events->Flush();
 }

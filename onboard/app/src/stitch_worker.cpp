@@ -5,6 +5,7 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "uav/shared/text_file.hpp"
 #include "uav/vision/map_export.hpp"
 #include "uav/vision/map_stitcher.hpp"
 
@@ -37,7 +38,8 @@ void StitchWorker::Finish(int64_t utime) {
   std::snprintf(name, sizeof name, "map_%d", maps_written_ + 1);
   const std::string prefix = (std::filesystem::path(options_.map_dir) / name).string();
   try {
-    vision::ExportMap(map, options_.home, prefix);
+    for (const std::string& path : vision::ExportMap(map, options_.home, prefix))
+      board_.PushDownload(std::filesystem::path(path).filename().string(), ReadTextFile(path, "map file"));
     ++maps_written_;
     last_map_ = prefix;
     char text[256];

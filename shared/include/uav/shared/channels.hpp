@@ -14,7 +14,10 @@ enum class Topic {
   kStatusText,
   kMissionUpload,
   kMissionAck,
-  kVideo
+  kVideo,
+  kFileOffer,
+  kFileRequest,
+  kFileChunk
 };
 
 const char* TopicName(Topic t);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "uav/gcs/signal_series.hpp"
+#include "uav/shared/file_transfer.hpp"
 #include "uav/gcs/survey_planner.hpp"
 #include "uav/waypoints/mission_transfer.hpp"
 
@@ -95,6 +96,9 @@ struct VehicleModel {
   std::optional<waypoints::MissionUploader> upload;
   std::optional<waypoints::Mission> mission;
   VideoFeed video;
+  // Files the vehicle offers (finished maps) and their downloads; saved: id -> path written.
+  FileReceiver files;
+  std::map<int64_t, std::string> saved;
 
   double HeartbeatAge(double now) const { return last_heartbeat < 0 ? 1e9 : now - last_heartbeat; }
   double MessageRate(double now) const;
@@ -104,6 +108,11 @@ struct VehicleModel {
 struct OutgoingMissionChunk {
   std::string vehicle_id;
   waypoints::MissionChunk chunk;
+};
+
+struct OutgoingFileRequest {
+  std::string vehicle_id;
+  FileRequest request;
 };
 
 // An outgoing message the link must send (commands; heartbeats are the link's own business).
@@ -133,6 +142,9 @@ class GcsModel {
   // Decodes the JPEG; a frame that does not decode to its stated size is counted as rejected
   // (the first one is logged with the reason) and the previous frame stays on screen.
   void OnVideoFrame(const std::string& vehicle_id, const VideoFrameIn& frame, double now);
+  // Download protocol (uav::FileReceiver). An invalid offer is logged with the reason.
+  void OnFileOffer(const std::string& vehicle_id, const FileOffer& offer, double now);
+  void OnFileChunk(const std::string& vehicle_id, const FileChunk& chunk, double now);
 
   // ---- Operator actions.
   // Validates with the shared grammar; on success queues the command for the selected vehicle.
@@ -153,11 +165,18 @@ class GcsModel {
   // File actions of the planner; the outcome goes to the log.
   bool ExportSurvey(const std::string& path, double now);
   bool ImportSurvey(const std::string& path, double now);
+  // Downloads every file the selected vehicle offers into `dir` (created if missing); each is
+  // saved under its own name, through a temporary name, once its SHA-256 matched. Returns false
+  // and sets download_error() when no vehicle is selected or the directory cannot be made.
+  bool StartDownload(const std::string& dir, double now);
+  // Downloads every file any vehicle offers, as soon as it is offered ("" turns this off).
+  void SetAutoDownload(const std::string& dir) { auto_download_dir_ = dir; }
 
   // ---- Periodic: resends unacknowledged commands, gives up after kMaxTries.
   void Tick(double now);
   std::vector<OutgoingCommand> TakeOutgoing();
   std::vector<OutgoingMissionChunk> TakeOutgoingChunks();
+  std::vector<OutgoingFileRequest> TakeOutgoingFileRequests();
 
   // ---- Views.
   const std::string& gcs_name() const { return gcs_name_; }
@@ -172,12 +191,15 @@ class GcsModel {
   const std::deque<LogLine>& log() const { return log_; }
   const SurveyPlanner& planner() const { return planner_; }
   const std::string& upload_error() const { return upload_error_; }
+  const std::string& download_error() const { return download_error_; }
+  const std::string& download_dir() const { return download_dir_; }
 
   static constexpr double kResendTimeout = 1.0;  // [s] without any acknowledgement
   static constexpr int kMaxTries = 5;
 
  private:
   VehicleModel& Vehicle(const std::string& id);
+  void StartDownloads(VehicleModel& v, double now);
   void Log(double now, const std::string& vehicle, const std::string& text, int severity);
 
   std::string gcs_name_;
@@ -193,6 +215,10 @@ class GcsModel {
   SurveyPlanner planner_;
   std::vector<OutgoingMissionChunk> outgoing_chunks_;
   std::string upload_error_;
+  std::vector<OutgoingFileRequest> outgoing_file_requests_;
+  std::string download_error_;
+  std::string download_dir_;       // where StartDownload saves
+  std::string auto_download_dir_;
   int64_t next_seq_;
 };
 

@@ -16,6 +16,7 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx);
 void DrawMessagesPanel(GcsModel& model, UiContext& ctx);
 void DrawMapPanel(GcsModel& model, UiContext& ctx);
 void DrawSurveyPanel(GcsModel& model, UiContext& ctx);
+void DrawLiveMapPanel(GcsModel& model, UiContext& ctx);
 void DrawVideoPanel(GcsModel& model, UiContext& ctx);
 
 }  // namespace uav::gcs

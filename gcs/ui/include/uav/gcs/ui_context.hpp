@@ -35,6 +35,8 @@ struct UiState {
   float map_press_x = 0, map_press_y = 0;
   // Survey panel.
   std::string survey_file = "survey.plan";
+  // Live map panel: where downloads are saved.
+  std::string download_dir = "maps";
   // Video panel: which frame of which vehicle is in the texture.
   std::string video_vehicle;
   int64_t video_frames_shown = -1;

@@ -121,6 +121,18 @@ class Blackboard {
     captures_.clear();
     return out;
   }
+  // STITCH -> CMM: finished files to offer for download (name, contents).
+  void PushDownload(std::string name, std::string contents) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    downloads_.emplace_back(std::move(name), std::move(contents));
+  }
+  std::vector<std::pair<std::string, std::string>> TakeDownloads() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<std::pair<std::string, std::string>> out(std::make_move_iterator(downloads_.begin()),
+                                                         std::make_move_iterator(downloads_.end()));
+    downloads_.clear();
+    return out;
+  }
   std::vector<StatusText> TakeStatus() {
     std::lock_guard<std::mutex> lock(mutex_);
     std::vector<StatusText> out(status_.begin(), status_.end());
@@ -136,6 +148,7 @@ class Blackboard {
   std::deque<StatusText> status_;
   std::optional<PreviewFrame> preview_;
   std::deque<SurveyCapture> captures_;
+  std::deque<std::pair<std::string, std::string>> downloads_;
 };
 
 }  // namespace uav::app
