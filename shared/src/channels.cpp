@@ -18,6 +18,7 @@ const char* TopicName(Topic t) {
     case Topic::kFileOffer: return "FILE_OFFER";
     case Topic::kFileRequest: return "FILE_REQUEST";
     case Topic::kFileChunk: return "FILE_CHUNK";
+    case Topic::kMapTile: return "MAP_TILE";
   }
   return "UNKNOWN";
 }

@@ -2,6 +2,8 @@
 // vehicle isolation, telemetry history.
 #include <fstream>
 
+#include <filesystem>
+
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
@@ -178,6 +180,72 @@ std::vector<uint8_t> TinyJpeg(int w, int h) {
   std::vector<uint8_t> out;
   cv::imencode(".jpg", img, out);
   return out;
+}
+
+// Live map tiles: decoded per vehicle, black (unmapped) made transparent, a newer map replaces
+// the old one, bad tiles rejected and counted.
+TEST(GcsLiveMap, TilesArePerVehicleAndANewMapReplacesTheOld) {
+  GcsModel m("test", 1);
+  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV2", 1, 0, false, 0.0);
+  cv::Mat tile(64, 64, CV_8UC3, cv::Scalar(30, 120, 200));
+  tile(cv::Rect(0, 0, 32, 64)).setTo(cv::Scalar::all(0));  // the left half unmapped
+  MapTileIn t;
+  t.map_id = 1;
+  t.tile_px = 64;
+  t.gsd_m = 0.05;
+  cv::imencode(".jpg", tile, t.jpeg);
+  m.OnMapTile("UAV1", t, 0.1);
+  t.tile_x = 1;
+  m.OnMapTile("UAV1", t, 0.2);
+  const LiveMap& map = m.vehicles().at("UAV1").live_map;
+  ASSERT_EQ(map.tiles.size(), 2u);
+  const auto& rgba = map.tiles.at({0, 0}).rgba;
+  EXPECT_EQ(rgba[(10 * 64 + 5) * 4 + 3], 0);     // unmapped: transparent
+  EXPECT_EQ(rgba[(10 * 64 + 50) * 4 + 3], 255);  // mapped: opaque
+  EXPECT_NEAR(rgba[(10 * 64 + 50) * 4 + 0], 200, 4);
+  EXPECT_TRUE(m.vehicles().at("UAV2").live_map.tiles.empty());
+  MapTileIn bad = t;
+  bad.tile_px = 128;  // the JPEG is 64 px
+  m.OnMapTile("UAV1", bad, 0.3);
+  bad = t;
+  bad.gsd_m = std::nan("");
+  m.OnMapTile("UAV1", bad, 0.3);
+  EXPECT_EQ(map.rejected, 2);
+  EXPECT_EQ(map.tiles.size(), 2u);
+  t.map_id = 2;  // the next survey
+  m.OnMapTile("UAV1", t, 0.4);
+  EXPECT_EQ(map.map_id, 2);
+  EXPECT_EQ(map.tiles.size(), 1u);
+  t.map_id = 1;  // a late tile of the old map: rejected (the counters are the new map's)
+  m.OnMapTile("UAV1", t, 0.5);
+  EXPECT_EQ(map.rejected, 1);
+  EXPECT_EQ(map.tiles.size(), 1u);
+}
+
+// Downloads: an offered file is fetched by chunk requests and saved after its SHA-256 matched.
+TEST(GcsDownload, SavesAVerifiedFileWhereTheOperatorSaid) {
+  GcsModel m("test", 1);
+  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  m.SelectVehicle("UAV1");
+  FileSender sender;
+  const std::string contents(10000, 'm');
+  const FileOffer offer = sender.Offer("map_1.png", contents);
+  m.OnFileOffer("UAV1", offer, 0.1);
+  const std::string dir = testing::TempDir() + "/gcs_download_test";
+  std::filesystem::remove_all(dir);
+  ASSERT_TRUE(m.StartDownload(dir, 0.2));
+  for (double t = 0.3; t < 3 && m.vehicles().at("UAV1").saved.empty(); t += 0.02) {
+    m.Tick(t);
+    for (const auto& r : m.TakeOutgoingFileRequests()) sender.OnRequest(r.request);
+    for (const auto& c : sender.Poll(t).chunks) m.OnFileChunk("UAV1", c, t);
+  }
+  const std::string path = dir + "/map_1.png";
+  ASSERT_TRUE(std::filesystem::exists(path));
+  EXPECT_EQ(std::filesystem::file_size(path), contents.size());
+  EXPECT_FALSE(m.StartDownload("/proc/no_such_dir/x", 3.0));
+  EXPECT_NE(m.download_error().find("cannot use"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(GcsVideo, DecodesFramesPerVehicleAndRejectsBadOnesNamingWhy) {

@@ -12,6 +12,7 @@
 #include "uavmsg/file_offer_t.hpp"
 #include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
+#include "uavmsg/map_tile_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
@@ -135,6 +136,21 @@ GcsLink::GcsLink(const std::string& lcm_url, GcsModel& model)
         c.crc32 = static_cast<uint32_t>(m.crc32);
         c.data = m.data;
         im->model.OnFileChunk(m.header.vehicle_id, c, im->now);
+      });
+  im->bus.Subscribe<uavmsg::map_tile_t>(
+      "[^/]+/MAP_TILE", [im](const std::string& ch, const uavmsg::map_tile_t& m) {
+        if (!im->Accept(ch, m.header.vehicle_id)) return;
+        MapTileIn t;
+        t.map_id = m.map_id;
+        t.tile_x = m.tile_x;
+        t.tile_y = m.tile_y;
+        t.tile_px = m.tile_px;
+        t.gsd_m = m.gsd_m;
+        t.origin_north_m = m.origin_north_m;
+        t.origin_east_m = m.origin_east_m;
+        t.georeferenced = m.georeferenced;
+        t.jpeg = m.jpeg;
+        im->model.OnMapTile(m.header.vehicle_id, t, im->now);
       });
   im->bus.Subscribe<uavmsg::status_text_t>(
       "[^/]+/STATUS_TEXT", [im](const std::string& ch, const uavmsg::status_text_t& m) {

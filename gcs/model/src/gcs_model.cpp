@@ -148,6 +148,46 @@ void GcsModel::OnVideoFrame(const std::string& vehicle_id, const VideoFrameIn& f
   while (!feed.recent.empty() && now - feed.recent.front() > 1.0) feed.recent.pop_front();
 }
 
+void GcsModel::OnMapTile(const std::string& vehicle_id, const MapTileIn& t, double now) {
+  VehicleModel& v = Vehicle(vehicle_id);
+  LiveMap& map = v.live_map;
+  std::string problem;
+  int w = 0, h = 0, channels = 0;
+  unsigned char* pixels = nullptr;
+  if (t.tile_px < 16 || t.tile_px > 1024 || !(t.gsd_m > 0) || !std::isfinite(t.origin_north_m) ||
+      !std::isfinite(t.origin_east_m) || t.map_id < map.map_id) {
+    problem = "bad tile header (tile_px, gsd, origin or an older map)";
+  } else if (t.jpeg.empty() || t.jpeg.size() > 60000) {
+    problem = "JPEG of " + std::to_string(t.jpeg.size()) + " bytes (1..60000 allowed)";
+  } else {
+    pixels = stbi_load_from_memory(t.jpeg.data(), static_cast<int>(t.jpeg.size()), &w, &h, &channels, 4);
+    if (!pixels) problem = std::string("undecodable JPEG: ") + stbi_failure_reason();
+    else if (w != t.tile_px || h != t.tile_px) problem = "tile JPEG is " + std::to_string(w) + "x" + std::to_string(h);
+  }
+  if (!problem.empty()) {
+    if (pixels) stbi_image_free(pixels);
+    if (map.rejected++ == 0) Log(now, vehicle_id, "map tile rejected: " + problem, 4);
+    return;
+  }
+  if (t.map_id > map.map_id) {  // a new survey: a new map
+    map = LiveMap();
+    map.map_id = t.map_id;
+  }
+  map.tile_px = t.tile_px;
+  map.gsd_m = t.gsd_m;
+  map.origin_north_m = t.origin_north_m;
+  map.origin_east_m = t.origin_east_m;
+  map.georeferenced = t.georeferenced;
+  LiveMap::Tile& tile = map.tiles[{t.tile_x, t.tile_y}];
+  tile.rgba.assign(pixels, pixels + static_cast<size_t>(w) * h * 4);
+  stbi_image_free(pixels);
+  // Unmapped pixels travel as black; JPEG leaves them near black.
+  for (size_t i = 0; i < tile.rgba.size(); i += 4)
+    if (tile.rgba[i] < 8 && tile.rgba[i + 1] < 8 && tile.rgba[i + 2] < 8) tile.rgba[i + 3] = 0;
+  ++tile.version;
+  ++map.received;
+}
+
 void GcsModel::OnStatusText(const std::string& vehicle_id, int severity, const std::string& text,
                             double now) {
   Vehicle(vehicle_id);

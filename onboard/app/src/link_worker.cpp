@@ -12,6 +12,7 @@
 #include "uavmsg/file_offer_t.hpp"
 #include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
+#include "uavmsg/map_tile_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
@@ -62,6 +63,7 @@ struct LinkWorker::Impl {
   int64_t last_gcs_wall_us = -1;  // monotonic wall clock of the last GCS heartbeat
   std::unique_ptr<EventLog> events;
   FileSender files;  // finished maps, offered until a GCS has them
+  int64_t last_tile_utime = -1000000;
 };
 
 LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, Blackboard& board,
@@ -208,6 +210,26 @@ void LinkWorker::Tick(int64_t utime) {
       v.size = static_cast<int32_t>(preview->jpeg.size());
       v.jpeg = std::move(preview->jpeg);
       im.bus.Publish(Channel(im.vehicle_id, Topic::kVideo), v);
+    }
+  }
+  // Live map: one tile per 200 ms at most (~100 kB/s), the longest-waiting first.
+  if (utime - im.last_tile_utime >= 200000) {
+    if (auto tile = im.board.TakeTile()) {
+      im.last_tile_utime = utime;
+      uavmsg::map_tile_t m;
+      m.utime = utime;
+      m.header = im.NextHeader(Topic::kMapTile);
+      m.map_id = tile->map_id;
+      m.tile_x = tile->tx;
+      m.tile_y = tile->ty;
+      m.tile_px = static_cast<int16_t>(tile->tile_px);
+      m.gsd_m = tile->gsd_m;
+      m.origin_north_m = tile->origin_north_m;
+      m.origin_east_m = tile->origin_east_m;
+      m.georeferenced = tile->georeferenced;
+      m.size = static_cast<int32_t>(tile->jpeg.size());
+      m.jpeg = std::move(tile->jpeg);
+      im.bus.Publish(Channel(im.vehicle_id, Topic::kMapTile), m);
     }
   }
   for (auto& [name, contents] : im.board.TakeDownloads()) im.files.Offer(name, contents);

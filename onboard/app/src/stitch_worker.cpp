@@ -3,7 +3,8 @@
 #include <cstdio>
 #include <filesystem>
 
-#include <opencv2/core/mat.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/map_export.hpp"
@@ -24,6 +25,23 @@ void StitchWorker::Tick(int64_t utime) {
     const vision::StitchStep step = stitcher_->Add({image, c.utime, c.T_NC_estimate});
     frames_ += step.placed;
     registered_ += step.registered;
+  }
+  // The live map: every changed tile, JPEG-compressed (unmapped pixels black).
+  const vision::MapGrid grid = stitcher_->grid();
+  for (vision::MapTile& t : stitcher_->TakeChangedTiles()) {
+    cv::Mat shown = cv::Mat::zeros(t.bgr.size(), CV_8UC3);
+    t.bgr.copyTo(shown, t.mask);
+    LiveTile live;
+    live.map_id = maps_written_ + 1;
+    live.tx = t.tx;
+    live.ty = t.ty;
+    live.tile_px = grid.tile_px;
+    live.gsd_m = grid.gsd_m;
+    live.origin_north_m = grid.origin_north_m;
+    live.origin_east_m = grid.origin_east_m;
+    live.georeferenced = grid.georeferenced;
+    cv::imencode(".jpg", shown, live.jpeg, {cv::IMWRITE_JPEG_QUALITY, 75});
+    if (live.jpeg.size() <= 60000) board_.PutTile(std::move(live));
   }
   // The survey is over when the camera is off and the vehicle is on the ground: the map is
   // written then, so it is ready at landing.

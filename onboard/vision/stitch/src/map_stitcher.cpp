@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <set>
 #include <unordered_map>
 
 #include <opencv2/calib3d.hpp>
@@ -42,6 +43,7 @@ struct MapStitcher::Impl {
   Eigen::Matrix3d C_prev = Eigen::Matrix3d::Identity();  // the previous frame's correction
   std::vector<Eigen::Matrix3d> placements;  // image pixel -> map pixel, per frame
   std::unordered_map<int64_t, Tile> tiles;
+  std::set<int64_t> changed;  // tiles written since TakeChangedTiles
 
   explicit Impl(const CameraIntrinsics& cam, const StitcherParams& params)
       : k(cam), p(params), registration(params.registration) {}
@@ -217,6 +219,8 @@ struct MapStitcher::Impl {
     ForTiles(origin, size, true, [&](Tile& t, const cv::Rect& in_tile, const cv::Rect& in_patch) {
       old(in_patch).copyTo(t.bgr(in_tile), new_mask(in_patch));
       old_mask(in_patch).copyTo(t.mask(in_tile));
+      // in_patch + origin is the overlap in map pixels, inside this tile.
+      changed.insert(TileKey(FloorDiv(in_patch.x + origin.x, p.tile_px), FloorDiv(in_patch.y + origin.y, p.tile_px)));
     });
   }
 
@@ -376,6 +380,27 @@ Mosaic MapStitcher::Render() const {
   out.north_top_m = m.north0 - (content.y - 0.5) * m.gsd;
   out.east_left_m = m.east0 + (content.x - 0.5) * m.gsd;
   return out;
+}
+
+std::vector<MapTile> MapStitcher::TakeChangedTiles() {
+  Impl& m = *impl_;
+  std::vector<MapTile> out;
+  for (int64_t key : m.changed) {
+    const Tile& t = m.tiles.at(key);
+    MapTile tile;
+    tile.tx = static_cast<int>(key >> 32);
+    tile.ty = static_cast<int32_t>(key & 0xffffffff);
+    tile.bgr = t.bgr.clone();
+    tile.mask = t.mask.clone();
+    out.push_back(std::move(tile));
+  }
+  m.changed.clear();
+  return out;
+}
+
+MapGrid MapStitcher::grid() const {
+  const Impl& m = *impl_;
+  return {m.gsd, m.north0, m.east0, m.p.tile_px, m.georeferenced};
 }
 
 int MapStitcher::frames() const { return static_cast<int>(impl_->placements.size()); }

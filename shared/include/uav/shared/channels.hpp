@@ -17,7 +17,8 @@ enum class Topic {
   kVideo,
   kFileOffer,
   kFileRequest,
-  kFileChunk
+  kFileChunk,
+  kMapTile
 };
 
 const char* TopicName(Topic t);

@@ -74,6 +74,29 @@ struct VideoFeed {
   double Rate(double now) const;
 };
 
+// A live-map tile as received (map_tile_t).
+struct MapTileIn {
+  int map_id = 0, tile_x = 0, tile_y = 0, tile_px = 0;
+  double gsd_m = 0, origin_north_m = 0, origin_east_m = 0;
+  bool georeferenced = false;
+  std::vector<uint8_t> jpeg;
+};
+
+// The map a vehicle is stitching, as far as its tiles have arrived (the newest map only).
+struct LiveMap {
+  int map_id = 0;
+  int tile_px = 0;
+  double gsd_m = 0, origin_north_m = 0, origin_east_m = 0;
+  bool georeferenced = false;
+  struct Tile {
+    std::vector<uint8_t> rgba;  // tile_px^2 * 4, alpha 0 where unmapped
+    int64_t version = 0;        // increases with every update (panels re-upload then)
+  };
+  std::map<std::pair<int, int>, Tile> tiles;  // (tile_x, tile_y)
+  int64_t received = 0;
+  int64_t rejected = 0;
+};
+
 struct VehicleModel {
   std::string id;
   // Link quality, measured on the GCS's monotonic clock.
@@ -99,6 +122,7 @@ struct VehicleModel {
   // Files the vehicle offers (finished maps) and their downloads; saved: id -> path written.
   FileReceiver files;
   std::map<int64_t, std::string> saved;
+  LiveMap live_map;
 
   double HeartbeatAge(double now) const { return last_heartbeat < 0 ? 1e9 : now - last_heartbeat; }
   double MessageRate(double now) const;
@@ -145,6 +169,9 @@ class GcsModel {
   // Download protocol (uav::FileReceiver). An invalid offer is logged with the reason.
   void OnFileOffer(const std::string& vehicle_id, const FileOffer& offer, double now);
   void OnFileChunk(const std::string& vehicle_id, const FileChunk& chunk, double now);
+  // Decodes the tile; a tile of a newer map replaces the whole live map. A tile that does not
+  // decode to tile_px x tile_px is counted as rejected (the first one logged).
+  void OnMapTile(const std::string& vehicle_id, const MapTileIn& tile, double now);
 
   // ---- Operator actions.
   // Validates with the shared grammar; on success queues the command for the selected vehicle.

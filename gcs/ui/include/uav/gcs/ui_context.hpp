@@ -35,8 +35,18 @@ struct UiState {
   float map_press_x = 0, map_press_y = 0;
   // Survey panel.
   std::string survey_file = "survey.plan";
-  // Live map panel: where downloads are saved.
+  // Live map panel: where downloads are saved, and the tile textures (per tile: the version
+  // uploaded, its texture, its slot) of which vehicle's which map.
   std::string download_dir = "maps";
+  struct TileTexture {
+    int64_t version = -1;
+    void* texture = nullptr;
+    int slot = 0;
+  };
+  std::map<std::pair<int, int>, TileTexture> live_tiles;
+  std::string live_map_vehicle;
+  int live_map_id = -1;
+  int next_texture_slot = 100;
   // Video panel: which frame of which vehicle is in the texture.
   std::string video_vehicle;
   int64_t video_frames_shown = -1;

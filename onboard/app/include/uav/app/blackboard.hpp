@@ -3,6 +3,8 @@
 // copy under the lock. Stage ordering in the scheduler makes the hand-over deterministic.
 #include <array>
 #include <deque>
+#include <map>
+#include <tuple>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -38,6 +40,14 @@ struct SurveyCapture {
   int width = 0, height = 0;
   std::vector<uint8_t> bgr;  // width * height * 3, row-major (OpenCV stays out of this header)
   Eigen::Isometry3d T_NC_estimate = Eigen::Isometry3d::Identity();
+};
+
+// A live-map tile from STITCH for CMM (JPEG, unmapped pixels black).
+struct LiveTile {
+  int map_id = 0, tx = 0, ty = 0, tile_px = 0;
+  double gsd_m = 0, origin_north_m = 0, origin_east_m = 0;
+  bool georeferenced = false;
+  std::vector<uint8_t> jpeg;
 };
 
 struct BlackboardData {
@@ -133,6 +143,23 @@ class Blackboard {
     downloads_.clear();
     return out;
   }
+  // STITCH -> CMM: the newest content of each changed tile replaces the one still waiting; CMM
+  // takes them oldest-waiting first at its own (bounded) rate.
+  void PutTile(LiveTile t) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const std::tuple<int, int, int> key(t.map_id, t.tx, t.ty);
+    if (!tiles_.count(key)) tile_order_.push_back(key);
+    tiles_[key] = std::move(t);
+  }
+  std::optional<LiveTile> TakeTile() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (tile_order_.empty()) return std::nullopt;
+    const auto key = tile_order_.front();
+    tile_order_.pop_front();
+    LiveTile t = std::move(tiles_.at(key));
+    tiles_.erase(key);
+    return t;
+  }
   std::vector<StatusText> TakeStatus() {
     std::lock_guard<std::mutex> lock(mutex_);
     std::vector<StatusText> out(status_.begin(), status_.end());
@@ -149,6 +176,8 @@ class Blackboard {
   std::optional<PreviewFrame> preview_;
   std::deque<SurveyCapture> captures_;
   std::deque<std::pair<std::string, std::string>> downloads_;
+  std::map<std::tuple<int, int, int>, LiveTile> tiles_;
+  std::deque<std::tuple<int, int, int>> tile_order_;
 };
 
 }  // namespace uav::app

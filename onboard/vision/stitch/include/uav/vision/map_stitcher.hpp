@@ -65,6 +65,22 @@ struct Mosaic {
   double gsd_m = 0.0;
 };
 
+// One canvas tile as it is now (for the live map): tile (tx, ty) covers map pixels
+// [tx * tile_px, (tx + 1) * tile_px) x [ty * tile_px, ...); map pixel (c, r) is centred on
+// north = origin_north_m - r gsd, east = origin_east_m + c gsd.
+struct MapTile {
+  int tx = 0, ty = 0;
+  cv::Mat bgr;   // tile_px x tile_px
+  cv::Mat mask;  // 255 where mapped
+};
+
+struct MapGrid {
+  double gsd_m = 0.0;
+  double origin_north_m = 0.0, origin_east_m = 0.0;
+  int tile_px = 0;
+  bool georeferenced = false;
+};
+
 class MapStitcher {
  public:
   // Throws std::invalid_argument naming a bad intrinsic or parameter.
@@ -76,6 +92,9 @@ class MapStitcher {
   StitchStep Add(const StitchInput& frame);
 
   Mosaic Render() const;
+  // Tiles written since the last call (each once, as it is now).
+  std::vector<MapTile> TakeChangedTiles();
+  MapGrid grid() const;
   int frames() const;
   // Ground position (north, east) [m] where frame k's principal point was placed, and the
   // placed ground size of one image pixel there [m] (for accuracy checks and reports).
