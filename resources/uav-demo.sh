@@ -1,9 +1,13 @@
 #!/usr/bin/env bash
-# Main job: a simulated vehicle and the GCS.
-#  - With a display: uav-onboard --sim and the GCS window; fly it from the command bar.
-#  - Without one (or with --headless): the GCS runs headless with the built-in demo flight
-#    (takeoff, hover, goto, land), one line per step and a closing summary; exit 0 only if every
-#    step passed. As root it runs in a private network namespace so no LCM traffic leaves.
+# Main job: the full survey mission in the simulator (issue 7 item 9). uav-onboard flies the
+# simulated quadrotor over the village scene with its cameras; the GCS plans a survey on the
+# map, uploads it, arms and starts it (take-off, zig-zag with capture, return home, land). The
+# vehicle stitches the map while it flies and streams tiles to the GCS's Live map panel; at
+# landing it offers the finished map, which the GCS downloads (chunked, SHA-256 verified) into
+# ./maps. The script prints a line per step and a summary; exit 0 only if every step passed.
+#  - With a display: in the GCS window, so you watch the flight, the video and the map grow.
+#  - Without one (or with --headless): the same mission headless. As root it runs in a private
+#    network namespace so no LCM traffic leaves the machine.
 set -euo pipefail
 bin=$(cd "$(dirname "$0")" && pwd)
 mode=window
@@ -15,19 +19,23 @@ if [ "${UAV_IN_NETNS:-}" = 1 ]; then
   ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo
 fi
 logs=${UAV_LOG_DIR:-$PWD/flight-logs}
+maps=${UAV_MAP_DIR:-$PWD/maps}
+scene="@PROJECT_SOURCE_DIR@/resources/scenes/survey_village.scene.json"  # filled in by CMake
+mkdir -p "$logs" "$maps"
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
-speed=1; [ "$mode" = headless ] && speed=4
-echo "uav-demo: starting the simulated vehicle (speed x$speed, logs in $logs)"
-"$bin/uav-onboard" --sim --speed "$speed" --lcm-url "$url" --log-dir "$logs" &
+speed=2; [ "$mode" = headless ] && speed=8
+echo "uav-demo: starting the simulated vehicle over the village (speed x$speed, logs in $logs)"
+"$bin/uav-onboard" --sim --speed "$speed" --lcm-url "$url" --log-dir "$logs" --scene "$scene" > "$logs/onboard.txt" 2>&1 &
 onboard=$!
 trap 'kill $onboard 2>/dev/null || true; wait $onboard 2>/dev/null || true' EXIT
 status=0
 if [ "$mode" = window ]; then
-  "$bin/uav-gcs" --lcm-url "$url" || status=$?
+  "$bin/uav-gcs" --demo --lcm-url "$url" --download-dir "$maps" || status=$?
 else
-  echo "uav-demo: no display, running the GCS headless with the built-in demo flight"
-  "$bin/uav-gcs" --headless --demo --lcm-url "$url" || status=$?
+  echo "uav-demo: no display, running the survey mission headless"
+  "$bin/uav-gcs" --headless --demo --lcm-url "$url" --download-dir "$maps" || status=$?
 fi
 echo "uav-demo: flight log $(ls -t "$logs"/flight_*.csv 2>/dev/null | head -1)"
+echo "uav-demo: map saved as $(ls -t "$maps"/map_*.tif 2>/dev/null | head -1) (GeoTIFF; PNG + world file and KML beside it)"
 [ $status -eq 0 ] && echo "uav-demo: PASSED" || echo "uav-demo: FAILED (exit $status)"
 exit $status

@@ -185,7 +185,10 @@ struct MapStitcher::Impl {
     cv::warpPerspective(image, warped, H, size, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
     cv::warpPerspective(cv::Mat(image.size(), CV_8U, cv::Scalar(255)), new_mask, H, size, cv::INTER_NEAREST,
                         cv::BORDER_CONSTANT);
-    cv::erode(new_mask, new_mask, cv::Mat(), cv::Point(-1, -1), 1);  // drop interpolated border pixels
+    // Drop the border pixels that were interpolated with the black outside. The frame's edge
+    // often lies on the patch's edge, so the patch's outside must count as empty (OpenCV's
+    // default erodes nothing there, which left 1 px dark lines across the map).
+    cv::erode(new_mask, new_mask, cv::Mat(), cv::Point(-1, -1), 2, cv::BORDER_CONSTANT, cv::Scalar(0));
 
     // The map under the patch.
     cv::Mat old = cv::Mat::zeros(size, CV_8UC3), old_mask = cv::Mat::zeros(size, CV_8U);
