@@ -166,7 +166,7 @@ ConditionResult EvaluateCondition(const std::vector<std::string>& tokens, const 
 Script Script::Parse(const std::string& text, const std::string& name) {
   static const std::set<std::string> kVerbs = {"type", "click", "tick", "select", "wait", "wait_until", "assert",
                                                "screenshot", "echo", "set", "map_click", "map_right_click",
-                                               "map_drag"};
+                                               "map_drag", "map_zoom"};
   Script s;
   s.name = name;
   std::istringstream lines(text);
@@ -193,7 +193,7 @@ Script Script::Parse(const std::string& text, const std::string& name) {
     if (st.verb == "wait" && (st.args.size() != 1 || !ToNumber(st.args[0], &d) || d < 0))
       fail("wait needs one non-negative number of seconds");
     if (st.verb == "set" && st.args.size() < 2) fail("set needs a widget label and a value");
-    const std::size_t map_args = st.verb == "map_drag" ? 4 : 2;
+    const std::size_t map_args = st.verb == "map_drag" ? 4 : st.verb == "map_zoom" ? 3 : 2;
     if (st.verb.rfind("map_", 0) == 0) {
       if (st.args.size() != map_args) fail(st.verb + " needs " + std::to_string(map_args) + " numbers (north east [m])");
       for (const auto& a : st.args)
@@ -268,6 +268,7 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
       else if (s.verb == "map_click") ok = driver.StartMapClick(xy[0], xy[1], false, &err);
       else if (s.verb == "map_right_click") ok = driver.StartMapClick(xy[0], xy[1], true, &err);
       else if (s.verb == "map_drag") ok = driver.StartMapDrag(xy[0], xy[1], xy[2], xy[3], &err);
+      else if (s.verb == "map_zoom") ok = driver.StartMapZoom(xy[0], xy[1], static_cast<int>(xy[2]), &err);
       else ok = driver.StartClick(label, &err);
       if (!ok) Fail(s, now, err);
     } else if (!driver.InputPending()) {

@@ -22,9 +22,14 @@ SurveyPlanner::SurveyPlanner(const std::string& camera_dir, const GeodeticPoint&
       // A broken camera file is left out of the list; the others still work.
     }
   }
-  // Prefer the simulator's camera so the planned mission matches the simulated images.
-  for (std::size_t i = 0; i < cameras_.size(); ++i)
-    if (cameras_[i].name.rfind("sim_", 0) == 0) std::swap(cameras_[0], cameras_[i]);
+  // Prefer the simulator's survey camera so the planned mission matches the simulated images
+  // (not its stereo camera, which also starts with "sim_").
+  for (const char* prefix : {"sim_", "sim_downward"})
+    for (std::size_t i = 0; i < cameras_.size(); ++i)
+      if (cameras_[i].name.rfind(prefix, 0) == 0) {
+        std::swap(cameras_[0], cameras_[i]);
+        break;
+      }
   if (cameras_.empty()) cameras_.push_back({"sim_downward_640x480", {4.8, 3.6, 3.6, 640, 480, true}});
   params_.camera = cameras_[0].spec;
   params_.altitude_m = 20.0;

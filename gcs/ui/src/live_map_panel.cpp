@@ -10,9 +10,7 @@
 
 namespace uav::gcs {
 
-namespace {
-// The live map fitted into the rest of the panel, north up.
-void DrawTiles(const VehicleModel& v, UiContext& ctx, float reserve_y) {
+void SyncLiveMapTextures(const VehicleModel& v, UiContext& ctx) {
   const LiveMap& map = v.live_map;
   UiState& ui = ctx.state;
   if (ui.live_map_vehicle != v.id || ui.live_map_id != map.map_id) {  // another vehicle or a new map
@@ -20,6 +18,21 @@ void DrawTiles(const VehicleModel& v, UiContext& ctx, float reserve_y) {
     ui.live_map_vehicle = v.id;
     ui.live_map_id = map.map_id;
   }
+  for (const auto& [key, tile] : map.tiles) {
+    UiState::TileTexture& tex = ui.live_tiles[key];
+    if (tex.slot == 0) tex.slot = ui.next_texture_slot++;
+    if (ctx.update_texture && tex.version != tile.version) {
+      tex.texture = ctx.update_texture(tex.slot, tile.rgba.data(), map.tile_px, map.tile_px);
+      tex.version = tile.version;
+    }
+  }
+}
+
+namespace {
+// An overview of the live map fitted into the panel, north up (the Map panel shows it to scale).
+void DrawTiles(const VehicleModel& v, UiContext& ctx, float reserve_y) {
+  const LiveMap& map = v.live_map;
+  SyncLiveMapTextures(v, ctx);
   if (map.tiles.empty()) {
     ImGui::TextDisabled("no map tiles yet: they stream while the survey camera captures");
     RegisterLastItem(ctx, "livemap");
@@ -44,14 +57,8 @@ void DrawTiles(const VehicleModel& v, UiContext& ctx, float reserve_y) {
   ImDrawList* draw = ImGui::GetWindowDrawList();
   draw->AddRectFilled(origin, ImVec2(origin.x + px * (x1 - x0), origin.y + px * (y1 - y0)), IM_COL32(25, 25, 30, 255));
   for (const auto& [key, tile] : map.tiles) {
-    UiState::TileTexture& tex = ui.live_tiles[key];
-    if (tex.slot == 0) tex.slot = ui.next_texture_slot++;
-    if (ctx.update_texture && tex.version != tile.version) {
-      tex.texture = ctx.update_texture(tex.slot, tile.rgba.data(), map.tile_px, map.tile_px);
-      tex.version = tile.version;
-    }
     const ImVec2 a(origin.x + px * (key.first - x0), origin.y + px * (key.second - y0));
-    if (tex.texture) draw->AddImage(tex.texture, a, ImVec2(a.x + px, a.y + px));
+    if (void* texture = ctx.state.live_tiles[key].texture) draw->AddImage(texture, a, ImVec2(a.x + px, a.y + px));
   }
   // The vehicle on the map.
   const auto n = v.latest.find("STATE.x"), e = v.latest.find("STATE.y");
@@ -82,7 +89,7 @@ void DrawLiveMapPanel(GcsModel& model, UiContext& ctx) {
   RegisterLastItem(ctx, "map:download");
   if (!model.download_error().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", model.download_error().c_str());
   const std::vector<FileOffer> offers = v->files.offers();
-  DrawTiles(*v, ctx, (offers.size() + 1) * ImGui::GetFrameHeightWithSpacing());
+  DrawTiles(*v, ctx, (offers.size() + 2) * ImGui::GetFrameHeightWithSpacing());
   if (offers.empty()) ImGui::TextDisabled("no map offered yet: the vehicle offers it after the survey, at landing");
   for (const FileOffer& o : offers) {
     const auto p = v->files.progress(o.transfer_id);
@@ -91,9 +98,8 @@ void DrawLiveMapPanel(GcsModel& model, UiContext& ctx) {
     std::snprintf(overlay, sizeof overlay, "%s  %lld kB  %s", o.name.c_str(), static_cast<long long>((o.size + 1023) / 1024),
                   p->complete ? "saved" : p->failed ? "failed" : p->started ? "downloading" : "offered");
     ImGui::ProgressBar(p->complete ? 1.0f : fraction, ImVec2(-1, 0), overlay);
-    auto saved = v->saved.find(o.transfer_id);
-    if (saved != v->saved.end() && !saved->second.empty()) ImGui::TextDisabled("  %s", saved->second.c_str());
   }
+  if (!v->saved.empty() && !model.download_dir().empty()) ImGui::TextDisabled("saved in %s", model.download_dir().c_str());
   ImGui::End();
 }
 

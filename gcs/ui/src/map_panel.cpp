@@ -1,5 +1,6 @@
 // Map view: top-down in local metres (north up) around the map origin (the selected vehicle's
-// home). Shows the vehicle with heading and trail, home, the survey being planned (polygon,
+// home). Shows the map the vehicle is stitching (live tiles, to scale), the vehicle with heading
+// and trail, home, the survey being planned (polygon,
 // coverage of the capture legs, path) and the mission the vehicle accepted. Mouse: wheel zooms
 // about the pointer; drag on empty ground pans; with "Edit survey" a click adds a vertex, a drag
 // on a vertex moves it and a right click deletes it. Latitude/longitude under the pointer.
@@ -119,10 +120,27 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
   for (double e = std::floor(lo.y() / step) * step; e <= hi.y(); e += step)
     dl->AddLine(to_screen(lo.x(), e), to_screen(hi.x(), e), kGrid);
 
+  // The map the vehicle is stitching, to scale under everything else (geo-referenced maps only:
+  // their local NED frame is the vehicle's home, which is this map's origin).
+  if (const VehicleModel* sel = model.selected(); sel && sel->live_map.georeferenced && !sel->live_map.tiles.empty()) {
+    SyncLiveMapTextures(*sel, ctx);
+    const LiveMap& lm = sel->live_map;
+    const double T = lm.tile_px;
+    for (const auto& [key, tile] : lm.tiles) {
+      void* texture = ctx.state.live_tiles[key].texture;
+      if (!texture) continue;
+      const double n0 = lm.origin_north_m - (key.second * T - 0.5) * lm.gsd_m, n1 = n0 - T * lm.gsd_m;
+      const double e0 = lm.origin_east_m + (key.first * T - 0.5) * lm.gsd_m, e1 = e0 + T * lm.gsd_m;
+      dl->AddImage(texture, to_screen(n0, e0), to_screen(n1, e1));
+    }
+  }
+
   // Survey: coverage of each capture leg (footprint width), the path, the polygon.
+  const bool have_live_map = model.selected() && !model.selected()->live_map.tiles.empty();
   if (const auto& plan = planner.plan()) {
     const double half = 0.5 * plan->footprint.across_m;
-    for (std::size_t i = 0; i + 1 < plan->waypoints.size(); ++i) {
+    // The predicted coverage, until the vehicle's real map takes its place.
+    for (std::size_t i = 0; i + 1 < plan->waypoints.size() && !have_live_map; ++i) {
       const auto& a = plan->waypoints[i];
       const auto& b = plan->waypoints[i + 1];
       if (a.kind != waypoints::SurveyWaypoint::Kind::kCaptureStart || b.line != a.line) continue;

@@ -1,5 +1,7 @@
 #include "uav/gcs/script_input.hpp"
 
+#include <cstdlib>
+
 #include <imgui.h>
 
 namespace uav::gcs {
@@ -65,6 +67,14 @@ bool ImGuiScriptDriver::StartMapDrag(double n1, double e1, double n2, double e2,
   return true;
 }
 
+bool ImGuiScriptDriver::StartMapZoom(double north, double east, int steps, std::string* error) {
+  float x, y;
+  if (!MapToScreen(north, east, &x, &y, error)) return false;
+  events_.push_back({Event::kMove, x, y, {}});
+  for (int i = 0; i < std::abs(steps); ++i) events_.push_back({Event::kWheel, steps > 0 ? 1.0f : -1.0f, 0, {}});
+  return true;
+}
+
 bool ImGuiScriptDriver::QueueTyping(const std::string& label, const std::string& text, std::string* error) {
   if (!QueueClick(label, error)) return false;
   // Replace whatever is in the bar (a rejected line stays there for editing): Ctrl+A, type.
@@ -108,6 +118,7 @@ void ImGuiScriptDriver::ApplyNextEvent() {
         break;
       case Event::kEnterDown: if (enter >= 0) io.KeysDown[enter] = true; break;
       case Event::kEnterUp: if (enter >= 0) io.KeysDown[enter] = false; break;
+      case Event::kWheel: io.MouseWheel += e.x; break;
     }
   }
   // Hold the scripted pointer state every frame (a window backend would overwrite it).

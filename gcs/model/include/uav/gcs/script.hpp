@@ -7,6 +7,7 @@
 //   map_click N E             left click on the map at north N, east E [m from the map origin]
 //   map_right_click N E       right click there (deletes a survey vertex)
 //   map_drag N1 E1 N2 E2      press at the first point, drag to the second, release
+//   map_zoom N E STEPS        mouse wheel STEPS notches over the map at N E (+ in, - out)
 //   select VEHICLE            pick the vehicle the panels show (click "vehicle:ID")
 //   wait SECONDS              let time pass
 //   wait_until COND [timeout SECONDS]   (default timeout 30 s)
@@ -17,7 +18,8 @@
 // "~ VALUE TOL" (|LHS - VALUE| <= TOL). LHS is a signal of the selected vehicle ("alt",
 // "STATE.x", "HEARTBEAT...") or one of: ack ack.reason ack.command ack.percent tries error task
 // armed vehicles selected plots link sent gave_up log survey.vertices survey.images
-// survey.lines survey.altitude survey.ok survey.problem upload upload.reason mission.items.
+// survey.lines survey.altitude survey.ok survey.problem upload upload.reason mission.items
+// video.frames video.rejected livemap.tiles livemap.received download.offered download.saved.
 // '#' starts a comment.
 #include <cstdio>
 #include <string>
@@ -60,6 +62,7 @@ class ScriptDriver {
   virtual bool StartSet(const std::string& label, const std::string& text, std::string* error) = 0;
   virtual bool StartMapClick(double north, double east, bool right, std::string* error) = 0;
   virtual bool StartMapDrag(double n1, double e1, double n2, double e2, std::string* error) = 0;
+  virtual bool StartMapZoom(double north, double east, int steps, std::string* error) = 0;
   virtual bool InputPending() const = 0;
   // 1: saved; 0: pending (call again next frame); -1: failed, *error says why.
   virtual int Screenshot(const std::string& path, std::string* error) = 0;

@@ -17,6 +17,9 @@ void DrawMessagesPanel(GcsModel& model, UiContext& ctx);
 void DrawMapPanel(GcsModel& model, UiContext& ctx);
 void DrawSurveyPanel(GcsModel& model, UiContext& ctx);
 void DrawLiveMapPanel(GcsModel& model, UiContext& ctx);
+// Uploads the selected vehicle's changed live-map tiles into textures (shared by the Map and
+// Live map panels).
+void SyncLiveMapTextures(const VehicleModel& v, UiContext& ctx);
 void DrawVideoPanel(GcsModel& model, UiContext& ctx);
 
 }  // namespace uav::gcs

@@ -21,6 +21,7 @@ class ImGuiScriptDriver : public ScriptDriver {
   bool StartSet(const std::string& label, const std::string& text, std::string* error) override;
   bool StartMapClick(double north, double east, bool right, std::string* error) override;
   bool StartMapDrag(double n1, double e1, double n2, double e2, std::string* error) override;
+  bool StartMapZoom(double north, double east, int steps, std::string* error) override;
   bool InputPending() const override { return !events_.empty(); }
   int Screenshot(const std::string& path, std::string* error) override;
 
@@ -30,7 +31,7 @@ class ImGuiScriptDriver : public ScriptDriver {
 
  private:
   struct Event {
-    enum Kind { kMove, kDown, kUp, kRightDown, kRightUp, kSelectAllDown, kSelectAllUp, kText, kEnterDown, kEnterUp } kind;
+    enum Kind { kMove, kDown, kUp, kRightDown, kRightUp, kSelectAllDown, kSelectAllUp, kText, kEnterDown, kEnterUp, kWheel } kind;
     float x = 0, y = 0;
     std::string text;
   };
