@@ -128,10 +128,8 @@ TEST(MapStitcher, VillageSurveyKeepsPositionAndScale) {
               100 * worst_scale, map.bgr.cols, map.bgr.rows, map.gsd_m, stitcher.tiles(), stitcher.memory_bytes() / 1e6);
   if (const char* out = std::getenv("UAV_TEST_MAP_OUT")) cv::imwrite(out, map.bgr);  // to look at it
   EXPECT_GT(registered, 190);          // the cross legs move 3 m per frame: still registered
-  // Issue 7 asks for 1 %. On flat ground the drift is 0.16 %; over the village's roofs and
-  // trees it is 0.9-1.1 % depending on the navigation noise (parallax biases the matches), so
-  // this bound is the measured state, not the target.
-  EXPECT_LT(worst_centre, 0.015 * flown);
+  // Issue 7's 1 %: measured 0.50-0.66 % over four navigation-noise seeds.
+  EXPECT_LT(worst_centre, 0.01 * flown);
   EXPECT_LT((offset - nav_offset).norm(), 0.5) << "navigation's mean error " << nav_offset.transpose();
   EXPECT_LT(worst_scale, 0.02);
   // The map covers the area flown: 60 m lines plus the footprint, north up.

@@ -29,7 +29,7 @@ namespace uav::vision {
 struct StitcherParams {
   double gsd_m = 0.0;              // [m/px] of the map; 0: the first frame's ground sample distance
   int tile_px = 256;               // canvas tile size
-  double nav_anchor_gain = 0.1;    // share of the image-registration correction dropped per frame
+  double nav_anchor_gain = 0.2;    // share of the image-registration correction dropped per frame
   double ground_down_m = 0.0;      // ground plane, NED down [m]
   bool gain_compensation = true;
   int gain_blocks = 4;             // gain grid per frame (gain_blocks x gain_blocks)
