@@ -31,23 +31,22 @@ struct SurveyFrame {
   Eigen::Vector2d nav_error_NE;
 };
 
-// Three 60 m lines 30 m apart joined by 10-frame cross legs, 1 m per frame (5 m/s at 5 Hz),
+// `lines` 60 m lines 30 m apart joined by 10-frame cross legs, 1 m per frame (5 m/s at 5 Hz),
 // heading north throughout, with a vehicle's small attitude wobble. The navigation solution
 // sees the position through GPS-like errors and the attitude to 0.3 deg.
-std::vector<SurveyFrame> Survey(const world::CameraSetup& cam, double altitude) {
+std::vector<SurveyFrame> Survey(const world::CameraSetup& cam, double altitude, int lines) {
   std::vector<Eigen::Vector2d> ne;
-  Eigen::Vector2d p(-30, -40);
+  Eigen::Vector2d p(-30, -40 - 15.0 * (lines - 3));
   auto leg = [&](const Eigen::Vector2d& step, int n) {
     for (int i = 0; i < n; ++i) {
       ne.push_back(p);
       p += step;
     }
   };
-  leg({1, 0}, 60);
-  leg({0, 3}, 10);
-  leg({-1, 0}, 60);
-  leg({0, 3}, 10);
-  leg({1, 0}, 60);
+  for (int line = 0; line < lines; ++line) {
+    if (line > 0) leg({0, 3}, 10);
+    leg({line % 2 == 0 ? 1.0 : -1.0, 0}, 60);
+  }
   std::mt19937 rng(7);
   std::normal_distribution<double> unit(0.0, 1.0);
   // GPS error as a receiver shows it over a minute: a bias of ~1.5 m, a slow wander, and
@@ -87,12 +86,17 @@ Eigen::Vector2d TrueCentre(const Eigen::Isometry3d& T_NC) {
   return (o + t * d).head<2>();
 }
 
-TEST(MapStitcher, VillageSurveyKeepsPositionAndScale) {
+// 3 lines: 200 frames (the issue's accuracy survey); 15 lines: 1040 frames, 1 km flown (the map
+// must stay straight over 1000 frames).
+class VillageSurvey : public ::testing::TestWithParam<int> {};
+
+TEST_P(VillageSurvey, KeepsPositionAndScale) {
+  const int lines = GetParam();
   const world::CameraSetup& cam = *Village().downward_camera();
   const world::Renderer renderer(Village(), cam);
   const double altitude = 40;
-  const std::vector<SurveyFrame> survey = Survey(cam, altitude);
-  ASSERT_EQ(survey.size(), 200u);
+  const std::vector<SurveyFrame> survey = Survey(cam, altitude, lines);
+  ASSERT_EQ(survey.size(), static_cast<size_t>(lines * 70 - 10));
   MapStitcher stitcher(cam.intrinsics);
   int registered = 0;
   double seconds = 0, worst_scale = 0;
@@ -127,15 +131,17 @@ TEST(MapStitcher, VillageSurveyKeepsPositionAndScale) {
               100 * worst_centre / flown,
               100 * worst_scale, map.bgr.cols, map.bgr.rows, map.gsd_m, stitcher.tiles(), stitcher.memory_bytes() / 1e6);
   if (const char* out = std::getenv("UAV_TEST_MAP_OUT")) cv::imwrite(out, map.bgr);  // to look at it
-  EXPECT_GT(registered, 190);          // the cross legs move 3 m per frame: still registered
+  EXPECT_GT(registered, 0.95 * survey.size());  // the cross legs move 3 m per frame: still registered
   // Issue 7's 1 %: measured 0.50-0.66 % over four navigation-noise seeds.
   EXPECT_LT(worst_centre, 0.01 * flown);
   EXPECT_LT((offset - nav_offset).norm(), 0.5) << "navigation's mean error " << nav_offset.transpose();
   EXPECT_LT(worst_scale, 0.02);
   // The map covers the area flown: 60 m lines plus the footprint, north up.
   EXPECT_GT(map.bgr.rows * map.gsd_m, 60 + 30);
-  EXPECT_GT(map.bgr.cols * map.gsd_m, 60 + 40);
+  EXPECT_GT(map.bgr.cols * map.gsd_m, 30 * (lines - 1) + 40);
 }
+INSTANTIATE_TEST_SUITE_P(MapStitcher, VillageSurvey, ::testing::Values(3, 15),
+                         [](const auto& info) { return std::to_string(info.param) + "_lines"; });
 
 TEST(MapStitcher, RejectsBadParametersAndFrames) {
   const world::CameraSetup& cam = *Village().downward_camera();
@@ -180,6 +186,40 @@ double SeamStep(const Mosaic& map, const cv::Mat& newer_mask) {
   inside = grown_out & newer_mask;
   outside = grown_in & not_newer;
   return std::abs(cv::mean(grey, inside)[0] - cv::mean(grey, outside)[0]);
+}
+
+// An exposure step between two frames (auto-exposure under a passing cloud: the second frame
+// 35 % brighter) must not show as a patch: with gain compensation the step at the newer frame's
+// edge is a fraction of what it is without.
+TEST(MapStitcher, GainCompensationHidesAnExposureStep) {
+  const world::CameraSetup& cam = *Village().downward_camera();
+  const world::Renderer renderer(Village(), cam);
+  Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity(), T2 = Eigen::Isometry3d::Identity();
+  T1.translation() = Eigen::Vector3d(0, 20, -40);
+  T2.translation() = Eigen::Vector3d(12, 20, -40);
+  const cv::Mat a = renderer.Render(T1 * cam.T_BC, 1'000'000).image;
+  cv::Mat b = renderer.Render(T2 * cam.T_BC, 1'000'000).image;
+  b.convertTo(b, CV_8UC3, 1.35);
+  double step[2];
+  for (const bool compensate : {true, false}) {
+    StitcherParams p;
+    p.gain_compensation = compensate;
+    p.feather_px = 0;  // the edge as the thesis writes it: only the gain differs
+    MapStitcher stitcher(cam.intrinsics, p);
+    ASSERT_TRUE(stitcher.Add({a, 0, T1 * cam.T_BC}).placed);
+    ASSERT_TRUE(stitcher.Add({b, 1, T2 * cam.T_BC}).placed);  // KLT may not follow a 35 % step; navigation places it
+    const Mosaic map = stitcher.Render();
+    // The newer frame's part of the map: everything north of its south edge.
+    cv::Mat newer = cv::Mat::zeros(map.mask.size(), CV_8U);
+    // Rows the newer frame covers: its footprint along track (image height) from 40 m, centred
+    // 12 m north.
+    const double newer_south_m = 12 - 0.5 * cam.intrinsics.height / cam.intrinsics.fy * 40;
+    const int last_row = static_cast<int>((map.north_top_m - newer_south_m) / map.gsd_m);
+    newer(cv::Rect(0, 0, map.mask.cols, std::min(last_row, map.mask.rows))).setTo(255);
+    step[compensate ? 0 : 1] = SeamStep(map, newer & map.mask);
+  }
+  std::printf("[ gain ] exposure step 35 %%: seam step %.1f grey levels compensated, %.1f not\n", step[0], step[1]);
+  EXPECT_LT(step[0], 0.3 * step[1]);
 }
 
 // opencv-doc's real aerial pair: oblique views of a town with the camera turned and tilted and
@@ -240,6 +280,7 @@ TEST(MapStitcher, RealAerialPairRegistersAndBlendsWithoutASeam) {
       cv::warpPerspective(cv::Mat(aero3.size(), CV_8U, cv::Scalar(255)), placed_mask, Hm, map.bgr.size(), cv::INTER_NEAREST);
       cv::erode(placed_mask, placed_mask, cv::Mat());
       const double seam = SeamStep(map, placed_mask & map.mask);
+      if (compensate && std::getenv("UAV_TEST_MAP_OUT")) cv::imwrite(std::getenv("UAV_TEST_MAP_OUT"), map.bgr);  // to look at it
       // Landmarks picked by hand in both photographs (aero3 -> aero1): the blue roofs of the
       // shopping centre and the foot of the three red-and-white chimneys.
       const Eigen::Vector3d roofs = step.registration.H_prev_cur * Eigen::Vector3d(235, 262, 1);
