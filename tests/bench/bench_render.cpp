@@ -56,11 +56,7 @@ void BM_StereoRange(benchmark::State& state) {
   Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
   T_NB.translation() = Eigen::Vector3d(4, 3, -1.5);
   const auto pair = renderer.Render(T_NB, 1000000);
-  uav::vision::StereoRig rig;
-  rig.left = setup.left.intrinsics;
-  rig.right = setup.right.intrinsics;
-  rig.T_LR = setup.left.T_BC.inverse() * setup.right.T_BC;
-  const uav::vision::StereoRange range(rig, uav::vision::StereoRangeParams());
+  const uav::vision::StereoRange range({setup.left.intrinsics, setup.right.intrinsics, setup.T_LR()}, uav::vision::StereoRangeParams());
   for (auto _ : state) {
     const auto r = range.Process(pair.left.image, pair.right.image);
     benchmark::DoNotOptimize(r.range_m);

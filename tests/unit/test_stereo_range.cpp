@@ -16,13 +16,7 @@ world::Scene LoadScene(const std::string& name) {
   return world::Scene::LoadFile(std::string(UAV_RESOURCE_DIR) + "/scenes/" + name + ".scene.json");
 }
 
-StereoRig RigOf(const world::StereoSetup& s) {
-  StereoRig rig;
-  rig.left = s.left.intrinsics;
-  rig.right = s.right.intrinsics;
-  rig.T_LR = s.left.T_BC.inverse() * s.right.T_BC;
-  return rig;
-}
+StereoRig RigOf(const world::StereoSetup& s) { return {s.left.intrinsics, s.right.intrinsics, s.T_LR()}; }
 
 Eigen::Isometry3d BodyPose(double n, double e, double d, double yaw) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

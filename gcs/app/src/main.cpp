@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
                  : uav::gcs::MakeGlfwPlatform(1600, 900, "uav-gcs", layout);
     uav::gcs::UiContext ctx;
     if (!download_dir.empty()) {
-      model.SetAutoDownload(download_dir);
+      model.SetDownloadDir(download_dir);
       ctx.state.download_dir = download_dir;
     }
     uav::gcs::Platform* p = platform.get();

@@ -242,9 +242,9 @@ void GcsModel::OnFileOffer(const std::string& vehicle_id, const FileOffer& offer
   }
   if (known) return;
   Log(now, vehicle_id, "file offered: " + offer.name + " (" + std::to_string((offer.size + 1023) / 1024) + " kB)", 6);
-  // Once the operator started a download (or asked for automatic downloads), files offered
-  // later (the rest of a map's files) follow it.
-  if (!auto_download_dir_.empty() || !download_dir_.empty()) StartDownloads(v, now);
+  // Once there is a download directory, files offered later (the rest of a map's files, the
+  // next map) follow into it.
+  if (!download_dir_.empty()) StartDownloads(v, now);
 }
 
 void GcsModel::OnFileChunk(const std::string& vehicle_id, const FileChunk& chunk, double /*now*/) {
@@ -293,7 +293,7 @@ void GcsModel::Tick(double now) {
         Log(now, id, "download of " + o.name + " failed: " + p->error, 3);
       }
       if (!p->complete || v.saved.count(o.transfer_id)) continue;
-      const std::string dir = !auto_download_dir_.empty() ? auto_download_dir_ : download_dir_;
+      const std::string& dir = download_dir_;
       const std::string path = (std::filesystem::path(dir) / o.name).string();
       try {
         std::filesystem::create_directories(dir);

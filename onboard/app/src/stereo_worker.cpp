@@ -2,20 +2,10 @@
 
 namespace uav::app {
 
-namespace {
-vision::StereoRig RigOf(const world::StereoSetup& s) {
-  vision::StereoRig rig;
-  rig.left = s.left.intrinsics;
-  rig.right = s.right.intrinsics;
-  rig.T_LR = s.left.T_BC.inverse() * s.right.T_BC;
-  return rig;
-}
-}  // namespace
-
 StereoWorker::StereoWorker(const world::Scene& scene, const world::StereoSetup& setup,
                            std::function<Eigen::Isometry3d()> truth_T_NB, Blackboard& board)
     : renderer_(scene, setup),
-      range_(RigOf(setup), vision::StereoRangeParams()),
+      range_({setup.left.intrinsics, setup.right.intrinsics, setup.T_LR()}, vision::StereoRangeParams()),
       truth_T_NB_(std::move(truth_T_NB)),
       board_(board) {}
 

@@ -19,11 +19,12 @@ StitchWorker::StitchWorker(const CameraIntrinsics& camera, Blackboard& board, co
 
 StitchWorker::~StitchWorker() = default;
 
-void StitchWorker::Tick(int64_t utime) {
+int StitchWorker::frames() const { return stitcher_->frames(); }
+
+void StitchWorker::Tick(int64_t /*utime*/) {
   for (SurveyCapture& c : board_.TakeCaptures()) {
     const cv::Mat image(c.height, c.width, CV_8UC3, c.bgr.data());
     const vision::StitchStep step = stitcher_->Add({image, c.utime, c.T_NC_estimate});
-    frames_ += step.placed;
     registered_ += step.registered;
   }
   // The live map: every changed tile, JPEG-compressed (unmapped pixels black).
@@ -47,10 +48,10 @@ void StitchWorker::Tick(int64_t utime) {
   // written then, so it is ready at landing.
   const BlackboardData d = board_.Snapshot();
   const bool capturing = d.capture_interval_s || d.capture_distance_m;
-  if (frames_ > 0 && !capturing && !d.airborne) Finish(utime);
+  if (stitcher_->frames() > 0 && !capturing && !d.airborne) Finish();
 }
 
-void StitchWorker::Finish(int64_t utime) {
+void StitchWorker::Finish() {
   const vision::Mosaic map = stitcher_->Render();
   char name[32];
   std::snprintf(name, sizeof name, "map_%d", maps_written_ + 1);
@@ -62,15 +63,13 @@ void StitchWorker::Finish(int64_t utime) {
     last_map_ = prefix;
     char text[256];
     std::snprintf(text, sizeof text, "map ready: %s.tif, %d frames (%d registered), %dx%d px at %.3f m/px", name,
-                  frames_, registered_, map.bgr.cols, map.bgr.rows, map.gsd_m);
+                  stitcher_->frames(), registered_, map.bgr.cols, map.bgr.rows, map.gsd_m);
     board_.PushStatus(6, text);
   } catch (const std::exception& e) {
     board_.PushStatus(3, std::string("map not written: ") + e.what());
   }
-  (void)utime;
   // The next survey starts a new map.
   stitcher_ = std::make_unique<vision::MapStitcher>(camera_);
-  frames_ = 0;
   registered_ = 0;
 }
 

@@ -196,8 +196,9 @@ class GcsModel {
   // saved under its own name, through a temporary name, once its SHA-256 matched. Returns false
   // and sets download_error() when no vehicle is selected or the directory cannot be made.
   bool StartDownload(const std::string& dir, double now);
-  // Downloads every file any vehicle offers, as soon as it is offered ("" turns this off).
-  void SetAutoDownload(const std::string& dir) { auto_download_dir_ = dir; }
+  // From now on every file any vehicle offers is downloaded into `dir` as soon as it is offered
+  // (uav-gcs --download-dir); StartDownload sets the same directory.
+  void SetDownloadDir(const std::string& dir) { download_dir_ = dir; }
 
   // ---- Periodic: resends unacknowledged commands, gives up after kMaxTries.
   void Tick(double now);
@@ -244,8 +245,7 @@ class GcsModel {
   std::string upload_error_;
   std::vector<OutgoingFileRequest> outgoing_file_requests_;
   std::string download_error_;
-  std::string download_dir_;       // where StartDownload saves
-  std::string auto_download_dir_;
+  std::string download_dir_;  // where downloads are saved; empty: none started yet
   int64_t next_seq_;
 };
 

@@ -27,18 +27,17 @@ class StitchWorker {
   ~StitchWorker();
   void Tick(int64_t utime);
 
-  int frames() const { return frames_; }          // stitched into the current map
+  int frames() const;  // placed in the current map
   int maps_written() const { return maps_written_; }
   const std::string& last_map() const { return last_map_; }  // path prefix of the newest map
 
  private:
-  void Finish(int64_t utime);
+  void Finish();
 
   CameraIntrinsics camera_;
   Blackboard& board_;
   Options options_;
   std::unique_ptr<vision::MapStitcher> stitcher_;
-  int frames_ = 0;
   int registered_ = 0;
   int maps_written_ = 0;
   std::string last_map_;

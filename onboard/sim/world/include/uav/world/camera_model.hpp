@@ -57,6 +57,8 @@ struct StereoSetup {
   double baseline_m = 0.12;
   LaserEmitter laser;
   Eigen::Isometry3d T_BE = Eigen::Isometry3d::Identity();  // emitter pose in the body frame
+  // Pose of the right camera in the left camera frame (what a stereo matcher needs).
+  Eigen::Isometry3d T_LR() const { return left.T_BC.inverse() * right.T_BC; }
 };
 
 // Builds a stereo setup: left/right poses from the rig centre pose T_B_rig (camera axes) and the
