@@ -69,4 +69,28 @@ double ParameterSet::Get(const std::string& name) const {
   return it->second.value;
 }
 
+ParameterSet ParameterSet::With(const std::string& name, double value) const {
+  auto it = params_.find(name);
+  if (it == params_.end()) throw std::invalid_argument("parameter '" + name + "' does not exist in " + source_);
+  const Parameter& p = it->second;
+  if (!std::isfinite(value) || value < p.min || value > p.max) {
+    std::ostringstream os;
+    os << "parameter " << name << " = " << value << " is outside [" << p.min << ", " << p.max << "] "
+       << p.unit;
+    throw std::invalid_argument(os.str());
+  }
+  ParameterSet copy = *this;
+  copy.params_[name].value = value;
+  return copy;
+}
+
+ParameterSet ParameterSet::WithAssignment(const std::string& assignment) const {
+  const auto eq = assignment.find('=');
+  double value = 0;
+  if (eq == std::string::npos || eq == 0 || !ParseFinite(assignment.substr(eq + 1), &value))
+    throw std::invalid_argument("parameter override must be NAME=VALUE with a finite number, got '" +
+                                assignment + "'");
+  return With(assignment.substr(0, eq), value);
+}
+
 }  // namespace uav

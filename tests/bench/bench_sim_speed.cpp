@@ -1,5 +1,6 @@
 // Headless simulation speed (issue 5 target: >= 200x real time with control and INS, no vision):
-// the quadrotor at 500 Hz and the IMU, CTL and SVO threads in lockstep at 50 Hz, flying a
+// the quadrotor at 500 Hz with its sensors and wind, and the IMU (with the INS), CTL and SVO
+// threads in lockstep at 50 Hz, flying a
 // takeoff and a square of gotos for the given simulated time, as fast as the threads go.
 // Prints a JSON report: simulated seconds, wall seconds, speed-up.
 // Usage: bench_sim_speed [SIM_SECONDS] [REPEATS]
@@ -26,11 +27,12 @@ int main(int argc, char** argv) {
   for (int r = 0; r < repeats; ++r) {
     uav::sim::SimVehicle vehicle(params, {1.2966, 103.7764, 15.0}, 0);
     uav::app::Blackboard board;
-    uav::app::ImuWorker imu(vehicle, board);
+    uav::app::ImuWorker imu(vehicle, board, uav::nav::InsParams::FromParameters(params), {1.2966, 103.7764, 15.0});
     uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
                                 uav::control::ControllerParams::FromParameters(params),
                                 uav::control::FailsafeParams::FromParameters(params), 0.02, board);
-    uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"));
+    uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"),
+                              uav::hal::VehicleParams::FromParameters(params).attitude_mode);
     const char* plan[] = {"arm", "takeoff 10", "goto 30 0 10", "goto 30 30 10", "goto 0 30 10", "goto 0 0 10"};
     int next = 0;
     int64_t seq = 0;

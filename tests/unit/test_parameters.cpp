@@ -49,6 +49,26 @@ TEST(Parameters, MissingParameterNamesItAndTheSource) {
   }
 }
 
+TEST(Parameters, OverridesAreCheckedAgainstTheLimitsOnBothSides) {
+  const auto p = ParameterSet::Parse("wind 0 m/s 0 20", "t.params");
+  EXPECT_DOUBLE_EQ(p.With("wind", 20).Get("wind"), 20);
+  EXPECT_DOUBLE_EQ(p.WithAssignment("wind=5").Get("wind"), 5);
+  EXPECT_DOUBLE_EQ(p.Get("wind"), 0);  // the original is unchanged
+  auto error = [&](const std::string& a) {
+    try {
+      p.WithAssignment(a);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error("wind=20.001"), "parameter wind = 20.001 is outside [0, 20] m/s");
+  EXPECT_EQ(error("wind=-0.001"), "parameter wind = -0.001 is outside [0, 20] m/s");
+  EXPECT_EQ(error("gust=1"), "parameter 'gust' does not exist in t.params");
+  EXPECT_NE(error("wind=nan").find("NAME=VALUE"), std::string::npos);
+  EXPECT_NE(error("wind").find("NAME=VALUE"), std::string::npos);
+}
+
 TEST(Parameters, ShippedVehicleFileLoads) {
   const auto p = ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params");
   EXPECT_DOUBLE_EQ(p.Get("thrust_gain"), 3.8738);        // Table 2.5

@@ -3,15 +3,25 @@
 
 #include <cmath>
 
+#include "uav/shared/frames.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/sim/quadrotor_model.hpp"
 
 namespace uav::sim {
 namespace {
 
+ParameterSet VehicleFile() {
+  return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params");
+}
+
+// The X650 with a perfectly balanced airframe (trims zero), for the rigid-body physics.
 QuadrotorParams Params() {
   return QuadrotorParams::FromParameters(
-      ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params"));
+      VehicleFile().With("trim_aileron", 0).With("trim_elevator", 0).With("trim_rudder", 0));
+}
+
+QuadrotorParams InMode(hal::AttitudeMode mode) {
+  return QuadrotorParams::FromParameters(VehicleFile().With("attitude_mode", static_cast<int>(mode)));
 }
 
 QuadrotorState Airborne(double input) {
@@ -97,6 +107,61 @@ TEST(QuadrotorModel, GroundHoldsTheVehicleUntilThrustExceedsWeight) {
   const std::array<double, 4> climb = {0.4, 0.4, 0.4, 0.4};
   for (int i = 0; i < 500; ++i) m.Step(s, climb, Eigen::Vector3d::Zero(), 0.002);
   EXPECT_LT(s.p_N.z(), -0.5);
+}
+
+TEST(QuadrotorModel, TheAirframeHoversLevelAtTheTrimOfTable24) {
+  const auto p = QuadrotorParams::FromParameters(VehicleFile());
+  const QuadrotorModel m(p);
+  // The trims through the mixer of Eq. 2.11 (m = th -+ a +- e +- r) cancel the imbalance ...
+  const double th = 0.18, a = p.trim.x(), e = p.trim.y(), r = p.trim.z();
+  const std::array<double, 4> trimmed = {th - a + e + r, th + a + e - r, th + a - e + r, th - a - e - r};
+  QuadrotorState s = Airborne(0.18);
+  s.rotor = trimmed;
+  EXPECT_NEAR(m.TorqueB(s).norm(), 0.0, 1e-12);
+  for (int i = 0; i < 500; ++i) m.Step(s, trimmed, Eigen::Vector3d::Zero(), 0.002);
+  EXPECT_LT(s.w_B.norm(), 1e-9);
+  // ... while untrimmed inputs roll, pitch and yaw the airframe.
+  QuadrotorState u = Airborne(0.18);
+  const std::array<double, 4> level = {0.18, 0.18, 0.18, 0.18};
+  for (int i = 0; i < 500; ++i) m.Step(u, level, Eigen::Vector3d::Zero(), 0.002);
+  EXPECT_LT(u.w_B.x(), -0.5);  // negative trim torque about x: rolls left within 1 s
+  EXPECT_LT(u.w_B.y(), -0.5);
+  EXPECT_GT(u.w_B.z(), 0.0);
+}
+
+// Gyro in the loop, cruise mode: each body rate is first order in its channel (Eq. 2.20-2.22).
+TEST(QuadrotorModel, GyroCruiseModeRatesAreFirstOrderWithTable26) {
+  const auto p = InMode(hal::AttitudeMode::kGyroCruise);
+  const QuadrotorModel m(p);
+  QuadrotorState s = Airborne(0.18);
+  const double du = 0.05, dt = 0.0005;
+  const std::array<double, 4> cmd = {p.trim.x() + du, p.trim.y() - du, 0.18, p.trim.z() + du};
+  const double t_end = 0.04;
+  for (int i = 0; i < static_cast<int>(std::round(t_end / dt)); ++i) m.Step(s, cmd, Eigen::Vector3d::Zero(), dt);
+  auto first_order = [&](double K, double tau, double u) { return K * u * (1 - std::exp(-t_end / tau)); };
+  EXPECT_NEAR(s.w_B.x(), first_order(p.gyro.roll_rate_gain, p.gyro.roll_rate_tau, du), 2e-4);
+  EXPECT_NEAR(s.w_B.y(), first_order(p.gyro.pitch_rate_gain, p.gyro.pitch_rate_tau, -du), 2e-4);
+  EXPECT_NEAR(s.w_B.z(), first_order(p.gyro.yaw_rate_gain, p.gyro.yaw_rate_tau, du), 2e-4);
+  // The gyro does not change the collective: the throttle trim still carries the weight.
+  EXPECT_NEAR(s.v_B.z(), 0.0, 2e-3);
+}
+
+// Gyro in the loop, hover mode: roll is two lags after a dead time (Eq. 2.17).
+TEST(QuadrotorModel, GyroHoverModeRollIsTwoLagsAfterTheDelay) {
+  const auto p = InMode(hal::AttitudeMode::kGyroHover);
+  const QuadrotorModel m(p);
+  QuadrotorState s = Airborne(0.18);
+  const double du = 0.05, dt = 0.0005, T = p.gyro.hover_delay, tau = p.gyro.roll_tau;
+  const std::array<double, 4> trim = {p.trim.x(), p.trim.y(), 0.18, p.trim.z()};
+  const std::array<double, 4> cmd = {p.trim.x() + du, p.trim.y(), 0.18, p.trim.z()};
+  double t = 0;
+  for (; t < T - 1e-9; t += dt) m.Step(s, cmd, trim, Eigen::Vector3d::Zero(), dt);  // the gyro has not seen it yet
+  EXPECT_NEAR(EulerFromRotationNB(s.q_NB.toRotationMatrix()).phi, 0.0, 1e-12);
+  const double t_after = 2 * tau;
+  for (double u = 0; u < t_after - 1e-9; u += dt) m.Step(s, cmd, cmd, Eigen::Vector3d::Zero(), dt);
+  const double expected = p.gyro.roll_gain * du * (1 - (1 + t_after / tau) * std::exp(-t_after / tau));
+  EXPECT_NEAR(EulerFromRotationNB(s.q_NB.toRotationMatrix()).phi, expected, 5e-3 * std::abs(expected));
+  EXPECT_LT(s.w_B.x(), 0.0);  // the gyro reports the roll rate that goes with it
 }
 
 }  // namespace

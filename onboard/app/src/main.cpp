@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
   std::string paths_dir = uav::waypoints::kStoredPathsDir;
   double duration_s = 0.0;
   std::string scene_path;
+  std::vector<std::string> param_overrides;
   cli.add_flag("--sim", sim, "run against the simulated quadrotor (thesis 2.4 model)");
   cli.add_option("--vehicle-id", vehicle_id, "vehicle id; channels are <ID>/<TOPIC>")->capture_default_str();
   cli.add_option("--lcm-url", lcm_url, "LCM URL")->capture_default_str();
@@ -66,6 +67,9 @@ int main(int argc, char** argv) {
   cli.add_option("--log-dir", log_dir, "write the CSV flight log into this directory");
   cli.add_option("--home", home_text, "home position LAT,LON,ALT (deg, deg, m WGS84)")->capture_default_str();
   cli.add_option("--params", params_path, "vehicle parameter file")->capture_default_str();
+  cli.add_option("--param", param_overrides,
+                 "override a vehicle-file parameter, NAME=VALUE, checked against its limits (repeatable; e.g. "
+                 "wind_speed=5)");
   cli.add_option("--paths", paths_dir, "directory of stored paths for 'track N'")->capture_default_str();
   cli.add_option("--scene", scene_path,
                  "simulated world (resources/scenes/*.scene.json): renders the scene's cameras; the downward "
@@ -82,7 +86,9 @@ int main(int argc, char** argv) {
                                   vehicle_id + "'");
     const double speed = ParseSpeed(speed_text);
     const uav::GeodeticPoint home = ParseHome(home_text);
-    const uav::ParameterSet params = uav::ParameterSet::LoadFile(params_path);
+    uav::ParameterSet params = uav::ParameterSet::LoadFile(params_path);
+    for (const auto& o : param_overrides) params = params.WithAssignment(o);
+    const auto vehicle_params = uav::hal::VehicleParams::FromParameters(params);
 
     // Block termination signals in every thread; a dedicated thread waits for them.
     sigset_t signals;
@@ -96,13 +102,13 @@ int main(int argc, char** argv) {
     constexpr int64_t kPeriodUs = 20000;   // threads at 50 Hz (thesis 2.3.2)
     uav::sim::SimVehicle vehicle(params, home, start);
     uav::app::Blackboard board;
-    uav::app::ImuWorker imu(vehicle, board);
+    uav::app::ImuWorker imu(vehicle, board, uav::nav::InsParams::FromParameters(params), home);
     uav::app::MissionStore missions(paths_dir, home, params.Get("ctl_speed_max_xy"));
     uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
                                 uav::control::ControllerParams::FromParameters(params),
                                 uav::control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6,
                                 board, &missions);
-    uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"));
+    uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"), vehicle_params.attitude_mode);
     std::unique_ptr<uav::app::FlightLog> log;
     if (!log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(log_dir, start);
     const std::string log_path = log ? log->path() : "";

@@ -8,14 +8,9 @@ namespace uav::app {
 
 void ImuWorker::Tick(int64_t utime) {
   const hal::SensorSample s = backend_.ReadSensors();
-  control::VehicleEstimate e;
-  e.utime = s.utime;
-  e.p_N = s.p_N;
-  e.v_N = s.v_N;
-  e.q_NB = s.q_NB;
-  e.euler = EulerFromRotationNB(s.q_NB.toRotationMatrix());
-  e.w_B = s.w_B;
-  e.f_B = s.f_B;
+  // Standing on the ground (not yet taken off, or landed) is a measurement too.
+  ins_.Update(s, !board_.Snapshot().airborne);
+  const control::VehicleEstimate e = ins_.estimate();
   board_.Update([&](BlackboardData& d) {
     d.sample = s;
     d.estimate = e;
@@ -91,10 +86,21 @@ void ControlWorker::Tick(int64_t utime) {
 
 void ServoWorker::Tick(int64_t utime) {
   const BlackboardData d = board_.Snapshot();
-  std::array<double, 4> rotors = {-1.0, -1.0, -1.0, -1.0};  // disarmed: stopped
-  if (d.armed && d.airborne) rotors = control::MixToRotors(d.servo);
-  else if (d.armed) rotors.fill(rotor_input_idle_);        // armed on the ground: idle, no lift
-  backend_.WriteRotors(rotors);
+  // Disarmed: stopped. Armed on the ground: idle, no lift. Flying: mixed, or to the gyro.
+  std::array<double, 4> outputs = {-1.0, -1.0, -1.0, -1.0};
+  std::array<double, 4> rotors = outputs;
+  if (mode_ == hal::AttitudeMode::kDirect) {
+    if (d.armed && d.airborne) rotors = control::MixToRotors(d.servo);
+    else if (d.armed) rotors.fill(rotor_input_idle_);
+    outputs = rotors;
+  } else {
+    // The gyro mixes; on the ground only the throttle channel moves (idle or off).
+    control::ServoCommand c = d.servo;
+    if (!(d.armed && d.airborne)) c = {0.0, 0.0, d.armed ? rotor_input_idle_ : -1.0, 0.0};
+    outputs = {c.aileron, c.elevator, c.throttle, c.rudder};
+    rotors.fill(c.throttle);  // the collective the gyro passes on (thesis 2.5)
+  }
+  backend_.WriteOutputs(outputs);
   board_.Update([&](BlackboardData& b) { b.rotor_inputs = rotors; });
 }
 

@@ -32,6 +32,9 @@ ControllerParams ControllerParams::FromParameters(const ParameterSet& p) {
   c.rate_gain = p.Get("ctl_rate_gain");
   c.yaw_gain = p.Get("ctl_yaw_gain");
   c.yaw_rate_gain = p.Get("ctl_yaw_rate_gain");
+  c.trim = {p.Get("ctl_trim_aileron"), p.Get("ctl_trim_elevator"), p.Get("ctl_trim_rudder")};
+  c.gyro_att_gain = p.Get("ctl_gyro_att_gain");
+  c.gyro_yaw_gain = p.Get("ctl_gyro_yaw_gain");
   return c;
 }
 
@@ -77,23 +80,43 @@ ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, cons
   const Eigen::Vector3d z_B = est.q_NB * Eigen::Vector3d::UnitZ();
   const double thrust = std::max(0.0, -p_.vehicle.mass * f_N.dot(z_B));
 
-  // ---- Inner loop: attitude PD to angular acceleration, then torque (Eq. 2.1 rotational part).
-  const Eigen::Vector3d alpha(
-      p_.att_gain * (phi_sp - est.euler.phi) - p_.rate_gain * est.w_B.x(),
-      p_.att_gain * (theta_sp - est.euler.theta) - p_.rate_gain * est.w_B.y(),
-      p_.yaw_gain * WrapAngle(sp.yaw - psi) - p_.yaw_rate_gain * est.w_B.z());
-  const Eigen::Vector3d tau =
-      p_.vehicle.inertia.cwiseProduct(alpha) + est.w_B.cross(p_.vehicle.inertia.cwiseProduct(est.w_B));
-
-  // ---- To servo channels (inverse of the mixer's torque gains, see mixer.hpp).
-  const double k_rp = 4.0 * p_.vehicle.thrust_gain * std::sqrt(2.0) / 2.0 * p_.vehicle.arm_length;
-  const double k_yaw = 4.0 * p_.vehicle.induced_torque_coeff * p_.vehicle.rotor_speed_gain;
   ServoCommand out;
-  out.aileron = std::clamp(tau.x() / k_rp, -0.5, 0.5);
-  out.elevator = std::clamp(tau.y() / k_rp, -0.5, 0.5);
-  out.rudder = std::clamp(tau.z() / k_yaw, -0.3, 0.3);
   out.throttle =
       std::clamp(p_.vehicle.rotor_input_zero_thrust + thrust / (4.0 * p_.vehicle.thrust_gain), -1.0, 1.0);
+  const double yaw_error = WrapAngle(sp.yaw - psi);
+  const auto& g = p_.vehicle.gyro;
+  switch (p_.vehicle.attitude_mode) {
+    case hal::AttitudeMode::kDirect: {
+      // ---- Inner loop: attitude PD to angular acceleration, then torque (Eq. 2.1 rotational part).
+      const Eigen::Vector3d alpha(p_.att_gain * (phi_sp - est.euler.phi) - p_.rate_gain * est.w_B.x(),
+                                  p_.att_gain * (theta_sp - est.euler.theta) - p_.rate_gain * est.w_B.y(),
+                                  p_.yaw_gain * yaw_error - p_.yaw_rate_gain * est.w_B.z());
+      const Eigen::Vector3d tau =
+          p_.vehicle.inertia.cwiseProduct(alpha) + est.w_B.cross(p_.vehicle.inertia.cwiseProduct(est.w_B));
+      // To servo channels (inverse of the mixer's torque gains, see mixer.hpp).
+      const double k_rp = 4.0 * p_.vehicle.thrust_gain * std::sqrt(2.0) / 2.0 * p_.vehicle.arm_length;
+      const double k_yaw = 4.0 * p_.vehicle.induced_torque_coeff * p_.vehicle.rotor_speed_gain;
+      out.aileron = p_.trim.x() + tau.x() / k_rp;
+      out.elevator = p_.trim.y() + tau.y() / k_rp;
+      out.rudder = p_.trim.z() + tau.z() / k_yaw;
+      break;
+    }
+    case hal::AttitudeMode::kGyroHover:
+      // The gyro holds the angle: command it through the static gain of Eq. 2.17-2.18.
+      out.aileron = p_.trim.x() + phi_sp / g.roll_gain;
+      out.elevator = p_.trim.y() + theta_sp / g.pitch_gain;
+      out.rudder = p_.trim.z() + p_.gyro_yaw_gain * yaw_error / g.yaw_rate_gain;  // Eq. 2.19
+      break;
+    case hal::AttitudeMode::kGyroCruise:
+      // The gyro holds the body rates: angle error to rate command through Eq. 2.20-2.22.
+      out.aileron = p_.trim.x() + p_.gyro_att_gain * (phi_sp - est.euler.phi) / g.roll_rate_gain;
+      out.elevator = p_.trim.y() + p_.gyro_att_gain * (theta_sp - est.euler.theta) / g.pitch_rate_gain;
+      out.rudder = p_.trim.z() + p_.gyro_yaw_gain * yaw_error / g.yaw_rate_gain;
+      break;
+  }
+  out.aileron = std::clamp(out.aileron, -0.5, 0.5);
+  out.elevator = std::clamp(out.elevator, -0.5, 0.5);
+  out.rudder = std::clamp(out.rudder, -0.3, 0.3);
   return out;
 }
 

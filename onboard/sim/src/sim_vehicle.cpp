@@ -14,15 +14,22 @@ SimVehicle::SimVehicle(const ParameterSet& params, const GeodeticPoint& home, in
     : model_(QuadrotorParams::FromParameters(params)),
       battery_(BatteryParams::FromParameters(params)),
       frame_(home),
+      sensors_(SensorParams::FromParameters(params), home, static_cast<uint64_t>(params.Get("sim_seed"))),
+      wind_(WindParams::FromParameters(params), static_cast<uint64_t>(params.Get("sim_seed"))),
       utime_(start_utime) {
-  rotor_cmd_.fill(-1.0);
+  outputs_.fill(-1.0);
   state_.rotor.fill(-1.0);
 }
 
 void SimVehicle::Step(int64_t dt_us) {
   std::lock_guard<std::mutex> lock(mutex_);
   const double dt = dt_us * 1e-6;
-  model_.Step(state_, rotor_cmd_, wind_N_, dt);
+  // Dead time of the gyro in hover mode: the outputs of `delay` ago drive roll and pitch.
+  const auto delay_steps = static_cast<std::size_t>(std::lround(model_.params().gyro.hover_delay / dt));
+  output_history_.push_back(outputs_);
+  while (output_history_.size() > delay_steps + 1) output_history_.pop_front();
+  const Eigen::Vector3d wind_N = wind_.Step(dt);
+  on_ground_ = model_.Step(state_, outputs_, output_history_.front(), wind_N, dt);
   // Battery: current grows with thrust^1.5 (momentum theory: power ~ T^(3/2)).
   const auto& q = model_.params();
   double thrust = 0.0;
@@ -45,14 +52,27 @@ hal::SensorSample SimVehicle::ReadSensors() {
   s.utime = utime_;
   s.rc_sticks = rc_sticks_;
   s.rc_manual = rc_manual_;
-  s.p_N = state_.p_N;
-  s.v_N = state_.q_NB * state_.v_B;
-  s.q_NB = state_.q_NB;
-  s.w_B = state_.w_B;
-  s.f_B = model_.SpecificForceB(state_, wind_N_);
-  s.gps = frame_.ToGeodetic(state_.p_N);
-  s.gps_fix = 3;
-  s.gps_satellites = 12;
+  // Mean specific force and body rate since the previous sample (delta-velocity, delta-angle),
+  // so that touchdowns and fast manoeuvres between samples reach the INS.
+  const Eigen::Vector3d v_N = state_.q_NB * state_.v_B;
+  const Eigen::Vector3d g_N(0, 0, model_.params().gravity);
+  Eigen::Vector3d f_B, w_B;
+  const double T = (utime_ - last_read_utime_) * 1e-6;
+  if (last_read_utime_ < 0 || T <= 0.0) {
+    // First sample: instantaneous (on the ground the legs carry the weight).
+    f_B = on_ground_ ? Eigen::Vector3d(state_.q_NB.conjugate() * -g_N) : model_.SpecificForceB(state_, wind_.wind_N());
+    w_B = state_.w_B;
+  } else {
+    f_B = state_.q_NB.conjugate() * ((v_N - last_read_v_N_) / T - g_N);
+    const Eigen::AngleAxisd dq(last_read_q_NB_.conjugate() * state_.q_NB);
+    w_B = dq.axis() * dq.angle() / T;
+  }
+  last_read_utime_ = utime_;
+  last_read_v_N_ = v_N;
+  last_read_q_NB_ = state_.q_NB;
+  QuadrotorState measured = state_;
+  measured.w_B = w_B;
+  sensors_.Sample(utime_, measured, f_B, &s);
   const double remaining =
       std::clamp(1.0 - battery_used_ah_ / battery_.capacity_ah, 0.0, 1.0);
   s.battery_remaining = remaining;
@@ -61,10 +81,20 @@ hal::SensorSample SimVehicle::ReadSensors() {
   return s;
 }
 
-void SimVehicle::WriteRotors(const std::array<double, 4>& rotor_inputs) {
+void SimVehicle::WriteOutputs(const std::array<double, 4>& channels) {
   std::lock_guard<std::mutex> lock(mutex_);
   for (int i = 0; i < 4; ++i)
-    rotor_cmd_[i] = std::isfinite(rotor_inputs[i]) ? std::clamp(rotor_inputs[i], -1.0, 1.0) : -1.0;
+    outputs_[i] = std::isfinite(channels[i]) ? std::clamp(channels[i], -1.0, 1.0) : -1.0;
+}
+
+Eigen::Vector3d SimVehicle::TruthWind_N() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return wind_.wind_N();
+}
+
+Eigen::Vector3d SimVehicle::GpsError_N() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return sensors_.gps_error_N();
 }
 
 QuadrotorState SimVehicle::TruthState() const {

@@ -25,6 +25,12 @@ class ParameterSet {
   // Throws std::out_of_range naming the parameter and the source when it is missing.
   double Get(const std::string& name) const;
   bool Has(const std::string& name) const { return params_.count(name) != 0; }
+  // A copy with one existing parameter changed (an override from the command line or a test).
+  // Throws std::invalid_argument naming the parameter when it is unknown, not finite or outside
+  // its limits.
+  ParameterSet With(const std::string& name, double value) const;
+  // Applies "name=value" (the --param option). Same errors as With, plus malformed text.
+  ParameterSet WithAssignment(const std::string& assignment) const;
   const std::map<std::string, Parameter>& all() const { return params_; }
   const std::string& source() const { return source_; }
 

@@ -9,18 +9,24 @@
 #include "uav/control/position_attitude_controller.hpp"
 #include "uav/control/task_manager.hpp"
 #include "uav/hal/vehicle_backend.hpp"
+#include "uav/hal/vehicle_params.hpp"
+#include "uav/nav/ins.hpp"
 
 namespace uav::app {
 
-// IMU: reads the INS and the RC receiver, publishes the estimate.
+// IMU: reads the sensors and the RC receiver, runs the INS, publishes the estimate.
 class ImuWorker {
  public:
-  ImuWorker(hal::VehicleBackend& backend, Blackboard& board) : backend_(backend), board_(board) {}
+  ImuWorker(hal::VehicleBackend& backend, Blackboard& board, const nav::InsParams& ins_params,
+            const GeodeticPoint& home)
+      : backend_(backend), board_(board), ins_(ins_params, home) {}
   void Tick(int64_t utime);
+  const nav::Ins& ins() const { return ins_; }
 
  private:
   hal::VehicleBackend& backend_;
   Blackboard& board_;
+  nav::Ins ins_;
 };
 
 // CTL: task manager and position/attitude controller.
@@ -46,17 +52,19 @@ class ControlWorker {
   bool last_capturing_ = false;
 };
 
-// SVO: servo channels through the mixer to the rotors.
+// SVO: servo channels to the outputs: through the mixer to the rotors in direct mode, straight
+// to the gyro with the gyro in the loop (thesis Fig. 2.21).
 class ServoWorker {
  public:
-  ServoWorker(hal::VehicleBackend& backend, Blackboard& board, double rotor_input_idle)
-      : backend_(backend), board_(board), rotor_input_idle_(rotor_input_idle) {}
+  ServoWorker(hal::VehicleBackend& backend, Blackboard& board, double rotor_input_idle, hal::AttitudeMode mode)
+      : backend_(backend), board_(board), rotor_input_idle_(rotor_input_idle), mode_(mode) {}
   void Tick(int64_t utime);
 
  private:
   hal::VehicleBackend& backend_;
   Blackboard& board_;
   double rotor_input_idle_;
+  hal::AttitudeMode mode_;
 };
 
 // DLG: CSV flight log (only when a log directory was given).

@@ -1,6 +1,9 @@
 #pragma once
 // Cascaded position / velocity / attitude controller (thesis 2.3.2 hierarchical control:
-// outer loop position and velocity, inner loop attitude). Plain class, fed plain data.
+// outer loop position and velocity, inner loop attitude). The inner loop follows the vehicle's
+// wiring (thesis 2.5): torques through the mixer in direct mode, or commands to the gyro through
+// its identified closed loops (Eq. 2.17-2.22) with the gyro in the loop. Plain class, fed plain
+// data.
 #include <optional>
 
 #include <Eigen/Core>
@@ -16,6 +19,8 @@ struct ControllerParams {
   double pos_gain_xy, pos_gain_z, vel_gain_xy, vel_int_xy, vel_gain_z, vel_int_z, vel_int_limit;
   double speed_max_xy, speed_max_up, speed_max_down, accel_max_xy, tilt_max;
   double att_gain, rate_gain, yaw_gain, yaw_rate_gain;
+  Eigen::Vector3d trim;  // aileron, elevator, rudder at zero controller output (Table 2.4)
+  double gyro_att_gain, gyro_yaw_gain;
   static ControllerParams FromParameters(const ParameterSet& p);
 };
 

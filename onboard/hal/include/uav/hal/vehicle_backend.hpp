@@ -1,27 +1,36 @@
 #pragma once
-// What the onboard threads see of the vehicle (thesis 2.3.2): the IMU thread reads sensors, the
-// SVO thread writes actuators. A simulator and, later, hardware drivers implement it.
+// What the onboard threads see of the vehicle (thesis 2.3.2): the IMU thread reads the raw
+// sensors of the INS box (IMU, GPS, barometer, sonar) and the RC receiver; the SVO thread writes
+// the four output channels. A simulator and, later, hardware drivers implement it.
 #include <array>
 #include <cstdint>
 
 #include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "uav/shared/geodesy.hpp"
 
 namespace uav::hal {
 
+// One 50 Hz sample of every sensor (thesis 2.3.2). Slow sensors repeat their latest reading and
+// say when it was taken, so the INS uses each reading once.
 struct SensorSample {
   int64_t utime = 0;  // [us] time of the sample on the vehicle clock
-  // Navigation solution of the INS box (thesis 2.3.2: the ArduIMU outputs fused attitude).
-  Eigen::Vector3d p_N = Eigen::Vector3d::Zero();   // [m] NED from home
-  Eigen::Vector3d v_N = Eigen::Vector3d::Zero();   // [m/s]
-  Eigen::Quaterniond q_NB = Eigen::Quaterniond::Identity();
-  Eigen::Vector3d w_B = Eigen::Vector3d::Zero();   // [rad/s] gyro
-  Eigen::Vector3d f_B = Eigen::Vector3d::Zero();   // [m/s^2] accelerometer specific force
-  GeodeticPoint gps;                               // GPS receiver fix
-  int gps_fix = 0;                                 // 0 none, 3 3-D
+  // IMU (ArduIMU): body frame B (FRD).
+  Eigen::Vector3d gyro_B = Eigen::Vector3d::Zero();   // [rad/s] angular rate
+  Eigen::Vector3d accel_B = Eigen::Vector3d::Zero();  // [m/s^2] specific force (gravity excluded)
+  Eigen::Vector3d mag_B = Eigen::Vector3d::UnitX();   // [1] Earth's field, unit strength
+  // GPS receiver (u-blox): WGS84 fix and Doppler velocity in N (NED).
+  int64_t gps_utime = 0;  // [us] time of the latest fix; 0: none yet
+  GeodeticPoint gps;
+  Eigen::Vector3d gps_v_N = Eigen::Vector3d::Zero();  // [m/s]
+  int gps_fix = 0;                                    // 0 none, 3 3-D
   int gps_satellites = 0;
+  // Barometric altitude above the pressure at power-on [m], every sample.
+  double baro_alt_m = 0.0;
+  // Downward sonar: slant range to the ground along -z_B [m]; sonar_valid false out of range.
+  int64_t sonar_utime = 0;
+  double sonar_range_m = 0.0;
+  bool sonar_valid = false;
   double battery_voltage_v = 0.0;
   double battery_remaining = 0.0;                  // [0..1]
   // RC receiver (PPM read by the IMU board): aileron, elevator, throttle, rudder in -1..1,
@@ -34,8 +43,10 @@ class VehicleBackend {
  public:
   virtual ~VehicleBackend() = default;
   virtual SensorSample ReadSensors() = 0;
-  // Normalised rotor inputs M_1..M_4 in -1..1 (thesis Table 2.3); values outside are clamped.
-  virtual void WriteRotors(const std::array<double, 4>& rotor_inputs) = 0;
+  // The four output channels of the servo board in -1..1; values outside are clamped. What they
+  // drive depends on the wiring (VehicleParams::attitude_mode): the rotors M_1..M_4 directly, or
+  // the gyro's aileron, elevator, throttle and rudder inputs (thesis 2.5, Fig. 2.21).
+  virtual void WriteOutputs(const std::array<double, 4>& channels) = 0;
 };
 
 }  // namespace uav::hal

@@ -1,0 +1,79 @@
+#pragma once
+// The IMU thread's inertial navigation (thesis 2.3.2: "the INS consists of an IMU, GPS,
+// barometer and ultrasonic sonar"): a 16-state error-state Kalman filter. The IMU propagates
+// position, velocity and attitude at 50 Hz; GPS position and velocity, barometric and sonar
+// height and magnetic heading correct them and estimate the gyro, accelerometer and barometer
+// biases. Plain class, fed plain samples; control reads its estimate, never the truth.
+#include <cstdint>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "uav/control/estimate.hpp"
+#include "uav/hal/vehicle_backend.hpp"
+#include "uav/shared/geodesy.hpp"
+#include "uav/shared/parameters.hpp"
+
+namespace uav::nav {
+
+// The sensors' noise figures (1 sigma, the vehicle file's imu_*, gps_*, baro_*, sonar_*, mag_*)
+// and the filter's own bias random walks.
+struct InsParams {
+  double gravity;
+  double gyro_noise, gyro_bias, accel_noise, accel_bias, mag_noise, mag_inclination;
+  double gps_noise_h, gps_noise_v, gps_vel_noise;  // total: white and wander together
+  double baro_noise, baro_drift, baro_drift_time, sonar_noise;
+  double gyro_bias_walk, accel_bias_walk;  // [rad/s/sqrt(s)], [m/s^2/sqrt(s)]
+  static InsParams FromParameters(const ParameterSet& p);
+};
+
+struct InsHealth {
+  bool aligned = false;
+  int gps_rejected = 0;    // GPS fixes refused by the innovation gate, in a row
+  int gps_resets = 0;      // times the position was reset to GPS after a run of refusals
+  int sonar_rejected = 0;  // sonar readings refused (an object under the vehicle)
+};
+
+class Ins {
+ public:
+  Ins(const InsParams& params, const GeodeticPoint& home);
+
+  // One IMU sample (50 Hz): propagates, then applies the measurements that are new in it.
+  // `at_rest` (disarmed on the ground) adds zero-velocity and zero-rate measurements.
+  void Update(const hal::SensorSample& sample, bool at_rest);
+
+  control::VehicleEstimate estimate() const { return estimate_; }
+  const InsHealth& health() const { return health_; }
+  Eigen::Vector3d gyro_bias() const { return bg_; }
+  Eigen::Vector3d accel_bias() const { return ba_; }
+  // 1 sigma of the position error the filter believes [m], N.
+  Eigen::Vector3d position_sigma() const;
+
+  static constexpr int kStates = 16;  // dp dv dtheta dbg dba dbaro
+  using Vector = Eigen::Matrix<double, kStates, 1>;
+  using Matrix = Eigen::Matrix<double, kStates, kStates>;
+
+ private:
+  void Align(const hal::SensorSample& s);
+  void Propagate(const Eigen::Vector3d& gyro_B, const Eigen::Vector3d& accel_B, double dt);
+  // Scalar measurement z = h(x) + noise with Jacobian H and variance r; `gate` in sigmas (0: none).
+  // Returns false when the gate refused it.
+  bool Correct(double innovation, const Vector& H, double r, double gate);
+  void Publish(const hal::SensorSample& s);
+
+  InsParams p_;
+  LocalNedFrame frame_;
+  Eigen::Vector3d p_N_ = Eigen::Vector3d::Zero(), v_N_ = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q_NB_ = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d bg_ = Eigen::Vector3d::Zero(), ba_ = Eigen::Vector3d::Zero();
+  double baro_bias_ = 0.0;
+  Matrix P_ = Matrix::Identity();
+
+ public:
+  const Matrix& covariance() const { return P_; }
+  int64_t last_utime_ = -1, last_gps_utime_ = 0, last_sonar_utime_ = 0;
+  control::VehicleEstimate estimate_;
+  InsHealth health_;
+};
+
+}  // namespace uav::nav

@@ -1,0 +1,222 @@
+#include "uav/nav/ins.hpp"
+
+#include <cmath>
+
+#include "uav/shared/frames.hpp"
+
+namespace uav::nav {
+namespace {
+
+// Error-state layout.
+constexpr int kP = 0, kV = 3, kTh = 6, kBg = 9, kBa = 12, kBb = 15;
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+Eigen::Quaterniond ExpQ(const Eigen::Vector3d& th) {
+  const double a = th.norm();
+  if (a < 1e-12) return Eigen::Quaterniond(1, 0.5 * th.x(), 0.5 * th.y(), 0.5 * th.z()).normalized();
+  return Eigen::Quaterniond(Eigen::AngleAxisd(a, th / a));
+}
+
+// Magnetic heading from a body-frame field reading, levelled with the estimated roll and pitch.
+double MagneticHeading(const Eigen::Vector3d& mag_B, double phi, double theta) {
+  const Eigen::Matrix3d R_tilt = (Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()) *
+                                  Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  const Eigen::Vector3d m_H = R_tilt * mag_B;  // field in the yawed, level frame
+  return std::atan2(-m_H.y(), m_H.x());
+}
+
+}  // namespace
+
+InsParams InsParams::FromParameters(const ParameterSet& p) {
+  InsParams i;
+  i.gravity = p.Get("gravity");
+  i.gyro_noise = p.Get("imu_gyro_noise");
+  i.gyro_bias = p.Get("imu_gyro_bias");
+  i.accel_noise = p.Get("imu_accel_noise");
+  i.accel_bias = p.Get("imu_accel_bias");
+  i.mag_noise = p.Get("mag_noise");
+  i.mag_inclination = p.Get("mag_inclination");
+  i.gps_noise_h = std::hypot(p.Get("gps_noise_h"), p.Get("gps_drift_h"));
+  i.gps_noise_v = std::hypot(p.Get("gps_noise_v"), p.Get("gps_drift_v"));
+  i.gps_vel_noise = p.Get("gps_vel_noise");
+  i.baro_noise = p.Get("baro_noise");
+  i.baro_drift = p.Get("baro_drift");
+  i.baro_drift_time = p.Get("baro_drift_time");
+  i.sonar_noise = p.Get("sonar_noise");
+  i.gyro_bias_walk = p.Get("ins_gyro_bias_walk");
+  i.accel_bias_walk = p.Get("ins_accel_bias_walk");
+  return i;
+}
+
+Ins::Ins(const InsParams& params, const GeodeticPoint& home) : p_(params), frame_(home) {}
+
+Eigen::Vector3d Ins::position_sigma() const {
+  return P_.diagonal().segment<3>(kP).cwiseMax(0.0).cwiseSqrt();
+}
+
+void Ins::Align(const hal::SensorSample& s) {
+  // Level from the accelerometer (the vehicle stands still when powered), heading from the
+  // magnetometer, position from the first GPS fix, height zero: it is powered at home.
+  const Eigen::Vector3d f = s.accel_B;
+  const double phi = std::atan2(-f.y(), -f.z());
+  const double theta = std::atan2(f.x(), std::hypot(f.y(), f.z()));
+  const double psi = MagneticHeading(s.mag_B, phi, theta);
+  q_NB_ = Eigen::Quaterniond(RotationNBFromEuler({phi, theta, psi}));
+  p_N_.setZero();
+  if (s.gps_utime > 0) p_N_.head<2>() = frame_.ToNed(s.gps).head<2>();
+  v_N_.setZero();
+  bg_.setZero();
+  ba_.setZero();
+  baro_bias_ = s.baro_alt_m;
+  P_.setZero();
+  P_.diagonal().segment<2>(kP).setConstant(p_.gps_noise_h * p_.gps_noise_h);
+  P_(kP + 2, kP + 2) = 0.3 * 0.3;
+  P_.diagonal().segment<3>(kV).setConstant(0.1 * 0.1);
+  P_.diagonal().segment<2>(kTh).setConstant(0.05 * 0.05);
+  P_(kTh + 2, kTh + 2) = 0.2 * 0.2;
+  P_.diagonal().segment<3>(kBg).setConstant(std::max(1e-8, p_.gyro_bias * p_.gyro_bias));
+  // In hover a horizontal accelerometer bias looks exactly like a tilt; turns in yaw separate
+  // the two (the bias turns with the body, a tilt error does not).
+  P_.diagonal().segment<3>(kBa).setConstant(std::max(1e-8, p_.accel_bias * p_.accel_bias));
+  P_(kBb, kBb) = 0.5 * 0.5;
+  last_gps_utime_ = s.gps_utime;
+  last_sonar_utime_ = s.sonar_utime;
+  health_.aligned = true;
+}
+
+void Ins::Propagate(const Eigen::Vector3d& gyro_B, const Eigen::Vector3d& accel_B, double dt) {
+  const Eigen::Vector3d w = gyro_B - bg_;
+  const Eigen::Vector3d f = accel_B - ba_;
+  const Eigen::Matrix3d R = q_NB_.toRotationMatrix();
+  const Eigen::Vector3d a_N = R * f + Eigen::Vector3d(0, 0, p_.gravity);
+  p_N_ += v_N_ * dt + 0.5 * a_N * dt * dt;
+  v_N_ += a_N * dt;
+  q_NB_ = (q_NB_ * ExpQ(w * dt)).normalized();
+
+  // Error dynamics: dp' = dv, dv' = -R [f]x dth - R dba, dth' = -[w]x dth - dbg.
+  Matrix F = Matrix::Identity();
+  F.block<3, 3>(kP, kV) = Eigen::Matrix3d::Identity() * dt;
+  F.block<3, 3>(kV, kTh) = -R * Skew(f) * dt;
+  F.block<3, 3>(kV, kBa) = -R * dt;
+  F.block<3, 3>(kTh, kTh) = Eigen::Matrix3d::Identity() - Skew(w) * dt;
+  F.block<3, 3>(kTh, kBg) = -Eigen::Matrix3d::Identity() * dt;
+  P_ = F * P_ * F.transpose();
+  // Sensor noise per sample, plus a floor for what 50 Hz point samples miss between them.
+  const double qv = (p_.accel_noise * p_.accel_noise) * dt * dt + 0.003 * 0.003 * dt;
+  const double qth = (p_.gyro_noise * p_.gyro_noise) * dt * dt + 0.00005 * 0.00005 * dt;
+  const double baro_walk = p_.baro_drift * std::sqrt(2.0 / p_.baro_drift_time);
+  for (int i = 0; i < 3; ++i) {
+    P_(kV + i, kV + i) += qv;
+    P_(kTh + i, kTh + i) += qth;
+    P_(kBg + i, kBg + i) += p_.gyro_bias_walk * p_.gyro_bias_walk * dt;
+    P_(kBa + i, kBa + i) += p_.accel_bias_walk * p_.accel_bias_walk * dt;
+  }
+  P_(kBb, kBb) += baro_walk * baro_walk * dt;
+}
+
+bool Ins::Correct(double innovation, const Vector& H, double r, double gate) {
+  const Vector PHt = P_ * H;
+  const double s = H.dot(PHt) + r;
+  if (!(s > 0.0) || !std::isfinite(innovation)) return false;
+  if (gate > 0.0 && innovation * innovation > gate * gate * s) return false;
+  const Vector K = PHt / s;
+  const Vector dx = K * innovation;
+  P_ -= K * PHt.transpose();
+  P_ = 0.5 * (P_ + P_.transpose());
+  // Inject the error into the nominal state (and reset it to zero).
+  p_N_ += dx.segment<3>(kP);
+  v_N_ += dx.segment<3>(kV);
+  q_NB_ = (q_NB_ * ExpQ(dx.segment<3>(kTh))).normalized();
+  bg_ += dx.segment<3>(kBg);
+  ba_ += dx.segment<3>(kBa);
+  baro_bias_ += dx(kBb);
+  return true;
+}
+
+void Ins::Update(const hal::SensorSample& s, bool at_rest) {
+  if (!health_.aligned) {
+    Align(s);
+    last_utime_ = s.utime;
+    Publish(s);
+    return;
+  }
+  const double dt = (s.utime - last_utime_) * 1e-6;
+  last_utime_ = s.utime;
+  if (dt > 0.0 && dt < 1.0) Propagate(s.gyro_B, s.accel_B, dt);
+
+  auto unit = [](int i) {
+    Vector h = Vector::Zero();
+    h(i) = 1.0;
+    return h;
+  };
+  if (s.gps_utime != last_gps_utime_ && s.gps_fix >= 3) {
+    last_gps_utime_ = s.gps_utime;
+    const Eigen::Vector3d z = frame_.ToNed(s.gps);
+    // Most of GPS's error wanders slowly: successive fixes are far from independent, so each
+    // counts as a tenth of an independent one (else the estimate chases the fix-to-fix noise).
+    const double r_pos[3] = {10 * p_.gps_noise_h * p_.gps_noise_h, 10 * p_.gps_noise_h * p_.gps_noise_h,
+                             10 * p_.gps_noise_v * p_.gps_noise_v};
+    bool accepted = true;
+    for (int i = 0; i < 3; ++i) accepted &= Correct(z[i] - p_N_[i], unit(kP + i), r_pos[i], 5.0);
+    for (int i = 0; i < 3; ++i)
+      accepted &= Correct(s.gps_v_N[i] - v_N_[i], unit(kV + i), p_.gps_vel_noise * p_.gps_vel_noise,
+                          health_.gps_rejected >= 5 ? 0.0 : 5.0);  // after 1 s of refusals: take it
+    health_.gps_rejected = accepted ? 0 : health_.gps_rejected + 1;
+    // A filter that refuses GPS for 5 s has diverged (or GPS jumped): start again from GPS.
+    if (health_.gps_rejected >= 25) {
+      p_N_.head<2>() = z.head<2>();
+      P_.block<3, kStates>(kP, 0).setZero();
+      P_.block<kStates, 3>(0, kP).setZero();
+      for (int i = 0; i < 3; ++i) P_(kP + i, kP + i) = r_pos[i];
+      health_.gps_rejected = 0;
+      ++health_.gps_resets;
+    }
+  }
+  // Barometer: baro = -z + bias.
+  {
+    Vector H = Vector::Zero();
+    H(kP + 2) = -1.0;
+    H(kBb) = 1.0;
+    Correct(s.baro_alt_m - (-p_N_.z() + baro_bias_), H, p_.baro_noise * p_.baro_noise, 5.0);
+  }
+  if (s.sonar_utime != last_sonar_utime_ && s.sonar_valid) {
+    last_sonar_utime_ = s.sonar_utime;
+    const double cos_tilt = q_NB_.toRotationMatrix()(2, 2);
+    const double height = s.sonar_range_m * cos_tilt;
+    if (!Correct(height - (-p_N_.z()), -unit(kP + 2), p_.sonar_noise * p_.sonar_noise + 0.01 * 0.01, 5.0))
+      ++health_.sonar_rejected;
+  }
+  // Magnetic heading.
+  {
+    const EulerAngles e = EulerFromRotationNB(q_NB_.toRotationMatrix());
+    const double psi_m = MagneticHeading(s.mag_B, e.phi, e.theta);
+    Vector H = Vector::Zero();
+    H.segment<3>(kTh) = q_NB_.toRotationMatrix().row(2).transpose();
+    const double sigma = p_.mag_noise / std::max(0.1, std::cos(p_.mag_inclination)) + 0.002;
+    Correct(WrapAngle(psi_m - e.psi), H, sigma * sigma, 0.0);
+  }
+  if (at_rest) {
+    // Standing on the ground: no velocity, no rotation (this is what calibrates the gyro bias).
+    for (int i = 0; i < 3; ++i) Correct(-v_N_[i], unit(kV + i), 0.02 * 0.02, 0.0);
+    for (int i = 0; i < 3; ++i)
+      Correct(s.gyro_B[i] - bg_[i], unit(kBg + i), p_.gyro_noise * p_.gyro_noise + 1e-8, 0.0);
+  }
+  Publish(s);
+}
+
+void Ins::Publish(const hal::SensorSample& s) {
+  estimate_.utime = s.utime;
+  estimate_.p_N = p_N_;
+  estimate_.v_N = v_N_;
+  estimate_.q_NB = q_NB_;
+  estimate_.euler = EulerFromRotationNB(q_NB_.toRotationMatrix());
+  estimate_.w_B = s.gyro_B - bg_;
+  estimate_.f_B = s.accel_B - ba_;
+}
+
+}  // namespace uav::nav
