@@ -60,6 +60,15 @@ const std::vector<CommandSpec>& CommandSpecs() {
        {{"N", 1.0, 99.0, "paths are numbered 1 to 99", true}}},
       {CommandId::kMission, "mission", "fly the mission uploaded from the GCS", {}},
       {CommandId::kReturn, "return", "fly home at a safe altitude and land", {}},
+      // System identification (thesis 2.4.5): a linear chirp (Eq. 2.14) added to one servo
+      // channel while hovering; the flight log records it for uav-sysid.
+      {CommandId::kChirp, "chirp", "while hovering, add a chirp (Eq. 2.14) to servo channel 1 aileron, 2 elevator, "
+       "3 throttle or 4 rudder, sweeping f0_hz to f1_hz",
+       {{"channel", 1.0, 4.0, "1 aileron, 2 elevator, 3 throttle, 4 rudder (thesis Table 2.3)", true},
+        {"amplitude", 0.01, 0.3, "a larger perturbation leaves the linear range around hover (thesis 2.4.5)"},
+        {"f0_hz", 0.05, 5.0, "start: the thesis begins with long-period swings"},
+        {"f1_hz", 0.1, 10.0, "end: above 10 Hz the servos and the 50 Hz loop cannot follow"},
+        {"duration_s", 5.0, 120.0, "long enough for the lowest frequency, short enough to stay in view"}}},
   };
   return kSpecs;
 }

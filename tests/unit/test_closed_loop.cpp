@@ -2,14 +2,17 @@
 // and the simulated quadrotor, commands injected where the CMM thread would put them.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <functional>
 
 #include "uav/app/lockstep_scheduler.hpp"
+#include "uav/app/flight_log.hpp"
 #include "uav/app/mission_store.hpp"
 #include "uav/app/workers.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/sim/sim_vehicle.hpp"
+#include "uav/sysid/system_identification.hpp"
 #include "uav/waypoints/stored_paths.hpp"
 
 namespace uav::app {
@@ -58,6 +61,7 @@ class ClosedLoop : public ::testing::Test {
       const auto truth = vehicle_.TruthState();
       const auto e = EulerFromRotationNB(truth.q_NB.toRotationMatrix());
       max_tilt_ = std::max({max_tilt_, std::abs(e.phi), std::abs(e.theta)});
+      if (log_) log_->Write(t, board_.Snapshot());  // as the DLG thread does, after SVO
       if (on_step_) on_step_();
       if (until_ && until_()) done = true;
       if (done) s.Stop();
@@ -78,6 +82,7 @@ class ClosedLoop : public ::testing::Test {
   ParameterSet params_;
   sim::SimVehicle vehicle_;
   MissionStore missions_;
+  std::unique_ptr<FlightLog> log_;  // the CSV flight log, when a test wants one
   std::function<void()> on_step_;  // called every control period while flying
   std::function<bool()> until_;    // stops Fly early when it holds
   Blackboard board_;
@@ -380,11 +385,123 @@ TEST_P(WindyAccuracy, HoverInFiveMetresPerSecondWindWithGustsStaysWithinHalfAMet
   EXPECT_LE(h.control_max_h, 0.5);
 }
 
-const auto kWirings = ::testing::Values(AccuracyCase{"direct", {}}, AccuracyCase{"gyro_cruise", {"attitude_mode=2"}},
+const auto kWirings = ::testing::Values(AccuracyCase{"direct", {}},  AccuracyCase{"gyro_cruise", {"attitude_mode=2"}},
                                         AccuracyCase{"gyro_hover", {"attitude_mode=1"}});
 auto CaseName = [](const auto& info) { return std::string(info.param.name); };
 INSTANTIATE_TEST_SUITE_P(Wirings, Accuracy, kWirings, CaseName);
 INSTANTIATE_TEST_SUITE_P(Wirings, WindyAccuracy, kWirings, CaseName);
+
+// ---- System identification (issue 5 item 7): chirp flights with sensor noise, then the
+// parameters uav-sysid recovers against the ones the simulator flew with.
+
+class SysId : public Accuracy {
+ protected:
+  // Hovers, then flies each chirp "channel amplitude f0 f1 duration" with 3 s of hover between,
+  // logging every 20 ms; returns the log's path.
+  std::string FlyChirps(const std::vector<std::string>& chirps, const std::string& name) {
+    const auto dir = std::filesystem::temp_directory_path() / ("uav_sysid_" + name);
+    std::filesystem::remove_all(dir);
+    log_ = std::make_unique<FlightLog>(dir.string(), 0,
+                                       static_cast<int>(hal::VehicleParams::FromParameters(params_).attitude_mode));
+    const std::string path = log_->path();
+    Fly("", 10);
+    EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+    EXPECT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
+    EXPECT_EQ(Fly("hover", 1).result, control::AckResult::kCompleted);
+    Fly("", 12);  // a still hover for the trim values
+    for (const auto& c : chirps) {
+      const auto r = Fly("chirp " + c, 130);
+      EXPECT_EQ(r.result, control::AckResult::kCompleted) << c << ": " << r.reason;
+      EXPECT_EQ(Fly("hover", 1).result, control::AckResult::kCompleted);
+      Fly("", 3);
+    }
+    log_.reset();  // flushes and closes
+    return path;
+  }
+  sysid::Identification Identify(const std::string& path) {
+    return sysid::Identify(sysid::LogTable::ReadCsv(path), sysid::KnownParams::FromParameters(params_));
+  }
+  static double Param(const sysid::Identification& id, const std::string& name) {
+    for (const auto& f : id.fits)
+      if (f.params.count(name)) return f.params.at(name);
+    ADD_FAILURE() << "no fit has " << name;
+    return 0;
+  }
+  void ExpectWithin5Percent(const sysid::Identification& id, const std::string& name, double truth) {
+    const double got = Param(id, name);
+    std::printf("  %-8s identified %9.5f, simulator %9.5f (%+.2f %%)\n", name.c_str(), got, truth,
+                100 * (got - truth) / truth);
+    EXPECT_NEAR(got, truth, 0.05 * std::abs(truth)) << name;
+  }
+};
+
+TEST_P(SysId, ChirpFlightRecoversTheSimulatorsParametersWithinFivePercent) {
+  const auto v = hal::VehicleParams::FromParameters(params_);
+  std::vector<std::string> chirps = {"3 0.05 0.2 4 30"};  // throttle: Eq. 2.13
+  if (v.attitude_mode == hal::AttitudeMode::kDirect) chirps.push_back("4 0.1 0.1 3 30");  // rudder: Eq. 2.16
+  if (v.attitude_mode == hal::AttitudeMode::kGyroCruise)
+    for (const char* c : {"1 0.04 0.2 6 30", "2 0.04 0.2 6 30", "4 0.05 0.1 3 30"}) chirps.push_back(c);
+  if (v.attitude_mode == hal::AttitudeMode::kGyroHover)
+    for (const char* c : {"1 0.05 0.1 3 30", "2 0.05 0.1 3 30"}) chirps.push_back(c);
+  const auto id = Identify(FlyChirps(chirps, GetParam().name));
+  std::printf("%s: %zu models, notes %zu\n", GetParam().name, id.fits.size(), id.notes.size());
+  for (const auto& f : id.fits) std::printf("  %s %s fit %.1f %%\n", f.model.c_str(), f.equation.c_str(), f.fit_percent);
+  ExpectWithin5Percent(id, "Kf", v.thrust_gain);
+  ExpectWithin5Percent(id, "tau_f", v.thrust_time_constant);
+  if (v.attitude_mode == hal::AttitudeMode::kDirect) ExpectWithin5Percent(id, "d", v.induced_torque_coeff);
+  if (v.attitude_mode == hal::AttitudeMode::kGyroCruise) {
+    ExpectWithin5Percent(id, "K_p", v.gyro.roll_rate_gain);
+    ExpectWithin5Percent(id, "tau_p", v.gyro.roll_rate_tau);
+    ExpectWithin5Percent(id, "K_q", v.gyro.pitch_rate_gain);
+    ExpectWithin5Percent(id, "tau_q", v.gyro.pitch_rate_tau);
+    ExpectWithin5Percent(id, "K_r", v.gyro.yaw_rate_gain);
+    ExpectWithin5Percent(id, "tau_r", v.gyro.yaw_rate_tau);
+  }
+  if (v.attitude_mode == hal::AttitudeMode::kGyroHover) {
+    ExpectWithin5Percent(id, "K_phi", v.gyro.roll_gain);
+    ExpectWithin5Percent(id, "tau_phi", v.gyro.roll_tau);
+    ExpectWithin5Percent(id, "T_phi", v.gyro.hover_delay);
+    ExpectWithin5Percent(id, "K_theta", v.gyro.pitch_gain);
+    ExpectWithin5Percent(id, "tau_theta", v.gyro.pitch_tau);
+    ExpectWithin5Percent(id, "T_theta", v.gyro.hover_delay);
+  }
+}
+
+// Table 2.4's method: an untrimmed controller (zero trims) still hovers, because its integrators
+// and the attitude error take up the airframe's imbalance; the mean servo outputs over the still
+// hover are then the trim the airframe needs.
+class Untrimmed : public Accuracy {
+ protected:
+  Untrimmed() : Accuracy({"ctl_trim_aileron=0", "ctl_trim_elevator=0", "ctl_trim_rudder=0"}) {}
+};
+
+TEST_P(Untrimmed, TrimExtractionFindsTheAirframesTrim) {
+  Fly("", 5);
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  const auto dir = std::filesystem::temp_directory_path() / "uav_sysid_trim";
+  std::filesystem::remove_all(dir);
+  log_ = std::make_unique<FlightLog>(dir.string(), 0, 0);
+  const std::string path = log_->path();
+  EXPECT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
+  EXPECT_EQ(Fly("hover", 1).result, control::AckResult::kCompleted);
+  Fly("", 20);
+  log_.reset();
+  const auto id = sysid::Identify(sysid::LogTable::ReadCsv(path), sysid::KnownParams::FromParameters(params_));
+  ASSERT_TRUE(id.trim.found);
+  const auto& t = id.trim.values;
+  std::printf("trim over %.1f-%.1f s: u_a0 %.4f u_e0 %.4f u_th0 %.4f u_r0 %.4f (airframe %.4f %.4f 0.18 %.4f)\n",
+              id.trim.t0, id.trim.t1, t.at("u_a0"), t.at("u_e0"), t.at("u_th0"), t.at("u_r0"),
+              params_.Get("trim_aileron"), params_.Get("trim_elevator"), params_.Get("trim_rudder"));
+  EXPECT_NEAR(t.at("u_a0"), params_.Get("trim_aileron"), 0.005);
+  EXPECT_NEAR(t.at("u_e0"), params_.Get("trim_elevator"), 0.005);
+  EXPECT_NEAR(t.at("u_r0"), params_.Get("trim_rudder"), 0.005);
+  EXPECT_NEAR(t.at("u_th0"), 0.18, 0.005);  // Table 2.4's throttle trim, built into the rotor model
+}
+
+INSTANTIATE_TEST_SUITE_P(Direct, Untrimmed, ::testing::Values(AccuracyCase{"direct", {}}), CaseName);
+
+INSTANTIATE_TEST_SUITE_P(Wirings, SysId,
+                         kWirings, CaseName);
 
 }  // namespace
 }  // namespace uav::app

@@ -14,11 +14,12 @@ TEST(FlightLog, HeaderNamesTable23SignalsAndRowsMatchIt) {
   std::filesystem::remove_all(dir);
   std::string path;
   {
-    FlightLog log(dir.string(), 1000000);
+    FlightLog log(dir.string(), 1000000, 2);
     path = log.path();
     BlackboardData d;
     d.estimate.p_N = {1, 2, -3};
     d.rotor_inputs = {0.1, 0.2, 0.3, 0.4};
+    d.chirp_channel = 3;
     for (int i = 0; i < 5; ++i) log.Write(1000000 + i * 20000, d);
   }
   std::ifstream in(path);
@@ -34,11 +35,12 @@ TEST(FlightLog, HeaderNamesTable23SignalsAndRowsMatchIt) {
   }
   EXPECT_EQ(rows, 5);
   EXPECT_EQ(last.rfind("0.080,1.0000,2.0000,-3.0000", 0), 0u);
+  EXPECT_EQ(last.substr(last.size() - 4), ",3,2");  // chirp on the throttle, gyro in cruise mode
 }
 
 TEST(FlightLog, UnwritableDirectoryNamesThePath) {
   try {
-    FlightLog log("/proc/definitely/not/here", 1);
+    FlightLog log("/proc/definitely/not/here", 1, 0);
     FAIL();
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/proc/definitely/not/here"), std::string::npos);

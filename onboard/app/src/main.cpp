@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
                                 board, &missions);
     uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"), vehicle_params.attitude_mode);
     std::unique_ptr<uav::app::FlightLog> log;
-    if (!log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(log_dir, start);
+    if (!log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(log_dir, start, static_cast<int>(vehicle_params.attitude_mode));
     const std::string log_path = log ? log->path() : "";
     uav::app::LogWorker dlg(std::move(log), board);
     std::unique_ptr<uav::app::EventLog> events;

@@ -55,6 +55,14 @@ void ControlWorker::Tick(int64_t utime) {
     controller_.Reset();
   } else if (out.airborne) {
     servo = controller_.Update(d.estimate, last_valid_setpoint_, period_s_);
+    // System identification: the chirp goes on top of the controller's output (thesis 2.4.5).
+    switch (out.chirp_channel) {
+      case control::ServoChannel::kNone: break;
+      case control::ServoChannel::kAileron: servo.aileron += out.chirp_value; break;
+      case control::ServoChannel::kElevator: servo.elevator += out.chirp_value; break;
+      case control::ServoChannel::kThrottle: servo.throttle += out.chirp_value; break;
+      case control::ServoChannel::kRudder: servo.rudder += out.chirp_value; break;
+    }
   }
   board_.Update([&](BlackboardData& b) {
     b.servo = servo;
@@ -65,6 +73,7 @@ void ControlWorker::Tick(int64_t utime) {
     b.mission_item = out.mission_item;
     b.capture_interval_s = out.capture_interval_s;
     b.capture_distance_m = out.capture_distance_m;
+    b.chirp_channel = static_cast<int>(out.chirp_channel);
   });
   board_.PushReports(reports);
   // Operator-facing events.

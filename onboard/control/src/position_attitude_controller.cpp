@@ -35,6 +35,8 @@ ControllerParams ControllerParams::FromParameters(const ParameterSet& p) {
   c.trim = {p.Get("ctl_trim_aileron"), p.Get("ctl_trim_elevator"), p.Get("ctl_trim_rudder")};
   c.gyro_att_gain = p.Get("ctl_gyro_att_gain");
   c.gyro_yaw_gain = p.Get("ctl_gyro_yaw_gain");
+  c.att_int = p.Get("ctl_att_int");
+  c.att_int_limit = p.Get("ctl_att_int_limit");
   return c;
 }
 
@@ -43,6 +45,7 @@ PositionAttitudeController::PositionAttitudeController(const ControllerParams& p
 void PositionAttitudeController::Reset() {
   int_xy_.setZero();
   int_z_ = 0.0;
+  int_att_.setZero();
 }
 
 ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, const Setpoint& sp,
@@ -114,6 +117,19 @@ ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, cons
       out.rudder = p_.trim.z() + p_.gyro_yaw_gain * yaw_error / g.yaw_rate_gain;
       break;
   }
+  // Attitude integrator (anti-windup by clamping): takes up what the trims do not, so that an
+  // untrimmed airframe still flies level and its trim can be measured (Table 2.4). Its sign
+  // follows the channel's effect: the gyro's identified gains are negative (Table 2.6).
+  Eigen::Vector3d sign = Eigen::Vector3d::Ones();
+  if (p_.vehicle.attitude_mode == hal::AttitudeMode::kGyroHover)
+    sign = {g.roll_gain > 0 ? 1.0 : -1.0, g.pitch_gain > 0 ? 1.0 : -1.0, g.yaw_rate_gain > 0 ? 1.0 : -1.0};
+  if (p_.vehicle.attitude_mode == hal::AttitudeMode::kGyroCruise)
+    sign = {g.roll_rate_gain > 0 ? 1.0 : -1.0, g.pitch_rate_gain > 0 ? 1.0 : -1.0, g.yaw_rate_gain > 0 ? 1.0 : -1.0};
+  const Eigen::Vector3d e_att(phi_sp - est.euler.phi, theta_sp - est.euler.theta, yaw_error);
+  int_att_ = (int_att_ + p_.att_int * dt * sign.cwiseProduct(e_att)).cwiseMax(-p_.att_int_limit).cwiseMin(p_.att_int_limit);
+  out.aileron += int_att_.x();
+  out.elevator += int_att_.y();
+  out.rudder += int_att_.z();
   out.aileron = std::clamp(out.aileron, -0.5, 0.5);
   out.elevator = std::clamp(out.elevator, -0.5, 0.5);
   out.rudder = std::clamp(out.rudder, -0.3, 0.3);

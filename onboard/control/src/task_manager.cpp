@@ -50,6 +50,7 @@ void TaskManager::Hold(const VehicleEstimate& est) {
   setpoint_.p_N = est.p_N;
   setpoint_.yaw = est.euler.psi;
   task_ = Task::kHover;
+  chirp_ = Chirp{};
 }
 
 void TaskManager::EnforceFailsafe(FailsafeAction required, const std::string& reason, const VehicleEstimate& est,
@@ -146,6 +147,7 @@ void TaskManager::Finish(AckResult result, const std::string& reason,
 void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstimate& est, double t,
                         std::vector<TaskReport>* reports) {
   Finish(AckResult::kFailed, std::string("superseded by ") + req.command.Name(), reports);
+  chirp_ = Chirp{};
   if (task != Task::kTrack && task != Task::kMission && task != Task::kReturn) runner_.reset();
   task_ = task;
   active_ = req;
@@ -242,6 +244,16 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       steps[0].kind = waypoints::MissionStep::Kind::kReturnHome;
       return BeginPath(Task::kReturn, std::move(steps), req, est, t, reports);
     }
+    case CommandId::kChirp: {
+      // Thesis 2.4.5: the vehicle first hovers, then one channel is excited.
+      if (!airborne_ || task_ != Task::kHover) return reject("not hovering: hover first, then chirp");
+      if (!(c.args[3] > c.args[2])) return reject("f1_hz must be above f0_hz");
+      Hold(est);
+      Begin(Task::kHover, req, est, t, reports);
+      chirp_ = {static_cast<ServoChannel>(static_cast<int>(c.args[0])), c.args[1], c.args[2], c.args[3], c.args[4]};
+      chirp_start_t_ = t;
+      return;
+    }
   }
 }
 
@@ -291,6 +303,25 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
     setpoint_.descent_rate =
         est.altitude() < p_.land_slow_alt ? p_.land_speed / 3.0 : p_.land_speed;
   }
+  Output o;
+  if (chirp_.channel != ServoChannel::kNone) {
+    const double elapsed = t - chirp_start_t_;
+    if (task_ != Task::kHover || !airborne_) {
+      chirp_ = Chirp{};
+    } else if (elapsed >= chirp_.duration_s) {
+      chirp_ = Chirp{};
+      Finish(AckResult::kCompleted, "", reports);
+    } else {
+      o.chirp_channel = chirp_.channel;
+      o.chirp_value = chirp_.Value(elapsed);
+      const int percent = static_cast<int>(100.0 * elapsed / chirp_.duration_s);
+      if (t - last_progress_t_ >= 0.5 && percent != last_percent_) {
+        last_percent_ = percent;
+        last_progress_t_ = t;
+        reports->push_back({active_.source, active_.seq, active_.command.Name(), AckResult::kInProgress, percent, ""});
+      }
+    }
+  }
   const bool long_task = task_ == Task::kTakeoff || task_ == Task::kGoto || task_ == Task::kLand;
   if (long_task) {
     const int percent = static_cast<int>(std::floor(100.0 * Progress(est) + 1e-9));
@@ -329,7 +360,6 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
       Finish(AckResult::kFailed, "target not reached in time; holding position", reports);
     }
   }
-  Output o;
   o.armed = armed_;
   o.airborne = airborne_;
   o.task = task_;

@@ -9,7 +9,7 @@
 
 namespace uav {
 
-enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto, kTrack, kMission, kReturn };
+enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto, kTrack, kMission, kReturn, kChirp };
 
 struct ArgumentSpec {
   const char* name;   // e.g. "alt_m"

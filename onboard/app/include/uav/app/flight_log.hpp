@@ -11,8 +11,9 @@ namespace uav::app {
 class FlightLog {
  public:
   // Creates DIR/flight_<utime>.csv (DIR is created if missing). Throws std::runtime_error
-  // naming the path when it cannot be written.
-  FlightLog(const std::string& dir, int64_t start_utime);
+  // naming the path when it cannot be written. `attitude_mode` (hal::AttitudeMode) is written on
+  // every row so that uav-sysid knows which model structure the data follow.
+  FlightLog(const std::string& dir, int64_t start_utime, int attitude_mode);
   ~FlightLog();
   FlightLog(const FlightLog&) = delete;
   FlightLog& operator=(const FlightLog&) = delete;
@@ -25,6 +26,7 @@ class FlightLog {
   std::string path_;
   std::FILE* file_ = nullptr;
   int64_t start_utime_;
+  int attitude_mode_;
   int rows_since_flush_ = 0;
 };
 

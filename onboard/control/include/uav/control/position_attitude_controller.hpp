@@ -21,6 +21,7 @@ struct ControllerParams {
   double att_gain, rate_gain, yaw_gain, yaw_rate_gain;
   Eigen::Vector3d trim;  // aileron, elevator, rudder at zero controller output (Table 2.4)
   double gyro_att_gain, gyro_yaw_gain;
+  double att_int, att_int_limit;  // attitude integrator [servo units / (rad s)], its limit [servo units]
   static ControllerParams FromParameters(const ParameterSet& p);
 };
 
@@ -49,6 +50,7 @@ class PositionAttitudeController {
   ControllerParams p_;
   Eigen::Vector2d int_xy_ = Eigen::Vector2d::Zero();
   double int_z_ = 0.0;
+  Eigen::Vector3d int_att_ = Eigen::Vector3d::Zero();  // [servo units] aileron, elevator, rudder
 };
 
 }  // namespace uav::control

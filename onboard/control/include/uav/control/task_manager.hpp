@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "uav/control/chirp.hpp"
 #include "uav/control/estimate.hpp"
 #include "uav/control/failsafe.hpp"
 #include "uav/control/mission_runner.hpp"
@@ -75,6 +76,8 @@ class TaskManager {
     int mission_item = -1;                      // item being flown by track/mission, else -1
     std::optional<double> capture_interval_s;   // survey camera on (by time) ...
     std::optional<double> capture_distance_m;   // ... or by distance
+    ServoChannel chirp_channel = ServoChannel::kNone;  // system identification: add chirp_value
+    double chirp_value = 0.0;                          // to this servo channel (Eq. 2.14)
   };
   // Carries out what the failsafes require (call before Update each step): an action stricter
   // than the one being flown takes over at once (an active command fails with the reason);
@@ -124,6 +127,9 @@ class TaskManager {
   double last_progress_t_ = -1e9;
   int last_percent_ = -1;
   double still_since_ = -1.0;
+  // The chirp being flown (channel kNone: none) and when it started.
+  Chirp chirp_;
+  double chirp_start_t_ = 0.0;
 };
 
 }  // namespace uav::control
