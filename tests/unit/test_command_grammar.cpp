@@ -64,6 +64,16 @@ INSTANTIATE_TEST_SUITE_P(
                       BadCase{"goto 0 -1000.5 10", "east_m"},
                       BadCase{"goto 0 0 0.5", "alt_m"},
                       BadCase{"goto 0 0 121", "alt_m"},
+                      BadCase{"chirp 0 0.05 0.2 3 30", "channel = 0 is outside [1, 4]"},
+                      BadCase{"chirp 5 0.05 0.2 3 30", "channel = 5 is outside [1, 4]"},
+                      BadCase{"chirp 1.5 0.05 0.2 3 30", "channel must be a whole number"},
+                      BadCase{"chirp 1 0.009 0.2 3 30", "amplitude = 0.009 is outside [0.01, 0.3]"},
+                      BadCase{"chirp 1 0.301 0.2 3 30", "amplitude = 0.301 is outside [0.01, 0.3]"},
+                      BadCase{"chirp 1 0.05 0.04 3 30", "f0_hz = 0.04 is outside [0.05, 5]"},
+                      BadCase{"chirp 1 0.05 0.2 10.5 30", "f1_hz = 10.5 is outside [0.1, 10]"},
+                      BadCase{"chirp 1 0.05 0.2 3 4.9", "duration_s = 4.9 is outside [5, 120]"},
+                      BadCase{"chirp 1 0.05 0.2 3 nan", "duration_s is not a finite number"},
+                      BadCase{"chirp 1 0.05 0.2 3", "missing argument duration_s"},
                       BadCase{"arm\x01", "control character"}));
 
 TEST(CommandGrammar, AcceptsBothSidesOfEveryLimitInclusive) {
@@ -72,6 +82,8 @@ TEST(CommandGrammar, AcceptsBothSidesOfEveryLimitInclusive) {
   EXPECT_TRUE(ParseCommand("goto -1000 1000 1").ok());
   EXPECT_TRUE(ParseCommand("goto 1000 -1000 120").ok());
   EXPECT_TRUE(ParseCommand("goto 1e2 -2.5e1 1.5e1").ok());
+  EXPECT_TRUE(ParseCommand("chirp 1 0.01 0.05 0.1 5").ok());
+  EXPECT_TRUE(ParseCommand("chirp 4 0.3 5 10 120").ok());
 }
 
 TEST(CommandGrammar, RejectsOverlongLine) {

@@ -2,6 +2,8 @@
 // references they load, and how tasks complete (thesis 2.3.2).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "uav/control/task_manager.hpp"
 #include "uav/shared/parameters.hpp"
 
@@ -94,6 +96,45 @@ TEST_F(TaskManagerTest, HoverTakesTheCurrentPositionAsReference) {
   Step();
   EXPECT_EQ(out_.setpoint.p_N, est_.p_N);
   EXPECT_EQ(out_.setpoint.yaw, 0.5);
+}
+
+TEST_F(TaskManagerTest, ChirpOnlyWhileHoveringFollowsEq214AndEndsItself) {
+  EXPECT_EQ(Send("chirp 1 0.05 0.2 3 30")[0].reason, "not hovering: hover first, then chirp");
+  Send("arm");
+  Send("takeoff 10");
+  EXPECT_EQ(Send("chirp 1 0.05 0.2 3 30").back().reason, "not hovering: hover first, then chirp");
+  est_.p_N = {0, 0, -10};
+  Send("hover");
+  EXPECT_EQ(Send("chirp 1 0.05 3 3 30")[0].reason, "f1_hz must be above f0_hz");
+  auto r = Send("chirp 3 0.05 0.2 3 10");
+  EXPECT_EQ(r.back().result, AckResult::kAccepted);
+  // u(t) = A sin(2 pi (f0 + k/2 t) t), k = (f1 - f0) / T (Eq. 2.14), on the throttle channel.
+  const double k = (3.0 - 0.2) / 10.0;
+  std::vector<TaskReport> all;
+  for (int i = 1; i <= 400; ++i) {
+    for (auto& rep : Step()) all.push_back(rep);
+    const double t = 0.02 * i;
+    EXPECT_EQ(out_.chirp_channel, ServoChannel::kThrottle);
+    EXPECT_NEAR(out_.chirp_value, 0.05 * std::sin(2 * M_PI * (0.2 + k / 2 * t) * t), 1e-9) << t;
+    EXPECT_EQ(out_.task, Task::kHover);
+  }
+  ASSERT_FALSE(all.empty());
+  EXPECT_EQ(all.back().result, AckResult::kInProgress);
+  EXPECT_NEAR(all.back().percent, 80, 5);
+  for (int i = 0; i < 110; ++i)
+    for (auto& rep : Step()) all.push_back(rep);
+  EXPECT_EQ(all.back().result, AckResult::kCompleted);
+  EXPECT_EQ(out_.chirp_channel, ServoChannel::kNone);
+  EXPECT_EQ(out_.chirp_value, 0.0);
+  // Any other command ends a chirp at once.
+  Send("chirp 2 0.05 0.2 3 10");
+  Step();
+  EXPECT_EQ(out_.chirp_channel, ServoChannel::kElevator);
+  r = Send("hover");
+  EXPECT_EQ(r[0].result, AckResult::kFailed);
+  EXPECT_EQ(r[0].reason, "superseded by hover");
+  Step();
+  EXPECT_EQ(out_.chirp_channel, ServoChannel::kNone);
 }
 
 TEST_F(TaskManagerTest, LandCompletesAfterStillOnGroundAndDisarms) {

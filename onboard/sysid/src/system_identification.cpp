@@ -48,9 +48,10 @@ std::vector<double> SimulateLag(const std::vector<double>& u, double dt, double 
     for (int s = 0; s < kSubsteps; ++s) {
       const long j = static_cast<long>(k - 1) * kSubsteps + s - delay_steps;
       const double in = u[static_cast<std::size_t>(std::max(0L, j / kSubsteps))];
+      const double before = order == 2 ? x2 : x1;
       x1 = a * x1 + (1 - a) * in;
       if (order == 2) x2 = a * x2 + (1 - a) * x1;
-      sum += order == 2 ? x2 : x1;
+      sum += 0.5 * (before + (order == 2 ? x2 : x1));  // trapezoid: the mean to O(h^2)
     }
     out[k] = interval_mean ? sum / kSubsteps : (order == 2 ? x2 : x1);
   }
