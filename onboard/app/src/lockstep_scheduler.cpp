@@ -80,11 +80,22 @@ void LockstepScheduler::RunStage(const std::vector<Worker*>& due, int64_t utime)
     }
   }
   for (Worker* w : due) w->go.notify_one();
+  // Most stages take tens of microseconds: poll for them briefly before sleeping, which saves
+  // the driver a futex sleep and wake-up per stage (most of the cost at hundreds of times real
+  // time). go_generation only changes under the mutex on this thread, so reading it is safe.
+  auto all_done = [&] {
+    return std::all_of(due.begin(), due.end(), [](const Worker* w) {
+      return w->done_generation.load(std::memory_order_acquire) == w->go_generation;
+    });
+  };
+  const auto spin_until = std::chrono::steady_clock::now() + std::chrono::microseconds(200);
+  while (!all_done() && std::chrono::steady_clock::now() < spin_until) {
+#if defined(__x86_64__)
+    __builtin_ia32_pause();
+#endif
+  }
   std::unique_lock<std::mutex> lock(mutex_);
-  cv_.wait(lock, [&] {
-    return std::all_of(due.begin(), due.end(),
-                       [](const Worker* w) { return w->done_generation == w->go_generation; });
-  });
+  cv_.wait(lock, all_done);
 }
 
 void LockstepScheduler::Run(const std::function<void(int64_t)>& physics) {
