@@ -235,6 +235,48 @@ TEST_F(ClosedLoop, LinkLossHoldsAtFiveSecondsThenReturnsHomeAndLands) {
   EXPECT_NEAR(TruthPosition().z(), 0.0, 1e-9);
 }
 
+// Issue 5 item 5: onboard work such as image capture continues through a link-loss failsafe.
+TEST_F(ClosedLoop, SurveyCaptureGoesOnThroughTheLinkLossFailsafeUntilLanding) {
+  waypoints::SurveyParams p;
+  p.camera = {4.8, 3.6, 3.6, 640, 480, true};
+  p.altitude_m = 10.0;
+  p.speed_m_s = 3.0;
+  p.turnaround_m = 3.0;
+  const LocalNedFrame frame(kHome);
+  std::vector<GeodeticPoint> area;
+  for (const Eigen::Vector2d& v : {Eigen::Vector2d(10, 5), Eigen::Vector2d(50, 5), Eigen::Vector2d(50, 35), Eigen::Vector2d(10, 35)})
+    area.push_back(frame.ToGeodetic(Eigen::Vector3d(v.x(), v.y(), 0)));
+  const waypoints::SurveyPlan plan = waypoints::PlanSurvey(area, kHome, p);
+  ASSERT_TRUE(plan.ok());
+  ASSERT_EQ(missions_.AcceptUpload(waypoints::MissionFromSurvey(area, kHome, p, plan)), "");
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  until_ = [&] { return board_.Snapshot().capture_interval_s.has_value(); };
+  Fly("mission", 120);
+  ASSERT_TRUE(board_.Snapshot().capture_interval_s);
+  // The GCS falls silent: hold at 5 s, return at 20 s; the camera keeps its 0.2 s interval.
+  const double lost_at = vehicle_.utime() * 1e-6;
+  int steps = 0, capturing = 0;
+  bool saw_hold = false, saw_return = false;
+  on_step_ = [&] {
+    board_.Update([&](BlackboardData& b) { b.gcs_link_age_s = vehicle_.utime() * 1e-6 - lost_at; });
+    const auto d = board_.Snapshot();
+    if (!d.airborne) return;
+    ++steps;
+    capturing += d.capture_interval_s && *d.capture_interval_s == *board_.Snapshot().capture_interval_s;
+    saw_hold |= d.failsafe == control::FailsafeAction::kHold;
+    saw_return |= d.task == control::Task::kReturn;
+  };
+  until_ = [&] { return !board_.Snapshot().armed; };
+  for (int i = 0; i < 5 && board_.Snapshot().armed; ++i) Fly("", 200);  // the failed mission ends one Fly
+  on_step_ = nullptr;
+  until_ = nullptr;
+  EXPECT_TRUE(saw_hold);
+  EXPECT_TRUE(saw_return);
+  EXPECT_GT(steps, 1000);
+  EXPECT_EQ(capturing, steps);  // every airborne step of the failsafe kept capturing
+  EXPECT_FALSE(board_.Snapshot().capture_interval_s);  // landed: off
+}
+
 TEST_F(ClosedLoop, ManualOverrideGivesThePilotTheServosAtOnce) {
   EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
   EXPECT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
@@ -300,17 +342,19 @@ TEST_F(LowBattery, ReturnsBelowTwentyFivePercentThenLandsBelowTenWhereverItIs) {
 struct AccuracyCase {
   const char* name;
   std::vector<std::string> overrides;  // NAME=VALUE on top of the vehicle file
+  const char* vehicle_file = "x650.params";  // in resources/vehicles/
 };
 
 class Accuracy : public ClosedLoop, public ::testing::WithParamInterface<AccuracyCase> {
  protected:
-  static ParameterSet Apply(std::vector<std::string> overrides, const std::vector<std::string>& more) {
-    ParameterSet p = VehicleFile();
+  static ParameterSet Apply(const AccuracyCase& c, const std::vector<std::string>& more) {
+    ParameterSet p = ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/" + c.vehicle_file);
+    std::vector<std::string> overrides = c.overrides;
     overrides.insert(overrides.end(), more.begin(), more.end());
     for (const auto& o : overrides) p = p.WithAssignment(o);
     return p;
   }
-  explicit Accuracy(const std::vector<std::string>& more = {}) : ClosedLoop(Apply(GetParam().overrides, more)) {}
+  explicit Accuracy(const std::vector<std::string>& more = {}) : ClosedLoop(Apply(GetParam(), more)) {}
 
   struct HoverStats {
     double control_rms_h = 0, control_rms_v = 0, control_max_h = 0;
@@ -386,7 +430,11 @@ TEST_P(WindyAccuracy, HoverInFiveMetresPerSecondWindWithGustsStaysWithinHalfAMet
 }
 
 const auto kWirings = ::testing::Values(AccuracyCase{"direct", {}},  AccuracyCase{"gyro_cruise", {"attitude_mode=2"}},
-                                        AccuracyCase{"gyro_hover", {"attitude_mode=1"}});
+                                        AccuracyCase{"gyro_hover", {"attitude_mode=1"}},
+                                        AccuracyCase{"heavy_gyro_cruise", {}, "x650_heavy_gyro.params"},
+                                        AccuracyCase{"direct_seed2", {"sim_seed=2"}},
+                                        AccuracyCase{"direct_seed3", {"sim_seed=3"}},
+                                        AccuracyCase{"direct_seed4", {"sim_seed=4"}});
 auto CaseName = [](const auto& info) { return std::string(info.param.name); };
 INSTANTIATE_TEST_SUITE_P(Wirings, Accuracy, kWirings, CaseName);
 INSTANTIATE_TEST_SUITE_P(Wirings, WindyAccuracy, kWirings, CaseName);

@@ -65,6 +65,10 @@ void TaskManager::EnforceFailsafe(FailsafeAction required, const std::string& re
   }
   if (required <= enforced_ || !airborne_) return;
   enforced_ = required;
+  // Onboard work goes on through a failsafe: a survey camera that was on stays on (at the same
+  // rate) while the vehicle holds or flies home, until it lands or the operator commands again.
+  if (path_.capture_interval_s || path_.capture_distance_m)
+    carried_capture_ = {path_.capture_interval_s, path_.capture_distance_m};
   Finish(AckResult::kFailed, "failsafe " + std::string(FailsafeActionName(required)) + ": " + reason, reports);
   switch (required) {
     case FailsafeAction::kNone: break;
@@ -148,6 +152,7 @@ void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstim
                         std::vector<TaskReport>* reports) {
   Finish(AckResult::kFailed, std::string("superseded by ") + req.command.Name(), reports);
   chirp_ = Chirp{};
+  carried_capture_.reset();
   if (task != Task::kTrack && task != Task::kMission && task != Task::kReturn) runner_.reset();
   task_ = task;
   active_ = req;
@@ -213,6 +218,7 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
     case CommandId::kHover:
       if (!airborne_) return reject("not flying");
       Finish(AckResult::kFailed, "superseded by hover", reports);
+      carried_capture_.reset();
       Hold(est);  // thesis 2.3.2: the current position becomes the reference
       return instant();
     case CommandId::kLand:
@@ -340,6 +346,7 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
         airborne_ = false;
         enforced_ = FailsafeAction::kNone;
         armed_ = false;
+        carried_capture_.reset();
         task_ = Task::kIdle;
         setpoint_.descent_rate.reset();
         Finish(AckResult::kCompleted, "", reports);
@@ -368,6 +375,10 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
     o.mission_item = path_.item;
     o.capture_interval_s = path_.capture_interval_s;
     o.capture_distance_m = path_.capture_distance_m;
+  }
+  if (!o.capture_interval_s && !o.capture_distance_m && carried_capture_) {
+    o.capture_interval_s = carried_capture_->first;
+    o.capture_distance_m = carried_capture_->second;
   }
   o.reset_controller = reset_pending_ || !airborne_;
   reset_pending_ = false;

@@ -68,7 +68,8 @@ void Ins::Align(const hal::SensorSample& s) {
   const double psi = MagneticHeading(s.mag_B, phi, theta);
   q_NB_ = Eigen::Quaterniond(RotationNBFromEuler({phi, theta, psi}));
   p_N_.setZero();
-  if (s.gps_utime > 0) p_N_.head<2>() = frame_.ToNed(s.gps).head<2>();
+  if (s.gps_utime > 0 && std::isfinite(s.gps.latitude_deg) && std::isfinite(s.gps.longitude_deg))
+    p_N_.head<2>() = frame_.ToNed(s.gps).head<2>();
   v_N_.setZero();
   bg_.setZero();
   ba_.setZero();
@@ -139,7 +140,19 @@ bool Ins::Correct(double innovation, const Vector& H, double r, double gate) {
 }
 
 void Ins::Update(const hal::SensorSample& s, bool at_rest) {
+  if (!s.gyro_B.allFinite() || !s.accel_B.allFinite() || s.gyro_B.cwiseAbs().maxCoeff() > 35.0 ||
+      s.accel_B.cwiseAbs().maxCoeff() > 16.0 * p_.gravity) {
+    ++health_.imu_rejected;  // propagation resumes with the next good sample, over the gap
+    return;
+  }
+  const bool gps_ok = std::isfinite(s.gps.latitude_deg) && std::isfinite(s.gps.longitude_deg) &&
+                      std::isfinite(s.gps.altitude_m) && s.gps_v_N.allFinite();
+  const bool baro_ok = std::isfinite(s.baro_alt_m);
+  const bool mag_ok = s.mag_B.allFinite() && s.mag_B.norm() > 0.1;
+  const bool sonar_ok = std::isfinite(s.sonar_range_m);
+  health_.other_rejected += !gps_ok + !baro_ok + !mag_ok + !sonar_ok;
   if (!health_.aligned) {
+    if (!mag_ok || !baro_ok) return;  // align on a complete sample
     Align(s);
     last_utime_ = s.utime;
     Publish(s);
@@ -154,7 +167,7 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
     h(i) = 1.0;
     return h;
   };
-  if (s.gps_utime != last_gps_utime_ && s.gps_fix >= 3) {
+  if (s.gps_utime != last_gps_utime_ && s.gps_fix >= 3 && gps_ok) {
     last_gps_utime_ = s.gps_utime;
     const Eigen::Vector3d z = frame_.ToNed(s.gps);
     // Most of GPS's error wanders slowly: successive fixes are far from independent, so each
@@ -178,13 +191,13 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
     }
   }
   // Barometer: baro = -z + bias.
-  {
+  if (baro_ok) {
     Vector H = Vector::Zero();
     H(kP + 2) = -1.0;
     H(kBb) = 1.0;
     Correct(s.baro_alt_m - (-p_N_.z() + baro_bias_), H, p_.baro_noise * p_.baro_noise, 5.0);
   }
-  if (s.sonar_utime != last_sonar_utime_ && s.sonar_valid) {
+  if (s.sonar_utime != last_sonar_utime_ && s.sonar_valid && sonar_ok) {
     last_sonar_utime_ = s.sonar_utime;
     const double cos_tilt = q_NB_.toRotationMatrix()(2, 2);
     const double height = s.sonar_range_m * cos_tilt;
@@ -192,13 +205,19 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
       ++health_.sonar_rejected;
   }
   // Magnetic heading.
-  {
+  if (mag_ok) {
     const EulerAngles e = EulerFromRotationNB(q_NB_.toRotationMatrix());
     const double psi_m = MagneticHeading(s.mag_B, e.phi, e.theta);
     Vector H = Vector::Zero();
     H.segment<3>(kTh) = q_NB_.toRotationMatrix().row(2).transpose();
     const double sigma = p_.mag_noise / std::max(0.1, std::cos(p_.mag_inclination)) + 0.002;
     Correct(WrapAngle(psi_m - e.psi), H, sigma * sigma, 0.0);
+  }
+  if (!at_rest) has_flown_ = true;
+  if (at_rest && !has_flown_) {
+    // Powered at home, before the first take-off: the height is zero by definition of home, which
+    // zeroes the barometer as PX4 does before arming.
+    Correct(-(-p_N_.z()), -unit(kP + 2), 0.02 * 0.02, 0.0);
   }
   if (at_rest) {
     // Standing on the ground: no velocity, no rotation (this is what calibrates the gyro bias).

@@ -63,7 +63,8 @@ void SimSensors::Sample(int64_t utime, const QuadrotorState& truth, const Eigen:
     gps_ = frame_.ToGeodetic(truth.p_N + gps_error_N_);
     gps_v_N_ = R_NB * truth.v_B + p_.gps_vel_noise * Normal3();
     gps_utime_ = utime;
-    next_gps_utime_ = utime + static_cast<int64_t>(std::llround(1e6 * gps_dt));
+    // The receiver's own clock: fixes stay at gps_rate on average whatever the sampling.
+    next_gps_utime_ = std::max(next_gps_utime_ + static_cast<int64_t>(std::llround(1e6 * gps_dt)), utime);
   }
   if (utime >= next_sonar_utime_) {
     // Slant range along -z_B to the flat ground at z = 0; the echo is lost out of range or when
@@ -79,7 +80,7 @@ void SimSensors::Sample(int64_t utime, const QuadrotorState& truth, const Eigen:
       }
     }
     sonar_utime_ = utime;
-    next_sonar_utime_ = utime + static_cast<int64_t>(std::llround(1e6 / p_.sonar_rate));
+    next_sonar_utime_ = std::max(next_sonar_utime_ + static_cast<int64_t>(std::llround(1e6 / p_.sonar_rate)), utime);
   }
   out->gps_utime = gps_utime_;
   out->gps = gps_;

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "uav/control/chirp.hpp"
@@ -127,6 +128,8 @@ class TaskManager {
   double last_progress_t_ = -1e9;
   int last_percent_ = -1;
   double still_since_ = -1.0;
+  // Survey capture carried through a failsafe (interval, distance), see EnforceFailsafe.
+  std::optional<std::pair<std::optional<double>, std::optional<double>>> carried_capture_;
   // The chirp being flown (channel kNone: none) and when it started.
   Chirp chirp_;
   double chirp_start_t_ = 0.0;

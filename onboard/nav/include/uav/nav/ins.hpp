@@ -32,6 +32,8 @@ struct InsHealth {
   int gps_rejected = 0;    // GPS fixes refused by the innovation gate, in a row
   int gps_resets = 0;      // times the position was reset to GPS after a run of refusals
   int sonar_rejected = 0;  // sonar readings refused (an object under the vehicle)
+  int imu_rejected = 0;    // IMU samples refused: not finite or beyond the sensor's range
+  int other_rejected = 0;  // GPS, barometer, sonar or magnetometer readings that were not finite
 };
 
 class Ins {
@@ -40,6 +42,8 @@ class Ins {
 
   // One IMU sample (50 Hz): propagates, then applies the measurements that are new in it.
   // `at_rest` (disarmed on the ground) adds zero-velocity and zero-rate measurements.
+  // A sample whose gyro or accelerometer is not finite or beyond the sensor's range (35 rad/s,
+  // 16 g) is refused whole; a non-finite slow reading is skipped. The estimate stays finite.
   void Update(const hal::SensorSample& sample, bool at_rest);
 
   control::VehicleEstimate estimate() const { return estimate_; }
@@ -72,6 +76,7 @@ class Ins {
  public:
   const Matrix& covariance() const { return P_; }
   int64_t last_utime_ = -1, last_gps_utime_ = 0, last_sonar_utime_ = 0;
+  bool has_flown_ = false;  // false until the first sample not at rest
   control::VehicleEstimate estimate_;
   InsHealth health_;
 };

@@ -1,0 +1,151 @@
+// The INS box's simulated sensors, the wind, and the INS on them (issue 5 item 2): statistics
+// against the vehicle file's figures, range limits on both sides, alignment on the ground, and
+// refusal of non-finite samples.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "uav/nav/ins.hpp"
+#include "uav/shared/frames.hpp"
+#include "uav/shared/parameters.hpp"
+#include "uav/sim/sim_sensors.hpp"
+#include "uav/sim/sim_vehicle.hpp"
+#include "uav/sim/wind_model.hpp"
+
+namespace uav {
+namespace {
+
+constexpr GeodeticPoint kHome{1.2966, 103.7764, 15.0};
+
+ParameterSet VehicleFile() { return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params"); }
+
+TEST(SimSensors, NoiseBiasAndRatesFollowTheVehicleFile) {
+  const auto params = VehicleFile();
+  const auto sp = sim::SensorParams::FromParameters(params);
+  sim::SimSensors sensors(sp, kHome, 7);
+  sim::QuadrotorState still;
+  still.p_N = {0, 0, -2};
+  const Eigen::Vector3d f_B(0, 0, -9.80665);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sq = Eigen::Vector3d::Zero();
+  int gps_fixes = 0, sonar_pings = 0;
+  int64_t last_gps = -1, last_sonar = -1;
+  const int n = 5000;  // 100 s at 50 Hz
+  for (int i = 0; i < n; ++i) {
+    hal::SensorSample s;
+    sensors.Sample(i * 20000, still, f_B, &s);
+    const Eigen::Vector3d g = s.gyro_B - sensors.gyro_bias();
+    sum += g;
+    sq += g.cwiseProduct(g);
+    if (s.gps_utime != last_gps) ++gps_fixes, last_gps = s.gps_utime;
+    if (s.sonar_utime != last_sonar) ++sonar_pings, last_sonar = s.sonar_utime;
+    EXPECT_TRUE(s.sonar_valid);
+    EXPECT_NEAR(s.sonar_range_m, 2.0, 6 * sp.sonar_noise);
+  }
+  const Eigen::Vector3d sigma = (sq / n - (sum / n).cwiseProduct(sum / n)).cwiseSqrt();
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(sigma[i], sp.gyro_noise, 0.05 * sp.gyro_noise);
+  EXPECT_EQ(gps_fixes, 500);   // 5 Hz
+  EXPECT_EQ(sonar_pings, 2000);  // 20 Hz
+}
+
+TEST(SimSensors, SonarSeesTheGroundOnlyWithinItsRangeAndCone) {
+  const auto sp = sim::SensorParams::FromParameters(VehicleFile().With("sonar_noise", 0));
+  auto reading = [&](double height, double tilt) {
+    sim::SimSensors sensors(sp, kHome, 1);
+    sim::QuadrotorState s;
+    s.p_N = {0, 0, -height};
+    s.q_NB = Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX());
+    hal::SensorSample out;
+    sensors.Sample(0, s, Eigen::Vector3d::Zero(), &out);
+    return out;
+  };
+  EXPECT_TRUE(reading(0.05, 0).sonar_valid);
+  EXPECT_FALSE(reading(0.049, 0).sonar_valid);
+  EXPECT_TRUE(reading(5.0, 0).sonar_valid);
+  EXPECT_FALSE(reading(5.001, 0).sonar_valid);
+  EXPECT_NEAR(reading(2.0, 0.4).sonar_range_m, 2.0 / std::cos(0.4), 1e-9);  // slant range
+  EXPECT_TRUE(reading(2.0, M_PI / 6 - 0.01).sonar_valid);
+  EXPECT_FALSE(reading(2.0, M_PI / 6 + 0.01).sonar_valid);  // the echo glances off
+}
+
+TEST(WindModel, SteadyWindTurbulenceAndDraftsHaveTheirFigures) {
+  const auto calm = sim::WindParams::FromParameters(VehicleFile());
+  sim::WindModel still(calm, 3);
+  for (int i = 0; i < 1000; ++i) EXPECT_EQ(still.Step(0.002), Eigen::Vector3d::Zero());
+
+  auto wp = sim::WindParams::FromParameters(VehicleFile().With("wind_speed", 5).With("wind_direction", M_PI / 2));
+  wp.gust = 0;  // turbulence alone first
+  sim::WindModel turbulent(wp, 3);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sq = Eigen::Vector3d::Zero();
+  const int n = 600 * 500;  // 600 s at 500 Hz
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d w = turbulent.Step(0.002);
+    sum += w;
+    sq += w.cwiseProduct(w);
+  }
+  const Eigen::Vector3d mean = sum / n;
+  const Eigen::Vector3d sigma = (sq / n - mean.cwiseProduct(mean)).cwiseSqrt();
+  EXPECT_NEAR(mean.x(), 0.0, 0.3);
+  EXPECT_NEAR(mean.y(), -5.0, 0.3);  // from the east: blows towards the west
+  EXPECT_NEAR(sigma.x(), 0.15 * 5, 0.2 * 0.15 * 5);
+  EXPECT_NEAR(sigma.z(), 0.5 * 0.15 * 5, 0.2 * 0.5 * 0.15 * 5);
+
+  // Drafts: 1-cos gusts of 60 % of the wind, one every 15 s on average.
+  auto gusty = sim::WindParams::FromParameters(VehicleFile().With("wind_speed", 5).With("wind_turbulence", 0));
+  sim::WindModel drafts(gusty, 5);
+  int above = 0;
+  double peak = 0;
+  for (int i = 0; i < n; ++i) {
+    const double extra = (drafts.Step(0.002) - drafts.steady_N()).norm();
+    peak = std::max(peak, extra);
+    above += extra > 0.5 * 3.0;
+  }
+  EXPECT_NEAR(peak, 3.0, 0.01);
+  // Each draft spends half its 3 s above half its peak: 40 drafts in 600 s -> about 60 s.
+  EXPECT_GT(above * 0.002, 30.0);
+  EXPECT_LT(above * 0.002, 100.0);
+}
+
+// A vehicle powered on the ground: the INS levels itself, finds the gyro bias and the heading.
+TEST(Ins, AlignsOnTheGroundAndCalibratesTheGyroBias) {
+  const auto params = VehicleFile();
+  sim::SimVehicle vehicle(params, kHome, 0);
+  nav::Ins ins(nav::InsParams::FromParameters(params), kHome);
+  for (int i = 0; i < 30 * 500; ++i) {
+    vehicle.Step(2000);
+    if (i % 10 == 0) ins.Update(vehicle.ReadSensors(), true);
+  }
+  const auto e = ins.estimate();
+  EXPECT_LT((ins.gyro_bias() - vehicle.sensors().gyro_bias()).norm(), 2e-4);
+  // Level to the accelerometer bias (a bias looks like a tilt until the vehicle turns).
+  const double lean = vehicle.sensors().accel_bias().head<2>().norm() / 9.80665;
+  EXPECT_LT(std::hypot(e.euler.phi, e.euler.theta), lean + 0.003);
+  EXPECT_NEAR(e.euler.psi, 0.0, 0.02);
+  EXPECT_LT(e.v_N.norm(), 0.01);
+  EXPECT_NEAR(e.p_N.z(), 0.0, 0.2);
+  EXPECT_EQ(ins.health().imu_rejected, 0);
+}
+
+TEST(Ins, NonFiniteOrOutOfRangeSamplesAreRefusedAndTheEstimateStaysFinite) {
+  const auto params = VehicleFile();
+  sim::SimVehicle vehicle(params, kHome, 0);
+  nav::Ins ins(nav::InsParams::FromParameters(params), kHome);
+  for (int i = 0; i < 100; ++i) {
+    for (int k = 0; k < 10; ++k) vehicle.Step(2000);
+    hal::SensorSample s = vehicle.ReadSensors();
+    if (i == 50) s.gyro_B.x() = std::nan("");
+    if (i == 51) s.accel_B.z() = 200.0;  // beyond 16 g
+    if (i == 52) s.gyro_B.y() = 35.5;    // beyond the gyro's range
+    if (i == 60) s.baro_alt_m = std::numeric_limits<double>::infinity();
+    if (i == 61) s.gps.latitude_deg = std::nan("");
+    if (i == 62) s.mag_B.setZero();
+    ins.Update(s, true);
+    const auto e = ins.estimate();
+    ASSERT_TRUE(e.p_N.allFinite() && e.v_N.allFinite() && e.q_NB.coeffs().allFinite()) << i;
+  }
+  EXPECT_EQ(ins.health().imu_rejected, 3);
+  EXPECT_EQ(ins.health().other_rejected, 3);
+  EXPECT_LT(ins.estimate().v_N.norm(), 0.05);
+}
+
+}  // namespace
+}  // namespace uav
