@@ -19,6 +19,8 @@ const char* TopicName(Topic t) {
     case Topic::kFileRequest: return "FILE_REQUEST";
     case Topic::kFileChunk: return "FILE_CHUNK";
     case Topic::kMapTile: return "MAP_TILE";
+    case Topic::kTrackTarget: return "TRACK_TARGET";
+    case Topic::kTrackStatus: return "TRACK_STATUS";
   }
   return "UNKNOWN";
 }

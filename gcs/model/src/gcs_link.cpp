@@ -14,6 +14,8 @@
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/map_tile_t.hpp"
 #include "uavmsg/status_text_t.hpp"
+#include "uavmsg/track_status_t.hpp"
+#include "uavmsg/track_target_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 
@@ -73,6 +75,7 @@ struct GcsLink::Impl {
   int64_t command_msg_seq = 0;
   int64_t upload_msg_seq = 0;
   int64_t file_request_seq = 0;
+  int64_t track_target_seq = 0;
   int64_t dropped = 0;
 };
 
@@ -152,6 +155,21 @@ GcsLink::GcsLink(const std::string& lcm_url, GcsModel& model)
         t.jpeg = m.jpeg;
         im->model.OnMapTile(m.header.vehicle_id, t, im->now);
       });
+  im->bus.Subscribe<uavmsg::track_status_t>(
+      "[^/]+/TRACK_STATUS", [im](const std::string& ch, const uavmsg::track_status_t& m) {
+        if (!im->Accept(ch, m.header.vehicle_id)) return;
+        TrackStatus st;
+        st.utime = m.utime;
+        st.seq = m.header.seq;
+        st.target_seq = m.target_seq;
+        st.state = static_cast<TrackStatus::State>(m.state);
+        st.center_x = m.center_x;
+        st.center_y = m.center_y;
+        st.width = m.width;
+        st.height = m.height;
+        st.angle_rad = m.angle_rad;
+        im->model.OnTrackStatus(m.header.vehicle_id, st, im->now);
+      });
   im->bus.Subscribe<uavmsg::status_text_t>(
       "[^/]+/STATUS_TEXT", [im](const std::string& ch, const uavmsg::status_text_t& m) {
         if (im->Accept(ch, m.header.vehicle_id))
@@ -197,6 +215,25 @@ void GcsLink::Poll(int timeout_ms, double now) {
     }
     m.n_ranges = static_cast<int16_t>(m.first.size());
     im.bus.Publish(Channel(r.vehicle_id, Topic::kFileRequest), m);
+  }
+  for (const auto& t : im.model.TakeOutgoingTrackTargets()) {
+    uavmsg::track_target_t m{};
+    m.utime = WallTimeMicros();
+    m.header = {t.vehicle_id, ++im.track_target_seq};
+    m.source = im.model.gcs_name();
+    m.target_seq = t.target_seq;
+    m.frame_utime = t.target.frame_utime;
+    m.camera = t.target.camera;
+    m.method = static_cast<int8_t>(t.target.method);
+    m.x = t.target.x;
+    m.y = t.target.y;
+    m.width = t.target.width;
+    m.height = t.target.height;
+    for (int i = 0; i < 4; ++i) {
+      m.corner_x[i] = t.target.corners[i][0];
+      m.corner_y[i] = t.target.corners[i][1];
+    }
+    im.bus.Publish(Channel(t.vehicle_id, Topic::kTrackTarget), m);
   }
   if (now - im.last_heartbeat >= 1.0) {
     im.last_heartbeat = now;

@@ -19,6 +19,12 @@ const char* kTaskNames[] = {"idle", "takeoff", "hover", "goto", "land", "track",
 constexpr int kTaskCount = 8;
 }  // namespace
 
+double SignalGroup::Rate(double now) const {
+  int n = 0;
+  for (double t : recent) n += now - t <= 1.0;
+  return n;
+}
+
 double VehicleModel::MessageRate(double now) const {
   int n = 0;
   for (double t : recent_receipts)
@@ -48,7 +54,7 @@ void GcsModel::OnHeartbeat(const std::string& vehicle_id, int64_t seq, int task,
   v.last_heartbeat = now;
   v.armed = armed;
   v.task = task >= 0 && task < kTaskCount ? kTaskNames[task] : "unknown";
-  TelemetrySample s{vehicle_id, "HEARTBEAT", seq, -1.0, {}};
+  TelemetrySample s{vehicle_id, "HEARTBEAT", seq, -1.0, {{"task", task}, {"armed", armed ? 1.0 : 0.0}}};
   OnTelemetry(s, now);
 }
 
@@ -63,7 +69,19 @@ void GcsModel::OnTelemetry(const TelemetrySample& s, double now) {
     if (s.seq > it->second + 1) v.sequence_gaps += s.seq - it->second - 1;
     if (s.seq > it->second) it->second = s.seq;
   }
-  if (s.t < 0.0) return;  // no time base: link bookkeeping only
+  SignalGroup& g = v.groups[s.group];
+  g.last_receipt = now;
+  ++g.received;
+  g.recent.push_back(now);
+  while (!g.recent.empty() && now - g.recent.front() > 1.0) g.recent.pop_front();
+  if (s.t < 0.0) {  // no time base: latest values only, no history
+    for (const auto& [name, value] : s.values) {
+      const std::string key = s.group + "." + name;
+      if (v.latest.emplace(key, value).second) v.signal_order.push_back(key);
+      v.latest[key] = value;
+    }
+    return;
+  }
   for (const auto& [name, value] : s.values) {  // the 50 Hz state is fresher than the heartbeat
     if (s.group != "STATE") break;
     if (name == "armed") v.armed = value > 0.5;
@@ -221,11 +239,137 @@ bool GcsModel::SubmitCommand(const std::string& text, double now) {
 }
 
 void GcsModel::SelectVehicle(const std::string& id) {
-  if (vehicles_.count(id)) selected_ = id;
+  if (!vehicles_.count(id) || id == selected_) return;
+  selected_ = id;
+  // Nothing of one vehicle stays on another's panels.
+  frozen_video_.reset();
+  frozen_vehicle_.clear();
+  plot_hold_.reset();
 }
 
-void GcsModel::TogglePlotSignal(const std::string& key) {
-  if (!plot_signals_.erase(key)) plot_signals_.insert(key);
+bool GcsModel::FreezeVideo(bool freeze) {
+  if (!freeze) {
+    frozen_video_.reset();
+    frozen_vehicle_.clear();
+    return true;
+  }
+  const VehicleModel* v = selected();
+  if (!v || v->video.frames == 0) return false;
+  frozen_video_ = v->video;
+  frozen_vehicle_ = v->id;
+  return true;
+}
+
+std::set<std::string> GcsModel::plot_signals() const {
+  std::set<std::string> all;
+  for (const auto& p : plots_)
+    for (const auto& [key, axis] : p.signals) all.insert(key);
+  return all;
+}
+
+int GcsModel::AddPlot() {
+  plots_.emplace_back();
+  active_plot_ = static_cast<int>(plots_.size()) - 1;
+  return active_plot_;
+}
+
+void GcsModel::RemovePlot(int index) {
+  if (plots_.size() <= 1 || index < 0 || index >= static_cast<int>(plots_.size())) return;
+  plots_.erase(plots_.begin() + index);
+  active_plot_ = std::min(active_plot_, static_cast<int>(plots_.size()) - 1);
+}
+
+void GcsModel::SetActivePlot(int index) {
+  if (index >= 0 && index < static_cast<int>(plots_.size())) active_plot_ = index;
+}
+
+void GcsModel::TogglePlotSignal(const std::string& key) { TogglePlotSignal(active_plot_, key, PlotAxis::kLeft); }
+
+void GcsModel::TogglePlotSignal(int plot, const std::string& key, PlotAxis axis) {
+  if (plot < 0 || plot >= static_cast<int>(plots_.size())) return;
+  auto& signals = plots_[plot].signals;
+  if (!signals.erase(key)) signals[key] = axis;
+}
+
+void GcsModel::SetSignalAxis(int plot, const std::string& key, PlotAxis axis) {
+  if (plot < 0 || plot >= static_cast<int>(plots_.size())) return;
+  auto it = plots_[plot].signals.find(key);
+  if (it != plots_[plot].signals.end()) it->second = axis;
+}
+
+bool GcsModel::SetPlotRange(int plot, PlotAxis axis, bool auto_y, double lo, double hi) {
+  if (plot < 0 || plot >= static_cast<int>(plots_.size())) return false;
+  PlotSpec& p = plots_[plot];
+  const int a = static_cast<int>(axis);
+  if (auto_y) {
+    p.auto_y[a] = true;
+    return true;
+  }
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi)) return false;
+  p.auto_y[a] = false;
+  p.y_min[a] = lo;
+  p.y_max[a] = hi;
+  return true;
+}
+
+bool GcsModel::SelectTarget(const TrackTarget& target, double now) {
+  track_error_.clear();
+  auto it = vehicles_.find(selected_);
+  if (it == vehicles_.end()) {
+    track_error_ = "no vehicle selected";
+    return false;
+  }
+  if (target.method != TrackTarget::kCancel) {
+    auto inside = [](double v) { return std::isfinite(v) && v >= 0.0 && v <= 1.0; };
+    bool ok = inside(target.x) && inside(target.y) && inside(target.x + target.width) &&
+              inside(target.y + target.height);
+    for (const auto& c : target.corners) ok = ok && inside(c[0]) && inside(c[1]);
+    if (!ok) {
+      track_error_ = "target outside the image (coordinates must be finite, within 0..1)";
+      return false;
+    }
+    if (!(target.width >= 0.005 && target.height >= 0.005)) {
+      track_error_ = "target too small: at least 0.5 % of the image on each side";
+      return false;
+    }
+  }
+  VehicleModel& v = it->second;
+  const int64_t seq = next_target_seq_++;
+  outgoing_track_.push_back({v.id, seq, target});
+  v.track_target = target;
+  ++v.track_targets_sent;
+  char buf[160];
+  if (target.method == TrackTarget::kCancel)
+    std::snprintf(buf, sizeof buf, "tracking cancelled");
+  else
+    std::snprintf(buf, sizeof buf, "target %lld sent (%s): x %.3f y %.3f w %.3f h %.3f", static_cast<long long>(seq),
+                  target.method == TrackTarget::kFourClicks ? "four corners" : "drag", target.x, target.y,
+                  target.width, target.height);
+  Log(now, v.id, buf, 6);
+  return true;
+}
+
+std::vector<OutgoingTrackTarget> GcsModel::TakeOutgoingTrackTargets() { return std::exchange(outgoing_track_, {}); }
+
+void GcsModel::OnTrackStatus(const std::string& vehicle_id, const TrackStatus& st, double now) {
+  VehicleModel& v = Vehicle(vehicle_id);
+  const bool finite = std::isfinite(st.center_x) && std::isfinite(st.center_y) && std::isfinite(st.width) &&
+                      std::isfinite(st.height) && std::isfinite(st.angle_rad);
+  const bool known_state = st.state == TrackStatus::kIdle || st.state == TrackStatus::kTracking ||
+                           st.state == TrackStatus::kLost;
+  // A box may reach past the edge, but a centre far outside the image is a broken message.
+  const bool plausible = finite && std::abs(st.center_x - 0.5) <= 1.0 && std::abs(st.center_y - 0.5) <= 1.0 &&
+                         st.width >= 0 && st.height >= 0 && st.width <= 2 && st.height <= 2;
+  if (!known_state || !plausible) {
+    Log(now, vehicle_id, "track status refused: not finite, unknown state or outside the image", 4);
+    return;
+  }
+  v.track = st;
+  v.track->received = now;
+  OnTelemetry({vehicle_id, "TRACK", st.seq, st.utime * 1e-6,
+               {{"state", static_cast<double>(st.state)}, {"center_x", st.center_x}, {"center_y", st.center_y},
+                {"width", st.width}, {"height", st.height}}},
+              now);
 }
 
 void GcsModel::SetPlotWindow(double seconds) {
@@ -369,13 +513,14 @@ bool GcsModel::UploadSurvey(double now) {
 
 bool GcsModel::ExportPlotCsv(const std::string& path, double t0, double t1, double now) {
   const VehicleModel* v = selected();
-  if (!v || plot_signals_.empty() || !(t0 <= t1)) {
+  const std::set<std::string> ticked = plot_signals();
+  if (!v || ticked.empty() || !std::isfinite(t0) || !std::isfinite(t1) || !(t0 <= t1)) {
     Log(now, "", "CSV export: nothing to export (no vehicle, no ticked signal or an empty range)", 4);
     return false;
   }
   std::vector<const SignalSeries*> series;
   std::vector<std::string> names;
-  for (const auto& key : plot_signals_) {
+  for (const auto& key : ticked) {
     auto it = v->history.find(key);
     if (it == v->history.end()) continue;
     series.push_back(&it->second);

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <set>
+#include <cctype>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -71,6 +73,17 @@ bool Lookup(const std::string& name, const GcsModel& m, double now, double* num,
   if (name == "task") return *str = v ? v->task : "none", true;
   if (name == "selected") return *str = m.selected_id(), true;
   if (name == "link") return *str = v && v->LinkUp(now) ? "up" : "down", true;
+  if (name == "track.method" || name == "track.state" || name == "track.error") {
+    if (name == "track.error") return *str = m.track_error(), true;
+    if (name == "track.method") {
+      if (!v || !v->track_target) return *str = "none", true;
+      const auto k = v->track_target->method;
+      return *str = k == TrackTarget::kDrag ? "drag" : k == TrackTarget::kFourClicks ? "four_clicks" : "cancel", true;
+    }
+    if (!v || !v->track) return *str = "none", true;
+    const auto k = v->track->state;
+    return *str = k == TrackStatus::kTracking ? "tracking" : k == TrackStatus::kLost ? "lost" : "idle", true;
+  }
   if (name == "log") {
     str->clear();
     for (const auto& l : m.log()) *str += l.vehicle_id + ": " + l.text + "\n";
@@ -99,6 +112,35 @@ bool Lookup(const std::string& name, const GcsModel& m, double now, double* num,
     return *num = n, true;
   }
   if (name == "vehicles") return *num = static_cast<double>(m.vehicles().size()), true;
+  if (name == "plot_panels") return *num = static_cast<double>(m.plots().size()), true;
+  if (name == "plot.window") return *num = m.plot_window(), true;
+  if (name == "plot.held") return *num = m.plot_hold() ? 1.0 : 0.0, true;
+  if (name.size() > 5 && name.rfind("plot", 0) == 0 && std::isdigit(static_cast<unsigned char>(name[4]))) {
+    const std::size_t dot = name.find('.');
+    const int index = std::atoi(name.substr(4, dot - 4).c_str()) - 1;
+    if (dot == std::string::npos || index < 0 || index >= static_cast<int>(m.plots().size())) return false;
+    const std::string what = name.substr(dot + 1);
+    int n = 0;
+    for (const auto& [key, axis] : m.plots()[index].signals) n += what == "signals" || axis == PlotAxis::kRight;
+    if (what != "signals" && what != "right") return false;
+    return *num = n, true;
+  }
+  if (name == "video.frozen") return *num = m.frozen_video() ? 1.0 : 0.0, true;
+  if (name == "track.sent") return *num = v ? static_cast<double>(v->track_targets_sent) : 0.0, true;
+  if (name.rfind("track.", 0) == 0) {
+    if (!v) return false;
+    if (name == "track.cx" || name == "track.cy") {
+      if (!v->track) return false;
+      return *num = name == "track.cx" ? v->track->center_x : v->track->center_y, true;
+    }
+    if (!v->track_target) return false;
+    const TrackTarget& t = *v->track_target;
+    if (name == "track.x") return *num = t.x, true;
+    if (name == "track.y") return *num = t.y, true;
+    if (name == "track.w") return *num = t.width, true;
+    if (name == "track.h") return *num = t.height, true;
+    return false;
+  }
   if (name == "plots") return *num = static_cast<double>(m.plot_signals().size()), true;
   if (name == "sent") return *num = static_cast<double>(m.sent_commands().size()), true;
   if (name == "gave_up") {
@@ -166,7 +208,12 @@ ConditionResult EvaluateCondition(const std::vector<std::string>& tokens, const 
 Script Script::Parse(const std::string& text, const std::string& name) {
   static const std::set<std::string> kVerbs = {"type", "click", "tick", "select", "wait", "wait_until", "assert",
                                                "screenshot", "echo", "set", "map_click", "map_right_click",
-                                               "map_drag", "map_zoom"};
+                                               "map_drag", "map_zoom", "video_click", "video_right_click",
+                                               "video_drag", "plot_zoom", "plot_drag", "plot_hover",
+                                               "livemap_zoom", "livemap_drag", "key"};
+  static const std::map<std::string, std::size_t> kNumericArgs = {
+      {"video_click", 2}, {"video_right_click", 2}, {"video_drag", 4}, {"plot_zoom", 2}, {"plot_drag", 3},
+      {"plot_hover", 2}, {"livemap_zoom", 1}, {"livemap_drag", 4}};
   Script s;
   s.name = name;
   std::istringstream lines(text);
@@ -199,6 +246,12 @@ Script Script::Parse(const std::string& text, const std::string& name) {
       for (const auto& a : st.args)
         if (!ToNumber(a, &d)) fail(st.verb + ": '" + a + "' is not a number");
     }
+    if (auto it = kNumericArgs.find(st.verb); it != kNumericArgs.end()) {
+      if (st.args.size() != it->second) fail(st.verb + " needs " + std::to_string(it->second) + " numbers");
+      for (const auto& a : st.args)
+        if (!ToNumber(a, &d) || !std::isfinite(d)) fail(st.verb + ": '" + a + "' is not a number");
+    }
+    if (st.verb == "key" && st.args.size() != 1) fail("key needs one chord, e.g. ctrl+h or escape");
     if (st.verb == "wait_until" || st.verb == "assert") {
       std::vector<std::string> cond = st.args;
       if (st.verb == "wait_until" && cond.size() >= 2 && cond[cond.size() - 2] == "timeout") {
@@ -256,12 +309,14 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
   } else if (s.verb == "wait") {
     if (now - step_start_ >= std::atof(s.args[0].c_str())) Pass(s, now, "");
   } else if (s.verb == "type" || s.verb == "click" || s.verb == "tick" || s.verb == "select" ||
-             s.verb == "set" || s.verb.rfind("map_", 0) == 0) {
+             s.verb == "set" || s.verb.rfind("map_", 0) == 0 || s.verb.rfind("video_", 0) == 0 ||
+             s.verb.rfind("plot_", 0) == 0 || s.verb.rfind("livemap_", 0) == 0 || s.verb == "key") {
     if (first) {
       const std::string label = s.verb == "tick" ? "tick:" + std::string(s.args[0].find('.') == std::string::npos ? "STATE." : "") + s.args[0]
                               : s.verb == "select" ? "vehicle:" + s.args[0] : joined;
       std::vector<double> xy;
       for (const auto& a : s.args) xy.push_back(std::atof(a.c_str()));
+      using G = ScriptDriver::Gesture;
       bool ok;
       if (s.verb == "type") ok = driver.StartType(joined, &err);
       else if (s.verb == "set") ok = driver.StartSet(s.args[0], joined.substr(s.args[0].size() + 1), &err);
@@ -269,6 +324,21 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
       else if (s.verb == "map_right_click") ok = driver.StartMapClick(xy[0], xy[1], true, &err);
       else if (s.verb == "map_drag") ok = driver.StartMapDrag(xy[0], xy[1], xy[2], xy[3], &err);
       else if (s.verb == "map_zoom") ok = driver.StartMapZoom(xy[0], xy[1], static_cast<int>(xy[2]), &err);
+      else if (s.verb == "video_click" || s.verb == "video_right_click")
+        ok = driver.StartGesture("video:image", s.verb == "video_click" ? G::kClick : G::kRightClick, xy[0], xy[1], 0, 0, 0, &err);
+      else if (s.verb == "video_drag") ok = driver.StartGesture("video:image", G::kDrag, xy[0], xy[1], xy[2], xy[3], 0, &err);
+      else if (s.verb.rfind("plot_", 0) == 0) {
+        const std::string canvas = "plot:" + s.args[0] + ":canvas";
+        if (s.verb == "plot_zoom") ok = driver.StartGesture(canvas, G::kWheel, 0.5, 0.5, 0, 0, static_cast<int>(xy[1]), &err);
+        else if (s.verb == "plot_drag") ok = driver.StartGesture(canvas, G::kDrag, xy[1], 0.5, xy[2], 0.5, 0, &err);
+        else ok = driver.StartGesture(canvas, G::kHover, xy[1], 0.5, 0, 0, 0, &err);
+      } else if (s.verb == "livemap_zoom") ok = driver.StartGesture("livemap", G::kWheel, 0.5, 0.5, 0, 0, static_cast<int>(xy[0]), &err);
+      else if (s.verb == "livemap_drag") ok = driver.StartGesture("livemap", G::kDrag, xy[0], xy[1], xy[2], xy[3], 0, &err);
+      else if (s.verb == "key") {
+        const std::string chord = s.args[0];
+        const bool ctrl = chord.rfind("ctrl+", 0) == 0;
+        ok = driver.StartKey(ctrl ? chord.substr(5) : chord, ctrl, &err);
+      }
       else ok = driver.StartClick(label, &err);
       if (!ok) Fail(s, now, err);
     } else if (!driver.InputPending()) {

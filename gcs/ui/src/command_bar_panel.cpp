@@ -74,24 +74,40 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
     ImGui::TextDisabled("%s", names.c_str());
   }
 
-  // Frequent actions; each asks for confirmation.
-  for (const char* text : {"arm", "takeoff 10", "hover", "land", "return", "mission", "disarm"}) {
-    if (ImGui::Button(text)) st.pending_confirmation = text;
-    RegisterLastItem(ctx, std::string("button:") + text);
+  // Frequent actions, as buttons and as keyboard shortcuts (anywhere in the window); each asks
+  // for confirmation, which Ctrl+K gives (Ctrl+Y is the text field's redo) and Escape withdraws.
+  struct Action {
+    const char* text;
+    int key;  // with Ctrl; 0: none
+  };
+  static constexpr Action kActions[] = {{"arm", 0},     {"takeoff 10", 'T'}, {"hover", 'H'}, {"land", 'L'},
+                                        {"return", 'R'}, {"mission", 0},     {"disarm", 0}};
+  const ImGuiIO& io = ImGui::GetIO();
+  for (const Action& a : kActions) {
+    if (ImGui::Button(a.text)) st.pending_confirmation = a.text;
+    RegisterLastItem(ctx, std::string("button:") + a.text);
+    if (a.key && ImGui::IsItemHovered()) ImGui::SetTooltip("Ctrl+%c", a.key);
+    if (a.key && io.KeyCtrl && ImGui::IsKeyPressed(a.key, false)) st.pending_confirmation = a.text;
     ImGui::SameLine();
   }
   ImGui::NewLine();
+  if (!st.pending_confirmation.empty() && io.KeyCtrl && ImGui::IsKeyPressed('K', false)) {
+    model.SubmitCommand(st.pending_confirmation, ctx.now);
+    st.pending_confirmation.clear();
+  }
+  if (!st.pending_confirmation.empty() && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape), false))
+    st.pending_confirmation.clear();
   if (!st.pending_confirmation.empty()) {
     ImGui::TextColored(ImVec4(1, 0.85f, 0.3f, 1), "send '%s' to %s?", st.pending_confirmation.c_str(),
                        model.selected_id().c_str());
     ImGui::SameLine();
-    if (ImGui::Button("Confirm")) {
+    if (ImGui::Button("Confirm (Ctrl+K)")) {
       model.SubmitCommand(st.pending_confirmation, ctx.now);
       st.pending_confirmation.clear();
     }
     RegisterLastItem(ctx, "confirm");
     ImGui::SameLine();
-    if (ImGui::Button("Cancel")) st.pending_confirmation.clear();
+    if (ImGui::Button("Cancel (Esc)")) st.pending_confirmation.clear();
     RegisterLastItem(ctx, "cancel");
   }
 

@@ -6,10 +6,24 @@
 namespace uav::gcs {
 
 void RegisterLastItem(UiContext& ctx, const std::string& label) {
-  // Only what a person could click: the widget's centre inside its window's visible area.
+  // Only what a person could click: the widget's centre inside its window's visible area and
+  // not under another window (z-order of the last frame).
   const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
   const ImVec2 centre(0.5f * (a.x + b.x), 0.5f * (a.y + b.y));
-  if (!ImGui::GetCurrentWindowRead()->ClipRect.Contains(centre)) return;
+  ImGuiWindow* window = ImGui::GetCurrentWindowRead();
+  if (!window->ClipRect.Contains(centre)) return;
+  ImGuiWindow* root = window->RootWindow;
+  const ImGuiContext& g = *ImGui::GetCurrentContext();
+  bool above = false;
+  for (ImGuiWindow* w : g.Windows) {
+    if (w == root) {
+      above = true;
+      continue;
+    }
+    if (above && w->WasActive && !w->Hidden && w->RootWindow == w && !(w->Flags & ImGuiWindowFlags_Tooltip) &&
+        w->Rect().Contains(centre))
+      return;
+  }
   ctx.widgets[label] = {a.x, a.y, b.x, b.y};
 }
 

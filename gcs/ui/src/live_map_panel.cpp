@@ -3,6 +3,7 @@
 // and the Download action, with a progress bar per file.
 #include <imgui.h>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <imgui_stdlib.h>
 
@@ -15,6 +16,8 @@ void SyncLiveMapTextures(const VehicleModel& v, UiContext& ctx) {
   UiState& ui = ctx.state;
   if (ui.live_map_vehicle != v.id || ui.live_map_id != map.map_id) {  // another vehicle or a new map
     ui.live_tiles.clear();
+    ui.live_zoom = 1.0;
+    ui.live_pan_x = ui.live_pan_y = 0.0;
     ui.live_map_vehicle = v.id;
     ui.live_map_id = map.map_id;
   }
@@ -29,17 +32,22 @@ void SyncLiveMapTextures(const VehicleModel& v, UiContext& ctx) {
 }
 
 namespace {
-// An overview of the live map fitted into the panel, north up (the Map panel shows it to scale).
+// The live map, north up, fitted into the panel at zoom 1: the wheel zooms about the cursor, a
+// drag pans, Fit returns to the whole map (the Map panel shows it to scale under the plan).
 void DrawTiles(const VehicleModel& v, UiContext& ctx, float reserve_y) {
   const LiveMap& map = v.live_map;
+  UiState& st = ctx.state;
   SyncLiveMapTextures(v, ctx);
   if (map.tiles.empty()) {
     ImGui::TextDisabled("no map tiles yet: they stream while the survey camera captures");
     RegisterLastItem(ctx, "livemap");
     return;
   }
-  ImGui::Text("map %d: %zu tiles at %.3f m/px%s", map.map_id, map.tiles.size(), map.gsd_m,
-              map.georeferenced ? "" : " (not geo-referenced)");
+  ImGui::Text("map %d: %zu tiles at %.3f m/px%s, zoom %.1fx", map.map_id, map.tiles.size(), map.gsd_m,
+              map.georeferenced ? "" : " (not geo-referenced)", st.live_zoom);
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Fit")) st.live_zoom = 1.0, st.live_pan_x = st.live_pan_y = 0.0;
+  RegisterLastItem(ctx, "livemap:fit");
   int x0 = 1 << 30, y0 = 1 << 30, x1 = -(1 << 30), y1 = -(1 << 30);
   for (const auto& [key, tile] : map.tiles) {
     x0 = std::min(x0, key.first);
@@ -50,24 +58,46 @@ void DrawTiles(const VehicleModel& v, UiContext& ctx, float reserve_y) {
   ImVec2 avail = ImGui::GetContentRegionAvail();
   avail.y -= reserve_y;  // the file list below
   if (avail.x < 20 || avail.y < 20) return;
-  const float px = std::min(avail.x / (x1 - x0), avail.y / (y1 - y0));  // screen pixels per tile
-  const ImVec2 origin = ImGui::GetCursorScreenPos();
-  ImGui::InvisibleButton("##livemap", ImVec2(px * (x1 - x0), px * (y1 - y0)));
+  const ImVec2 view0 = ImGui::GetCursorScreenPos();
+  ImGui::InvisibleButton("##livemap", avail);
   RegisterLastItem(ctx, "livemap");
+  const ImVec2 view1(view0.x + avail.x, view0.y + avail.y);
+  const ImVec2 mid(0.5f * (view0.x + view1.x), 0.5f * (view0.y + view1.y));
+  const double fit = std::min(avail.x / (x1 - x0), avail.y / (y1 - y0));  // screen px per tile at zoom 1
+  // Tile coordinates at the view's centre.
+  double cx = 0.5 * (x0 + x1) + st.live_pan_x, cy = 0.5 * (y0 + y1) + st.live_pan_y;
+  double px = fit * st.live_zoom;
+  const ImGuiIO& io = ImGui::GetIO();
+  if (ImGui::IsItemHovered() && io.MouseWheel != 0.0f) {
+    const double ux = cx + (io.MousePos.x - mid.x) / px, uy = cy + (io.MousePos.y - mid.y) / px;
+    st.live_zoom = std::clamp(st.live_zoom * std::pow(1.25, io.MouseWheel), 0.25, 64.0);
+    px = fit * st.live_zoom;
+    cx = ux - (io.MousePos.x - mid.x) / px;  // the point under the cursor stays there
+    cy = uy - (io.MousePos.y - mid.y) / px;
+  }
+  if (ImGui::IsItemActive() && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 1.0f)) {
+    cx -= io.MouseDelta.x / px;
+    cy -= io.MouseDelta.y / px;
+  }
+  st.live_pan_x = cx - 0.5 * (x0 + x1);
+  st.live_pan_y = cy - 0.5 * (y0 + y1);
+  auto screen = [&](double tx, double ty) {
+    return ImVec2(static_cast<float>(mid.x + (tx - cx) * px), static_cast<float>(mid.y + (ty - cy) * px));
+  };
   ImDrawList* draw = ImGui::GetWindowDrawList();
-  draw->AddRectFilled(origin, ImVec2(origin.x + px * (x1 - x0), origin.y + px * (y1 - y0)), IM_COL32(25, 25, 30, 255));
+  draw->PushClipRect(view0, view1, true);
+  draw->AddRectFilled(view0, view1, IM_COL32(25, 25, 30, 255));
   for (const auto& [key, tile] : map.tiles) {
-    const ImVec2 a(origin.x + px * (key.first - x0), origin.y + px * (key.second - y0));
-    if (void* texture = ctx.state.live_tiles[key].texture) draw->AddImage(texture, a, ImVec2(a.x + px, a.y + px));
+    if (void* texture = st.live_tiles[key].texture)
+      draw->AddImage(texture, screen(key.first, key.second), screen(key.first + 1, key.second + 1));
   }
   // The vehicle on the map.
   const auto n = v.latest.find("STATE.x"), e = v.latest.find("STATE.y");
   if (map.georeferenced && n != v.latest.end() && e != v.latest.end()) {
     const double c = (e->second - map.origin_east_m) / map.gsd_m, r = (map.origin_north_m - n->second) / map.gsd_m;
-    const ImVec2 p(origin.x + static_cast<float>((c / map.tile_px - x0) * px),
-                   origin.y + static_cast<float>((r / map.tile_px - y0) * px));
-    draw->AddCircleFilled(p, 4.0f, IM_COL32(255, 80, 40, 255));
+    draw->AddCircleFilled(screen(c / map.tile_px, r / map.tile_px), 4.0f, IM_COL32(255, 80, 40, 255));
   }
+  draw->PopClipRect();
 }
 }  // namespace
 

@@ -1,6 +1,8 @@
-// Live plot of the ticked signals on a shared time axis, drawn with ImGui's draw list (Debian
-// has no ImPlot). Each series is reduced to min/max per pixel column, so the cost is bounded
-// by the plot width, not by the 30 minutes of history behind it.
+// Plot panels: any number, stacked in the Plot window on one shared time axis, each with its
+// ticked signals on a left and a right y axis, drawn with ImGui's draw list (Debian has no ImPlot). Mouse: the wheel zooms
+// the time window, a drag pans it (and holds the time), hovering reads every value at that time.
+// Each series is reduced to min/max per pixel column, so the cost is bounded by the plot width,
+// not by the 30 minutes of history behind it.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,18 +25,171 @@ struct Column {
   float lo, hi;
 };
 
-// Min/max of `s` per pixel column over [t0, t1]; empty columns have lo > hi.
+// Min/max of `s` per pixel column over [t0, t1]; empty columns have lo > hi. Uses the series'
+// min/max pyramid, so a column costs O(log n) whatever the window.
 std::vector<Column> Reduce(const SignalSeries& s, double t0, double t1, int width) {
   std::vector<Column> cols(width, {std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()});
-  for (std::size_t i = s.LowerBound(t0); i < s.size(); ++i) {
-    const double t = s.TimeAt(i);
-    if (t > t1) break;
-    const int c = std::clamp(static_cast<int>((t - t0) / (t1 - t0) * (width - 1)), 0, width - 1);
-    const float v = static_cast<float>(s.ValueAt(i));
-    cols[c].lo = std::min(cols[c].lo, v);
-    cols[c].hi = std::max(cols[c].hi, v);
+  std::size_t i = s.LowerBound(t0);
+  for (int c = 0; c < width && i < s.size(); ++c) {
+    const double c_end = t0 + (t1 - t0) * (c + 1) / width;
+    const std::size_t j = c + 1 == width ? s.UpperBound(t1) : s.LowerBound(c_end);
+    if (j > i) {
+      float lo, hi;
+      s.MinMax(i, j, &lo, &hi);
+      cols[c] = {lo, hi};
+    }
+    i = std::max(i, j);
   }
   return cols;
+}
+
+void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float height) {
+  UiState& st = ctx.state;
+  const PlotSpec spec = model.plots()[index];  // a copy: the buttons below may add a plot
+  const VehicleModel* v = model.selected();
+  const std::string tag = "plot:" + std::to_string(index + 1);
+  bool open = true;
+  ImGui::BeginChild(tag.c_str(), ImVec2(0, height), false, ImGuiWindowFlags_NoScrollbar);
+  // Where ticks in the state list go.
+  bool active = model.active_plot() == index;
+  if (ImGui::RadioButton(("Plot " + std::to_string(index + 1)).c_str(), active)) model.SetActivePlot(index);
+  RegisterLastItem(ctx, tag + ":select");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("ticks in the state list go to this plot");
+  ImGui::SameLine();
+  if (model.plots().size() > 1) {
+    if (ImGui::SmallButton("x")) open = false;
+    RegisterLastItem(ctx, tag + ":close");
+    ImGui::SameLine();
+  }
+  // Per axis: auto or a fixed range.
+  for (int a = 0; a < 2; ++a) {
+    const PlotAxis axis = static_cast<PlotAxis>(a);
+    bool auto_y = spec.auto_y[a];
+    if (ImGui::Checkbox(((a == 0 ? "auto L##" : "auto R##") + tag).c_str(), &auto_y))
+      model.SetPlotRange(index, axis, auto_y, spec.y_min[a], spec.y_max[a]);
+    RegisterLastItem(ctx, tag + (a == 0 ? ":autoL" : ":autoR"));
+    if (!spec.auto_y[a]) {
+      ImGui::SameLine();
+      float lo = static_cast<float>(spec.y_min[a]), hi = static_cast<float>(spec.y_max[a]);
+      ImGui::SetNextItemWidth(140);
+      if (ImGui::DragFloatRange2(("##range" + std::to_string(a) + tag).c_str(), &lo, &hi, 0.1f))
+        model.SetPlotRange(index, axis, false, lo, hi);
+    }
+    if (a == 0) ImGui::SameLine();
+  }
+
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImVec2 size = ImGui::GetContentRegionAvail();
+  size.x = std::max(size.x, 100.0f);
+  size.y = std::max(size.y - 4.0f, 40.0f);
+  ImGui::InvisibleButton((tag + ":canvas").c_str(), size);
+  RegisterLastItem(ctx, tag + ":canvas");
+  const bool hovered = ImGui::IsItemHovered();
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImVec2 p1(p0.x + size.x, p0.y + size.y);
+  dl->AddRectFilled(p0, p1, IM_COL32(20, 22, 28, 255));
+  dl->AddRect(p0, p1, IM_COL32(90, 90, 100, 255));
+  const double t_start = t_end - model.plot_window();
+
+  // Mouse: wheel zooms the time window about the newest time, a drag pans and holds the time.
+  if (hovered && ImGui::GetIO().MouseWheel != 0.0f)
+    model.SetPlotWindow(std::clamp(model.plot_window() * std::pow(1.25, -ImGui::GetIO().MouseWheel), 1.0, 1800.0));
+  if (ImGui::IsItemActive() && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 2.0f)) {
+    const float dx = ImGui::GetIO().MouseDelta.x;
+    if (dx != 0.0f) model.HoldPlotTime(t_end - dx / size.x * model.plot_window());
+  }
+
+  if (!v || spec.signals.empty()) {
+    dl->AddText(ImVec2(p0.x + 10, p0.y + 10), IM_COL32(160, 160, 160, 255),
+                "tick signals in the state list to plot them here");
+    ImGui::EndChild();
+    if (!open) model.RemovePlot(index);
+    return;
+  }
+  const int width = std::max(2, static_cast<int>(size.x));
+  struct Series {
+    std::string key;
+    PlotAxis axis;
+    std::vector<Column> cols;
+  };
+  std::vector<Series> reduced;
+  float lo[2] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
+  float hi[2] = {-std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
+  bool has[2] = {false, false};
+  for (const auto& [key, axis] : spec.signals) {
+    auto it = v->history.find(key);
+    if (it == v->history.end()) continue;
+    const int a = static_cast<int>(axis);
+    has[a] = true;
+    reduced.push_back({key, axis, Reduce(it->second, t_start, t_end, width)});
+    for (const Column& c : reduced.back().cols)
+      if (c.lo <= c.hi) lo[a] = std::min(lo[a], c.lo), hi[a] = std::max(hi[a], c.hi);
+  }
+  for (int a = 0; a < 2; ++a) {
+    if (!spec.auto_y[a]) lo[a] = static_cast<float>(spec.y_min[a]), hi[a] = static_cast<float>(spec.y_max[a]);
+    if (!(lo[a] <= hi[a])) lo[a] = -1, hi[a] = 1;
+    if (hi[a] - lo[a] < 1e-6f) lo[a] -= 0.5f, hi[a] += 0.5f;
+    if (spec.auto_y[a]) {
+      const float margin = 0.05f * (hi[a] - lo[a]);
+      lo[a] -= margin;
+      hi[a] += margin;
+    }
+  }
+  auto Y = [&](int a, float val) { return p1.y - (val - lo[a]) / (hi[a] - lo[a]) * size.y; };
+
+  // Grid with the left axis's labels on the left, the right axis's on the right.
+  for (int i = 0; i <= 4; ++i) {
+    const float y = p1.y - size.y * i / 4.0f;
+    dl->AddLine(ImVec2(p0.x, y), ImVec2(p1.x, y), IM_COL32(50, 52, 60, 255));
+    char buf[32];
+    for (int a = 0; a < 2; ++a) {
+      if (!has[a]) continue;
+      std::snprintf(buf, sizeof buf, "%.3g", lo[a] + (hi[a] - lo[a]) * i / 4.0f);
+      const float x = a == 0 ? p0.x + 4 : p1.x - 4 - ImGui::CalcTextSize(buf).x;
+      dl->AddText(ImVec2(x, std::clamp(y - 14, p0.y + 2, p1.y - 16)), IM_COL32(150, 150, 150, 255), buf);
+    }
+  }
+  char tbuf[64];
+  std::snprintf(tbuf, sizeof tbuf, "%.1f .. %.1f s%s", t_start, t_end, model.plot_hold() ? " (held)" : "");
+  dl->AddText(ImVec2(p0.x + size.x * 0.5f - 60, p1.y - 16), IM_COL32(150, 150, 150, 255), tbuf);
+
+  dl->PushClipRect(p0, p1, true);
+  for (std::size_t k = 0; k < reduced.size(); ++k) {
+    const ImU32 color = kColors[k % (sizeof kColors / sizeof kColors[0])];
+    const int a = static_cast<int>(reduced[k].axis);
+    const auto& cols = reduced[k].cols;
+    ImVec2 prev(-1, -1);
+    for (int c = 0; c < width; ++c) {
+      if (cols[c].lo > cols[c].hi) continue;
+      const float x = p0.x + c;
+      if (cols[c].hi - cols[c].lo > 0) dl->AddLine(ImVec2(x, Y(a, cols[c].lo)), ImVec2(x, Y(a, cols[c].hi)), color);
+      const ImVec2 cur(x, Y(a, 0.5f * (cols[c].lo + cols[c].hi)));
+      if (prev.x >= 0) dl->AddLine(prev, cur, color, 1.5f);
+      prev = cur;
+    }
+    const std::string label = reduced[k].key + (a == 1 ? " (R)" : "");
+    dl->AddText(ImVec2(p0.x + 60 + 160.0f * static_cast<float>(k % 5), p0.y + 4 + 16.0f * static_cast<float>(k / 5)),
+                color, label.c_str());
+  }
+  // Hover readout: values of every series at the time under the cursor.
+  if (hovered) {
+    const float mx = ImGui::GetIO().MousePos.x;
+    dl->AddLine(ImVec2(mx, p0.y), ImVec2(mx, p1.y), IM_COL32(200, 200, 200, 120));
+    const double t = t_start + (mx - p0.x) / size.x * (t_end - t_start);
+    char line[128];
+    std::snprintf(line, sizeof line, "t = %.2f s", t);
+    st.plot_readout = line;
+    for (const auto& r : reduced) {
+      const SignalSeries& s = v->history.at(r.key);
+      const std::size_t i = std::min(s.LowerBound(t), s.size() - 1);
+      std::snprintf(line, sizeof line, "\n%s = %.4g", r.key.c_str(), s.ValueAt(i));
+      st.plot_readout += line;
+    }
+    ImGui::SetTooltip("%s", st.plot_readout.c_str());
+  }
+  dl->PopClipRect();
+  ImGui::EndChild();
+  if (!open) model.RemovePlot(index);
 }
 
 }  // namespace
@@ -42,121 +197,62 @@ std::vector<Column> Reduce(const SignalSeries& s, double t0, double t1, int widt
 void DrawPlotPanel(GcsModel& model, UiContext& ctx) {
   ImGui::Begin("Plot");
   UiState& st = ctx.state;
-  const VehicleModel* v = model.selected();
+  // The shared time axis: the newest sample of any plotted signal, unless held.
+  double t_end = -1e300;
+  if (const VehicleModel* v = model.selected())
+    for (const auto& key : model.plot_signals())
+      if (auto it = v->history.find(key); it != v->history.end() && !it->second.empty())
+        t_end = std::max(t_end, it->second.LastTime());
+  if (t_end < -1e299) t_end = 0.0;
+  if (model.plot_hold()) t_end = *model.plot_hold();
+  const double t_start = t_end - model.plot_window();
   float window = static_cast<float>(model.plot_window());
-  ImGui::SetNextItemWidth(160);
-  if (ImGui::SliderFloat("window [s]", &window, 5.0f, 1800.0f, "%.0f", ImGuiSliderFlags_Logarithmic))
+  ImGui::SetNextItemWidth(140);
+  if (ImGui::SliderFloat("window [s]", &window, 1.0f, 1800.0f, "%.0f", ImGuiSliderFlags_Logarithmic))
     model.SetPlotWindow(window);
   ImGui::SameLine();
-  if (ImGui::Checkbox("pause", &st.plot_paused) && st.plot_paused) st.plot_paused_at = -1.0;
+  bool paused = model.plot_hold().has_value();
+  if (ImGui::Checkbox("pause", &paused)) paused ? model.HoldPlotTime(t_end) : model.FollowPlotTime();
   RegisterLastItem(ctx, "plot:pause");
   ImGui::SameLine();
-  ImGui::Checkbox("auto y", &st.plot_auto_y);
-  if (!st.plot_auto_y) {
-    ImGui::SameLine();
-    ImGui::SetNextItemWidth(200);
-    ImGui::DragFloatRange2("y range", &st.plot_y_min, &st.plot_y_max, 0.1f);
-  }
-
-  const ImVec2 p0 = ImGui::GetCursorScreenPos();
-  ImVec2 size = ImGui::GetContentRegionAvail();
-  size.x = std::max(size.x, 100.0f);
-  size.y = std::max(size.y - 30.0f, 60.0f);  // room for the export row below
-  ImGui::InvisibleButton("plot_canvas", size);
-  const bool hovered = ImGui::IsItemHovered();
-  ImDrawList* dl = ImGui::GetWindowDrawList();
-  const ImVec2 p1(p0.x + size.x, p0.y + size.y);
-  dl->AddRectFilled(p0, p1, IM_COL32(20, 22, 28, 255));
-  dl->AddRect(p0, p1, IM_COL32(90, 90, 100, 255));
-
-  if (!v || model.plot_signals().empty()) {
-    dl->AddText(ImVec2(p0.x + 10, p0.y + 10), IM_COL32(160, 160, 160, 255),
-                "tick signals in the state list to plot them");
-    ImGui::End();
-    return;
-  }
-  // Time axis: the newest sample of any plotted signal (or the frozen time when paused).
-  double t_end = -1e300;
-  for (const auto& key : model.plot_signals())
-    if (auto it = v->history.find(key); it != v->history.end() && !it->second.empty())
-      t_end = std::max(t_end, it->second.LastTime());
-  if (t_end < -1e299) t_end = 0.0;
-  if (st.plot_paused) {
-    if (st.plot_paused_at < 0.0) st.plot_paused_at = t_end;
-    t_end = st.plot_paused_at;
-  }
-  const double t_start = t_end - model.plot_window();
-  // CSV export of what the plot shows (ticked signals over the visible window).
-  ImGui::SetCursorScreenPos(ImVec2(p0.x, p1.y + 2));
-  if (ImGui::Button("Export CSV")) model.ExportPlotCsv(st.plot_csv_file, t_start, t_end, ctx.now);
-  RegisterLastItem(ctx, "plot:export");
+  if (ImGui::Button("+ plot")) model.AddPlot();
+  RegisterLastItem(ctx, "plot:add");
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(220);
-  ImGui::InputText("##plot:file", &st.plot_csv_file);
-  RegisterLastItem(ctx, "plot:file");
-  const int width = std::max(2, static_cast<int>(size.x));
-
-  std::vector<std::pair<std::string, std::vector<Column>>> reduced;
-  float y_lo = std::numeric_limits<float>::max(), y_hi = -std::numeric_limits<float>::max();
-  for (const auto& key : model.plot_signals()) {
-    auto it = v->history.find(key);
-    if (it == v->history.end()) continue;
-    reduced.emplace_back(key, Reduce(it->second, t_start, t_end, width));
-    for (const Column& c : reduced.back().second)
-      if (c.lo <= c.hi) y_lo = std::min(y_lo, c.lo), y_hi = std::max(y_hi, c.hi);
-  }
-  if (!st.plot_auto_y) y_lo = st.plot_y_min, y_hi = st.plot_y_max;
-  if (!(y_lo <= y_hi)) y_lo = -1, y_hi = 1;
-  if (y_hi - y_lo < 1e-6f) y_lo -= 0.5f, y_hi += 0.5f;
-  const float margin = 0.05f * (y_hi - y_lo);
-  y_lo -= margin;
-  y_hi += margin;
-  auto Y = [&](float val) { return p1.y - (val - y_lo) / (y_hi - y_lo) * size.y; };
-
-  // Grid with value labels.
-  for (int i = 0; i <= 4; ++i) {
-    const float val = y_lo + (y_hi - y_lo) * i / 4.0f;
-    const float y = Y(val);
-    dl->AddLine(ImVec2(p0.x, y), ImVec2(p1.x, y), IM_COL32(50, 52, 60, 255));
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g", val);
-    dl->AddText(ImVec2(p0.x + 4, std::clamp(y - 14, p0.y + 2, p1.y - 16)), IM_COL32(150, 150, 150, 255), buf);
-  }
-  char tbuf[64];
-  std::snprintf(tbuf, sizeof tbuf, "t = %.1f s", t_end);
-  dl->AddText(ImVec2(p1.x - 90, p1.y - 16), IM_COL32(150, 150, 150, 255), tbuf);
-
-  dl->PushClipRect(p0, p1, true);
-  for (std::size_t k = 0; k < reduced.size(); ++k) {
-    const ImU32 color = kColors[k % (sizeof kColors / sizeof kColors[0])];
-    const auto& cols = reduced[k].second;
-    ImVec2 prev(-1, -1);
-    for (int c = 0; c < width; ++c) {
-      if (cols[c].lo > cols[c].hi) continue;
-      const float x = p0.x + c;
-      if (cols[c].hi - cols[c].lo > 0) dl->AddLine(ImVec2(x, Y(cols[c].lo)), ImVec2(x, Y(cols[c].hi)), color);
-      const ImVec2 cur(x, Y(0.5f * (cols[c].lo + cols[c].hi)));
-      if (prev.x >= 0) dl->AddLine(prev, cur, color, 1.5f);
-      prev = cur;
+  ImGui::TextDisabled("wheel: zoom, drag: pan, hover: values");
+  const float export_row = ImGui::GetFrameHeightWithSpacing();
+  const int n = static_cast<int>(model.plots().size());
+  const float each = std::max(60.0f, (ImGui::GetContentRegionAvail().y - export_row) / n);
+  for (int i = 0; i < n && i < static_cast<int>(model.plots().size()); ++i) DrawOnePlot(model, ctx, i, t_end, each);
+  {
+    // CSV export of the ticked signals (all plots) over a chosen time range; an empty end is
+    // the visible window's.
+    if (ImGui::Button("Export CSV")) {
+      char* e1 = nullptr;
+      char* e2 = nullptr;
+      const double from = std::strtod(st.plot_export_from.c_str(), &e1);
+      const double to = std::strtod(st.plot_export_to.c_str(), &e2);
+      model.ExportPlotCsv(st.plot_csv_file, *e1 == '\0' && e1 != st.plot_export_from.c_str() ? from : t_start,
+                          *e2 == '\0' && e2 != st.plot_export_to.c_str() ? to : t_end, ctx.now);
     }
-    dl->AddText(ImVec2(p0.x + 60 + 150.0f * static_cast<float>(k % 6), p0.y + 4 + 16.0f * static_cast<float>(k / 6)),
-                color, reduced[k].first.c_str());
+    RegisterLastItem(ctx, "plot:export");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(60);
+    ImGui::InputTextWithHint("##plot:from", "start", &st.plot_export_from);
+    RegisterLastItem(ctx, "plot:from");
+    ImGui::SameLine();
+    ImGui::TextUnformatted("to");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(60);
+    ImGui::InputTextWithHint("##plot:to", "end", &st.plot_export_to);
+    RegisterLastItem(ctx, "plot:to");
+    ImGui::SameLine();
+    ImGui::TextUnformatted("s into");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(180);
+    ImGui::InputText("##plot:file", &st.plot_csv_file);
+    RegisterLastItem(ctx, "plot:file");
   }
-  // Hover readout: values of every series at the time under the cursor.
-  if (hovered) {
-    const float mx = ImGui::GetIO().MousePos.x;
-    dl->AddLine(ImVec2(mx, p0.y), ImVec2(mx, p1.y), IM_COL32(200, 200, 200, 120));
-    const double t = t_start + (mx - p0.x) / size.x * (t_end - t_start);
-    ImGui::BeginTooltip();
-    ImGui::Text("t = %.2f s", t);
-    for (const auto& [key, cols] : reduced) {
-      const SignalSeries& s = v->history.at(key);
-      const std::size_t i = std::min(s.LowerBound(t), s.size() - 1);
-      ImGui::Text("%s = %.4g", key.c_str(), s.ValueAt(i));
-    }
-    ImGui::EndTooltip();
-  }
-  dl->PopClipRect();
+
   ImGui::End();
 }
 

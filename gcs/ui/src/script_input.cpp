@@ -1,6 +1,8 @@
 #include "uav/gcs/script_input.hpp"
 
+#include <cctype>
 #include <cstdlib>
+#include <utility>
 
 #include <imgui.h>
 
@@ -75,6 +77,66 @@ bool ImGuiScriptDriver::StartMapZoom(double north, double east, int steps, std::
   return true;
 }
 
+bool ImGuiScriptDriver::StartGesture(const std::string& label, Gesture g, double fx1, double fy1, double fx2,
+                                     double fy2, int steps, std::string* error) {
+  auto it = ctx_.widgets.find(label);
+  if (it == ctx_.widgets.end()) {
+    *error = "no widget '" + label + "' on screen";
+    return false;
+  }
+  const WidgetRect& r = it->second;
+  auto at = [&](double fx, double fy) {
+    return std::pair<float, float>(r.x0 + static_cast<float>(fx) * (r.x1 - r.x0 - 1),
+                                   r.y0 + static_cast<float>(fy) * (r.y1 - r.y0 - 1));
+  };
+  const auto [x1, y1] = at(fx1, fy1);
+  events_.push_back({Event::kMove, x1, y1, {}});
+  switch (g) {
+    case Gesture::kClick:
+      events_.push_back({Event::kDown, x1, y1, {}});
+      events_.push_back({Event::kUp, x1, y1, {}});
+      break;
+    case Gesture::kRightClick:
+      events_.push_back({Event::kRightDown, x1, y1, {}});
+      events_.push_back({Event::kRightUp, x1, y1, {}});
+      break;
+    case Gesture::kDrag: {
+      const auto [x2, y2] = at(fx2, fy2);
+      events_.push_back({Event::kDown, x1, y1, {}});
+      for (int i = 1; i <= 8; ++i)  // a hand moves over several frames
+        events_.push_back({Event::kMove, x1 + (x2 - x1) * i / 8.0f, y1 + (y2 - y1) * i / 8.0f, {}});
+      events_.push_back({Event::kUp, x2, y2, {}});
+      break;
+    }
+    case Gesture::kWheel:
+      for (int i = 0; i < std::abs(steps); ++i) events_.push_back({Event::kWheel, steps > 0 ? 1.0f : -1.0f, 0, {}});
+      break;
+    case Gesture::kHover:
+      events_.push_back({Event::kMove, x1, y1, {}});  // and stay there
+      break;
+  }
+  return true;
+}
+
+bool ImGuiScriptDriver::StartKey(const std::string& key, bool ctrl, std::string* error) {
+  int index = -1;
+  if (key == "escape") index = ImGui::GetIO().KeyMap[ImGuiKey_Escape];
+  else if (key.size() == 1 && std::isalpha(static_cast<unsigned char>(key[0])))
+    index = std::toupper(static_cast<unsigned char>(key[0]));  // GLFW's key codes for letters
+  if (index < 0) {
+    *error = "unknown key '" + key + "' (a letter or escape)";
+    return false;
+  }
+  Event down{Event::kKeyDown, 0, 0, {}};
+  down.key = index;
+  down.ctrl = ctrl;
+  Event up = down;
+  up.kind = Event::kKeyUp;
+  events_.push_back(down);
+  events_.push_back(up);
+  return true;
+}
+
 bool ImGuiScriptDriver::QueueTyping(const std::string& label, const std::string& text, std::string* error) {
   if (!QueueClick(label, error)) return false;
   // Replace whatever is in the bar (a rejected line stays there for editing): Ctrl+A, type.
@@ -119,6 +181,13 @@ void ImGuiScriptDriver::ApplyNextEvent() {
       case Event::kEnterDown: if (enter >= 0) io.KeysDown[enter] = true; break;
       case Event::kEnterUp: if (enter >= 0) io.KeysDown[enter] = false; break;
       case Event::kWheel: io.MouseWheel += e.x; break;
+      case Event::kKeyDown:
+      case Event::kKeyUp: {
+        const bool down = e.kind == Event::kKeyDown;
+        io.KeyCtrl = down && e.ctrl;
+        if (e.key >= 0 && e.key < IM_ARRAYSIZE(io.KeysDown)) io.KeysDown[e.key] = down;
+        break;
+      }
     }
   }
   // Hold the scripted pointer state every frame (a window backend would overwrite it).

@@ -1,15 +1,46 @@
 // Video panel: the selected vehicle's camera preview, shown at the rate frames arrive, with the
-// camera, frame rate and age underneath. (Target selection on a frozen frame is issue 6.)
+// camera, frame rate and age underneath. Freeze holds a frame to pick a target on it, by clicking
+// its four corners (thesis 3.7.3) or by dragging a rectangle; the selection goes to the vehicle
+// in image coordinates normalised to 0..1 and the panel returns to live video, where the
+// tracker's box, centre and state are drawn over the picture.
 #include <algorithm>
+#include <array>
+#include <cmath>
 
 #include <imgui.h>
 
 #include "uav/gcs/gcs_ui.hpp"
 
 namespace uav::gcs {
+namespace {
+
+constexpr float kDragPixels = 4.0f;
+
+void SendSelection(GcsModel& model, UiContext& ctx, const VideoFeed& frame, TrackTarget::Method method,
+                   const std::vector<std::array<float, 2>>& corners) {
+  TrackTarget t;
+  t.frame_utime = frame.utime;
+  t.camera = frame.camera;
+  t.method = method;
+  float x0 = 1, y0 = 1, x1 = 0, y1 = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto& c = corners[std::min(i, corners.size() - 1)];
+    t.corners[i] = {c[0], c[1]};
+    x0 = std::min(x0, c[0]), y0 = std::min(y0, c[1]), x1 = std::max(x1, c[0]), y1 = std::max(y1, c[1]);
+  }
+  t.x = x0;
+  t.y = y0;
+  t.width = x1 - x0;
+  t.height = y1 - y0;
+  if (model.SelectTarget(t, ctx.now)) model.FreezeVideo(false);  // back to live to watch it track
+  ctx.state.video_clicks.clear();
+}
+
+}  // namespace
 
 void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
   ImGui::Begin("Video");
+  UiState& st = ctx.state;
   const VehicleModel* v = model.selected();
   if (!v || v->video.frames == 0) {
     ImGui::TextDisabled(v ? "no video from %s (start uav-onboard with --scene)" : "no vehicle selected",
@@ -17,24 +48,106 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
     ImGui::End();
     return;
   }
-  const VideoFeed& feed = v->video;
-  if (ctx.update_texture && (ctx.state.video_frames_shown != feed.frames || ctx.state.video_vehicle != v->id)) {
-    ctx.state.video_texture = ctx.update_texture(0, feed.rgba.data(), feed.width, feed.height);
-    ctx.state.video_frames_shown = feed.frames;
-    ctx.state.video_vehicle = v->id;
+  const bool frozen = model.frozen_video().has_value() && model.frozen_vehicle() == v->id;
+  const VideoFeed& feed = frozen ? *model.frozen_video() : v->video;
+  if (ImGui::Button(frozen ? "Live" : "Freeze")) {
+    model.FreezeVideo(!frozen);
+    st.video_clicks.clear();
+  }
+  RegisterLastItem(ctx, "video:freeze");
+  ImGui::SameLine();
+  if (ImGui::Button("Stop tracking")) {
+    TrackTarget cancel;
+    cancel.method = TrackTarget::kCancel;
+    model.SelectTarget(cancel, ctx.now);
+  }
+  RegisterLastItem(ctx, "video:cancel");
+  ImGui::SameLine();
+  if (frozen)
+    ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "FROZEN: drag a box or click 4 corners (%zu/4), right click clears",
+                       st.video_clicks.size());
+  else if (!model.track_error().empty())
+    ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", model.track_error().c_str());
+
+  const int64_t shown = frozen ? -feed.frames - 1 : feed.frames;  // a frozen frame is its own texture
+  if (ctx.update_texture && (st.video_frames_shown != shown || st.video_vehicle != v->id)) {
+    st.video_texture = ctx.update_texture(0, feed.rgba.data(), feed.width, feed.height);
+    st.video_frames_shown = shown;
+    st.video_vehicle = v->id;
   }
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const float text_h = ImGui::GetTextLineHeightWithSpacing();
   const float scale = std::min(avail.x / feed.width, (avail.y - text_h) / feed.height);
   const ImVec2 size(feed.width * std::max(scale, 0.1f), feed.height * std::max(scale, 0.1f));
-  if (ctx.state.video_texture) {
-    ImGui::Image(ctx.state.video_texture, size);
-  } else {
-    ImGui::Dummy(size);  // headless: same layout, nothing to draw
-  }
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImGui::InvisibleButton("video:image", size);
   RegisterLastItem(ctx, "video:image");
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  if (st.video_texture) dl->AddImage(st.video_texture, p0, ImVec2(p0.x + size.x, p0.y + size.y));
+  else dl->AddRectFilled(p0, ImVec2(p0.x + size.x, p0.y + size.y), IM_COL32(30, 30, 30, 255));  // headless
+  if (frozen) dl->AddRect(p0, ImVec2(p0.x + size.x, p0.y + size.y), IM_COL32(255, 200, 80, 255), 0, 0, 2.0f);
+  auto to_screen = [&](double nx, double ny) { return ImVec2(p0.x + static_cast<float>(nx) * size.x, p0.y + static_cast<float>(ny) * size.y); };
+  auto normalised = [&](ImVec2 s) {
+    return std::array<float, 2>{std::clamp((s.x - p0.x) / size.x, 0.0f, 1.0f), std::clamp((s.y - p0.y) / size.y, 0.0f, 1.0f)};
+  };
+
+  if (frozen) {
+    const ImGuiIO& io = ImGui::GetIO();
+    if (ImGui::IsItemActivated()) {
+      st.video_press = normalised(io.MousePos);
+      st.video_dragging = false;
+    }
+    if (ImGui::IsItemActive() && ImGui::IsMouseDragging(ImGuiMouseButton_Left, kDragPixels)) st.video_dragging = true;
+    if (ImGui::IsItemActive() && st.video_dragging) {
+      const auto cur = normalised(io.MousePos);
+      dl->AddRect(to_screen(std::min(st.video_press[0], cur[0]), std::min(st.video_press[1], cur[1])),
+                  to_screen(std::max(st.video_press[0], cur[0]), std::max(st.video_press[1], cur[1])),
+                  IM_COL32(255, 220, 80, 255), 0, 0, 2.0f);
+    }
+    if (ImGui::IsItemDeactivated()) {
+      const auto cur = normalised(io.MousePos);
+      if (st.video_dragging) {
+        SendSelection(model, ctx, feed, TrackTarget::kDrag,
+                      {st.video_press, {cur[0], st.video_press[1]}, cur, {st.video_press[0], cur[1]}});
+      } else {
+        st.video_clicks.push_back(cur);
+        if (st.video_clicks.size() == 4) SendSelection(model, ctx, feed, TrackTarget::kFourClicks, st.video_clicks);
+      }
+      st.video_dragging = false;
+    }
+    if (ImGui::IsItemHovered() && ImGui::IsMouseClicked(ImGuiMouseButton_Right)) st.video_clicks.clear();
+    for (std::size_t i = 0; i < st.video_clicks.size(); ++i) {
+      const ImVec2 c = to_screen(st.video_clicks[i][0], st.video_clicks[i][1]);
+      dl->AddCircleFilled(c, 4.0f, IM_COL32(255, 220, 80, 255));
+      if (i > 0) dl->AddLine(to_screen(st.video_clicks[i - 1][0], st.video_clicks[i - 1][1]), c, IM_COL32(255, 220, 80, 255), 1.5f);
+    }
+  } else {
+    // The tracker's report over the live picture.
+    if (v->track && v->track->state != TrackStatus::kIdle && ctx.now - v->track->received < 2.0) {
+      const TrackStatus& t = *v->track;
+      const ImU32 colour = t.state == TrackStatus::kTracking ? IM_COL32(80, 255, 120, 255) : IM_COL32(255, 170, 60, 255);
+      const double c = std::cos(t.angle_rad), s = std::sin(t.angle_rad);
+      // Oriented box: normalised units scaled by the picture's aspect so the rotation is true.
+      const double aspect = static_cast<double>(size.y) / size.x;
+      ImVec2 q[4];
+      const double hx[4] = {-0.5, 0.5, 0.5, -0.5}, hy[4] = {-0.5, -0.5, 0.5, 0.5};
+      for (int i = 0; i < 4; ++i) {
+        const double dx = hx[i] * t.width, dy = hy[i] * t.height * aspect;
+        q[i] = to_screen(t.center_x + c * dx - s * dy, t.center_y + (s * dx + c * dy) / aspect);
+      }
+      dl->AddPolyline(q, 4, colour, ImDrawFlags_Closed, 2.0f);
+      const ImVec2 ctr = to_screen(t.center_x, t.center_y);
+      dl->AddLine(ImVec2(ctr.x - 8, ctr.y), ImVec2(ctr.x + 8, ctr.y), colour, 2.0f);
+      dl->AddLine(ImVec2(ctr.x, ctr.y - 8), ImVec2(ctr.x, ctr.y + 8), colour, 2.0f);
+      dl->AddText(ImVec2(q[0].x, q[0].y - 16), colour, t.state == TrackStatus::kTracking ? "TRACKING" : "LOST");
+    } else if (v->track_target && v->track_target->method != TrackTarget::kCancel) {
+      // Sent, no answer yet: the selection, thin.
+      const TrackTarget& t = *v->track_target;
+      dl->AddRect(to_screen(t.x, t.y), to_screen(t.x + t.width, t.y + t.height), IM_COL32(255, 255, 255, 180));
+    }
+  }
   ImGui::Text("%s %dx%d (from %dx%d), %.0f fps, frame %lld%s", feed.camera.c_str(), feed.width, feed.height,
-              feed.source_width, feed.source_height, feed.Rate(ctx.now), static_cast<long long>(feed.frames),
+              feed.source_width, feed.source_height, v->video.Rate(ctx.now), static_cast<long long>(feed.frames),
               feed.rejected ? ", some frames rejected" : "");
   ImGui::End();
 }

@@ -18,7 +18,9 @@ enum class Topic {
   kFileOffer,
   kFileRequest,
   kFileChunk,
-  kMapTile
+  kMapTile,
+  kTrackTarget,
+  kTrackStatus
 };
 
 const char* TopicName(Topic t);

@@ -1,6 +1,8 @@
 #pragma once
 // Everything the operator sees and does, as plain data and actions. Panels read it and call its
 // actions; the link feeds it messages as plain structs. No ImGui, no LCM in here.
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -97,6 +99,50 @@ struct LiveMap {
   int64_t rejected = 0;
 };
 
+// Receipts of one message type (a group of the telemetry tree): rate and age.
+struct SignalGroup {
+  double last_receipt = -1.0;  // GCS clock
+  std::deque<double> recent;   // receipt times within the last second
+  int64_t received = 0;
+  double Rate(double now) const;
+  double Age(double now) const { return last_receipt < 0 ? 1e9 : now - last_receipt; }
+};
+
+// What the vehicle's tracker reports (track_status_t), image coordinates normalised to 0..1.
+struct TrackStatus {
+  enum State { kIdle = 0, kTracking = 1, kLost = 2 };
+  int64_t utime = 0;  // vehicle clock of the frame
+  int64_t seq = 0;    // message counter (header.seq)
+  int64_t target_seq = 0;
+  State state = kIdle;
+  double center_x = 0, center_y = 0, width = 0, height = 0, angle_rad = 0;
+  double received = -1.0;  // GCS clock
+};
+
+// A target picked on a frozen video frame (video panel), normalised image coordinates.
+struct TrackTarget {
+  enum Method { kDrag = 0, kFourClicks = 1, kCancel = 2 };
+  int64_t frame_utime = 0;
+  std::string camera;
+  Method method = kDrag;
+  double x = 0, y = 0, width = 0, height = 0;  // axis-aligned rectangle, top-left and size
+  std::array<std::array<double, 2>, 4> corners{};  // clicked corners (x, y) in click order
+};
+
+struct OutgoingTrackTarget {
+  std::string vehicle_id;
+  int64_t target_seq = 0;
+  TrackTarget target;
+};
+
+// One plot panel: its signals, each on the left or right y axis, and each axis's range.
+enum class PlotAxis { kLeft = 0, kRight = 1 };
+struct PlotSpec {
+  std::map<std::string, PlotAxis> signals;  // "GROUP.signal"
+  bool auto_y[2] = {true, true};
+  double y_min[2] = {-10, -10}, y_max[2] = {10, 10};
+};
+
 struct VehicleModel {
   std::string id;
   // Link quality, measured on the GCS's monotonic clock.
@@ -110,6 +156,7 @@ struct VehicleModel {
   std::map<std::string, double> latest;
   std::vector<std::string> signal_order;     // keys in the order the vehicle sends them (Table 2.3)
   std::map<std::string, SignalSeries> history;
+  std::map<std::string, SignalGroup> groups;  // by message (group) name
   double first_t = -1.0;                     // vehicle time of the first sample (plot origin)
   std::string task = "unknown";
   bool armed = false;
@@ -123,6 +170,10 @@ struct VehicleModel {
   FileReceiver files;
   std::map<int64_t, std::string> saved;
   LiveMap live_map;
+  // Target tracking: the last selection sent to this vehicle and what its tracker reports.
+  std::optional<TrackTarget> track_target;
+  int64_t track_targets_sent = 0;
+  std::optional<TrackStatus> track;
 
   double HeartbeatAge(double now) const { return last_heartbeat < 0 ? 1e9 : now - last_heartbeat; }
   double MessageRate(double now) const;
@@ -172,15 +223,41 @@ class GcsModel {
   // Decodes the tile; a tile of a newer map replaces the whole live map. A tile that does not
   // decode to tile_px x tile_px is counted as rejected (the first one logged).
   void OnMapTile(const std::string& vehicle_id, const MapTileIn& tile, double now);
+  // A status that is not finite, names an unknown state or lies far outside the image is
+  // counted in the log and dropped. Also feeds the TRACK group of the telemetry tree.
+  void OnTrackStatus(const std::string& vehicle_id, const TrackStatus& status, double now);
 
   // ---- Operator actions.
   // Validates with the shared grammar; on success queues the command for the selected vehicle.
   // Returns false and sets command_error() when the text is invalid or no vehicle is selected.
   bool SubmitCommand(const std::string& text, double now);
   void SelectVehicle(const std::string& id);
-  void TogglePlotSignal(const std::string& key);  // "GROUP.signal"
+  // Plot panels: there is always at least one; ticking puts a signal on the active one.
+  int AddPlot();                 // a new, empty, active plot; returns its index
+  void RemovePlot(int index);    // the last one stays
+  void SetActivePlot(int index);
+  void TogglePlotSignal(const std::string& key);  // "GROUP.signal", on the active plot, left axis
+  void TogglePlotSignal(int plot, const std::string& key, PlotAxis axis);
+  void SetSignalAxis(int plot, const std::string& key, PlotAxis axis);
+  // Fixed range of one axis (auto off); refused unless finite with lo < hi.
+  bool SetPlotRange(int plot, PlotAxis axis, bool auto_y, double lo, double hi);
   void SetPlotWindow(double seconds);
-  // Writes the plotted signals of the selected vehicle over [t0, t1] (plot time, seconds since
+  // The shared time axis of all plots: following the newest sample, or held at `t_end` (plot
+  // time, seconds since the vehicle's first sample) by pause or by panning.
+  void HoldPlotTime(double t_end) { if (std::isfinite(t_end)) plot_hold_ = t_end; }
+  void FollowPlotTime() { plot_hold_.reset(); }
+  const std::optional<double>& plot_hold() const { return plot_hold_; }
+  // Freezes the selected vehicle's video on its current frame (target selection picks on it),
+  // or goes back to live. Returns false when there is no frame to freeze.
+  bool FreezeVideo(bool freeze);
+  // The frozen frame, while frozen (of the vehicle that was selected then).
+  const std::optional<VideoFeed>& frozen_video() const { return frozen_video_; }
+  const std::string& frozen_vehicle() const { return frozen_vehicle_; }
+  // Sends the target picked in the video panel to the selected vehicle. Returns false and sets
+  // track_error() when no vehicle is selected, or a coordinate is not finite or outside 0..1,
+  // or the rectangle is smaller than 0.5 % of the image side.
+  bool SelectTarget(const TrackTarget& target, double now);
+  // Writes the ticked signals (all plots) of the selected vehicle over [t0, t1] (plot time, seconds since
   // its first sample) as CSV: a column t, then one per signal, a row per sample time (empty
   // where a signal has no sample then). Written to a temporary name and renamed; the outcome
   // goes to the log. Returns false when there is nothing to write or the file cannot be written.
@@ -205,13 +282,17 @@ class GcsModel {
   std::vector<OutgoingCommand> TakeOutgoing();
   std::vector<OutgoingMissionChunk> TakeOutgoingChunks();
   std::vector<OutgoingFileRequest> TakeOutgoingFileRequests();
+  std::vector<OutgoingTrackTarget> TakeOutgoingTrackTargets();
 
   // ---- Views.
   const std::string& gcs_name() const { return gcs_name_; }
   const std::map<std::string, VehicleModel>& vehicles() const { return vehicles_; }
   const VehicleModel* selected() const;
   const std::string& selected_id() const { return selected_; }
-  const std::set<std::string>& plot_signals() const { return plot_signals_; }
+  std::set<std::string> plot_signals() const;  // ticked on any plot
+  const std::vector<PlotSpec>& plots() const { return plots_; }
+  int active_plot() const { return active_plot_; }
+  const std::string& track_error() const { return track_error_; }
   double plot_window() const { return plot_window_; }
   const std::string& command_error() const { return command_error_; }
   const std::vector<std::string>& command_history() const { return history_; }
@@ -233,7 +314,14 @@ class GcsModel {
   std::string gcs_name_;
   std::map<std::string, VehicleModel> vehicles_;
   std::string selected_;
-  std::set<std::string> plot_signals_;
+  std::vector<PlotSpec> plots_ = std::vector<PlotSpec>(1);
+  int active_plot_ = 0;
+  std::vector<OutgoingTrackTarget> outgoing_track_;
+  std::string track_error_;
+  int64_t next_target_seq_ = 1;
+  std::optional<double> plot_hold_;
+  std::optional<VideoFeed> frozen_video_;
+  std::string frozen_vehicle_;
   double plot_window_ = 60.0;
   std::string command_error_;
   std::vector<std::string> history_;

@@ -8,6 +8,15 @@
 //   map_right_click N E       right click there (deletes a survey vertex)
 //   map_drag N1 E1 N2 E2      press at the first point, drag to the second, release
 //   map_zoom N E STEPS        mouse wheel STEPS notches over the map at N E (+ in, - out)
+//   video_click FX FY         click the video picture at (FX, FY), fractions of its width/height
+//   video_right_click FX FY
+//   video_drag FX1 FY1 FX2 FY2  press, drag, release on the video picture
+//   plot_zoom N STEPS         mouse wheel over plot N's canvas
+//   plot_drag N FX1 FX2       drag across plot N's canvas (pans the time axis)
+//   plot_hover N FX           hold the pointer over plot N at FX (the readout shows)
+//   livemap_zoom STEPS        mouse wheel over the live map's centre
+//   livemap_drag FX1 FY1 FX2 FY2
+//   key CHORD                 a key, e.g. ctrl+h, ctrl+k, escape
 //   select VEHICLE            pick the vehicle the panels show (click "vehicle:ID")
 //   wait SECONDS              let time pass
 //   wait_until COND [timeout SECONDS]   (default timeout 30 s)
@@ -19,7 +28,9 @@
 // "STATE.x", "HEARTBEAT...") or one of: ack ack.reason ack.command ack.percent tries error task
 // armed vehicles selected plots link sent gave_up log survey.vertices survey.images
 // survey.lines survey.altitude survey.ok survey.problem upload upload.reason mission.items
-// video.frames video.rejected livemap.tiles livemap.received download.offered download.saved.
+// video.frames video.rejected video.frozen livemap.tiles livemap.received download.offered
+// download.saved plot_panels plot.window plot.held plotN.signals plotN.right track.sent track.x
+// track.y track.w track.h track.method track.state track.cx track.cy track.error.
 // '#' starts a comment.
 #include <cstdio>
 #include <string>
@@ -63,6 +74,12 @@ class ScriptDriver {
   virtual bool StartMapClick(double north, double east, bool right, std::string* error) = 0;
   virtual bool StartMapDrag(double n1, double e1, double n2, double e2, std::string* error) = 0;
   virtual bool StartMapZoom(double north, double east, int steps, std::string* error) = 0;
+  // Pointer gestures on a widget registered under `label`, at fractions of its rectangle.
+  enum class Gesture { kClick, kRightClick, kDrag, kWheel, kHover };
+  virtual bool StartGesture(const std::string& label, Gesture g, double fx1, double fy1, double fx2, double fy2,
+                            int steps, std::string* error) = 0;
+  // A key press, optionally with Ctrl: a letter or "escape".
+  virtual bool StartKey(const std::string& key, bool ctrl, std::string* error) = 0;
   virtual bool InputPending() const = 0;
   // 1: saved; 0: pending (call again next frame); -1: failed, *error says why.
   virtual int Screenshot(const std::string& path, std::string* error) = 0;

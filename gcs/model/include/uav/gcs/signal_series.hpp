@@ -1,6 +1,7 @@
 #pragma once
 // History of one telemetry signal: a ring buffer of (time, value) that keeps the newest
-// `capacity` samples (default 30 minutes at 50 Hz).
+// `capacity` samples (default 30 minutes at 50 Hz), with the min and max of every block of 32
+// stored samples so that a plot column's range costs a few block reads, not a scan.
 #include <cstddef>
 #include <vector>
 
@@ -19,15 +20,22 @@ class SignalSeries {
   double ValueAt(std::size_t i) const { return v_[Index(i)]; }
   double LastTime() const { return TimeAt(size() - 1); }
   double LastValue() const { return ValueAt(size() - 1); }
-  // First sample index with time >= t (binary search; times are non-decreasing).
+  // First sample index with time >= t, and with time > t (binary search; times non-decreasing).
   std::size_t LowerBound(double t) const;
+  std::size_t UpperBound(double t) const;
+  // Min and max value of samples [i, j) (i < j <= size()).
+  void MinMax(std::size_t i, std::size_t j, float* lo, float* hi) const;
 
  private:
+  static constexpr std::size_t kBlock = 32;
   std::size_t Index(std::size_t i) const { return t_.size() < capacity_ ? i : (head_ + i) % capacity_; }
+  // Min/max over stored positions [a, b) (no wrap).
+  void StoredMinMax(std::size_t a, std::size_t b, float* lo, float* hi) const;
   std::size_t capacity_;
   std::size_t head_ = 0;  // oldest element once full
   std::vector<double> t_;
   std::vector<float> v_;
+  std::vector<float> block_min_, block_max_;  // per kBlock stored positions
 };
 
 }  // namespace uav::gcs

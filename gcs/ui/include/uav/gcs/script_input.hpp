@@ -22,6 +22,9 @@ class ImGuiScriptDriver : public ScriptDriver {
   bool StartMapClick(double north, double east, bool right, std::string* error) override;
   bool StartMapDrag(double n1, double e1, double n2, double e2, std::string* error) override;
   bool StartMapZoom(double north, double east, int steps, std::string* error) override;
+  bool StartGesture(const std::string& label, Gesture g, double fx1, double fy1, double fx2, double fy2, int steps,
+                    std::string* error) override;
+  bool StartKey(const std::string& key, bool ctrl, std::string* error) override;
   bool InputPending() const override { return !events_.empty(); }
   int Screenshot(const std::string& path, std::string* error) override;
 
@@ -31,9 +34,12 @@ class ImGuiScriptDriver : public ScriptDriver {
 
  private:
   struct Event {
-    enum Kind { kMove, kDown, kUp, kRightDown, kRightUp, kSelectAllDown, kSelectAllUp, kText, kEnterDown, kEnterUp, kWheel } kind;
+    enum Kind { kMove, kDown, kUp, kRightDown, kRightUp, kSelectAllDown, kSelectAllUp, kText, kEnterDown, kEnterUp, kWheel,
+                kKeyDown, kKeyUp } kind;
     float x = 0, y = 0;
     std::string text;
+    int key = -1;
+    bool ctrl = false;
   };
   bool QueueClick(const std::string& label, std::string* error);
   bool QueueTyping(const std::string& label, const std::string& text, std::string* error);

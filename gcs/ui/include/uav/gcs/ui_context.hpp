@@ -2,10 +2,12 @@
 // State of the user interface itself (not of the vehicles): what the operator is typing, the
 // filters and plot settings, and where each clickable widget was drawn this frame. Owned by the
 // application and passed to every panel; panels keep no state of their own.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 struct ImVec2;
 
@@ -21,11 +23,10 @@ struct UiState {
   bool focus_command_bar = false;
   std::string pending_confirmation;  // command text awaiting "Confirm"
   std::string signal_filter;
-  bool plot_paused = false;
-  double plot_paused_at = 0.0;
-  bool plot_auto_y = true;
-  float plot_y_min = -10.0f, plot_y_max = 10.0f;
   std::string plot_csv_file = "plot.csv";
+  // CSV export range [s of plot time]; empty: that end of the visible window.
+  std::string plot_export_from, plot_export_to;
+  std::string plot_readout;  // the hover readout of the last frame the mouse was over a plot
   // Map view: centre [m north, east of the map origin] and zoom.
   double map_center_n = 0.0, map_center_e = 0.0;
   double map_px_per_m = 3.0;
@@ -45,9 +46,15 @@ struct UiState {
   };
   std::map<std::pair<int, int>, TileTexture> live_tiles;
   std::string live_map_vehicle;
+  double live_zoom = 1.0;                  // 1: the whole map fits the panel
+  double live_pan_x = 0, live_pan_y = 0;   // [tiles] view centre from the map's centre
   int live_map_id = -1;
   int next_texture_slot = 100;
-  // Video panel: which frame of which vehicle is in the texture.
+  // Video panel: the corners clicked so far on a frozen frame, a drag in progress (normalised
+  // image coordinates), and which frame of which vehicle is in the texture.
+  std::vector<std::array<float, 2>> video_clicks;
+  std::array<float, 2> video_press{0, 0};
+  bool video_dragging = false;
   std::string video_vehicle;
   int64_t video_frames_shown = -1;
   void* video_texture = nullptr;

@@ -1,0 +1,334 @@
+// Issue 6: the operator's telemetry tree, plot panels, target selection on video, live map
+// navigation and keyboard shortcuts, first on the model, then on the real panels headless with
+// scripted mouse and keyboard input (as uav-gcs --headless --script drives them).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <imgui.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "uav/gcs/gcs_ui.hpp"
+#include "uav/gcs/platform.hpp"
+#include "uav/gcs/script.hpp"
+#include "uav/gcs/script_input.hpp"
+#include "uav/gcs/signal_series.hpp"
+
+namespace uav::gcs {
+namespace {
+
+TEST(SignalSeries, MinMaxMatchesAScanAcrossTheRingsWrap) {
+  SignalSeries s(1000);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-5, 5);
+  for (int i = 0; i < 2537; ++i) s.Push(i * 0.02, u(rng));  // wrapped more than twice
+  std::uniform_int_distribution<int> pick(0, 999);
+  for (int k = 0; k < 500; ++k) {
+    int i = pick(rng), j = pick(rng);
+    if (i > j) std::swap(i, j);
+    ++j;
+    float lo, hi;
+    s.MinMax(i, j, &lo, &hi);
+    float want_lo = 1e9f, want_hi = -1e9f;
+    for (int n = i; n < j; ++n)
+      want_lo = std::min(want_lo, static_cast<float>(s.ValueAt(n))), want_hi = std::max(want_hi, static_cast<float>(s.ValueAt(n)));
+    ASSERT_EQ(lo, want_lo) << i << ".." << j;
+    ASSERT_EQ(hi, want_hi) << i << ".." << j;
+  }
+  EXPECT_EQ(s.UpperBound(s.TimeAt(10)), 11u);
+  EXPECT_EQ(s.LowerBound(s.TimeAt(10)), 10u);
+}
+
+TEST(GcsTelemetryTree, GroupsCarryTheirRateAndAge) {
+  GcsModel m("gcs", 1);
+  for (int i = 0; i < 50; ++i) m.OnTelemetry({"UAV1", "STATE", i + 1, i * 0.02, {{"alt", 1.0}}}, 10.0 + i * 0.02);
+  m.OnHeartbeat("UAV1", 1, 2, true, 10.5);
+  const VehicleModel& v = m.vehicles().at("UAV1");
+  EXPECT_NEAR(v.groups.at("STATE").Rate(10.99), 50, 1);
+  EXPECT_NEAR(v.groups.at("STATE").Age(11.5), 11.5 - 10.98, 1e-9);
+  EXPECT_EQ(v.groups.at("HEARTBEAT").Rate(11.0), 1);
+  EXPECT_EQ(v.latest.at("HEARTBEAT.task"), 2);  // heartbeats are in the tree too (no history)
+  EXPECT_EQ(v.history.count("HEARTBEAT.task"), 0u);
+}
+
+TEST(GcsPlots, PanelsAxesAndRangesAreCheckedOnBothSides) {
+  GcsModel m("gcs", 1);
+  EXPECT_EQ(m.plots().size(), 1u);
+  m.TogglePlotSignal("STATE.alt");
+  EXPECT_EQ(m.AddPlot(), 1);
+  EXPECT_EQ(m.active_plot(), 1);
+  m.TogglePlotSignal("STATE.x");
+  m.SetSignalAxis(1, "STATE.x", PlotAxis::kRight);
+  EXPECT_EQ(m.plots()[1].signals.at("STATE.x"), PlotAxis::kRight);
+  EXPECT_EQ(m.plot_signals(), (std::set<std::string>{"STATE.alt", "STATE.x"}));
+  EXPECT_FALSE(m.SetPlotRange(1, PlotAxis::kRight, false, 2.0, 2.0));  // lo must be below hi
+  EXPECT_FALSE(m.SetPlotRange(1, PlotAxis::kRight, false, 0.0, NAN));
+  EXPECT_TRUE(m.plots()[1].auto_y[1]);
+  EXPECT_TRUE(m.SetPlotRange(1, PlotAxis::kRight, false, -1.0, -0.999));
+  EXPECT_FALSE(m.plots()[1].auto_y[1]);
+  m.RemovePlot(0);
+  EXPECT_EQ(m.plots().size(), 1u);
+  m.RemovePlot(0);  // the last one stays
+  EXPECT_EQ(m.plots().size(), 1u);
+  EXPECT_EQ(m.plot_signals(), std::set<std::string>{"STATE.x"});
+}
+
+TEST(GcsTracking, SelectionIsValidatedAndStatusIsPerVehicle) {
+  GcsModel m("gcs", 1);
+  TrackTarget t;
+  t.method = TrackTarget::kDrag;
+  t.x = 0.2, t.y = 0.3, t.width = 0.1, t.height = 0.2;
+  t.corners = {{{0.2, 0.3}, {0.3, 0.3}, {0.3, 0.5}, {0.2, 0.5}}};
+  EXPECT_FALSE(m.SelectTarget(t, 0.0));
+  EXPECT_EQ(m.track_error(), "no vehicle selected");
+  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV2", 1, 0, false, 0.0);
+  EXPECT_TRUE(m.SelectTarget(t, 0.0));
+  auto out = m.TakeOutgoingTrackTargets();
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].vehicle_id, "UAV1");
+  EXPECT_DOUBLE_EQ(out[0].target.x, 0.2);
+  // Both sides of the image's edges, and the smallest box.
+  TrackTarget edge = t;
+  edge.x = 0.9, edge.width = 0.1;  // right edge exactly at 1
+  for (auto& c : edge.corners) c[0] = std::min(1.0, c[0] + 0.7);
+  EXPECT_TRUE(m.SelectTarget(edge, 0.1)) << m.track_error();
+  edge.width = 0.1001;
+  EXPECT_FALSE(m.SelectTarget(edge, 0.1));
+  EXPECT_NE(m.track_error().find("outside the image"), std::string::npos);
+  TrackTarget tiny = t;
+  tiny.width = 0.0049;
+  EXPECT_FALSE(m.SelectTarget(tiny, 0.1));
+  EXPECT_NE(m.track_error().find("too small"), std::string::npos);
+  tiny.width = 0.005;
+  EXPECT_TRUE(m.SelectTarget(tiny, 0.1));
+  TrackTarget nan = t;
+  nan.corners[2][1] = NAN;
+  EXPECT_FALSE(m.SelectTarget(nan, 0.1));
+  EXPECT_EQ(m.TakeOutgoingTrackTargets().size(), 2u);
+  // Status: validated, kept per vehicle, in the tree as TRACK.*.
+  TrackStatus st;
+  st.utime = 1000000;
+  st.seq = 1;
+  st.state = TrackStatus::kTracking;
+  st.center_x = 0.25, st.center_y = 0.4, st.width = 0.1, st.height = 0.2;
+  m.OnTrackStatus("UAV2", st, 0.2);
+  EXPECT_FALSE(m.vehicles().at("UAV1").track);
+  ASSERT_TRUE(m.vehicles().at("UAV2").track);
+  EXPECT_EQ(m.vehicles().at("UAV2").latest.at("TRACK.center_x"), 0.25);
+  TrackStatus bad = st;
+  bad.center_x = NAN;
+  m.OnTrackStatus("UAV1", bad, 0.3);
+  bad = st;
+  bad.state = static_cast<TrackStatus::State>(7);
+  m.OnTrackStatus("UAV1", bad, 0.3);
+  bad = st;
+  bad.center_y = 1.6;
+  m.OnTrackStatus("UAV1", bad, 0.3);
+  EXPECT_FALSE(m.vehicles().at("UAV1").track);
+}
+
+TEST(GcsVideo, FreezeHoldsTheFrameAndSwitchingVehicleDropsIt) {
+  GcsModel m("gcs", 1);
+  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV2", 1, 0, false, 0.0);
+  EXPECT_FALSE(m.FreezeVideo(true));  // no frame yet
+  cv::Mat img(48, 64, CV_8UC3, cv::Scalar(10, 20, 30));
+  VideoFrameIn f;
+  f.utime = 5;
+  f.camera = "downward";
+  f.width = 64, f.height = 48, f.source_width = 640, f.source_height = 480;
+  cv::imencode(".jpg", img, f.jpeg);
+  m.OnVideoFrame("UAV1", f, 0.1);
+  ASSERT_TRUE(m.FreezeVideo(true));
+  f.utime = 6;
+  m.OnVideoFrame("UAV1", f, 0.2);
+  EXPECT_EQ(m.frozen_video()->utime, 5);  // the frozen frame stays
+  m.SelectVehicle("UAV2");
+  EXPECT_FALSE(m.frozen_video());  // nothing of UAV1 on UAV2's panels
+}
+
+// ---- The panels headless, driven like a person: a fake vehicle fed into the model.
+
+class Panels : public ::testing::Test {
+ protected:
+  Panels() : platform_(MakeNullPlatform(1600, 900)), model_("gcs", 1), driver_(ctx_, nullptr) {
+    model_.OnHeartbeat("UAV1", 1, 2, true, 0.0);
+    model_.OnHeartbeat("UAV2", 1, 0, false, 0.0);
+  }
+  void Frames(int n) {
+    for (int i = 0; i < n; ++i) {
+      now_ += 1.0 / 60;
+      ctx_.now = now_;
+      platform_->NewFrame(1.0 / 60);
+      driver_.ApplyNextEvent();
+      ImGui::NewFrame();
+      DrawGcs(model_, ctx_);
+      platform_->Render();
+    }
+  }
+  void RunUntilIdle() {
+    for (int i = 0; i < 200 && driver_.InputPending(); ++i) Frames(1);
+    Frames(3);
+  }
+  void Telemetry(int samples) {
+    for (int i = 0; i < samples; ++i, ++seq_)
+      model_.OnTelemetry({"UAV1", "STATE", seq_, seq_ * 0.02, {{"alt", std::sin(seq_ * 0.01)}, {"x", seq_ * 0.001}}}, now_);
+  }
+  void Video(const std::string& vehicle) {
+    cv::Mat img(120, 160, CV_8UC3, cv::Scalar(40, 90, 140));
+    VideoFrameIn f;
+    f.utime = 123456;
+    f.camera = "downward";
+    f.width = 160, f.height = 120, f.source_width = 640, f.source_height = 480;
+    cv::imencode(".jpg", img, f.jpeg);
+    model_.OnVideoFrame(vehicle, f, now_);
+  }
+  std::unique_ptr<Platform> platform_;
+  GcsModel model_;
+  UiContext ctx_;
+  ImGuiScriptDriver driver_;
+  double now_ = 0.0;
+  int64_t seq_ = 1;
+  std::string err_;
+};
+
+TEST_F(Panels, TargetByFourClicksAndByADragOnAFrozenFrame) {
+  Video("UAV1");
+  Frames(3);
+  ASSERT_TRUE(driver_.StartClick("video:freeze", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_TRUE(model_.frozen_video());
+  // Four corners (thesis 3.7.3), clockwise from the top left.
+  const double pts[4][2] = {{0.25, 0.20}, {0.55, 0.22}, {0.50, 0.60}, {0.27, 0.58}};
+  for (const auto& p : pts) {
+    ASSERT_TRUE(driver_.StartGesture("video:image", ScriptDriver::Gesture::kClick, p[0], p[1], 0, 0, 0, &err_)) << err_;
+    RunUntilIdle();
+  }
+  auto out = model_.TakeOutgoingTrackTargets();
+  ASSERT_EQ(out.size(), 1u);
+  const TrackTarget& t = out[0].target;
+  EXPECT_EQ(t.method, TrackTarget::kFourClicks);
+  EXPECT_EQ(t.frame_utime, 123456);
+  const WidgetRect r = ctx_.widgets.at("video:image");
+  const double px = 1.0 / (r.x1 - r.x0);  // one screen pixel in normalised units
+  EXPECT_NEAR(t.x, 0.25, 2 * px);
+  EXPECT_NEAR(t.y, 0.20, 2 * px);
+  EXPECT_NEAR(t.x + t.width, 0.55, 2 * px);
+  EXPECT_NEAR(t.y + t.height, 0.60, 2 * px);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(t.corners[i][0], pts[i][0], 2 * px);
+  EXPECT_FALSE(model_.frozen_video());  // back to live to watch it track
+  // The tracker's answer is drawn over the live video (headless: the state is what we check).
+  TrackStatus st;
+  st.state = TrackStatus::kTracking;
+  st.center_x = 0.4, st.center_y = 0.4, st.width = 0.3, st.height = 0.4;
+  model_.OnTrackStatus("UAV1", st, now_);
+  Frames(2);
+  // A drag on a new frozen frame.
+  ASSERT_TRUE(driver_.StartClick("video:freeze", &err_));
+  RunUntilIdle();
+  ASSERT_TRUE(driver_.StartGesture("video:image", ScriptDriver::Gesture::kDrag, 0.6, 0.7, 0.8, 0.9, 0, &err_));
+  RunUntilIdle();
+  out = model_.TakeOutgoingTrackTargets();
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].target.method, TrackTarget::kDrag);
+  EXPECT_NEAR(out[0].target.x, 0.6, 2 * px);
+  EXPECT_NEAR(out[0].target.width, 0.2, 3 * px);
+  EXPECT_NEAR(out[0].target.height, 0.2, 3 * px);
+  // A right click clears half-done corners; nothing is sent.
+  ASSERT_TRUE(driver_.StartClick("video:freeze", &err_));
+  RunUntilIdle();
+  ASSERT_TRUE(driver_.StartGesture("video:image", ScriptDriver::Gesture::kClick, 0.1, 0.1, 0, 0, 0, &err_));
+  RunUntilIdle();
+  EXPECT_EQ(ctx_.state.video_clicks.size(), 1u);
+  ASSERT_TRUE(driver_.StartGesture("video:image", ScriptDriver::Gesture::kRightClick, 0.1, 0.1, 0, 0, 0, &err_));
+  RunUntilIdle();
+  EXPECT_TRUE(ctx_.state.video_clicks.empty());
+  EXPECT_TRUE(model_.TakeOutgoingTrackTargets().empty());
+}
+
+TEST_F(Panels, PlotsTakeTicksZoomPanAndReadOut) {
+  Telemetry(3000);  // 60 s
+  Frames(3);
+  ASSERT_TRUE(driver_.StartClick("tick:STATE.alt", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_TRUE(driver_.StartClick("plot:add", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_EQ(model_.plots().size(), 2u);
+  ASSERT_TRUE(driver_.StartClick("tick:STATE.x", &err_));
+  RunUntilIdle();
+  ASSERT_TRUE(driver_.StartClick("axis:STATE.x", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_EQ(model_.plots()[0].signals.size(), 1u);
+  EXPECT_EQ(model_.plots()[1].signals.at("STATE.x"), PlotAxis::kRight);
+  // Wheel: two notches in shrink the 60 s window to 60 / 1.25^2.
+  ASSERT_TRUE(driver_.StartGesture("plot:1:canvas", ScriptDriver::Gesture::kWheel, 0.5, 0.5, 0, 0, 2, &err_));
+  RunUntilIdle();
+  EXPECT_NEAR(model_.plot_window(), 60 / 1.5625, 1e-6);
+  // Drag right by half the canvas: the time axis holds, half a window earlier.
+  const double window = model_.plot_window();
+  const double t_end = 59.98;  // the newest sample
+  ASSERT_TRUE(driver_.StartGesture("plot:1:canvas", ScriptDriver::Gesture::kDrag, 0.3, 0.5, 0.8, 0.5, 0, &err_));
+  RunUntilIdle();
+  ASSERT_TRUE(model_.plot_hold());
+  EXPECT_NEAR(*model_.plot_hold(), t_end - 0.5 * window, 0.01 * window);
+  // Hover: the readout names each signal with its value at that time.
+  ASSERT_TRUE(driver_.StartGesture("plot:2:canvas", ScriptDriver::Gesture::kHover, 0.5, 0.5, 0, 0, 0, &err_));
+  RunUntilIdle();
+  EXPECT_NE(ctx_.state.plot_readout.find("STATE.x = "), std::string::npos) << ctx_.state.plot_readout;
+  // The readout's time is half a window before the held end, and x is (t / 0.02 + 1) mm there.
+  double t_read = 0, x_read = 0;
+  ASSERT_EQ(std::sscanf(ctx_.state.plot_readout.c_str(), "t = %lf s", &t_read), 1);
+  ASSERT_EQ(std::sscanf(ctx_.state.plot_readout.c_str() + ctx_.state.plot_readout.find("STATE.x = "), "STATE.x = %lf", &x_read), 1);
+  EXPECT_NEAR(t_read, *model_.plot_hold() - 0.5 * window, 0.01 * window);
+  EXPECT_NEAR(x_read, (t_read / 0.02 + 1) * 0.001, 0.0011);
+}
+
+TEST_F(Panels, ShortcutsAskForConfirmationAndGoToTheSelectedVehicle) {
+  Frames(2);
+  ASSERT_TRUE(driver_.StartKey("h", true, &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_EQ(ctx_.state.pending_confirmation, "hover");
+  EXPECT_TRUE(model_.sent_commands().empty());
+  ASSERT_TRUE(driver_.StartKey("escape", false, &err_));
+  RunUntilIdle();
+  EXPECT_TRUE(ctx_.state.pending_confirmation.empty());
+  ASSERT_TRUE(driver_.StartClick("vehicle:UAV2", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_TRUE(driver_.StartKey("l", true, &err_));
+  RunUntilIdle();
+  ASSERT_TRUE(driver_.StartKey("k", true, &err_));
+  RunUntilIdle();
+  ASSERT_EQ(model_.sent_commands().size(), 1u);
+  EXPECT_EQ(model_.sent_commands().back().text, "land");
+  EXPECT_EQ(model_.sent_commands().back().vehicle_id, "UAV2");
+  EXPECT_FALSE(driver_.StartKey("f13", false, &err_));
+}
+
+TEST_F(Panels, LiveMapZoomsAboutTheCursorAndPans) {
+  cv::Mat tile(64, 64, CV_8UC3, cv::Scalar(30, 120, 200));
+  MapTileIn t;
+  t.map_id = 1, t.tile_px = 64, t.gsd_m = 0.05;
+  cv::imencode(".jpg", tile, t.jpeg);
+  for (int x = 0; x < 3; ++x)
+    for (int y = 0; y < 2; ++y) {
+      t.tile_x = x, t.tile_y = y;
+      model_.OnMapTile("UAV1", t, now_);
+    }
+  Frames(3);
+  ASSERT_TRUE(driver_.StartGesture("livemap", ScriptDriver::Gesture::kWheel, 0.5, 0.5, 0, 0, 3, &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_NEAR(ctx_.state.live_zoom, std::pow(1.25, 3), 1e-9);
+  const double pan_before = ctx_.state.live_pan_x;
+  ASSERT_TRUE(driver_.StartGesture("livemap", ScriptDriver::Gesture::kDrag, 0.6, 0.5, 0.4, 0.5, 0, &err_));
+  RunUntilIdle();
+  EXPECT_GT(ctx_.state.live_pan_x, pan_before + 0.1);  // dragged left: the view moved east
+  ASSERT_TRUE(driver_.StartClick("livemap:fit", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_EQ(ctx_.state.live_zoom, 1.0);
+}
+
+}  // namespace
+}  // namespace uav::gcs
