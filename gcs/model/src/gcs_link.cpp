@@ -53,6 +53,7 @@ TelemetrySample Flatten(const uavmsg::vehicle_state_t& m) {
               {"battery_v", m.battery_voltage_v}, {"battery_remaining", m.battery_remaining},
               {"mission_item", m.mission_item}, {"capturing", m.capturing ? 1.0 : 0.0},
               {"obstacle_range", m.obstacle_range_m},
+              {"fence_radius", m.fence_radius_m}, {"fence_alt", m.fence_alt_m},
               {"home_lat", m.home_latitude_deg}, {"home_lon", m.home_longitude_deg},
               {"home_alt", m.home_altitude_m}};
   return s;

@@ -186,6 +186,18 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
     for (const auto& p : pts) dl->AddCircleFilled(p, 2.5f, kMission);
   }
   const ImVec2 home = to_screen(0, 0);
+  // The geofence the vehicle enforces: its radius around home, red.
+  if (v) {
+    auto r = v->latest.find("STATE.fence_radius"), a = v->latest.find("STATE.fence_alt");
+    if (r != v->latest.end() && r->second > 0) {
+      const float px = static_cast<float>(r->second * st.map_px_per_m);
+      dl->AddCircle(home, px, IM_COL32(230, 60, 60, 200), 128, 2.0f);
+      char label[64];
+      std::snprintf(label, sizeof label, "geofence %.0f m, %.0f m high", r->second,
+                    a != v->latest.end() ? a->second : 0.0);
+      dl->AddText(ImVec2(home.x + px * 0.7071f + 4, home.y - px * 0.7071f - 14), IM_COL32(230, 60, 60, 220), label);
+    }
+  }
   dl->AddRect(ImVec2(home.x - 7, home.y - 7), ImVec2(home.x + 7, home.y + 7), kVehicle, 0, 0, 2.0f);
   dl->AddText(ImVec2(home.x + 9, home.y - 7), kVehicle, "H");
   if (v) {

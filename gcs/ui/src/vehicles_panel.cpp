@@ -15,7 +15,9 @@ void DrawVehiclesPanel(GcsModel& model, UiContext& ctx) {
     std::snprintf(line, sizeof line, "%-8s %-4s  hb %4.1fs  %3.0f msg/s  %s%s", id.c_str(),
                   v.LinkUp(ctx.now) ? "up" : "LOST", v.HeartbeatAge(ctx.now), v.MessageRate(ctx.now),
                   v.task.c_str(), v.armed ? " (armed)" : "");
-    if (ImGui::Selectable(line, id == model.selected_id())) model.SelectVehicle(id);
+    // The ID ignores the changing numbers, or a click would land on a different item each frame.
+    if (ImGui::Selectable((std::string(line) + "###vehicle:" + id).c_str(), id == model.selected_id()))
+      model.SelectVehicle(id);
     RegisterLastItem(ctx, "vehicle:" + id);
   }
   ImGui::End();

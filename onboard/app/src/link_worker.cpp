@@ -182,6 +182,8 @@ void LinkWorker::Tick(int64_t utime) {
   m.battery_voltage_v = static_cast<float>(d.sample.battery_voltage_v);
   m.battery_remaining = static_cast<float>(d.sample.battery_remaining);
   m.obstacle_range_m = static_cast<float>(d.obstacle_range_m);
+  m.fence_radius_m = static_cast<float>(d.fence_radius_m);
+  m.fence_alt_m = static_cast<float>(d.fence_alt_m);
   im.bus.Publish(Channel(im.vehicle_id, Topic::kState), m);
 
   if (im.last_heartbeat < 0 || utime - im.last_heartbeat >= 1000000) {

@@ -74,6 +74,8 @@ void ControlWorker::Tick(int64_t utime) {
     b.capture_interval_s = out.capture_interval_s;
     b.capture_distance_m = out.capture_distance_m;
     b.chirp_channel = static_cast<int>(out.chirp_channel);
+    b.fence_radius_m = failsafe_params_.fence_radius_m;
+    b.fence_alt_m = failsafe_params_.fence_alt_m;
   });
   board_.PushReports(reports);
   // Operator-facing events.

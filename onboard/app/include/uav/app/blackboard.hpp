@@ -61,6 +61,7 @@ struct BlackboardData {
   control::Task task = control::Task::kIdle;
   int mission_item = -1;
   control::FailsafeAction failsafe = control::FailsafeAction::kNone;
+  double fence_radius_m = 0.0, fence_alt_m = 0.0;  // the geofence it enforces
   int chirp_channel = 0;  // servo channel a chirp is exciting (control::ServoChannel), 0: none
   // CMM thread
   double gcs_link_age_s = -1.0;  // [s] wall clock since the last GCS heartbeat; < 0: none heard yet
