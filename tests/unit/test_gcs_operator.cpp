@@ -37,6 +37,9 @@ TEST(SignalSeries, MinMaxMatchesAScanAcrossTheRingsWrap) {
     ASSERT_EQ(lo, want_lo) << i << ".." << j;
     ASSERT_EQ(hi, want_hi) << i << ".." << j;
   }
+  for (int from = 0; from < 1000; from += 37)
+    for (double t : {s.TimeAt(from), s.TimeAt(from) + 0.001, s.TimeAt(from) + 3.0, s.TimeAt(999) + 1.0})
+      ASSERT_EQ(s.LowerBoundFrom(t, from), s.LowerBound(t)) << from << " " << t;
   EXPECT_EQ(s.UpperBound(s.TimeAt(10)), 11u);
   EXPECT_EQ(s.LowerBound(s.TimeAt(10)), 10u);
 }

@@ -45,6 +45,25 @@ std::size_t SignalSeries::LowerBound(double t) const {
   return lo;
 }
 
+std::size_t SignalSeries::LowerBoundFrom(double t, std::size_t from) const {
+  const std::size_t n = size();
+  if (from >= n || TimeAt(from) >= t) return from;
+  // TimeAt(lo) < t; find hi with TimeAt(hi) >= t (or n) by doubling steps, then bisect.
+  std::size_t lo = from, step = 1, hi = from + 1;
+  while (hi < n && TimeAt(hi) < t) {
+    lo = hi;
+    step *= 2;
+    hi = std::min(n, lo + step);
+  }
+  ++lo;
+  while (lo < hi) {
+    const std::size_t mid = (lo + hi) / 2;
+    if (TimeAt(mid) < t) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo;
+}
+
 std::size_t SignalSeries::UpperBound(double t) const {
   std::size_t lo = 0, hi = size();
   while (lo < hi) {

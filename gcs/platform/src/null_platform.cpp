@@ -12,6 +12,8 @@ class NullPlatform : public Platform {
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
     io.IniFilename = nullptr;  // headless runs never touch the operator's layout
+    // Like the OpenGL 3 backend: draw lists beyond 64k vertices are split by vertex offset.
+    io.BackendFlags |= ImGuiBackendFlags_RendererHasVtxOffset;
     io.DisplaySize = ImVec2(static_cast<float>(width), static_cast<float>(height));
     unsigned char* pixels;
     int w, h;

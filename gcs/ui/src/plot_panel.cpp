@@ -32,7 +32,7 @@ std::vector<Column> Reduce(const SignalSeries& s, double t0, double t1, int widt
   std::size_t i = s.LowerBound(t0);
   for (int c = 0; c < width && i < s.size(); ++c) {
     const double c_end = t0 + (t1 - t0) * (c + 1) / width;
-    const std::size_t j = c + 1 == width ? s.UpperBound(t1) : s.LowerBound(c_end);
+    const std::size_t j = c + 1 == width ? s.UpperBound(t1) : s.LowerBoundFrom(c_end, i);
     if (j > i) {
       float lo, hi;
       s.MinMax(i, j, &lo, &hi);
@@ -154,18 +154,23 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
   dl->AddText(ImVec2(p0.x + size.x * 0.5f - 60, p1.y - 16), IM_COL32(150, 150, 150, 255), tbuf);
 
   dl->PushClipRect(p0, p1, true);
+  std::vector<ImVec2> line;
   for (std::size_t k = 0; k < reduced.size(); ++k) {
     const ImU32 color = kColors[k % (sizeof kColors / sizeof kColors[0])];
     const int a = static_cast<int>(reduced[k].axis);
     const auto& cols = reduced[k].cols;
-    ImVec2 prev(-1, -1);
-    for (int c = 0; c < width; ++c) {
-      if (cols[c].lo > cols[c].hi) continue;
+    // The min..max of each column as a 1 px bar, the mid-points as one polyline (a gap breaks it).
+    line.clear();
+    for (int c = 0; c <= width; ++c) {
+      if (c == width || cols[c].lo > cols[c].hi) {
+        if (line.size() > 1) dl->AddPolyline(line.data(), static_cast<int>(line.size()), color, 0, 1.5f);
+        line.clear();
+        continue;
+      }
       const float x = p0.x + c;
-      if (cols[c].hi - cols[c].lo > 0) dl->AddLine(ImVec2(x, Y(a, cols[c].lo)), ImVec2(x, Y(a, cols[c].hi)), color);
-      const ImVec2 cur(x, Y(a, 0.5f * (cols[c].lo + cols[c].hi)));
-      if (prev.x >= 0) dl->AddLine(prev, cur, color, 1.5f);
-      prev = cur;
+      const float y_lo = Y(a, cols[c].lo), y_hi = Y(a, cols[c].hi);
+      if (y_lo - y_hi > 1.0f) dl->AddRectFilled(ImVec2(x, y_hi), ImVec2(x + 1, y_lo), color);
+      line.emplace_back(x, 0.5f * (y_lo + y_hi));
     }
     const std::string label = reduced[k].key + (a == 1 ? " (R)" : "");
     dl->AddText(ImVec2(p0.x + 60 + 160.0f * static_cast<float>(k % 5), p0.y + 4 + 16.0f * static_cast<float>(k / 5)),

@@ -23,12 +23,19 @@ class SignalSeries {
   // First sample index with time >= t, and with time > t (binary search; times non-decreasing).
   std::size_t LowerBound(double t) const;
   std::size_t UpperBound(double t) const;
+  // LowerBound(t) for t at or after sample `from`'s time: gallops forward from it, so walking a
+  // window column by column costs O(log step) per column, not O(log n).
+  std::size_t LowerBoundFrom(double t, std::size_t from) const;
   // Min and max value of samples [i, j) (i < j <= size()).
   void MinMax(std::size_t i, std::size_t j, float* lo, float* hi) const;
 
  private:
   static constexpr std::size_t kBlock = 32;
-  std::size_t Index(std::size_t i) const { return t_.size() < capacity_ ? i : (head_ + i) % capacity_; }
+  std::size_t Index(std::size_t i) const {
+    if (t_.size() < capacity_) return i;
+    const std::size_t k = head_ + i;
+    return k < capacity_ ? k : k - capacity_;
+  }
   // Min/max over stored positions [a, b) (no wrap).
   void StoredMinMax(std::size_t a, std::size_t b, float* lo, float* hi) const;
   std::size_t capacity_;
