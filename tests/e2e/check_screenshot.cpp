@@ -1,15 +1,17 @@
 // Checks GCS screenshots for content: not blank, the panels drawn (many distinct colours, text
-// everywhere), and the two frames different where live data is shown (plot region) so the
-// window was not frozen.
+// everywhere), the two frames different where live data is shown (plot region) so the window
+// was not frozen, the survey on the map and the tracker's box on the video. With OUT_DIR, writes
+// each main panel of the first frame as OUT_DIR/panel_<name>.png.
 #include <cstdio>
+#include <string>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: check_screenshot FIRST.png SECOND.png\n");
+  if (argc != 3 && argc != 4) {
+    std::fprintf(stderr, "usage: check_screenshot FIRST.png SECOND.png [OUT_DIR]\n");
     return 2;
   }
   const cv::Mat a = cv::imread(argv[1]), b = cv::imread(argv[2]);
@@ -63,5 +65,20 @@ int main(int argc, char** argv) {
   check(cv::countNonZero(green) > 200, "map shows the survey polygon (green pixels)", cv::countNonZero(green));
   cv::inRange(map, cv::Scalar(70, 50, 35), cv::Scalar(140, 90, 75), blue);  // coverage blended on the background
   check(cv::countNonZero(blue) > 2000, "map shows the survey coverage (blue pixels)", cv::countNonZero(blue));
+  // The tracker's box (green) over the video.
+  cv::Mat video = a(region(0, 64, 22, 100)), box;
+  cv::inRange(video, cv::Scalar(100, 235, 60), cv::Scalar(140, 255, 100), box);  // BGR of (80, 255, 120)
+  check(cv::countNonZero(box) > 100, "video shows the tracker's box (green pixels)", cv::countNonZero(box));
+  if (argc == 4) {
+    const struct { const char* name; int x0, y0, x1, y1; } crops[] = {
+        {"status", 0, 0, 100, 4},      {"telemetry", 0, 4, 22, 64}, {"video", 0, 64, 22, 100},
+        {"plots", 22, 4, 62, 55},      {"command", 22, 55, 62, 77}, {"messages", 22, 77, 62, 100},
+        {"map", 62, 4, 100, 50},       {"survey", 62, 50, 100, 82}, {"livemap", 62, 82, 100, 100}};
+    for (const auto& c : crops) {
+      const cv::Rect r(W * c.x0 / 100, H * c.y0 / 100, W * (c.x1 - c.x0) / 100, H * (c.y1 - c.y0) / 100);
+      const std::string path = std::string(argv[3]) + "/panel_" + c.name + ".png";
+      if (!cv::imwrite(path, a(r))) check(false, ("write " + path).c_str(), 0);
+    }
+  }
   return failures ? 1 : 0;
 }

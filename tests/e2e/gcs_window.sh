@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # End-to-end: the real GCS window (GLFW + OpenGL 3.3 on Mesa llvmpipe) under Xvfb, talking to a
-# simulated vehicle. The script takes off, ticks signals into the plot and saves two
-# screenshots seconds apart; check_screenshot then verifies they show the panels with live data.
+# simulated vehicle and a stand-in tracker. The script takes off, ticks signals into two plots,
+# draws a survey, picks a target on the video and saves two screenshots seconds apart;
+# check_screenshot verifies they show every panel with live data and writes one picture per
+# panel (panel_*.png) for the README.
 # Usage: gcs_window.sh BIN_DIR SCRIPT OUT_DIR
 set -euo pipefail
 bin=$1 script=$2 out=$3
@@ -10,10 +12,11 @@ rm -f "$out"/gcs_*.png
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
 "$bin/uav-onboard" --sim --speed 2 --lcm-url "$url" \
   --scene "$(dirname "$0")/../../resources/scenes/survey_village.scene.json" > "$out/onboard.log" 2>&1 &
+"$bin/track_echo" "$url" UAV1 600 > "$out/tracker.log" 2>&1 &
 trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 cd "$out"
 status=0
 LIBGL_ALWAYS_SOFTWARE=1 timeout 180 xvfb-run -a -s "-screen 0 1600x900x24" \
   "$bin/uav-gcs" --name e2e --lcm-url "$url" --layout "" --script "$script" || status=$?
 [ $status -eq 0 ] || exit $status
-"$bin/check_screenshot" "$out/gcs_1.png" "$out/gcs_2.png"
+"$bin/check_screenshot" "$out/gcs_1.png" "$out/gcs_2.png" "$out"

@@ -91,8 +91,10 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
   dl->AddRect(p0, p1, IM_COL32(90, 90, 100, 255));
   const double t_start = t_end - model.plot_window();
 
-  // Mouse: wheel zooms the time window about the newest time, a drag pans and holds the time.
-  if (hovered && ImGui::GetIO().MouseWheel != 0.0f)
+  // Mouse: wheel zooms the time window about the newest time (with Shift: the y axes, below), a
+  // drag pans and holds the time.
+  const bool shift_wheel = hovered && ImGui::GetIO().MouseWheel != 0.0f && ImGui::GetIO().KeyShift;
+  if (hovered && ImGui::GetIO().MouseWheel != 0.0f && !shift_wheel)
     model.SetPlotWindow(std::clamp(model.plot_window() * std::pow(1.25, -ImGui::GetIO().MouseWheel), 1.0, 1800.0));
   if (ImGui::IsItemActive() && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 2.0f)) {
     const float dx = ImGui::GetIO().MouseDelta.x;
@@ -133,6 +135,14 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
       const float margin = 0.05f * (hi[a] - lo[a]);
       lo[a] -= margin;
       hi[a] += margin;
+    }
+  }
+  if (shift_wheel) {
+    // Both y axes zoom about their middle and become fixed ranges (auto L / auto R undo it).
+    const double f = std::pow(1.25, -ImGui::GetIO().MouseWheel);
+    for (int a = 0; a < 2; ++a) {
+      const double mid = 0.5 * (lo[a] + hi[a]), half = 0.5 * (hi[a] - lo[a]) * f;
+      model.SetPlotRange(index, static_cast<PlotAxis>(a), false, mid - half, mid + half);
     }
   }
   auto Y = [&](int a, float val) { return p1.y - (val - lo[a]) / (hi[a] - lo[a]) * size.y; };
@@ -223,7 +233,7 @@ void DrawPlotPanel(GcsModel& model, UiContext& ctx) {
   if (ImGui::Button("+ plot")) model.AddPlot();
   RegisterLastItem(ctx, "plot:add");
   ImGui::SameLine();
-  ImGui::TextDisabled("wheel: zoom, drag: pan, hover: values");
+  ImGui::TextDisabled("wheel: zoom time, shift+wheel: zoom y, drag: pan, hover: values");
   const float export_row = ImGui::GetFrameHeightWithSpacing();
   const int n = static_cast<int>(model.plots().size());
   const float each = std::max(60.0f, (ImGui::GetContentRegionAvail().y - export_row) / n);

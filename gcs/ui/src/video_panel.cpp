@@ -62,12 +62,14 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
     model.SelectTarget(cancel, ctx.now);
   }
   RegisterLastItem(ctx, "video:cancel");
-  ImGui::SameLine();
-  if (frozen)
+  if (frozen) {
+    ImGui::SameLine();
     ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "FROZEN: drag a box or click 4 corners (%zu/4), right click clears",
                        st.video_clicks.size());
-  else if (!model.track_error().empty())
+  } else if (!model.track_error().empty()) {
+    ImGui::SameLine();
     ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", model.track_error().c_str());
+  }
 
   const int64_t shown = frozen ? -feed.frames - 1 : feed.frames;  // a frozen frame is its own texture
   if (ctx.update_texture && (st.video_frames_shown != shown || st.video_vehicle != v->id)) {
