@@ -34,7 +34,9 @@ i = max(j for j, k in enumerate(seq) if k == 3)
 after = seq[i:]
 assert after[:5] == [3, 2, 7, 4, 0], f"task sequence after the goto {after} (want goto, hover, return, land, idle)"
 hold = runs[i + 1][2] - runs[i + 1][1]
-assert 52 < hold < 68, f"held {hold:.1f} s simulated (15 s wall at x4 = 60 s)"
+# The failsafe times the link on the wall clock: 15 s of hold is 60 s simulated at x4, less when
+# a loaded machine cannot keep x4 (the exact 5 s / 20 s timing is ClosedLoop.LinkLoss*).
+assert 30 < hold < 68, f"held {hold:.1f} s simulated (15 s wall at x4 = 60 s)"
 last = rows[-1]
 assert last["armed"] == "0", "not disarmed"
 x, y, alt = float(last["x"]), float(last["y"]), -float(last["z"])

@@ -73,6 +73,22 @@ class ClosedLoop : public ::testing::Test {
   }
 
   Eigen::Vector3d TruthPosition() const { return vehicle_.TruthState().p_N; }
+
+  // Plans a 40 m x 30 m field next to home, surveyed at 10 m with the simulator's camera, and
+  // uploads it to the mission store.
+  void UploadFieldSurvey(waypoints::SurveyParams* p, waypoints::SurveyPlan* plan) {
+    p->camera = {4.8, 3.6, 3.6, 640, 480, true};
+    p->altitude_m = 10.0;
+    p->speed_m_s = 3.0;
+    p->turnaround_m = 3.0;
+    const LocalNedFrame frame(kHome);
+    std::vector<GeodeticPoint> area;
+    for (const Eigen::Vector2d& v : {Eigen::Vector2d(10, 5), Eigen::Vector2d(50, 5), Eigen::Vector2d(50, 35), Eigen::Vector2d(10, 35)})
+      area.push_back(frame.ToGeodetic(Eigen::Vector3d(v.x(), v.y(), 0)));
+    *plan = waypoints::PlanSurvey(area, kHome, *p);
+    ASSERT_TRUE(plan->ok());
+    ASSERT_EQ(missions_.AcceptUpload(waypoints::MissionFromSurvey(area, kHome, *p, *plan)), "");
+  }
   // What the controller flies on: the INS estimate (issue 5 item 8 separates control from
   // estimation, so targets are checked here and the estimate against the truth separately).
   Eigen::Vector3d EstimatedPosition() const { return board_.Snapshot().estimate.p_N; }
@@ -165,19 +181,9 @@ TEST_F(ClosedLoop, TrackFliesTheStoredPathThroughEveryWaypoint) {
 }
 
 TEST_F(ClosedLoop, SurveyMissionFromTheGroundCapturesOnTheLinesAndLandsHome) {
-  // A 40 m x 30 m field next to home, surveyed at 10 m with the simulator's camera.
   waypoints::SurveyParams p;
-  p.camera = {4.8, 3.6, 3.6, 640, 480, true};
-  p.altitude_m = 10.0;
-  p.speed_m_s = 3.0;
-  p.turnaround_m = 3.0;
-  const LocalNedFrame frame(kHome);
-  std::vector<GeodeticPoint> area;
-  for (const Eigen::Vector2d& v : {Eigen::Vector2d(10, 5), Eigen::Vector2d(50, 5), Eigen::Vector2d(50, 35), Eigen::Vector2d(10, 35)})
-    area.push_back(frame.ToGeodetic(Eigen::Vector3d(v.x(), v.y(), 0)));
-  const waypoints::SurveyPlan plan = waypoints::PlanSurvey(area, kHome, p);
-  ASSERT_TRUE(plan.ok());
-  ASSERT_EQ(missions_.AcceptUpload(waypoints::MissionFromSurvey(area, kHome, p, plan)), "");
+  waypoints::SurveyPlan plan;
+  ASSERT_NO_FATAL_FAILURE(UploadFieldSurvey(&p, &plan));
 
   // While capturing, the vehicle is on a survey line: its cross-track distance to the nearest
   // line and its speed along it are what the plan assumed.
@@ -238,17 +244,8 @@ TEST_F(ClosedLoop, LinkLossHoldsAtFiveSecondsThenReturnsHomeAndLands) {
 // Issue 5 item 5: onboard work such as image capture continues through a link-loss failsafe.
 TEST_F(ClosedLoop, SurveyCaptureGoesOnThroughTheLinkLossFailsafeUntilLanding) {
   waypoints::SurveyParams p;
-  p.camera = {4.8, 3.6, 3.6, 640, 480, true};
-  p.altitude_m = 10.0;
-  p.speed_m_s = 3.0;
-  p.turnaround_m = 3.0;
-  const LocalNedFrame frame(kHome);
-  std::vector<GeodeticPoint> area;
-  for (const Eigen::Vector2d& v : {Eigen::Vector2d(10, 5), Eigen::Vector2d(50, 5), Eigen::Vector2d(50, 35), Eigen::Vector2d(10, 35)})
-    area.push_back(frame.ToGeodetic(Eigen::Vector3d(v.x(), v.y(), 0)));
-  const waypoints::SurveyPlan plan = waypoints::PlanSurvey(area, kHome, p);
-  ASSERT_TRUE(plan.ok());
-  ASSERT_EQ(missions_.AcceptUpload(waypoints::MissionFromSurvey(area, kHome, p, plan)), "");
+  waypoints::SurveyPlan plan;
+  ASSERT_NO_FATAL_FAILURE(UploadFieldSurvey(&p, &plan));
   EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
   until_ = [&] { return board_.Snapshot().capture_interval_s.has_value(); };
   Fly("mission", 120);
