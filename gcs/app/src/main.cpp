@@ -1,4 +1,6 @@
 // uav-gcs: the ground control station. The same panels run in a GLFW window or headless.
+#include <algorithm>
+#include <vector>
 #include <unistd.h>
 
 #include <csignal>
@@ -76,6 +78,7 @@ int main(int argc, char** argv) {
       return platform->UpdateTexture(slot, rgba, w, h);
     };
     double last = start;
+    std::vector<double> frame_ms;  // work per frame (panels, draw data, rendering), for the exit line
     while (!g_stop) {
       const double now = Now();
       ctx.now = now;
@@ -84,12 +87,21 @@ int main(int argc, char** argv) {
       if (!vehicle.empty() && model.selected_id() != vehicle) model.SelectVehicle(vehicle);
       if (!p->NewFrame(now - last)) break;
       last = now;
+      const double work_start = Now();
       driver.ApplyNextEvent();
       ImGui::NewFrame();
       uav::gcs::DrawGcs(model, ctx);
       p->Render();
+      frame_ms.push_back(1e3 * (Now() - work_start));
       if (runner && !runner->Update(model, driver, Now())) break;
       if (exit_after > 0 && now - start > exit_after) break;
+    }
+    if (!frame_ms.empty()) {
+      const double seconds = Now() - start;
+      std::sort(frame_ms.begin(), frame_ms.end());
+      std::printf("uav-gcs: %zu frames in %.1f s (%.0f per second), work per frame median %.2f ms, 99th percentile %.2f ms\n",
+                  frame_ms.size(), seconds, frame_ms.size() / std::max(seconds, 1e-9), frame_ms[frame_ms.size() / 2],
+                  frame_ms[frame_ms.size() * 99 / 100]);
     }
     if (runner) {
       const int failed = runner->failed() ? 1 : 0;
