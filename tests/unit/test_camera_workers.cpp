@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "uav/sim/sim_cameras.hpp"
 #include "uav/app/camera_worker.hpp"
 #include "uav/app/stereo_worker.hpp"
 
@@ -41,7 +42,8 @@ TEST(CameraWorker, PreviewRateIsIndependentOfFrameAndCaptureRates) {
   board.Update([](BlackboardData& d) { d.capture_interval_s = 0.2; });
   CameraWorker::Options options;
   options.capture_dir = dir;
-  CameraWorker worker(scene, camera, [] { return Pose(0, 0, -20); }, board, options);
+  sim::SimCamera sim_camera(scene, camera, [] { return Pose(0, 0, -20); });
+  CameraWorker worker(sim_camera, board, options);
   int previews_taken = 0;
   for (int i = 0; i < 50; ++i) {  // 5 s at 10 Hz
     worker.Tick(1'000'000 + i * 100'000);
@@ -60,7 +62,8 @@ TEST(CameraWorker, ZeroPreviewRateSendsNoPreview) {
   world::CameraSetup camera = *scene.downward_camera();
   camera.preview_rate_hz = 0;
   Blackboard board;
-  CameraWorker worker(scene, camera, [] { return Pose(0, 0, -20); }, board, CameraWorker::Options());
+  sim::SimCamera sim_camera(scene, camera, [] { return Pose(0, 0, -20); });
+  CameraWorker worker(sim_camera, board, CameraWorker::Options());
   for (int i = 0; i < 5; ++i) worker.Tick(1'000'000 + i * 200'000);
   EXPECT_EQ(worker.previews(), 0);
   EXPECT_FALSE(board.TakePreview());
@@ -70,7 +73,8 @@ TEST(StereoWorker, PostsTheObstacleRangeAhead) {
   const world::Scene scene = LoadScene("forest");
   Blackboard board;
   Eigen::Isometry3d T_NB = Pose(4, 3, -1.5);  // the pole at (8, 3) 4 m ahead
-  StereoWorker worker(scene, *scene.stereo_camera(), [&] { return T_NB; }, board);
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return T_NB; });
+  StereoWorker worker(sim_pair, board);
   worker.Tick(1'000'000);
   EXPECT_NEAR(board.Snapshot().obstacle_range_m, 3.7, 0.15);  // truth 3.70 m (test_vision)
   T_NB = Pose(-58, 55, -1.5);  // the corner of the forest, looking out over open ground

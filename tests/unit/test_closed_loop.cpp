@@ -446,8 +446,7 @@ class SysId : public Accuracy {
   std::string FlyChirps(const std::vector<std::string>& chirps, const std::string& name) {
     const auto dir = std::filesystem::temp_directory_path() / ("uav_sysid_" + name);
     std::filesystem::remove_all(dir);
-    log_ = std::make_unique<FlightLog>(dir.string(), 0,
-                                       static_cast<int>(hal::VehicleParams::FromParameters(params_).attitude_mode));
+    log_ = std::make_unique<FlightLog>(dir.string(), 0, hal::VehicleParams::FromParameters(params_).attitude_mode);
     const std::string path = log_->path();
     Fly("", 10);
     EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
@@ -525,7 +524,7 @@ TEST_P(Untrimmed, TrimExtractionFindsTheAirframesTrim) {
   EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
   const auto dir = std::filesystem::temp_directory_path() / "uav_sysid_trim";
   std::filesystem::remove_all(dir);
-  log_ = std::make_unique<FlightLog>(dir.string(), 0, 0);
+  log_ = std::make_unique<FlightLog>(dir.string(), 0, AttitudeMode::kDirect);
   const std::string path = log_->path();
   EXPECT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
   EXPECT_EQ(Fly("hover", 1).result, control::AckResult::kCompleted);

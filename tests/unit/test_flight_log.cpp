@@ -14,7 +14,7 @@ TEST(FlightLog, HeaderNamesTable23SignalsAndRowsMatchIt) {
   std::filesystem::remove_all(dir);
   std::string path;
   {
-    FlightLog log(dir.string(), 1000000, 2);
+    FlightLog log(dir.string(), 1000000, AttitudeMode::kGyroCruise);
     path = log.path();
     BlackboardData d;
     d.estimate.p_N = {1, 2, -3};
@@ -40,7 +40,7 @@ TEST(FlightLog, HeaderNamesTable23SignalsAndRowsMatchIt) {
 
 TEST(FlightLog, UnwritableDirectoryNamesThePath) {
   try {
-    FlightLog log("/proc/definitely/not/here", 1, 0);
+    FlightLog log("/proc/definitely/not/here", 1, AttitudeMode::kDirect);
     FAIL();
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/proc/definitely/not/here"), std::string::npos);

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "uav/sim/sim_cameras.hpp"
+#include "uav/world/scene.hpp"
 #include "uav/app/camera_worker.hpp"
 #include "uav/shared/frames.hpp"
 #include "uav/shared/geodesy.hpp"
@@ -38,7 +40,8 @@ TEST(UavStitch, StitchesACaptureFolderIntoGeoreferencedFiles) {
   options.capture_dir = dir + "/captures";
   options.home = home;
   Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
-  CameraWorker worker(scene, *scene.downward_camera(), [&] { return T_NB; }, board, options);
+  sim::SimCamera camera(scene, *scene.downward_camera(), [&] { return T_NB; });
+  CameraWorker worker(camera, board, options);
   for (int i = 0; i < 60; ++i) {  // north at 5 m/s, 5 Hz
     T_NB.translation() = Eigen::Vector3d(-30 + i, 10, -30);
     board.Update([&](BlackboardData& d) {

@@ -14,9 +14,9 @@
 
 namespace uav::app {
 
-CameraWorker::CameraWorker(const world::Scene& scene, const world::CameraSetup& camera,
-                           std::function<Eigen::Isometry3d()> truth_T_NB, Blackboard& board, const Options& options)
-    : renderer_(scene, camera), truth_T_NB_(std::move(truth_T_NB)), board_(board), options_(options) {
+CameraWorker::CameraWorker(hal::Camera& camera_in, Blackboard& board, const Options& options)
+    : camera_(camera_in), board_(board), options_(options) {
+  const hal::CameraInfo& camera = camera_.info();
   if (!options_.capture_dir.empty()) {
     std::filesystem::create_directories(options_.capture_dir);
     const std::string path = options_.capture_dir + "/captures.csv";
@@ -53,16 +53,18 @@ CameraWorker::~CameraWorker() {
 }
 
 void CameraWorker::Tick(int64_t utime) {
-  const Eigen::Isometry3d T_NB = truth_T_NB_();
-  const world::Frame frame = renderer_.Render(T_NB * renderer_.camera().T_BC, utime);
+  const hal::CameraFrame frame = camera_.Capture(utime);
   const BlackboardData d = board_.Snapshot();
+  Eigen::Isometry3d T_NB_estimate = Eigen::Isometry3d::Identity();
+  T_NB_estimate.linear() = RotationNBFromEuler(d.estimate.euler);
+  T_NB_estimate.translation() = d.estimate.p_N;
 
   // The preview has its own rate: the GCS link need not carry every frame the camera takes.
   // A schedule (not "time since the last one") keeps the average rate when it does not divide
   // the frame rate.
-  const double preview_rate = renderer_.camera().preview_rate_hz;
+  const double preview_rate = camera_.info().preview_rate_hz;
   if (preview_rate > 0 && (next_preview_utime_ < 0 || utime >= next_preview_utime_ - 1000)) {
-    SendPreview(utime, frame);
+    SendPreview(utime, frame.image);
     const int64_t period = static_cast<int64_t>(std::llround(1e6 / preview_rate));
     next_preview_utime_ = next_preview_utime_ < 0 || utime - next_preview_utime_ > period ? utime + period
                                                                                           : next_preview_utime_ + period;
@@ -73,7 +75,7 @@ void CameraWorker::Tick(int64_t utime) {
   if (d.capture_interval_s)
     due = last_capture_utime_ < 0 || (utime - last_capture_utime_) * 1e-6 >= *d.capture_interval_s - 1e-3;
   else if (d.capture_distance_m)
-    due = last_capture_utime_ < 0 || (T_NB.translation() - last_capture_p_N_).norm() >= *d.capture_distance_m;
+    due = last_capture_utime_ < 0 || (T_NB_estimate.translation() - last_capture_p_N_).norm() >= *d.capture_distance_m;
   else
     last_capture_utime_ = -1;  // the next capture run starts at once
   if (due) {
@@ -83,27 +85,24 @@ void CameraWorker::Tick(int64_t utime) {
     c.width = frame.image.cols;
     c.height = frame.image.rows;
     c.bgr.assign(frame.image.data, frame.image.data + frame.image.total() * 3);
-    Eigen::Isometry3d T_NB_estimate = Eigen::Isometry3d::Identity();
-    T_NB_estimate.linear() = RotationNBFromEuler(d.estimate.euler);
-    T_NB_estimate.translation() = d.estimate.p_N;
-    c.T_NC_estimate = T_NB_estimate * renderer_.camera().T_BC;
+    c.T_NC_estimate = T_NB_estimate * camera_.info().T_BC;
     board_.PushCapture(std::move(c));
-    if (csv_) Record(utime, frame, T_NB, d);
+    if (csv_) Record(utime, frame, d);
     ++captures_;
     last_capture_utime_ = utime;
-    last_capture_p_N_ = T_NB.translation();
+    last_capture_p_N_ = T_NB_estimate.translation();
   }
 }
 
-void CameraWorker::SendPreview(int64_t utime, const world::Frame& frame) {
+void CameraWorker::SendPreview(int64_t utime, const cv::Mat& image) {
   PreviewFrame preview;
   preview.utime = utime;
-  preview.camera = renderer_.camera().name;
-  preview.source_width = frame.image.cols;
-  preview.source_height = frame.image.rows;
+  preview.camera = camera_.info().name;
+  preview.source_width = image.cols;
+  preview.source_height = image.rows;
   cv::Mat small;
-  const double scale = static_cast<double>(options_.preview_width) / frame.image.cols;
-  cv::resize(frame.image, small, cv::Size(), scale, scale, cv::INTER_AREA);
+  const double scale = static_cast<double>(options_.preview_width) / image.cols;
+  cv::resize(image, small, cv::Size(), scale, scale, cv::INTER_AREA);
   preview.width = small.cols;
   preview.height = small.rows;
   cv::imencode(".jpg", small, preview.jpeg, {cv::IMWRITE_JPEG_QUALITY, options_.preview_quality});
@@ -112,17 +111,17 @@ void CameraWorker::SendPreview(int64_t utime, const world::Frame& frame) {
   ++previews_;
 }
 
-void CameraWorker::Record(int64_t utime, const world::Frame& frame, const Eigen::Isometry3d& T_NB,
-                           const BlackboardData& d) {
+void CameraWorker::Record(int64_t utime, const hal::CameraFrame& frame, const BlackboardData& d) {
   char name[32];
   std::snprintf(name, sizeof name, "IMG_%06d.jpg", captures_);
   std::vector<uint8_t> jpeg;
   cv::imencode(".jpg", frame.image, jpeg, {cv::IMWRITE_JPEG_QUALITY, options_.capture_quality});
   WriteFileAtomically(options_.capture_dir + "/" + name, std::string(jpeg.begin(), jpeg.end()));
-  const EulerAngles e = EulerFromRotationNB(T_NB.linear());
+  // Without ground truth (real hardware) the truth columns say nan.
+  const EulerAngles e = frame.truth_T_NB ? EulerFromRotationNB(frame.truth_T_NB->linear()) : EulerAngles{NAN, NAN, NAN};
   const auto& est = d.estimate;
-  const auto& k = renderer_.camera().intrinsics;
-  const Eigen::Vector3d p = T_NB.translation();
+  const auto& k = camera_.info().intrinsics;
+  const Eigen::Vector3d p = frame.truth_T_NB ? Eigen::Vector3d(frame.truth_T_NB->translation()) : Eigen::Vector3d::Constant(NAN);
   std::fprintf(csv_, "%d,%lld,%s,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.3f,%.3f,%.3f,%.3f\n",
                captures_, static_cast<long long>(utime), name, p.x(), p.y(), p.z(), e.phi, e.theta, e.psi,
                est.p_N.x(), est.p_N.y(), est.p_N.z(), est.euler.phi, est.euler.theta, est.euler.psi, k.fx, k.fy,

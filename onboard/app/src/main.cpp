@@ -20,7 +20,9 @@
 #include "uav/shared/channels.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/time.hpp"
+#include "uav/sim/sim_cameras.hpp"
 #include "uav/sim/sim_vehicle.hpp"
+#include "uav/world/scene.hpp"
 
 namespace {
 
@@ -110,15 +112,18 @@ int main(int argc, char** argv) {
                                 board, &missions);
     uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"), vehicle_params.attitude_mode);
     std::unique_ptr<uav::app::FlightLog> log;
-    if (!log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(log_dir, start, static_cast<int>(vehicle_params.attitude_mode));
+    if (!log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(log_dir, start, vehicle_params.attitude_mode, home);
     const std::string log_path = log ? log->path() : "";
     uav::app::LogWorker dlg(std::move(log), board);
     std::unique_ptr<uav::app::EventLog> events;
     if (!log_dir.empty()) events = std::make_unique<uav::app::EventLog>(log_dir, start);
     const std::string events_path = events ? events->path() : "";
-    uav::app::LinkWorker cmm(vehicle_id, lcm_url, board, missions, std::move(events));
+    uav::app::LinkWorker cmm(vehicle_id, lcm_url, uav::app::LinkParams::FromParameters(params, vehicle_params.attitude_mode),
+                           board, missions, std::move(events));
 
     std::unique_ptr<uav::world::Scene> scene;
+    std::unique_ptr<uav::sim::SimCamera> downward_camera;
+    std::unique_ptr<uav::sim::SimStereoCamera> stereo_camera;
     std::unique_ptr<uav::app::CameraWorker> cam;
     std::unique_ptr<uav::app::StereoWorker> stereo;
     std::unique_ptr<uav::app::StitchWorker> stitch;
@@ -138,15 +143,18 @@ int main(int argc, char** argv) {
         uav::app::CameraWorker::Options cam_options;
         if (!log_dir.empty()) cam_options.capture_dir = log_dir + "/captures_" + std::to_string(start);
         cam_options.home = home;
-        cam = std::make_unique<uav::app::CameraWorker>(*scene, *scene->downward_camera(), truth_T_NB, board,
-                                                       cam_options);
+        downward_camera = std::make_unique<uav::sim::SimCamera>(*scene, *scene->downward_camera(), truth_T_NB);
+        cam = std::make_unique<uav::app::CameraWorker>(*downward_camera, board, cam_options);
         if (!log_dir.empty())
           stitch = std::make_unique<uav::app::StitchWorker>(
               scene->downward_camera()->intrinsics, board,
               uav::app::StitchWorker::Options{log_dir + "/maps_" + std::to_string(start), home});
       }
       if (scene->stereo_camera())
-        stereo = std::make_unique<uav::app::StereoWorker>(*scene, *scene->stereo_camera(), truth_T_NB, board);
+      {
+        stereo_camera = std::make_unique<uav::sim::SimStereoCamera>(*scene, *scene->stereo_camera(), truth_T_NB);
+        stereo = std::make_unique<uav::app::StereoWorker>(*stereo_camera, board);
+      }
     }
 
     uav::app::LockstepScheduler scheduler(
@@ -160,11 +168,11 @@ int main(int argc, char** argv) {
     auto camera_period = [&](double rate_hz) {
       return std::max<int64_t>(kStepUs, static_cast<int64_t>(std::lround(1e6 / rate_hz / kStepUs)) * kStepUs);
     };
-    if (cam) scheduler.AddWorker("CAM", 2, camera_period(scene->downward_camera()->rate_hz), [&](int64_t t) { cam->Tick(t); });
+    if (cam) scheduler.AddWorker("CAM", 2, camera_period(downward_camera->info().rate_hz), [&](int64_t t) { cam->Tick(t); });
     // STITCH after CAM (stage 3): this tick's capture is stitched in the same tick.
     if (stitch) scheduler.AddWorker("STITCH", 3, kPeriodUs * 5, [&](int64_t t) { stitch->Tick(t); });
     if (stereo)
-      scheduler.AddWorker("STEREO", 2, camera_period(scene->stereo_camera()->left.rate_hz),
+      scheduler.AddWorker("STEREO", 2, camera_period(stereo_camera->left().rate_hz),
                           [&](int64_t t) { stereo->Tick(t); });
 
     std::thread signal_waiter([&] {

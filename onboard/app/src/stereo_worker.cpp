@@ -2,16 +2,14 @@
 
 namespace uav::app {
 
-StereoWorker::StereoWorker(const world::Scene& scene, const world::StereoSetup& setup,
-                           std::function<Eigen::Isometry3d()> truth_T_NB, Blackboard& board)
-    : renderer_(scene, setup),
-      range_({setup.left.intrinsics, setup.right.intrinsics, setup.T_LR()}, vision::StereoRangeParams()),
-      truth_T_NB_(std::move(truth_T_NB)),
+StereoWorker::StereoWorker(hal::StereoCamera& camera, Blackboard& board)
+    : camera_(camera),
+      range_({camera.left().intrinsics, camera.right().intrinsics, camera.T_LR()}, vision::StereoRangeParams()),
       board_(board) {}
 
 void StereoWorker::Tick(int64_t utime) {
-  const world::StereoFrame pair = renderer_.Render(truth_T_NB_(), utime);
-  const vision::StereoRangeResult r = range_.Process(pair.left.image, pair.right.image);
+  const hal::StereoImages pair = camera_.Capture(utime);
+  const vision::StereoRangeResult r = range_.Process(pair.left, pair.right);
   board_.Update([&](BlackboardData& d) { d.obstacle_range_m = r.obstacle ? r.range_m : -1.0; });
   ++frames_;
 }

@@ -64,9 +64,9 @@ void StitchWorker::Finish() {
     char text[256];
     std::snprintf(text, sizeof text, "map ready: %s.tif, %d frames (%d registered), %dx%d px at %.3f m/px", name,
                   stitcher_->frames(), registered_, map.bgr.cols, map.bgr.rows, map.gsd_m);
-    board_.PushStatus(6, text);
+    board_.PushStatus(Severity::kInfo, text);
   } catch (const std::exception& e) {
-    board_.PushStatus(3, std::string("map not written: ") + e.what());
+    board_.PushStatus(Severity::kError, std::string("map not written: ") + e.what());
   }
   // The next survey starts a new map.
   stitcher_ = std::make_unique<vision::MapStitcher>(camera_);

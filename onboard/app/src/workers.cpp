@@ -10,7 +10,7 @@ void ImuWorker::Tick(int64_t utime) {
   const hal::SensorSample s = backend_.ReadSensors();
   // Standing on the ground (not yet taken off, or landed) is a measurement too.
   ins_.Update(s, !board_.Snapshot().airborne);
-  const control::VehicleEstimate e = ins_.estimate();
+  const hal::VehicleEstimate e = ins_.estimate();
   board_.Update([&](BlackboardData& d) {
     d.sample = s;
     d.estimate = e;
@@ -38,7 +38,7 @@ void ControlWorker::Tick(int64_t utime) {
   fin.p_N = d.estimate.p_N;
   fin.rc_manual = d.sample.rc_manual;
   const control::FailsafeAction required = failsafes_.Update(fin, &events);
-  for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? 4 : 6, e);
+  for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? Severity::kWarning : Severity::kInfo, e);
   tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports);
   for (const auto& req : board_.TakeCommands()) tasks_.Submit(req, d.estimate, t, &reports);
   const control::TaskManager::Output out = tasks_.Update(d.estimate, t, &reports);
@@ -46,7 +46,7 @@ void ControlWorker::Tick(int64_t utime) {
   // A setpoint that is not finite or leaves the envelope never reaches the controller.
   const std::string bad = control::CheckSetpoint(out.setpoint, failsafe_params_, controller_.params().speed_max_xy);
   if (bad.empty()) last_valid_setpoint_ = out.setpoint;
-  if (bad != last_setpoint_error_ && !bad.empty()) board_.PushStatus(3, "setpoint rejected: " + bad + "; holding the last valid one");
+  if (bad != last_setpoint_error_ && !bad.empty()) board_.PushStatus(Severity::kError, "setpoint rejected: " + bad + "; holding the last valid one");
   last_setpoint_error_ = bad;
   control::ServoCommand servo;  // throttle -1: rotors off
   if (required == control::FailsafeAction::kManual && out.airborne) {
@@ -80,16 +80,16 @@ void ControlWorker::Tick(int64_t utime) {
   board_.PushReports(reports);
   // Operator-facing events.
   if (out.armed != last_armed_)
-    board_.PushStatus(6, out.armed ? "armed" : "disarmed");
+    board_.PushStatus(Severity::kInfo, out.armed ? "armed" : "disarmed");
   if (out.task != last_task_) {
     char buf[160];
     const Eigen::Vector3d& p = out.setpoint.p_N;
     std::snprintf(buf, sizeof buf, "task %s (target N %.1f E %.1f alt %.1f m)",
-                  control::TaskName(out.task), p.x(), p.y(), -p.z());
-    board_.PushStatus(6, buf);
+                  std::string(Name(out.task)).c_str(), p.x(), p.y(), -p.z());
+    board_.PushStatus(Severity::kInfo, buf);
   }
   const bool capturing = out.capture_interval_s || out.capture_distance_m;
-  if (capturing != last_capturing_) board_.PushStatus(6, capturing ? "camera capture on" : "camera capture off");
+  if (capturing != last_capturing_) board_.PushStatus(Severity::kInfo, capturing ? "camera capture on" : "camera capture off");
   last_capturing_ = capturing;
   last_armed_ = out.armed;
   last_task_ = out.task;

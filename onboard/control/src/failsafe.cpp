@@ -15,17 +15,6 @@ std::string Format(const char* fmt, double a, double b) {
 }
 }  // namespace
 
-const char* FailsafeActionName(FailsafeAction a) {
-  switch (a) {
-    case FailsafeAction::kNone: return "none";
-    case FailsafeAction::kHold: return "hold";
-    case FailsafeAction::kReturn: return "return";
-    case FailsafeAction::kLand: return "land";
-    case FailsafeAction::kManual: return "manual";
-  }
-  return "unknown";
-}
-
 FailsafeParams FailsafeParams::FromParameters(const ParameterSet& ps) {
   FailsafeParams p{ps.Get("fs_link_hold_time"),  ps.Get("fs_link_return_time"), ps.Get("fs_battery_return"),
                    ps.Get("fs_battery_land"),    ps.Get("fs_fence_radius"),     ps.Get("fs_fence_alt"),
@@ -70,7 +59,7 @@ FailsafeAction FailsafeMonitor::Update(const FailsafeInputs& in, std::vector<std
     if (in.airborne && age >= p_.link_return_s) link = FailsafeAction::kReturn;
     else if (in.airborne && age >= p_.link_hold_s) link = FailsafeAction::kHold;
     if (link != FailsafeAction::kNone) link_reason_ = Format("no GCS heartbeat for %.1f s (limit %.0f s)", age, link == FailsafeAction::kReturn ? p_.link_return_s : p_.link_hold_s);
-    if (link > link_) events->push_back("failsafe: GCS link lost: " + std::string(FailsafeActionName(link)) + " (" + link_reason_ + ")");
+    if (link > link_) events->push_back("failsafe: GCS link lost: " + std::string(Name(link)) + " (" + link_reason_ + ")");
     if (link_ != FailsafeAction::kNone && age < p_.link_hold_s) {
       events->push_back("GCS link regained; the failsafe action continues until the operator commands");
     }
@@ -85,7 +74,7 @@ FailsafeAction FailsafeMonitor::Update(const FailsafeInputs& in, std::vector<std
     // Rounded down, so the message never shows a value at the threshold it is below.
     battery_reason_ = Format("battery %.1f %% below %.0f %%", std::floor(1000 * in.battery_remaining) / 10,
                              100 * (battery == FailsafeAction::kLand ? p_.battery_land : p_.battery_return));
-    events->push_back("failsafe: " + battery_reason_ + ": " + FailsafeActionName(battery));
+    events->push_back("failsafe: " + battery_reason_ + ": " + std::string(Name(battery)));
   }
   battery_ = battery;
 
@@ -97,7 +86,7 @@ FailsafeAction FailsafeMonitor::Update(const FailsafeInputs& in, std::vector<std
     fence_reason_ = dist > p_.fence_radius_m ? Format("%.1f m from home, fence %.0f m", dist, p_.fence_radius_m)
                                              : Format("%.1f m high, fence %.0f m", alt, p_.fence_alt_m);
   }
-  if (fence > fence_) events->push_back("failsafe: geofence breached (" + fence_reason_ + "): " + FailsafeActionName(fence));
+  if (fence > fence_) events->push_back("failsafe: geofence breached (" + fence_reason_ + "): " + std::string(Name(fence)));
   if (fence == FailsafeAction::kNone && fence_ != FailsafeAction::kNone) events->push_back("back inside the geofence");
   fence_ = fence;
 

@@ -5,31 +5,6 @@
 
 namespace uav::control {
 
-const char* TaskName(Task t) {
-  switch (t) {
-    case Task::kIdle: return "idle";
-    case Task::kTakeoff: return "takeoff";
-    case Task::kHover: return "hover";
-    case Task::kGoto: return "goto";
-    case Task::kLand: return "land";
-    case Task::kTrack: return "track";
-    case Task::kMission: return "mission";
-    case Task::kReturn: return "return";
-  }
-  return "unknown";
-}
-
-const char* AckResultName(AckResult r) {
-  switch (r) {
-    case AckResult::kAccepted: return "accepted";
-    case AckResult::kRejected: return "rejected";
-    case AckResult::kInProgress: return "in_progress";
-    case AckResult::kCompleted: return "completed";
-    case AckResult::kFailed: return "failed";
-  }
-  return "unknown";
-}
-
 TaskParams TaskParams::FromParameters(const ParameterSet& p) {
   return {p.Get("task_reached_radius"), p.Get("task_reached_speed"), p.Get("task_land_speed"),
           p.Get("task_land_slow_alt"),  p.Get("task_landed_alt"),    p.Get("task_landed_time"),
@@ -69,7 +44,7 @@ void TaskManager::EnforceFailsafe(FailsafeAction required, const std::string& re
   // rate) while the vehicle holds or flies home, until it lands or the operator commands again.
   if (path_.capture_interval_s || path_.capture_distance_m)
     carried_capture_ = {path_.capture_interval_s, path_.capture_distance_m};
-  Finish(AckResult::kFailed, "failsafe " + std::string(FailsafeActionName(required)) + ": " + reason, reports);
+  Finish(AckResult::kFailed, "failsafe " + std::string(Name(required)) + ": " + reason, reports);
   switch (required) {
     case FailsafeAction::kNone: break;
     case FailsafeAction::kManual:
@@ -188,7 +163,7 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
                                : c.id == CommandId::kLand   ? FailsafeAction::kLand
                                                             : FailsafeAction::kNone;
   if (c.id != CommandId::kDisarm && level < required_)
-    return reject("failsafe " + std::string(FailsafeActionName(required_)) + " active: " + failsafe_reason_);
+    return reject("failsafe " + std::string(Name(required_)) + " active: " + failsafe_reason_);
   if (c.id == CommandId::kGoto && OutsideFence(Eigen::Vector3d(c.args[0], c.args[1], -c.args[2])))
     return reject("target is outside the geofence");
   if (c.id == CommandId::kTakeoff && c.args[0] > p_.fence_alt) return reject("altitude is above the geofence");

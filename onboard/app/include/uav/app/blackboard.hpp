@@ -12,15 +12,16 @@
 
 #include <Eigen/Geometry>
 
-#include "uav/control/estimate.hpp"
+#include "uav/hal/navigation_estimate.hpp"
 #include "uav/control/mixer.hpp"
 #include "uav/control/task_manager.hpp"
 #include "uav/hal/vehicle_backend.hpp"
+#include "uav/shared/vehicle_enums.hpp"
 
 namespace uav::app {
 
 struct StatusText {
-  int severity;  // status_text_t.SEVERITY_*
+  Severity severity;
   std::string text;
 };
 
@@ -53,7 +54,7 @@ struct LiveTile {
 struct BlackboardData {
   // IMU thread
   hal::SensorSample sample;
-  control::VehicleEstimate estimate;
+  hal::VehicleEstimate estimate;
   // CTL thread
   control::ServoCommand servo;
   bool armed = false;
@@ -107,7 +108,7 @@ class Blackboard {
     reports_.clear();
     return out;
   }
-  void PushStatus(int severity, std::string text) {
+  void PushStatus(Severity severity, std::string text) {
     std::lock_guard<std::mutex> lock(mutex_);
     status_.push_back({severity, std::move(text)});
   }

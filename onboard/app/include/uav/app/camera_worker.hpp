@@ -1,6 +1,6 @@
 #pragma once
-// CAM: the simulated downward camera on the simulated clock (issue 4 item 6). A thin shell
-// around world::Renderer: renders at the camera rate from the simulator's true pose, hands a
+// CAM: the downward camera on the vehicle clock. A thin shell around hal::Camera (simulated or
+// real): takes a frame at the camera rate, hands a
 // JPEG preview to CMM for the GCS video panel at the camera's preview rate, and while the survey camera is on (mission
 // capture start .. stop) writes each capture with its pose to the capture directory, which
 // is what the stitcher consumes. Runs whether or not the GCS link is up.
@@ -13,7 +13,7 @@
 
 #include "uav/app/blackboard.hpp"
 #include "uav/shared/geodesy.hpp"
-#include "uav/world/renderer.hpp"
+#include "uav/hal/camera.hpp"
 
 namespace uav::app {
 
@@ -26,22 +26,20 @@ class CameraWorker {
     std::string capture_dir;      // "" = do not record captures
     GeodeticPoint home;           // origin of the poses' local NED frame, for the session file
   };
-  // `truth_T_NB` returns the vehicle's true pose (the simulator's), which is what a real
-  // camera sees; the recorded pose columns also carry the flight stack's estimate.
-  CameraWorker(const world::Scene& scene, const world::CameraSetup& camera,
-               std::function<Eigen::Isometry3d()> truth_T_NB, Blackboard& board, const Options& options);
+  // The recorded pose columns carry the camera's ground truth where it has one (simulation)
+  // and the flight stack's estimate.
+  CameraWorker(hal::Camera& camera, Blackboard& board, const Options& options);
   ~CameraWorker();
   void Tick(int64_t utime);
   int captures() const { return captures_; }  // taken (and recorded when there is a capture dir)
   int previews() const { return previews_; }
 
  private:
-  void SendPreview(int64_t utime, const world::Frame& frame);
+  void SendPreview(int64_t utime, const cv::Mat& image);
   // Writes the capture's JPEG and its captures.csv row.
-  void Record(int64_t utime, const world::Frame& frame, const Eigen::Isometry3d& T_NB, const BlackboardData& d);
+  void Record(int64_t utime, const hal::CameraFrame& frame, const BlackboardData& d);
 
-  world::Renderer renderer_;
-  std::function<Eigen::Isometry3d()> truth_T_NB_;
+  hal::Camera& camera_;
   Blackboard& board_;
   Options options_;
   std::FILE* csv_ = nullptr;

@@ -1,24 +1,27 @@
 #pragma once
 // DLG thread's CSV flight log (thesis 2.3.2): a header row, then one row per 20 ms with time and
-// the Table 2.3 signals under the thesis's names, readable by MATLAB, Excel and pandas.
+// every signal of the vehicle-state table (Table 2.3's first, under the thesis's names), the same
+// table the GCS shows; readable by MATLAB, Excel and pandas.
 #include <cstdio>
 #include <string>
 
 #include "uav/app/blackboard.hpp"
+#include "uav/shared/vehicle_enums.hpp"
+#include "uav/shared/geodesy.hpp"
 
 namespace uav::app {
 
 class FlightLog {
  public:
   // Creates DIR/flight_<utime>.csv (DIR is created if missing). Throws std::runtime_error
-  // naming the path when it cannot be written. `attitude_mode` (hal::AttitudeMode) is written on
-  // every row so that uav-sysid knows which model structure the data follow.
-  FlightLog(const std::string& dir, int64_t start_utime, int attitude_mode);
+  // naming the path when it cannot be written. `attitude_mode` is written on every row so that
+  // uav-sysid knows which model structure the data follow; `home` is the origin of N.
+  FlightLog(const std::string& dir, int64_t start_utime, AttitudeMode attitude_mode, const GeodeticPoint& home = {});
   ~FlightLog();
   FlightLog(const FlightLog&) = delete;
   FlightLog& operator=(const FlightLog&) = delete;
 
-  static const char* Header();
+  static std::string Header();
   void Write(int64_t utime, const BlackboardData& d);
   const std::string& path() const { return path_; }
 
@@ -26,7 +29,8 @@ class FlightLog {
   std::string path_;
   std::FILE* file_ = nullptr;
   int64_t start_utime_;
-  int attitude_mode_;
+  AttitudeMode attitude_mode_;
+  GeodeticPoint home_;
   int rows_since_flush_ = 0;
 };
 

@@ -1,23 +1,32 @@
 #pragma once
-// CMM thread: the GCS link. Receives commands, mission uploads and GCS heartbeats, publishes telemetry (50 Hz),
-// heartbeat (1 Hz), acknowledgements and status texts. Messages stay here, at the edge.
+// CMM thread: the GCS link. A thin shell that owns the bus and one translator per topic
+// (link_translators.hpp): inbound ones turn commands, mission uploads, file requests and GCS
+// heartbeats into blackboard and store inputs; outbound ones publish the state (every tick,
+// 50 Hz), heartbeat, acknowledgements, status texts, video, live-map tiles and file offers.
+// Messages stay here, at the edge.
 #include <cstdint>
 #include <memory>
 #include <string>
 
 #include "uav/app/blackboard.hpp"
-#include "uav/app/command_intake.hpp"
 #include "uav/app/event_log.hpp"
 #include "uav/app/mission_store.hpp"
-#include "uav/shared/bus.hpp"
+#include "uav/shared/parameters.hpp"
+#include "uav/shared/vehicle_enums.hpp"
 
 namespace uav::app {
 
+struct LinkParams {
+  double heartbeat_period_s = 1.0;  // link_heartbeat_period
+  double tile_period_s = 0.2;       // link_tile_period: at most one live-map tile per period
+  AttitudeMode attitude_mode = AttitudeMode::kDirect;  // reported in the state
+  static LinkParams FromParameters(const ParameterSet& p, AttitudeMode attitude_mode);
+};
+
 class LinkWorker {
  public:
-  // Accepted mission uploads go to `missions`.
   // Accepted mission uploads go to `missions`; every bus message goes to `events` when given.
-  LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, Blackboard& board,
+  LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, const LinkParams& params, Blackboard& board,
              MissionStore& missions, std::unique_ptr<EventLog> events = nullptr);
   ~LinkWorker();
   // Called at the telemetry rate (50 Hz).

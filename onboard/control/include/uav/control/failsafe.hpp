@@ -17,12 +17,12 @@
 #include <Eigen/Core>
 
 #include "uav/shared/parameters.hpp"
+#include "uav/shared/vehicle_enums.hpp"
 
 namespace uav::control {
 
 // Ordered by strictness: a larger value wins.
-enum class FailsafeAction { kNone = 0, kHold = 1, kReturn = 2, kLand = 3, kManual = 4 };
-const char* FailsafeActionName(FailsafeAction a);
+using FailsafeAction = uav::FailsafeAction;
 
 struct FailsafeParams {
   double link_hold_s;      // [s]

@@ -9,11 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "uav/control/estimate.hpp"
+#include "uav/hal/navigation_estimate.hpp"
 #include "uav/control/position_attitude_controller.hpp"
 #include "uav/waypoints/mission.hpp"
 
 namespace uav::control {
+
+using hal::VehicleEstimate;
 
 struct MissionRunnerParams {
   double reached_radius;   // [m] a stop waypoint counts as reached within this distance ...

@@ -8,11 +8,13 @@
 
 #include <Eigen/Core>
 
-#include "uav/control/estimate.hpp"
+#include "uav/hal/navigation_estimate.hpp"
 #include "uav/control/mixer.hpp"
 #include "uav/hal/vehicle_params.hpp"
 
 namespace uav::control {
+
+using hal::VehicleEstimate;
 
 struct ControllerParams {
   hal::VehicleParams vehicle;  // the model the controller inverts

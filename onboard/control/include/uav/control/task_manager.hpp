@@ -9,22 +9,20 @@
 #include <vector>
 
 #include "uav/control/chirp.hpp"
-#include "uav/control/estimate.hpp"
+#include "uav/hal/navigation_estimate.hpp"
 #include "uav/control/failsafe.hpp"
 #include "uav/control/mission_runner.hpp"
 #include "uav/control/position_attitude_controller.hpp"
 #include "uav/shared/command_grammar.hpp"
 #include "uav/shared/parameters.hpp"
+#include "uav/shared/vehicle_enums.hpp"
 
 namespace uav::control {
 
-// Values match vehicle_state_t.TASK_*.
-enum class Task { kIdle = 0, kTakeoff = 1, kHover = 2, kGoto = 3, kLand = 4, kTrack = 5, kMission = 6, kReturn = 7 };
-const char* TaskName(Task t);
+using hal::VehicleEstimate;
 
-// Values match command_ack_t.RESULT_*.
-enum class AckResult { kAccepted = 0, kRejected = 1, kInProgress = 2, kCompleted = 3, kFailed = 4 };
-const char* AckResultName(AckResult r);
+using Task = uav::Task;
+using AckResult = uav::CommandResult;
 
 struct CommandRequest {
   std::string source;  // GCS instance

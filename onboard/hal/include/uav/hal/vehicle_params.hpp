@@ -8,15 +8,12 @@
 #include <Eigen/Core>
 
 #include "uav/shared/parameters.hpp"
+#include "uav/shared/vehicle_enums.hpp"
 
 namespace uav::hal {
 
 // How the servo board's four outputs reach the rotors (thesis 2.5, Fig. 2.21).
-enum class AttitudeMode {
-  kDirect = 0,      // outputs are the rotor inputs M_1..M_4; the autopilot mixes (Eq. 2.11)
-  kGyroHover = 1,   // outputs go to the gyro, which holds roll and pitch angles (Eq. 2.17-2.19)
-  kGyroCruise = 2,  // outputs go to the gyro, which holds the body rates (Eq. 2.20-2.22)
-};
+using AttitudeMode = uav::AttitudeMode;
 
 // Closed-loop attitude of the airframe with the gyro in the loop (thesis Table 2.6). The inputs
 // are the servo channels minus their hover trim.

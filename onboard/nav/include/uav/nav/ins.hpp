@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "uav/control/estimate.hpp"
+#include "uav/hal/navigation_estimate.hpp"
 #include "uav/hal/vehicle_backend.hpp"
 #include "uav/shared/geodesy.hpp"
 #include "uav/shared/parameters.hpp"
@@ -46,7 +46,7 @@ class Ins {
   // 16 g) is refused whole; a non-finite slow reading is skipped. The estimate stays finite.
   void Update(const hal::SensorSample& sample, bool at_rest);
 
-  control::VehicleEstimate estimate() const { return estimate_; }
+  hal::VehicleEstimate estimate() const { return estimate_; }
   const InsHealth& health() const { return health_; }
   Eigen::Vector3d gyro_bias() const { return bg_; }
   Eigen::Vector3d accel_bias() const { return ba_; }
@@ -77,7 +77,7 @@ class Ins {
   const Matrix& covariance() const { return P_; }
   int64_t last_utime_ = -1, last_gps_utime_ = 0, last_sonar_utime_ = 0;
   bool has_flown_ = false;  // false until the first sample not at rest
-  control::VehicleEstimate estimate_;
+  hal::VehicleEstimate estimate_;
   InsHealth health_;
 };
 

@@ -1,6 +1,7 @@
 #pragma once
-// What the flight stack knows about its own state: the IMU thread's output (thesis 2.3.2).
-// Control reads this, never the simulator's truth.
+// What the flight stack knows about its own state: the navigation solution the IMU thread
+// publishes (thesis 2.3.2). Control reads this, never the simulator's truth. Declared in hal so
+// that the estimators (nav) and their readers (control, app) share it without linking each other.
 #include <cstdint>
 
 #include <Eigen/Core>
@@ -8,7 +9,7 @@
 
 #include "uav/shared/frames.hpp"
 
-namespace uav::control {
+namespace uav::hal {
 
 struct VehicleEstimate {
   int64_t utime = 0;
@@ -21,4 +22,4 @@ struct VehicleEstimate {
   double altitude() const { return -p_N.z(); }    // [m] above home
 };
 
-}  // namespace uav::control
+}  // namespace uav::hal

@@ -1,0 +1,111 @@
+// Inbound translators: commands, mission uploads, file requests and GCS heartbeats.
+#include "link_translators.hpp"
+
+#include "uav/shared/time.hpp"
+#include "uav/waypoints/mission_messages.hpp"
+#include "uavmsg/command_ack_t.hpp"
+#include "uavmsg/command_t.hpp"
+#include "uavmsg/file_request_t.hpp"
+#include "uavmsg/heartbeat_t.hpp"
+
+namespace uav::app {
+
+void SendAck(LinkContext& c, int64_t utime, const control::TaskReport& r) {
+  c.intake.Remember(r);
+  uavmsg::command_ack_t ack;
+  ack.utime = utime;
+  ack.source = r.source;
+  ack.command_seq = r.seq;
+  ack.command = r.command;
+  ack.result = static_cast<int8_t>(r.result);
+  ack.progress_percent = static_cast<int8_t>(r.percent);
+  ack.reason = r.reason;
+  c.Publish(Topic::kCommandAck, ack);
+}
+
+void SubscribeCommands(LinkContext& c) {
+  c.bus.Subscribe<uavmsg::command_t>(Channel(c.vehicle_id, Topic::kCommand),
+                                     [&c](const std::string&, const uavmsg::command_t& m) {
+                                       auto r = c.intake.Receive(m.header.vehicle_id, m.source, m.command_seq, m.text);
+                                       for (const auto& rep : r.replies) SendAck(c, c.now, rep);
+                                       if (r.request) c.board.PushCommand(*r.request);
+                                     });
+}
+
+void SubscribeMissionUploads(LinkContext& c) {
+  // Uploads in progress, per GCS.
+  auto uploads = std::make_shared<std::map<std::string, waypoints::MissionAssembler>>();
+  c.bus.Subscribe<uavmsg::mission_upload_t>(
+      Channel(c.vehicle_id, Topic::kMissionUpload), [&c, uploads](const std::string&, const uavmsg::mission_upload_t& m) {
+        if (m.header.vehicle_id != c.vehicle_id || m.source.empty() || m.source.size() > 64) return;
+        using Result = waypoints::MissionUploadAck::Result;
+        waypoints::MissionUploadAck ack;
+        try {
+          ack = (*uploads)[m.source].Receive(waypoints::FromMessage(m), [&c](const waypoints::Mission& mission) {
+            return c.missions.AcceptUpload(mission);
+          });
+        } catch (const std::invalid_argument& e) {
+          ack.upload_id = m.upload_id;
+          ack.result = Result::kRejected;
+          ack.reason = e.what();
+        }
+        if (ack.result != Result::kInProgress && ack.received_items == ack.total_items)
+          c.board.PushStatus(ack.result == Result::kAccepted ? Severity::kInfo : Severity::kWarning,
+                             ack.result == Result::kAccepted
+                                 ? "mission of " + std::to_string(ack.total_items) + " items accepted from " + m.source
+                                 : "mission upload rejected: " + ack.reason);
+        else if (ack.result == Result::kRejected)
+          c.board.PushStatus(Severity::kWarning, "mission upload rejected: " + ack.reason);
+        uavmsg::mission_ack_t out = waypoints::ToMessage(ack);
+        out.utime = c.now;
+        out.source = m.source;
+        c.Publish(Topic::kMissionAck, out);
+      });
+}
+
+void SubscribeFileRequests(LinkContext& c, FileSender& files) {
+  c.bus.Subscribe<uavmsg::file_request_t>(
+      Channel(c.vehicle_id, Topic::kFileRequest), [&c, &files](const std::string&, const uavmsg::file_request_t& m) {
+        if (m.header.vehicle_id != c.vehicle_id) return;
+        FileRequest r;
+        r.transfer_id = m.transfer_id;
+        r.complete = m.complete;
+        for (int i = 0; i < m.n_ranges && i < static_cast<int>(m.first.size()) && i < static_cast<int>(m.count.size()); ++i)
+          r.ranges.push_back({m.first[i], m.count[i]});
+        files.OnRequest(r);
+      });
+}
+
+namespace {
+
+class GcsHeartbeatTranslator : public Translator {
+ public:
+  explicit GcsHeartbeatTranslator(LinkContext& c) : c_(c) {
+    c.bus.Subscribe<uavmsg::heartbeat_t>(Channel(c.vehicle_id, Topic::kGcsHeartbeat),
+                                         [this](const std::string&, const uavmsg::heartbeat_t& m) {
+                                           if (m.source_kind != uavmsg::heartbeat_t::SOURCE_GCS) return;
+                                           if (!seen_.count(m.source_name))
+                                             c_.board.PushStatus(Severity::kInfo, "GCS link up: " + m.source_name);
+                                           seen_[m.source_name] = c_.now;
+                                           last_wall_us_ = MonotonicMicros();
+                                         });
+  }
+  void Tick(int64_t) override {
+    // Wall clock: the link is lost in real seconds, whatever the simulation speed.
+    const double age = last_wall_us_ < 0 ? -1.0 : (MonotonicMicros() - last_wall_us_) * 1e-6;
+    c_.board.Update([&](BlackboardData& b) { b.gcs_link_age_s = age; });
+  }
+
+ private:
+  LinkContext& c_;
+  std::map<std::string, int64_t> seen_;  // GCS name -> vehicle utime of its last heartbeat
+  int64_t last_wall_us_ = -1;            // monotonic wall clock of the last GCS heartbeat
+};
+
+}  // namespace
+
+std::unique_ptr<Translator> MakeGcsHeartbeatTranslator(LinkContext& c) {
+  return std::make_unique<GcsHeartbeatTranslator>(c);
+}
+
+}  // namespace uav::app

@@ -1,0 +1,37 @@
+#include "uav/app/reported_state.hpp"
+
+namespace uav::app {
+
+VehicleState ReportedState(const BlackboardData& d, const GeodeticPoint& home, AttitudeMode attitude_mode) {
+  const auto& e = d.estimate;
+  VehicleState s;
+  s.utime = e.utime;
+  s.p_N = e.p_N;
+  s.v_B = e.q_NB.conjugate() * e.v_N;
+  s.euler = e.euler;
+  s.w_B = e.w_B;
+  s.f_B = e.f_B;
+  s.gps = d.sample.gps;
+  s.gps_fix = d.sample.gps_fix;
+  s.gps_satellites = d.sample.gps_satellites;
+  s.rotor_input = d.rotor_inputs;
+  s.servo_input = {d.servo.aileron, d.servo.elevator, d.servo.throttle, d.servo.rudder};
+  s.flight_mode = d.sample.rc_manual ? FlightMode::kManual : FlightMode::kAuto;
+  s.attitude_mode = attitude_mode;
+  s.task = d.task;
+  s.failsafe = d.failsafe;
+  s.home = home;
+  s.mission_item = d.mission_item;
+  s.capturing = d.capture_interval_s.has_value() || d.capture_distance_m.has_value();
+  s.armed = d.armed;
+  s.landed = !d.airborne;
+  s.battery_voltage_v = d.sample.battery_voltage_v;
+  s.battery_remaining = d.sample.battery_remaining;
+  s.obstacle_range_m = d.obstacle_range_m;
+  s.fence_radius_m = d.fence_radius_m;
+  s.fence_alt_m = d.fence_alt_m;
+  s.chirp_channel = d.chirp_channel;
+  return s;
+}
+
+}  // namespace uav::app

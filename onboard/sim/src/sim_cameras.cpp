@@ -1,0 +1,28 @@
+#include "uav/sim/sim_cameras.hpp"
+
+namespace uav::sim {
+
+hal::CameraInfo CameraInfoOf(const world::CameraSetup& s) {
+  return {s.name, s.intrinsics, s.T_BC, s.rate_hz, s.preview_rate_hz};
+}
+
+SimCamera::SimCamera(const world::Scene& scene, const world::CameraSetup& setup, TruthPose truth_T_NB)
+    : renderer_(scene, setup), info_(CameraInfoOf(setup)), truth_T_NB_(std::move(truth_T_NB)) {}
+
+hal::CameraFrame SimCamera::Capture(int64_t utime) {
+  const Eigen::Isometry3d T_NB = truth_T_NB_();
+  return {renderer_.Render(T_NB * info_.T_BC, utime).image, T_NB};
+}
+
+SimStereoCamera::SimStereoCamera(const world::Scene& scene, const world::StereoSetup& setup, TruthPose truth_T_NB)
+    : renderer_(scene, setup),
+      left_(CameraInfoOf(setup.left)),
+      right_(CameraInfoOf(setup.right)),
+      truth_T_NB_(std::move(truth_T_NB)) {}
+
+hal::StereoImages SimStereoCamera::Capture(int64_t utime) {
+  world::StereoFrame pair = renderer_.Render(truth_T_NB_(), utime);
+  return {pair.left.image, pair.right.image};
+}
+
+}  // namespace uav::sim

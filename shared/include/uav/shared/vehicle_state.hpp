@@ -1,0 +1,92 @@
+#pragma once
+// The vehicle's state as the flight stack reports it (vehicle_state_t decoded once into typed
+// data), and the one table of its telemetry signals. The table (name, unit, frame, how to read
+// it, display format) drives the GCS telemetry tree, its plots and CSV export, and the onboard
+// flight-log columns: a signal is declared here and nowhere else.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "uav/shared/frames.hpp"
+#include "uav/shared/geodesy.hpp"
+#include "uav/shared/vehicle_enums.hpp"
+
+namespace uavmsg {
+class vehicle_state_t;
+}
+
+namespace uav {
+
+struct VehicleState {
+  int64_t utime = 0;                                // [us] time of validity, vehicle clock
+  Eigen::Vector3d p_N = Eigen::Vector3d::Zero();    // [m] position in N (NED from home)
+  Eigen::Vector3d v_B = Eigen::Vector3d::Zero();    // [m/s] velocity in N, expressed in B
+  EulerAngles euler;                                // [rad] of R_NB, z-y-x (Eq. 5.51)
+  Eigen::Vector3d w_B = Eigen::Vector3d::Zero();    // [rad/s] body rates
+  Eigen::Vector3d f_B = Eigen::Vector3d::Zero();    // [m/s^2] specific force
+  GeodeticPoint gps;                                // WGS84 fix
+  int gps_fix = 0;                                  // 0 none, 2 2-D, 3 3-D
+  int gps_satellites = 0;
+  std::array<double, 4> rotor_input{};              // M_1..M_4, -1..1 (Table 2.3)
+  std::array<double, 4> servo_input{};              // U_a, U_e, U_th, U_r, -1..1
+  FlightMode flight_mode = FlightMode::kAuto;
+  AttitudeMode attitude_mode = AttitudeMode::kDirect;
+  Task task = Task::kIdle;
+  FailsafeAction failsafe = FailsafeAction::kNone;
+  GeodeticPoint home;                               // origin of N
+  int mission_item = -1;                            // item being flown, -1 none
+  bool capturing = false;
+  bool armed = false;
+  bool landed = true;
+  double battery_voltage_v = 0.0;                   // [V]
+  double battery_remaining = 0.0;                   // [0..1]
+  double obstacle_range_m = -1.0;                   // [m] nearest ahead; < 0 none
+  double fence_radius_m = 0.0;                      // [m] geofence around home
+  double fence_alt_m = 0.0;                         // [m] geofence ceiling
+  int chirp_channel = 0;                            // servo channel being chirped, 0 none
+
+  double altitude() const { return -p_N.z(); }      // [m] above home
+};
+
+// Decoding rejects, with std::invalid_argument naming the field, what the typed state cannot
+// hold: a non-finite position, attitude or home, or an enum value no version of us sends.
+VehicleState FromMessage(const uavmsg::vehicle_state_t& m);
+void ToMessage(const VehicleState& s, uavmsg::vehicle_state_t* m);  // all but the header
+
+// How a signal is shown and logged. SI inside; the UI shows angles in degrees.
+enum class SignalFormat {
+  kMetres, kSpeed, kAccel, kAngle, kAngularRate, kLatLon, kGeodeticAlt, kNormalised, kVolts, kFraction,
+  kInteger, kBool, kTask, kFailsafe, kFlightMode, kAttitudeMode
+};
+
+struct SignalDef {
+  std::string_view name;   // as in scripts, plots and the flight-log header ("phi")
+  std::string_view field;  // the message field it reads ("rotor_input[0]"); empty: derived
+  std::string_view unit;   // SI unit of the value ("rad", "m/s", "1" dimensionless)
+  std::string_view frame;  // "N", "B", "WGS84", or empty
+  SignalFormat format;
+};
+
+// The unit the UI shows ("deg" for angles) and the value converted to it.
+std::string_view DisplayUnit(const SignalDef& d);
+double DisplayValue(const SignalDef& d, double si);
+// The value as the operator reads it: "12.35 m", "-3.1 deg", "hover", "yes", "75 %".
+std::string FormatForDisplay(const SignalDef& d, double si);
+// The value as the flight log writes it (fixed decimals per format, integers as integers).
+std::string FormatForLog(const SignalDef& d, double si);
+
+// A signal of a typed message T: its declaration and how to read it.
+template <class T>
+struct Signal {
+  SignalDef def;
+  double (*read)(const T&);
+};
+
+// Every signal of vehicle_state_t, in Table 2.3 order first.
+const std::vector<Signal<VehicleState>>& VehicleStateSignals();
+
+}  // namespace uav

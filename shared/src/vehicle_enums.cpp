@@ -1,0 +1,93 @@
+#include "uav/shared/vehicle_enums.hpp"
+
+#include "uavmsg/command_ack_t.hpp"
+#include "uavmsg/status_text_t.hpp"
+#include "uavmsg/vehicle_state_t.hpp"
+
+namespace uav {
+namespace {
+
+using S = uavmsg::vehicle_state_t;
+using A = uavmsg::command_ack_t;
+using T = uavmsg::status_text_t;
+template <class E>
+constexpr int8_t W(E v) {
+  return static_cast<int8_t>(v);
+}
+static_assert(W(Task::kIdle) == S::TASK_IDLE && W(Task::kTakeoff) == S::TASK_TAKEOFF &&
+              W(Task::kHover) == S::TASK_HOVER && W(Task::kGoto) == S::TASK_GOTO && W(Task::kLand) == S::TASK_LAND &&
+              W(Task::kTrack) == S::TASK_TRACK && W(Task::kMission) == S::TASK_MISSION &&
+              W(Task::kReturn) == S::TASK_RETURN);
+static_assert(W(CommandResult::kAccepted) == A::RESULT_ACCEPTED && W(CommandResult::kRejected) == A::RESULT_REJECTED &&
+              W(CommandResult::kInProgress) == A::RESULT_IN_PROGRESS &&
+              W(CommandResult::kCompleted) == A::RESULT_COMPLETED && W(CommandResult::kFailed) == A::RESULT_FAILED);
+static_assert(W(FailsafeAction::kNone) == S::FAILSAFE_NONE && W(FailsafeAction::kHold) == S::FAILSAFE_HOLD &&
+              W(FailsafeAction::kReturn) == S::FAILSAFE_RETURN && W(FailsafeAction::kLand) == S::FAILSAFE_LAND &&
+              W(FailsafeAction::kManual) == S::FAILSAFE_MANUAL);
+static_assert(W(Severity::kError) == T::SEVERITY_ERROR && W(Severity::kWarning) == T::SEVERITY_WARNING &&
+              W(Severity::kInfo) == T::SEVERITY_INFO);
+static_assert(W(AttitudeMode::kDirect) == S::ATTITUDE_DIRECT && W(AttitudeMode::kGyroHover) == S::ATTITUDE_GYRO_HOVER &&
+              W(AttitudeMode::kGyroCruise) == S::ATTITUDE_GYRO_CRUISE);
+static_assert(W(FlightMode::kManual) == S::MODE_MANUAL && W(FlightMode::kAuto) == S::MODE_AUTO);
+
+// One table per enum: value and name, in wire order. Name(), FromWire() and FromName() read it.
+template <class E>
+struct Entry {
+  E value;
+  std::string_view name;
+};
+constexpr Entry<Task> kTasks[] = {{Task::kIdle, "idle"}, {Task::kTakeoff, "takeoff"}, {Task::kHover, "hover"},
+                                  {Task::kGoto, "goto"}, {Task::kLand, "land"},       {Task::kTrack, "track"},
+                                  {Task::kMission, "mission"}, {Task::kReturn, "return"}};
+constexpr Entry<CommandResult> kResults[] = {{CommandResult::kAccepted, "accepted"},
+                                             {CommandResult::kRejected, "rejected"},
+                                             {CommandResult::kInProgress, "in_progress"},
+                                             {CommandResult::kCompleted, "completed"},
+                                             {CommandResult::kFailed, "failed"}};
+constexpr Entry<FailsafeAction> kFailsafes[] = {{FailsafeAction::kNone, "none"},     {FailsafeAction::kHold, "hold"},
+                                                {FailsafeAction::kReturn, "return"}, {FailsafeAction::kLand, "land"},
+                                                {FailsafeAction::kManual, "manual"}};
+constexpr Entry<Severity> kSeverities[] = {{Severity::kError, "error"}, {Severity::kWarning, "warning"},
+                                           {Severity::kInfo, "info"}};
+constexpr Entry<AttitudeMode> kAttitudeModes[] = {{AttitudeMode::kDirect, "direct"},
+                                                  {AttitudeMode::kGyroHover, "gyro_hover"},
+                                                  {AttitudeMode::kGyroCruise, "gyro_cruise"}};
+constexpr Entry<FlightMode> kFlightModes[] = {{FlightMode::kManual, "manual"}, {FlightMode::kAuto, "auto"}};
+
+template <class E, std::size_t N>
+std::string_view NameIn(const Entry<E> (&table)[N], E v) {
+  for (const auto& e : table)
+    if (e.value == v) return e.name;
+  return "unknown";
+}
+template <class E, std::size_t N>
+std::optional<E> FromWireIn(const Entry<E> (&table)[N], int v) {
+  for (const auto& e : table)
+    if (static_cast<int>(e.value) == v) return e.value;
+  return std::nullopt;
+}
+template <class E, std::size_t N>
+std::optional<E> FromNameIn(const Entry<E> (&table)[N], std::string_view name) {
+  for (const auto& e : table)
+    if (e.name == name) return e.value;
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::string_view Name(Task v) { return NameIn(kTasks, v); }
+std::string_view Name(CommandResult v) { return NameIn(kResults, v); }
+std::string_view Name(FailsafeAction v) { return NameIn(kFailsafes, v); }
+std::string_view Name(Severity v) { return NameIn(kSeverities, v); }
+std::string_view Name(AttitudeMode v) { return NameIn(kAttitudeModes, v); }
+std::string_view Name(FlightMode v) { return NameIn(kFlightModes, v); }
+std::optional<Task> TaskFromWire(int v) { return FromWireIn(kTasks, v); }
+std::optional<CommandResult> CommandResultFromWire(int v) { return FromWireIn(kResults, v); }
+std::optional<FailsafeAction> FailsafeFromWire(int v) { return FromWireIn(kFailsafes, v); }
+std::optional<Severity> SeverityFromWire(int v) { return FromWireIn(kSeverities, v); }
+std::optional<AttitudeMode> AttitudeModeFromWire(int v) { return FromWireIn(kAttitudeModes, v); }
+std::optional<FlightMode> FlightModeFromWire(int v) { return FromWireIn(kFlightModes, v); }
+std::optional<Task> TaskFromName(std::string_view n) { return FromNameIn(kTasks, n); }
+std::optional<CommandResult> CommandResultFromName(std::string_view n) { return FromNameIn(kResults, n); }
+
+}  // namespace uav

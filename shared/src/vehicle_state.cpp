@@ -1,0 +1,214 @@
+#include "uav/shared/vehicle_state.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "uavmsg/vehicle_state_t.hpp"
+
+namespace uav {
+namespace {
+
+using F = SignalFormat;
+using S = VehicleState;
+
+double B(bool b) { return b ? 1.0 : 0.0; }
+
+}  // namespace
+
+const std::vector<Signal<VehicleState>>& VehicleStateSignals() {
+  // Table 2.3's signals first, under the thesis's names, then the rest of vehicle_state_t.
+  static const std::vector<Signal<VehicleState>> kSignals = {
+      {{"x", "x", "m", "N", F::kMetres}, [](const S& s) { return s.p_N.x(); }},
+      {{"y", "y", "m", "N", F::kMetres}, [](const S& s) { return s.p_N.y(); }},
+      {{"z", "z", "m", "N", F::kMetres}, [](const S& s) { return s.p_N.z(); }},
+      {{"u", "u", "m/s", "B", F::kSpeed}, [](const S& s) { return s.v_B.x(); }},
+      {{"v", "v", "m/s", "B", F::kSpeed}, [](const S& s) { return s.v_B.y(); }},
+      {{"w", "w", "m/s", "B", F::kSpeed}, [](const S& s) { return s.v_B.z(); }},
+      {{"phi", "phi", "rad", "N to B", F::kAngle}, [](const S& s) { return s.euler.phi; }},
+      {{"theta", "theta", "rad", "N to B", F::kAngle}, [](const S& s) { return s.euler.theta; }},
+      {{"psi", "psi", "rad", "N to B", F::kAngle}, [](const S& s) { return s.euler.psi; }},
+      {{"p", "p", "rad/s", "B", F::kAngularRate}, [](const S& s) { return s.w_B.x(); }},
+      {{"q", "q", "rad/s", "B", F::kAngularRate}, [](const S& s) { return s.w_B.y(); }},
+      {{"r", "r", "rad/s", "B", F::kAngularRate}, [](const S& s) { return s.w_B.z(); }},
+      {{"acx", "acx", "m/s^2", "B", F::kAccel}, [](const S& s) { return s.f_B.x(); }},
+      {{"acy", "acy", "m/s^2", "B", F::kAccel}, [](const S& s) { return s.f_B.y(); }},
+      {{"acz", "acz", "m/s^2", "B", F::kAccel}, [](const S& s) { return s.f_B.z(); }},
+      {{"M1", "rotor_input[0]", "1", "", F::kNormalised}, [](const S& s) { return s.rotor_input[0]; }},
+      {{"M2", "rotor_input[1]", "1", "", F::kNormalised}, [](const S& s) { return s.rotor_input[1]; }},
+      {{"M3", "rotor_input[2]", "1", "", F::kNormalised}, [](const S& s) { return s.rotor_input[2]; }},
+      {{"M4", "rotor_input[3]", "1", "", F::kNormalised}, [](const S& s) { return s.rotor_input[3]; }},
+      {{"Ua", "servo_input[0]", "1", "", F::kNormalised}, [](const S& s) { return s.servo_input[0]; }},
+      {{"Ue", "servo_input[1]", "1", "", F::kNormalised}, [](const S& s) { return s.servo_input[1]; }},
+      {{"Uth", "servo_input[2]", "1", "", F::kNormalised}, [](const S& s) { return s.servo_input[2]; }},
+      {{"Ur", "servo_input[3]", "1", "", F::kNormalised}, [](const S& s) { return s.servo_input[3]; }},
+      {{"armed", "armed", "1", "", F::kBool}, [](const S& s) { return B(s.armed); }},
+      {{"task", "task", "1", "", F::kTask}, [](const S& s) { return double(static_cast<int>(s.task)); }},
+      {{"battery_v", "battery_voltage_v", "V", "", F::kVolts}, [](const S& s) { return s.battery_voltage_v; }},
+      {{"mission_item", "mission_item", "1", "", F::kInteger}, [](const S& s) { return double(s.mission_item); }},
+      {{"capturing", "capturing", "1", "", F::kBool}, [](const S& s) { return B(s.capturing); }},
+      {{"obstacle_range", "obstacle_range_m", "m", "B", F::kMetres}, [](const S& s) { return s.obstacle_range_m; }},
+      {{"alt", "", "m", "above home", F::kMetres}, [](const S& s) { return s.altitude(); }},
+      {{"gps_lat", "gps_latitude_deg", "deg", "WGS84", F::kLatLon}, [](const S& s) { return s.gps.latitude_deg; }},
+      {{"gps_lon", "gps_longitude_deg", "deg", "WGS84", F::kLatLon}, [](const S& s) { return s.gps.longitude_deg; }},
+      {{"gps_alt", "gps_altitude_m", "m", "WGS84", F::kGeodeticAlt}, [](const S& s) { return s.gps.altitude_m; }},
+      {{"gps_fix", "gps_fix", "1", "", F::kInteger}, [](const S& s) { return double(s.gps_fix); }},
+      {{"gps_sats", "gps_satellites", "1", "", F::kInteger}, [](const S& s) { return double(s.gps_satellites); }},
+      {{"mode", "flight_mode", "1", "", F::kFlightMode}, [](const S& s) { return double(static_cast<int>(s.flight_mode)); }},
+      {{"failsafe", "failsafe", "1", "", F::kFailsafe}, [](const S& s) { return double(static_cast<int>(s.failsafe)); }},
+      {{"landed", "landed", "1", "", F::kBool}, [](const S& s) { return B(s.landed); }},
+      {{"battery_remaining", "battery_remaining", "1", "", F::kFraction}, [](const S& s) { return s.battery_remaining; }},
+      {{"fence_radius", "fence_radius_m", "m", "N", F::kMetres}, [](const S& s) { return s.fence_radius_m; }},
+      {{"fence_alt", "fence_alt_m", "m", "above home", F::kMetres}, [](const S& s) { return s.fence_alt_m; }},
+      {{"home_lat", "home_latitude_deg", "deg", "WGS84", F::kLatLon}, [](const S& s) { return s.home.latitude_deg; }},
+      {{"home_lon", "home_longitude_deg", "deg", "WGS84", F::kLatLon}, [](const S& s) { return s.home.longitude_deg; }},
+      {{"home_alt", "home_altitude_m", "m", "WGS84", F::kGeodeticAlt}, [](const S& s) { return s.home.altitude_m; }},
+      // uav-sysid reads these two to cut the log into chirps and pick the model structure.
+      {{"chirp", "chirp_channel", "1", "", F::kInteger}, [](const S& s) { return double(s.chirp_channel); }},
+      {{"att_mode", "attitude_mode", "1", "", F::kAttitudeMode}, [](const S& s) { return double(static_cast<int>(s.attitude_mode)); }},
+  };
+  return kSignals;
+}
+
+std::string_view DisplayUnit(const SignalDef& d) {
+  switch (d.format) {
+    case F::kAngle: return "deg";
+    case F::kAngularRate: return "deg/s";
+    case F::kFraction: return "%";
+    case F::kLatLon: return "deg";
+    default: return d.unit == "1" ? "" : d.unit;
+  }
+}
+
+double DisplayValue(const SignalDef& d, double si) {
+  constexpr double kDeg = 180.0 / M_PI;
+  switch (d.format) {
+    case F::kAngle:
+    case F::kAngularRate: return si * kDeg;
+    case F::kFraction: return si * 100.0;
+    default: return si;
+  }
+}
+
+std::string FormatForDisplay(const SignalDef& d, double si) {
+  if (!std::isfinite(si)) return "n/a";
+  char buf[64];
+  const double v = DisplayValue(d, si);
+  const std::string unit(DisplayUnit(d));
+  const int i = static_cast<int>(std::lround(si));
+  switch (d.format) {
+    case F::kBool: return si > 0.5 ? "yes" : "no";
+    case F::kTask: return TaskFromWire(i) ? std::string(Name(*TaskFromWire(i))) : "unknown (" + std::to_string(i) + ")";
+    case F::kFailsafe: return FailsafeFromWire(i) ? std::string(Name(*FailsafeFromWire(i))) : "unknown";
+    case F::kFlightMode: return FlightModeFromWire(i) ? std::string(Name(*FlightModeFromWire(i))) : "unknown";
+    case F::kAttitudeMode: return AttitudeModeFromWire(i) ? std::string(Name(*AttitudeModeFromWire(i))) : "unknown";
+    case F::kInteger: std::snprintf(buf, sizeof buf, "%d", i); return buf;
+    case F::kLatLon: std::snprintf(buf, sizeof buf, "%.7f deg", v); return buf;
+    case F::kAngle:
+    case F::kAngularRate: std::snprintf(buf, sizeof buf, "%.1f %s", v, unit.c_str()); return buf;
+    case F::kFraction: std::snprintf(buf, sizeof buf, "%.0f %%", v); return buf;
+    case F::kNormalised: std::snprintf(buf, sizeof buf, "%.3f", v); return buf;
+    default: std::snprintf(buf, sizeof buf, "%.2f %s", v, unit.c_str()); return buf;
+  }
+}
+
+std::string FormatForLog(const SignalDef& d, double si) {
+  char buf[64];
+  switch (d.format) {
+    case F::kAngle:
+    case F::kAngularRate: std::snprintf(buf, sizeof buf, "%.5f", si); break;
+    case F::kLatLon: std::snprintf(buf, sizeof buf, "%.8f", si); break;
+    case F::kVolts:
+    case F::kFraction:
+    case F::kGeodeticAlt: std::snprintf(buf, sizeof buf, "%.3f", si); break;
+    case F::kInteger:
+    case F::kBool:
+    case F::kTask:
+    case F::kFailsafe:
+    case F::kFlightMode:
+    case F::kAttitudeMode: std::snprintf(buf, sizeof buf, "%d", static_cast<int>(std::lround(si))); break;
+    default: std::snprintf(buf, sizeof buf, "%.4f", si); break;
+  }
+  return buf;
+}
+
+VehicleState FromMessage(const uavmsg::vehicle_state_t& m) {
+  auto finite = [](const char* field, std::initializer_list<double> values) {
+    for (double v : values)
+      if (!std::isfinite(v)) throw std::invalid_argument(std::string("vehicle_state_t.") + field + " is not finite");
+  };
+  finite("x/y/z", {m.x, m.y, m.z});
+  finite("u/v/w", {m.u, m.v, m.w});
+  finite("phi/theta/psi", {m.phi, m.theta, m.psi});
+  auto need = [](auto value, const char* field, int wire) {
+    if (!value) throw std::invalid_argument(std::string("vehicle_state_t.") + field + " = " + std::to_string(wire) + " names no known value");
+    return *value;
+  };
+  VehicleState s;
+  s.utime = m.utime;
+  s.p_N = {m.x, m.y, m.z};
+  s.v_B = {m.u, m.v, m.w};
+  s.euler = {m.phi, m.theta, m.psi};
+  s.w_B = {m.p, m.q, m.r};
+  s.f_B = {m.acx, m.acy, m.acz};
+  s.gps = {m.gps_latitude_deg, m.gps_longitude_deg, m.gps_altitude_m};
+  s.gps_fix = m.gps_fix;
+  s.gps_satellites = m.gps_satellites;
+  for (int i = 0; i < 4; ++i) {
+    s.rotor_input[i] = m.rotor_input[i];
+    s.servo_input[i] = m.servo_input[i];
+  }
+  s.flight_mode = need(FlightModeFromWire(m.flight_mode), "flight_mode", m.flight_mode);
+  s.attitude_mode = need(AttitudeModeFromWire(m.attitude_mode), "attitude_mode", m.attitude_mode);
+  s.task = need(TaskFromWire(m.task), "task", m.task);
+  s.failsafe = need(FailsafeFromWire(m.failsafe), "failsafe", m.failsafe);
+  s.home = {m.home_latitude_deg, m.home_longitude_deg, m.home_altitude_m};
+  s.mission_item = m.mission_item;
+  s.capturing = m.capturing;
+  s.armed = m.armed;
+  s.landed = m.landed;
+  s.battery_voltage_v = m.battery_voltage_v;
+  s.battery_remaining = m.battery_remaining;
+  s.obstacle_range_m = m.obstacle_range_m;
+  s.fence_radius_m = m.fence_radius_m;
+  s.fence_alt_m = m.fence_alt_m;
+  s.chirp_channel = m.chirp_channel;
+  return s;
+}
+
+void ToMessage(const VehicleState& s, uavmsg::vehicle_state_t* m) {
+  m->utime = s.utime;
+  m->x = s.p_N.x(), m->y = s.p_N.y(), m->z = s.p_N.z();
+  m->u = s.v_B.x(), m->v = s.v_B.y(), m->w = s.v_B.z();
+  m->phi = s.euler.phi, m->theta = s.euler.theta, m->psi = s.euler.psi;
+  m->p = s.w_B.x(), m->q = s.w_B.y(), m->r = s.w_B.z();
+  m->acx = s.f_B.x(), m->acy = s.f_B.y(), m->acz = s.f_B.z();
+  m->gps_latitude_deg = s.gps.latitude_deg;
+  m->gps_longitude_deg = s.gps.longitude_deg;
+  m->gps_altitude_m = s.gps.altitude_m;
+  m->gps_fix = static_cast<int8_t>(s.gps_fix);
+  m->gps_satellites = static_cast<int8_t>(s.gps_satellites);
+  for (int i = 0; i < 4; ++i) {
+    m->rotor_input[i] = static_cast<float>(s.rotor_input[i]);
+    m->servo_input[i] = static_cast<float>(s.servo_input[i]);
+  }
+  m->flight_mode = static_cast<int8_t>(s.flight_mode);
+  m->attitude_mode = static_cast<int8_t>(s.attitude_mode);
+  m->task = static_cast<int8_t>(s.task);
+  m->failsafe = static_cast<int8_t>(s.failsafe);
+  m->home_latitude_deg = s.home.latitude_deg;
+  m->home_longitude_deg = s.home.longitude_deg;
+  m->home_altitude_m = s.home.altitude_m;
+  m->mission_item = s.mission_item;
+  m->capturing = s.capturing;
+  m->armed = s.armed;
+  m->landed = s.landed;
+  m->battery_voltage_v = static_cast<float>(s.battery_voltage_v);
+  m->battery_remaining = static_cast<float>(s.battery_remaining);
+  m->obstacle_range_m = static_cast<float>(s.obstacle_range_m);
+  m->fence_radius_m = static_cast<float>(s.fence_radius_m);
+  m->fence_alt_m = static_cast<float>(s.fence_alt_m);
+  m->chirp_channel = static_cast<int8_t>(s.chirp_channel);
+}
+
+}  // namespace uav
