@@ -9,6 +9,7 @@
 
 #include <imgui.h>
 
+#include "unit/gcs_test_util.hpp"
 #include "uav/gcs/gcs_ui.hpp"
 #include "uav/gcs/platform.hpp"
 
@@ -18,23 +19,29 @@ void BM_GcsFrame(benchmark::State& state) {
   using namespace uav::gcs;
   auto platform = MakeNullPlatform(1600, 900);
   GcsModel model("bench", 1);
-  model.OnHeartbeat("UAV1", 1, 2, true, 0.0);
+  model.OnHeartbeat("UAV1", 1, Hb(2, true), 0.0);
   constexpr int kSamples = 30 * 60 * 50;
-  TelemetrySample s{"UAV1", "STATE", 0, 0.0, {}};
-  for (int k = 0; k < 20; ++k) s.values.emplace_back(k == 0 ? "x" : k == 1 ? "y" : "s" + std::to_string(k), 0.0);
+  // 20 of the state's signals, each a sine of its own frequency.
   for (int i = 0; i < kSamples; ++i) {
-    s.seq = i + 1;
-    s.t = i * 0.02;
-    for (int k = 0; k < 20; ++k) s.values[k].second = std::sin(0.001 * i * (k + 1)) * (k + 1);
-    model.OnTelemetry(s, i * 0.02);
+    uav::VehicleState s;
+    s.utime = static_cast<int64_t>(i) * 20000;
+    const auto w = [&](int k) { return std::sin(0.001 * i * (k + 1)) * (k + 1); };
+    s.p_N = {w(0), w(1), w(2)};
+    s.v_B = {w(3), w(4), w(5)};
+    s.euler = {w(6), w(7), w(8)};
+    s.w_B = {w(9), w(10), w(11)};
+    s.f_B = {w(12), w(13), w(14)};
+    for (int k = 0; k < 4; ++k) s.rotor_input[k] = w(15 + k);
+    s.servo_input[0] = w(19);
+    model.OnState("UAV1", i + 1, s, i * 0.02);
   }
   for (int k = 0; k < 20; ++k) {
-    const std::string key = "STATE." + s.values[k].first;
-    if (k == 10) model.AddPlot();
-    model.TogglePlotSignal(key);
-    if (k % 2) model.SetSignalAxis(model.active_plot(), key, PlotAxis::kRight);
+    const SignalRef signal{SignalGroupId::kState, k};
+    if (k == 10) model.plots().Add();
+    model.plots().Toggle(signal);
+    if (k % 2) model.plots().SetAxis(model.plots().active(), signal, PlotAxis::kRight);
   }
-  model.SetPlotWindow(static_cast<double>(state.range(0)));
+  model.plots().SetWindow(static_cast<double>(state.range(0)));
   UiContext ctx;
   ctx.now = kSamples * 0.02;
   for (auto _ : state) {

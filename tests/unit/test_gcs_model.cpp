@@ -8,14 +8,14 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "uav/gcs/gcs_model.hpp"
+#include "unit/gcs_test_util.hpp"
 #include "uav/gcs/signal_series.hpp"
 
 namespace uav::gcs {
 namespace {
 
-TelemetrySample State(const std::string& id, int64_t seq, double t, double alt) {
-  return {id, "STATE", seq, t, {{"alt", alt}, {"x", 1.0}}};
-}
+// A hovering, armed vehicle (as its heartbeat says too).
+VehicleState State(double t, double alt) { return StateOf(t, {{"alt", alt}, {"x", 1.0}, {"task", 2}, {"armed", 1}}); }
 
 TEST(SignalSeries, KeepsTheNewestWithinCapacityInOrder) {
   SignalSeries s(4);
@@ -38,8 +38,8 @@ TEST(SignalSeries, DefaultHoldsThirtyMinutesAtFiftyHertz) {
 TEST(GcsModel, DiscoversVehiclesAndSelectsTheFirst) {
   GcsModel m("gcs", 100);
   EXPECT_EQ(m.selected(), nullptr);
-  m.OnHeartbeat("UAV2", 1, 0, false, 10.0);
-  m.OnHeartbeat("UAV1", 1, 0, false, 10.1);
+  m.OnHeartbeat("UAV2", 1, Hb(0, false), 10.0);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 10.1);
   EXPECT_EQ(m.selected_id(), "UAV2");
   EXPECT_EQ(m.vehicles().size(), 2u);
   m.SelectVehicle("NOPE");
@@ -50,89 +50,89 @@ TEST(GcsModel, DiscoversVehiclesAndSelectsTheFirst) {
 
 TEST(GcsModel, LinkQualityFromHeartbeatsRatesAndSequenceGaps) {
   GcsModel m("gcs", 100);
-  m.OnHeartbeat("UAV1", 1, 2, true, 0.0);
+  m.OnHeartbeat("UAV1", 1, Hb(2, true), 0.0);
   for (int i = 1; i <= 50; ++i)
-    if (i % 10 != 0) m.OnTelemetry(State("UAV1", i, i * 0.02, 5), 1.0 + i * 0.02);  // 5 lost
+    if (i % 10 != 0) m.OnState("UAV1", i, State(i * 0.02, 5), 1.0 + i * 0.02);  // 5 lost
   const VehicleModel& v = m.vehicles().at("UAV1");
   EXPECT_EQ(v.sequence_gaps, 4);  // 10,20,30,40 missing (50 is the newest, also missing: not yet seen)
   EXPECT_NEAR(v.MessageRate(2.0), 45, 1);
   EXPECT_TRUE(v.LinkUp(2.9));
   EXPECT_FALSE(v.LinkUp(3.1));
-  EXPECT_EQ(v.task, "hover");
+  EXPECT_EQ(v.task, Task::kHover);
   EXPECT_TRUE(v.armed);
 }
 
 TEST(GcsModel, InvalidCommandIsNotSentAndSaysWhy) {
   GcsModel m("gcs", 100);
-  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
   EXPECT_FALSE(m.SubmitCommand("takeoff nan", 1.0));
-  EXPECT_NE(m.command_error().find("not a finite number"), std::string::npos);
-  EXPECT_TRUE(m.TakeOutgoing().empty());
-  EXPECT_TRUE(m.sent_commands().empty());
+  EXPECT_NE(m.commands().error().find("not a finite number"), std::string::npos);
+  EXPECT_TRUE(m.commands().TakeOutgoing().empty());
+  EXPECT_TRUE(m.commands().sent().empty());
 }
 
 TEST(GcsModel, CommandNeedsASelectedVehicle) {
   GcsModel m("gcs", 100);
   EXPECT_FALSE(m.SubmitCommand("arm", 1.0));
-  EXPECT_EQ(m.command_error(), "no vehicle selected");
+  EXPECT_EQ(m.commands().error(), "no vehicle selected");
 }
 
 TEST(GcsModel, ResendsWithTheSameSequenceThenGivesUp) {
   GcsModel m("gcs", 100);
-  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
   ASSERT_TRUE(m.SubmitCommand("arm", 0.0));
-  auto out = m.TakeOutgoing();
+  auto out = m.commands().TakeOutgoing();
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].command_seq, 100);
   EXPECT_EQ(out[0].vehicle_id, "UAV1");
   std::vector<int64_t> seqs;
   for (double t = 0.1; t < 10.0; t += 0.1) {
     m.Tick(t);
-    for (const auto& o : m.TakeOutgoing()) seqs.push_back(o.command_seq);
+    for (const auto& o : m.commands().TakeOutgoing()) seqs.push_back(o.command_seq);
   }
-  EXPECT_EQ(seqs, std::vector<int64_t>(GcsModel::kMaxTries - 1, 100));
-  EXPECT_TRUE(m.sent_commands().back().gave_up);
-  EXPECT_EQ(m.log().back().severity, 3);
-  EXPECT_NE(m.log().back().text.find("no acknowledgement after 5 tries"), std::string::npos);
+  EXPECT_EQ(seqs, std::vector<int64_t>(CommandCenter::kMaxTries - 1, 100));
+  EXPECT_TRUE(m.commands().sent().back().gave_up);
+  EXPECT_EQ(m.log().lines().back().severity, Severity::kError);
+  EXPECT_NE(m.log().lines().back().text.find("no acknowledgement after 5 tries"), std::string::npos);
 }
 
 TEST(GcsModel, AckStopsResendingAndOnlyOurAcksCount) {
   GcsModel m("gcs", 100);
-  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
   m.SubmitCommand("arm", 0.0);
-  m.TakeOutgoing();
-  m.OnAck("UAV1", "other-gcs", {100, "arm", "completed", 100, ""}, 0.5);
-  EXPECT_FALSE(m.sent_commands().back().acknowledged);
-  m.OnAck("UAV2", "gcs", {100, "arm", "completed", 100, ""}, 0.5);  // wrong vehicle
-  EXPECT_FALSE(m.sent_commands().back().acknowledged);
-  m.OnAck("UAV1", "gcs", {100, "arm", "accepted", 0, ""}, 0.5);
-  EXPECT_TRUE(m.sent_commands().back().acknowledged);
+  m.commands().TakeOutgoing();
+  m.OnAck("UAV1", "other-gcs", {100, "arm", CommandResult::kCompleted, 100, ""}, 0.5);
+  EXPECT_FALSE(m.commands().sent().back().acknowledged);
+  m.OnAck("UAV2", "gcs", {100, "arm", CommandResult::kCompleted, 100, ""}, 0.5);  // wrong vehicle
+  EXPECT_FALSE(m.commands().sent().back().acknowledged);
+  m.OnAck("UAV1", "gcs", {100, "arm", CommandResult::kAccepted, 0, ""}, 0.5);
+  EXPECT_TRUE(m.commands().sent().back().acknowledged);
   m.Tick(5.0);
-  EXPECT_TRUE(m.TakeOutgoing().empty());
+  EXPECT_TRUE(m.commands().TakeOutgoing().empty());
 }
 
 TEST(GcsModel, VehiclesDoNotLeakIntoEachOther) {
   GcsModel m("gcs", 100);
-  m.OnTelemetry(State("UAV1", 1, 100.0, 5.0), 0.0);
-  m.OnTelemetry(State("UAV2", 1, 200.0, 50.0), 0.0);
-  EXPECT_EQ(m.vehicles().at("UAV1").latest.at("STATE.alt"), 5.0);
-  EXPECT_EQ(m.vehicles().at("UAV2").latest.at("STATE.alt"), 50.0);
-  EXPECT_EQ(m.vehicles().at("UAV1").history.at("STATE.alt").size(), 1u);
+  m.OnState("UAV1", 1, State(100.0, 5.0), 0.0);
+  m.OnState("UAV2", 1, State(200.0, 50.0), 0.0);
+  EXPECT_EQ(m.vehicles().at("UAV1").Latest(Sig("STATE.alt")).value(), 5.0);
+  EXPECT_EQ(m.vehicles().at("UAV2").Latest(Sig("STATE.alt")).value(), 50.0);
+  EXPECT_EQ(m.vehicles().at("UAV1").History(Sig("STATE.alt"))->size(), 1u);
   m.SelectVehicle("UAV2");
   m.SubmitCommand("land", 1.0);
-  EXPECT_EQ(m.TakeOutgoing()[0].vehicle_id, "UAV2");
+  EXPECT_EQ(m.commands().TakeOutgoing()[0].vehicle_id, "UAV2");
 }
 
 TEST(GcsModel, PlotSelectionAndWindowLimits) {
   GcsModel m("gcs", 1);
-  m.TogglePlotSignal("STATE.alt");
-  m.TogglePlotSignal("STATE.x");
-  m.TogglePlotSignal("STATE.alt");
-  EXPECT_EQ(m.plot_signals(), std::set<std::string>{"STATE.x"});
-  m.SetPlotWindow(0.5);
-  EXPECT_EQ(m.plot_window(), 60.0);
-  m.SetPlotWindow(1800);
-  EXPECT_EQ(m.plot_window(), 1800.0);
+  m.plots().Toggle(Sig("STATE.alt"));
+  m.plots().Toggle(Sig("STATE.x"));
+  m.plots().Toggle(Sig("STATE.alt"));
+  EXPECT_EQ(Keys(m.plots().ticked()), std::set<std::string>{"STATE.x"});
+  m.plots().SetWindow(0.5);
+  EXPECT_EQ(m.plots().window(), 60.0);
+  m.plots().SetWindow(1800);
+  EXPECT_EQ(m.plots().window(), 1800.0);
 }
 
 }  // namespace
@@ -143,15 +143,15 @@ namespace {
 
 TEST(PlotCsvExport, WritesTheTickedSignalsOverTheRangeAndNothingElse) {
   GcsModel m("gcs", 1);
-  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
   for (int i = 0; i <= 100; ++i)  // 2 s at 50 Hz
-    m.OnTelemetry({"UAV1", "STATE", i + 1, 10.0 + 0.02 * i, {{"alt", 0.1 * i}, {"x", -1.0 * i}, {"y", 7.0}}}, 0.0);
+    m.OnState("UAV1", i + 1, StateOf(10.0 + 0.02 * i, {{"alt", 0.1 * i}, {"x", -1.0 * i}, {"y", 7.0}}), 0.0);
   const std::string path = testing::TempDir() + "/plot_export_test.csv";
   std::remove(path.c_str());
   EXPECT_FALSE(m.ExportPlotCsv(path, 0.0, 2.0, 1.0));  // nothing ticked
-  EXPECT_NE(m.log().back().text.find("nothing to export"), std::string::npos);
-  m.TogglePlotSignal("STATE.alt");
-  m.TogglePlotSignal("STATE.x");
+  EXPECT_NE(m.log().lines().back().text.find("nothing to export"), std::string::npos);
+  m.plots().Toggle(Sig("STATE.alt"));
+  m.plots().Toggle(Sig("STATE.x"));
   ASSERT_TRUE(m.ExportPlotCsv(path, 0.5, 1.0, 1.0));
   std::ifstream in(path);
   std::string line;
@@ -162,9 +162,9 @@ TEST(PlotCsvExport, WritesTheTickedSignalsOverTheRangeAndNothingElse) {
   ASSERT_EQ(rows.size(), 26u);  // 0.50, 0.52, ..., 1.00
   EXPECT_EQ(rows.front(), "0.500,2.5,-25");
   EXPECT_EQ(rows.back(), "1.000,5,-50");
-  EXPECT_NE(m.log().back().text.find("exported 26 rows of 2 signals"), std::string::npos);
+  EXPECT_NE(m.log().lines().back().text.find("exported 26 rows of 2 signals"), std::string::npos);
   EXPECT_FALSE(m.ExportPlotCsv("/nonexistent-dir/x.csv", 0.0, 2.0, 1.0));
-  EXPECT_NE(m.log().back().text.find("CSV export failed"), std::string::npos);
+  EXPECT_NE(m.log().lines().back().text.find("CSV export failed"), std::string::npos);
   std::remove(path.c_str());
 }
 
@@ -186,8 +186,8 @@ std::vector<uint8_t> TinyJpeg(int w, int h) {
 // the old one, bad tiles rejected and counted.
 TEST(GcsLiveMap, TilesArePerVehicleAndANewMapReplacesTheOld) {
   GcsModel m("test", 1);
-  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
-  m.OnHeartbeat("UAV2", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
+  m.OnHeartbeat("UAV2", 1, Hb(0, false), 0.0);
   cv::Mat tile(64, 64, CV_8UC3, cv::Scalar(30, 120, 200));
   tile(cv::Rect(0, 0, 32, 64)).setTo(cv::Scalar::all(0));  // the left half unmapped
   MapTileIn t;
@@ -226,7 +226,7 @@ TEST(GcsLiveMap, TilesArePerVehicleAndANewMapReplacesTheOld) {
 // Downloads: an offered file is fetched by chunk requests and saved after its SHA-256 matched.
 TEST(GcsDownload, SavesAVerifiedFileWhereTheOperatorSaid) {
   GcsModel m("test", 1);
-  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
   m.SelectVehicle("UAV1");
   FileSender sender;
   const std::string contents(10000, 'm');
@@ -237,21 +237,21 @@ TEST(GcsDownload, SavesAVerifiedFileWhereTheOperatorSaid) {
   ASSERT_TRUE(m.StartDownload(dir, 0.2));
   for (double t = 0.3; t < 3 && m.vehicles().at("UAV1").saved.empty(); t += 0.02) {
     m.Tick(t);
-    for (const auto& r : m.TakeOutgoingFileRequests()) sender.OnRequest(r.request);
+    for (const auto& r : m.maps().TakeOutgoing()) sender.OnRequest(r.request);
     for (const auto& c : sender.Poll(t).chunks) m.OnFileChunk("UAV1", c, t);
   }
   const std::string path = dir + "/map_1.png";
   ASSERT_TRUE(std::filesystem::exists(path));
   EXPECT_EQ(std::filesystem::file_size(path), contents.size());
   EXPECT_FALSE(m.StartDownload("/proc/no_such_dir/x", 3.0));
-  EXPECT_NE(m.download_error().find("cannot use"), std::string::npos);
+  EXPECT_NE(m.maps().error().find("cannot use"), std::string::npos);
   std::filesystem::remove_all(dir);
 }
 
 TEST(GcsVideo, DecodesFramesPerVehicleAndRejectsBadOnesNamingWhy) {
   GcsModel m("test", 1);
-  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
-  m.OnHeartbeat("UAV2", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
+  m.OnHeartbeat("UAV2", 1, Hb(0, false), 0.0);
   VideoFrameIn f;
   f.camera = "downward";
   f.width = 8;
@@ -280,7 +280,7 @@ TEST(GcsVideo, DecodesFramesPerVehicleAndRejectsBadOnesNamingWhy) {
   EXPECT_EQ(feed.rejected, 3);
   EXPECT_EQ(feed.width, 8);
   bool logged = false;
-  for (const auto& l : m.log()) logged |= l.text.find("video frame rejected") != std::string::npos;
+  for (const auto& l : m.log().lines()) logged |= l.text.find("video frame rejected") != std::string::npos;
   EXPECT_TRUE(logged);
 }
 

@@ -10,6 +10,7 @@
 #include <imgui.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "unit/gcs_test_util.hpp"
 #include "uav/gcs/gcs_ui.hpp"
 #include "uav/gcs/platform.hpp"
 #include "uav/gcs/script.hpp"
@@ -46,36 +47,36 @@ TEST(SignalSeries, MinMaxMatchesAScanAcrossTheRingsWrap) {
 
 TEST(GcsTelemetryTree, GroupsCarryTheirRateAndAge) {
   GcsModel m("gcs", 1);
-  for (int i = 0; i < 50; ++i) m.OnTelemetry({"UAV1", "STATE", i + 1, i * 0.02, {{"alt", 1.0}}}, 10.0 + i * 0.02);
-  m.OnHeartbeat("UAV1", 1, 2, true, 10.5);
+  for (int i = 0; i < 50; ++i) m.OnState("UAV1", i + 1, StateOf(i * 0.02, {{"alt", 1.0}}), 10.0 + i * 0.02);
+  m.OnHeartbeat("UAV1", 1, Hb(2, true), 10.5);
   const VehicleModel& v = m.vehicles().at("UAV1");
-  EXPECT_NEAR(v.groups.at("STATE").Rate(10.99), 50, 1);
-  EXPECT_NEAR(v.groups.at("STATE").Age(11.5), 11.5 - 10.98, 1e-9);
-  EXPECT_EQ(v.groups.at("HEARTBEAT").Rate(11.0), 1);
-  EXPECT_EQ(v.latest.at("HEARTBEAT.task"), 2);  // heartbeats are in the tree too (no history)
-  EXPECT_EQ(v.history.count("HEARTBEAT.task"), 0u);
+  EXPECT_NEAR(v.group(SignalGroupId::kState).Rate(10.99), 50, 1);
+  EXPECT_NEAR(v.group(SignalGroupId::kState).Age(11.5), 11.5 - 10.98, 1e-9);
+  EXPECT_EQ(v.group(SignalGroupId::kHeartbeat).Rate(11.0), 1);
+  EXPECT_EQ(v.Latest(Sig("HEARTBEAT.task")).value(), 2);  // heartbeats are in the tree too (no history)
+  EXPECT_EQ((v.History(Sig("HEARTBEAT.task")) ? 1u : 0u), 0u);
 }
 
 TEST(GcsPlots, PanelsAxesAndRangesAreCheckedOnBothSides) {
   GcsModel m("gcs", 1);
-  EXPECT_EQ(m.plots().size(), 1u);
-  m.TogglePlotSignal("STATE.alt");
-  EXPECT_EQ(m.AddPlot(), 1);
-  EXPECT_EQ(m.active_plot(), 1);
-  m.TogglePlotSignal("STATE.x");
-  m.SetSignalAxis(1, "STATE.x", PlotAxis::kRight);
-  EXPECT_EQ(m.plots()[1].signals.at("STATE.x"), PlotAxis::kRight);
-  EXPECT_EQ(m.plot_signals(), (std::set<std::string>{"STATE.alt", "STATE.x"}));
-  EXPECT_FALSE(m.SetPlotRange(1, PlotAxis::kRight, false, 2.0, 2.0));  // lo must be below hi
-  EXPECT_FALSE(m.SetPlotRange(1, PlotAxis::kRight, false, 0.0, NAN));
-  EXPECT_TRUE(m.plots()[1].auto_y[1]);
-  EXPECT_TRUE(m.SetPlotRange(1, PlotAxis::kRight, false, -1.0, -0.999));
-  EXPECT_FALSE(m.plots()[1].auto_y[1]);
-  m.RemovePlot(0);
-  EXPECT_EQ(m.plots().size(), 1u);
-  m.RemovePlot(0);  // the last one stays
-  EXPECT_EQ(m.plots().size(), 1u);
-  EXPECT_EQ(m.plot_signals(), std::set<std::string>{"STATE.x"});
+  EXPECT_EQ(m.plots().specs().size(), 1u);
+  m.plots().Toggle(Sig("STATE.alt"));
+  EXPECT_EQ(m.plots().Add(), 1);
+  EXPECT_EQ(m.plots().active(), 1);
+  m.plots().Toggle(Sig("STATE.x"));
+  m.plots().SetAxis(1, Sig("STATE.x"), PlotAxis::kRight);
+  EXPECT_EQ(m.plots().specs()[1].signals.at(Sig("STATE.x")), PlotAxis::kRight);
+  EXPECT_EQ(Keys(m.plots().ticked()), (std::set<std::string>{"STATE.alt", "STATE.x"}));
+  EXPECT_FALSE(m.plots().SetRange(1, PlotAxis::kRight, false, 2.0, 2.0));  // lo must be below hi
+  EXPECT_FALSE(m.plots().SetRange(1, PlotAxis::kRight, false, 0.0, NAN));
+  EXPECT_TRUE(m.plots().specs()[1].auto_y[1]);
+  EXPECT_TRUE(m.plots().SetRange(1, PlotAxis::kRight, false, -1.0, -0.999));
+  EXPECT_FALSE(m.plots().specs()[1].auto_y[1]);
+  m.plots().Remove(0);
+  EXPECT_EQ(m.plots().specs().size(), 1u);
+  m.plots().Remove(0);  // the last one stays
+  EXPECT_EQ(m.plots().specs().size(), 1u);
+  EXPECT_EQ(Keys(m.plots().ticked()), std::set<std::string>{"STATE.x"});
 }
 
 TEST(GcsTracking, SelectionIsValidatedAndStatusIsPerVehicle) {
@@ -85,11 +86,11 @@ TEST(GcsTracking, SelectionIsValidatedAndStatusIsPerVehicle) {
   t.x = 0.2, t.y = 0.3, t.width = 0.1, t.height = 0.2;
   t.corners = {{{0.2, 0.3}, {0.3, 0.3}, {0.3, 0.5}, {0.2, 0.5}}};
   EXPECT_FALSE(m.SelectTarget(t, 0.0));
-  EXPECT_EQ(m.track_error(), "no vehicle selected");
-  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
-  m.OnHeartbeat("UAV2", 1, 0, false, 0.0);
+  EXPECT_EQ(m.video().error(), "no vehicle selected");
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
+  m.OnHeartbeat("UAV2", 1, Hb(0, false), 0.0);
   EXPECT_TRUE(m.SelectTarget(t, 0.0));
-  auto out = m.TakeOutgoingTrackTargets();
+  auto out = m.video().TakeOutgoing();
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].vehicle_id, "UAV1");
   EXPECT_DOUBLE_EQ(out[0].target.x, 0.2);
@@ -97,20 +98,20 @@ TEST(GcsTracking, SelectionIsValidatedAndStatusIsPerVehicle) {
   TrackTarget edge = t;
   edge.x = 0.9, edge.width = 0.1;  // right edge exactly at 1
   for (auto& c : edge.corners) c[0] = std::min(1.0, c[0] + 0.7);
-  EXPECT_TRUE(m.SelectTarget(edge, 0.1)) << m.track_error();
+  EXPECT_TRUE(m.SelectTarget(edge, 0.1)) << m.video().error();
   edge.width = 0.1001;
   EXPECT_FALSE(m.SelectTarget(edge, 0.1));
-  EXPECT_NE(m.track_error().find("outside the image"), std::string::npos);
+  EXPECT_NE(m.video().error().find("outside the image"), std::string::npos);
   TrackTarget tiny = t;
   tiny.width = 0.0049;
   EXPECT_FALSE(m.SelectTarget(tiny, 0.1));
-  EXPECT_NE(m.track_error().find("too small"), std::string::npos);
+  EXPECT_NE(m.video().error().find("too small"), std::string::npos);
   tiny.width = 0.005;
   EXPECT_TRUE(m.SelectTarget(tiny, 0.1));
   TrackTarget nan = t;
   nan.corners[2][1] = NAN;
   EXPECT_FALSE(m.SelectTarget(nan, 0.1));
-  EXPECT_EQ(m.TakeOutgoingTrackTargets().size(), 2u);
+  EXPECT_EQ(m.video().TakeOutgoing().size(), 2u);
   // Status: validated, kept per vehicle, in the tree as TRACK.*.
   TrackStatus st;
   st.utime = 1000000;
@@ -120,7 +121,7 @@ TEST(GcsTracking, SelectionIsValidatedAndStatusIsPerVehicle) {
   m.OnTrackStatus("UAV2", st, 0.2);
   EXPECT_FALSE(m.vehicles().at("UAV1").track);
   ASSERT_TRUE(m.vehicles().at("UAV2").track);
-  EXPECT_EQ(m.vehicles().at("UAV2").latest.at("TRACK.center_x"), 0.25);
+  EXPECT_EQ(m.vehicles().at("UAV2").Latest(Sig("TRACK.center_x")).value(), 0.25);
   TrackStatus bad = st;
   bad.center_x = NAN;
   m.OnTrackStatus("UAV1", bad, 0.3);
@@ -135,8 +136,8 @@ TEST(GcsTracking, SelectionIsValidatedAndStatusIsPerVehicle) {
 
 TEST(GcsVideo, FreezeHoldsTheFrameAndSwitchingVehicleDropsIt) {
   GcsModel m("gcs", 1);
-  m.OnHeartbeat("UAV1", 1, 0, false, 0.0);
-  m.OnHeartbeat("UAV2", 1, 0, false, 0.0);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
+  m.OnHeartbeat("UAV2", 1, Hb(0, false), 0.0);
   EXPECT_FALSE(m.FreezeVideo(true));  // no frame yet
   cv::Mat img(48, 64, CV_8UC3, cv::Scalar(10, 20, 30));
   VideoFrameIn f;
@@ -148,9 +149,9 @@ TEST(GcsVideo, FreezeHoldsTheFrameAndSwitchingVehicleDropsIt) {
   ASSERT_TRUE(m.FreezeVideo(true));
   f.utime = 6;
   m.OnVideoFrame("UAV1", f, 0.2);
-  EXPECT_EQ(m.frozen_video()->utime, 5);  // the frozen frame stays
+  EXPECT_EQ(m.video().frozen()->utime, 5);  // the frozen frame stays
   m.SelectVehicle("UAV2");
-  EXPECT_FALSE(m.frozen_video());  // nothing of UAV1 on UAV2's panels
+  EXPECT_FALSE(m.video().frozen());  // nothing of UAV1 on UAV2's panels
 }
 
 // ---- The panels headless, driven like a person: a fake vehicle fed into the model.
@@ -158,8 +159,8 @@ TEST(GcsVideo, FreezeHoldsTheFrameAndSwitchingVehicleDropsIt) {
 class Panels : public ::testing::Test {
  protected:
   Panels() : platform_(MakeNullPlatform(1600, 900)), model_("gcs", 1), driver_(ctx_, nullptr) {
-    model_.OnHeartbeat("UAV1", 1, 2, true, 0.0);
-    model_.OnHeartbeat("UAV2", 1, 0, false, 0.0);
+    model_.OnHeartbeat("UAV1", 1, Hb(2, true), 0.0);
+    model_.OnHeartbeat("UAV2", 1, Hb(0, false), 0.0);
   }
   void Frames(int n) {
     for (int i = 0; i < n; ++i) {
@@ -178,7 +179,7 @@ class Panels : public ::testing::Test {
   }
   void Telemetry(int samples) {
     for (int i = 0; i < samples; ++i, ++seq_)
-      model_.OnTelemetry({"UAV1", "STATE", seq_, seq_ * 0.02, {{"alt", std::sin(seq_ * 0.01)}, {"x", seq_ * 0.001}}}, now_);
+      model_.OnState("UAV1", seq_, StateOf(seq_ * 0.02, {{"alt", std::sin(seq_ * 0.01)}, {"x", seq_ * 0.001}}), now_);
   }
   void Video(const std::string& vehicle) {
     cv::Mat img(120, 160, CV_8UC3, cv::Scalar(40, 90, 140));
@@ -203,14 +204,14 @@ TEST_F(Panels, TargetByFourClicksAndByADragOnAFrozenFrame) {
   Frames(3);
   ASSERT_TRUE(driver_.StartClick("video:freeze", &err_)) << err_;
   RunUntilIdle();
-  ASSERT_TRUE(model_.frozen_video());
+  ASSERT_TRUE(model_.video().frozen());
   // Four corners (thesis 3.7.3), clockwise from the top left.
   const double pts[4][2] = {{0.25, 0.20}, {0.55, 0.22}, {0.50, 0.60}, {0.27, 0.58}};
   for (const auto& p : pts) {
     ASSERT_TRUE(driver_.StartGesture("video:image", ScriptDriver::Gesture::kClick, p[0], p[1], 0, 0, 0, &err_)) << err_;
     RunUntilIdle();
   }
-  auto out = model_.TakeOutgoingTrackTargets();
+  auto out = model_.video().TakeOutgoing();
   ASSERT_EQ(out.size(), 1u);
   const TrackTarget& t = out[0].target;
   EXPECT_EQ(t.method, TrackTarget::kFourClicks);
@@ -222,7 +223,7 @@ TEST_F(Panels, TargetByFourClicksAndByADragOnAFrozenFrame) {
   EXPECT_NEAR(t.x + t.width, 0.55, 2 * px);
   EXPECT_NEAR(t.y + t.height, 0.60, 2 * px);
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(t.corners[i][0], pts[i][0], 2 * px);
-  EXPECT_FALSE(model_.frozen_video());  // back to live to watch it track
+  EXPECT_FALSE(model_.video().frozen());  // back to live to watch it track
   // The tracker's answer is drawn over the live video (headless: the state is what we check).
   TrackStatus st;
   st.state = TrackStatus::kTracking;
@@ -234,7 +235,7 @@ TEST_F(Panels, TargetByFourClicksAndByADragOnAFrozenFrame) {
   RunUntilIdle();
   ASSERT_TRUE(driver_.StartGesture("video:image", ScriptDriver::Gesture::kDrag, 0.6, 0.7, 0.8, 0.9, 0, &err_));
   RunUntilIdle();
-  out = model_.TakeOutgoingTrackTargets();
+  out = model_.video().TakeOutgoing();
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].target.method, TrackTarget::kDrag);
   EXPECT_NEAR(out[0].target.x, 0.6, 2 * px);
@@ -249,34 +250,38 @@ TEST_F(Panels, TargetByFourClicksAndByADragOnAFrozenFrame) {
   ASSERT_TRUE(driver_.StartGesture("video:image", ScriptDriver::Gesture::kRightClick, 0.1, 0.1, 0, 0, 0, &err_));
   RunUntilIdle();
   EXPECT_TRUE(ctx_.state.video_clicks.empty());
-  EXPECT_TRUE(model_.TakeOutgoingTrackTargets().empty());
+  EXPECT_TRUE(model_.video().TakeOutgoing().empty());
 }
 
 TEST_F(Panels, PlotsTakeTicksZoomPanAndReadOut) {
   Telemetry(3000);  // 60 s
   Frames(3);
+  ctx_.state.signal_filter = "STATE.alt";  // the tree is longer than its window: search first
+  Frames(1);
   ASSERT_TRUE(driver_.StartClick("tick:STATE.alt", &err_)) << err_;
   RunUntilIdle();
   ASSERT_TRUE(driver_.StartClick("plot:add", &err_)) << err_;
   RunUntilIdle();
-  ASSERT_EQ(model_.plots().size(), 2u);
+  ASSERT_EQ(model_.plots().specs().size(), 2u);
+  ctx_.state.signal_filter = "STATE.x";
+  Frames(1);
   ASSERT_TRUE(driver_.StartClick("tick:STATE.x", &err_));
   RunUntilIdle();
   ASSERT_TRUE(driver_.StartClick("axis:STATE.x", &err_)) << err_;
   RunUntilIdle();
-  EXPECT_EQ(model_.plots()[0].signals.size(), 1u);
-  EXPECT_EQ(model_.plots()[1].signals.at("STATE.x"), PlotAxis::kRight);
+  EXPECT_EQ(model_.plots().specs()[0].signals.size(), 1u);
+  EXPECT_EQ(model_.plots().specs()[1].signals.at(Sig("STATE.x")), PlotAxis::kRight);
   // Wheel: two notches in shrink the 60 s window to 60 / 1.25^2.
   ASSERT_TRUE(driver_.StartGesture("plot:1:canvas", ScriptDriver::Gesture::kWheel, 0.5, 0.5, 0, 0, 2, &err_));
   RunUntilIdle();
-  EXPECT_NEAR(model_.plot_window(), 60 / 1.5625, 1e-6);
+  EXPECT_NEAR(model_.plots().window(), 60 / 1.5625, 1e-6);
   // Drag right by half the canvas: the time axis holds, half a window earlier.
-  const double window = model_.plot_window();
+  const double window = model_.plots().window();
   const double t_end = 59.98;  // the newest sample
   ASSERT_TRUE(driver_.StartGesture("plot:1:canvas", ScriptDriver::Gesture::kDrag, 0.3, 0.5, 0.8, 0.5, 0, &err_));
   RunUntilIdle();
-  ASSERT_TRUE(model_.plot_hold());
-  EXPECT_NEAR(*model_.plot_hold(), t_end - 0.5 * window, 0.01 * window);
+  ASSERT_TRUE(model_.plots().hold());
+  EXPECT_NEAR(*model_.plots().hold(), t_end - 0.5 * window, 0.01 * window);
   // Hover: the readout names each signal with its value at that time.
   ASSERT_TRUE(driver_.StartGesture("plot:2:canvas", ScriptDriver::Gesture::kHover, 0.5, 0.5, 0, 0, 0, &err_));
   RunUntilIdle();
@@ -285,7 +290,7 @@ TEST_F(Panels, PlotsTakeTicksZoomPanAndReadOut) {
   double t_read = 0, x_read = 0;
   ASSERT_EQ(std::sscanf(ctx_.state.plot_readout.c_str(), "t = %lf s", &t_read), 1);
   ASSERT_EQ(std::sscanf(ctx_.state.plot_readout.c_str() + ctx_.state.plot_readout.find("STATE.x = "), "STATE.x = %lf", &x_read), 1);
-  EXPECT_NEAR(t_read, *model_.plot_hold() - 0.5 * window, 0.01 * window);
+  EXPECT_NEAR(t_read, *model_.plots().hold() - 0.5 * window, 0.01 * window);
   EXPECT_NEAR(x_read, (t_read / 0.02 + 1) * 0.001, 0.0011);
 }
 
@@ -294,7 +299,7 @@ TEST_F(Panels, ShortcutsAskForConfirmationAndGoToTheSelectedVehicle) {
   ASSERT_TRUE(driver_.StartKey("h", true, &err_)) << err_;
   RunUntilIdle();
   EXPECT_EQ(ctx_.state.pending_confirmation, "hover");
-  EXPECT_TRUE(model_.sent_commands().empty());
+  EXPECT_TRUE(model_.commands().sent().empty());
   ASSERT_TRUE(driver_.StartKey("escape", false, &err_));
   RunUntilIdle();
   EXPECT_TRUE(ctx_.state.pending_confirmation.empty());
@@ -304,9 +309,9 @@ TEST_F(Panels, ShortcutsAskForConfirmationAndGoToTheSelectedVehicle) {
   RunUntilIdle();
   ASSERT_TRUE(driver_.StartKey("k", true, &err_));
   RunUntilIdle();
-  ASSERT_EQ(model_.sent_commands().size(), 1u);
-  EXPECT_EQ(model_.sent_commands().back().text, "land");
-  EXPECT_EQ(model_.sent_commands().back().vehicle_id, "UAV2");
+  ASSERT_EQ(model_.commands().sent().size(), 1u);
+  EXPECT_EQ(model_.commands().sent().back().text, "land");
+  EXPECT_EQ(model_.commands().sent().back().vehicle_id, "UAV2");
   EXPECT_FALSE(driver_.StartKey("f13", false, &err_));
 }
 

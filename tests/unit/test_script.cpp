@@ -6,6 +6,7 @@
 
 #include <imgui.h>
 
+#include "unit/gcs_test_util.hpp"
 #include "uav/gcs/gcs_ui.hpp"
 #include "uav/gcs/platform.hpp"
 #include "uav/gcs/script.hpp"
@@ -42,8 +43,8 @@ TEST(Script, BadLinesNameTheLine) {
 
 TEST(Script, ConditionsOnTelemetryAndAcks) {
   GcsModel m("gcs", 1);
-  m.OnHeartbeat("UAV1", 1, 2, true, 0.0);
-  m.OnTelemetry({"UAV1", "STATE", 1, 1.0, {{"alt", 9.8}, {"x", 20.2}, {"armed", 1.0}}}, 0.0);
+  m.OnHeartbeat("UAV1", 1, Hb(2, true), 0.0);
+  m.OnState("UAV1", 1, StateOf(1.0, {{"alt", 9.8}, {"x", 20.2}, {"armed", 1.0}, {"task", 2}}), 0.0);
   auto eval = [&](const std::string& c) {
     std::vector<std::string> t;
     std::istringstream in(c);
@@ -57,7 +58,7 @@ TEST(Script, ConditionsOnTelemetryAndAcks) {
   EXPECT_FALSE(eval("nosuch > 1").holds);
   EXPECT_EQ(eval("ack == none").holds, true);
   m.SubmitCommand("arm", 0.0);
-  m.OnAck("UAV1", "gcs", {1, "arm", "rejected", 0, "already armed"}, 0.1);
+  m.OnAck("UAV1", "gcs", {1, "arm", CommandResult::kRejected, 0, "already armed"}, 0.1);
   EXPECT_TRUE(eval("ack == rejected and ack.reason contains already armed").holds);
 }
 
@@ -68,8 +69,8 @@ TEST(HeadlessPanels, TypingAndClickingGoThroughImGui) {
   GcsModel model("gcs", 1);
   UiContext ctx;
   ImGuiScriptDriver driver(ctx, nullptr);
-  model.OnHeartbeat("UAV1", 1, 0, false, 0.0);
-  model.OnTelemetry({"UAV1", "STATE", 1, 1.0, {{"alt", 0.0}, {"x", 0.0}}}, 0.0);
+  model.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
+  model.OnState("UAV1", 1, StateOf(1.0, {{"alt", 0.0}, {"x", 0.0}}), 0.0);
   auto frame = [&](int n) {
     for (int i = 0; i < n; ++i) {
       platform->NewFrame(1.0 / 60);
@@ -81,27 +82,29 @@ TEST(HeadlessPanels, TypingAndClickingGoThroughImGui) {
   };
   frame(2);
   std::string err;
+  ctx.state.signal_filter = "STATE.alt";  // the tree is longer than its window: search first
+  frame(1);
   ASSERT_TRUE(driver.StartClick("tick:STATE.alt", &err)) << err;
   frame(6);
-  EXPECT_EQ(model.plot_signals(), std::set<std::string>{"STATE.alt"});
+  EXPECT_EQ(Keys(model.plots().ticked()), std::set<std::string>{"STATE.alt"});
   ASSERT_TRUE(driver.StartType("takeoff nan", &err)) << err;
   frame(8);
-  EXPECT_TRUE(model.sent_commands().empty());
-  EXPECT_NE(model.command_error().find("not a finite number"), std::string::npos);
+  EXPECT_TRUE(model.commands().sent().empty());
+  EXPECT_NE(model.commands().error().find("not a finite number"), std::string::npos);
   // The rejected line stays in the bar for editing; typing replaces it (Ctrl+A first).
   EXPECT_EQ(ctx.state.command_text, "takeoff nan");
   ASSERT_TRUE(driver.StartType("arm", &err)) << err;
   frame(8);
-  ASSERT_EQ(model.sent_commands().size(), 1u);
-  EXPECT_EQ(model.sent_commands().back().text, "arm");
-  EXPECT_EQ(model.TakeOutgoing().size(), 1u);
+  ASSERT_EQ(model.commands().sent().size(), 1u);
+  EXPECT_EQ(model.commands().sent().back().text, "arm");
+  EXPECT_EQ(model.commands().TakeOutgoing().size(), 1u);
   // Button with confirmation.
   ASSERT_TRUE(driver.StartClick("button:land", &err)) << err;
   frame(6);
-  EXPECT_EQ(model.sent_commands().size(), 1u);  // not yet: asks first
+  EXPECT_EQ(model.commands().sent().size(), 1u);  // not yet: asks first
   ASSERT_TRUE(driver.StartClick("confirm", &err)) << err;
   frame(6);
-  EXPECT_EQ(model.sent_commands().back().text, "land");
+  EXPECT_EQ(model.commands().sent().back().text, "land");
   EXPECT_FALSE(driver.StartClick("no-such-widget", &err));
   EXPECT_EQ(err, "no widget 'no-such-widget' on screen");
 }

@@ -12,6 +12,8 @@
 
 #include "demo_script.hpp"
 #include "uav/gcs/gcs_link.hpp"
+#include "uav/gcs/log_replay.hpp"
+#include "uav/shared/bus.hpp"
 #include "uav/gcs/gcs_model.hpp"
 #include "uav/gcs/gcs_ui.hpp"
 #include "uav/gcs/platform.hpp"
@@ -24,6 +26,27 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void OnSignal(int) { g_stop = 1; }
 double Now() { return uav::MonotonicMicros() * 1e-6; }
+
+// Scripts drive the replay through this.
+class ReplayScriptControl : public uav::gcs::ReplayControl {
+ public:
+  explicit ReplayScriptControl(uav::gcs::LogReplay& r) : r_(r) {}
+  void Seek(double t) override { r_.Seek(t); }
+  void Pause() override { r_.Pause(); }
+  void Play() override { r_.Play(); }
+  bool SetSpeed(double speed) override { return r_.SetSpeed(speed); }
+  double speed() const override { return r_.speed(); }
+  std::size_t events() const override { return r_.events(); }
+  std::string path() const override { return r_.path(); }
+  double position() const override { return r_.position(); }
+  double duration() const override { return r_.duration(); }
+  bool paused() const override { return r_.paused(); }
+  std::size_t dispatched() const override { return r_.dispatched(); }
+  std::string damage() const override { return r_.damage(); }
+
+ private:
+  uav::gcs::LogReplay& r_;
+};
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -34,6 +57,8 @@ int main(int argc, char** argv) {
   std::string script_path, vehicle, layout = "uav-gcs.ini";
   double exit_after = 0.0;
   std::string download_dir;
+  std::string replay_path;
+  double replay_speed = 1.0;
   cli.add_option("--lcm-url", lcm_url, "LCM URL")->capture_default_str();
   cli.add_option("--name", name, "this GCS's name on the bus (commands are answered to it)");
   cli.add_flag("--headless", headless, "no window: ImGui null backend, same panels");
@@ -43,6 +68,13 @@ int main(int argc, char** argv) {
   cli.add_option("--layout", layout, "window layout file, kept between runs")->capture_default_str();
   cli.add_option("--download-dir", download_dir,
                  "download every map a vehicle offers into this directory as soon as it is offered");
+  cli.add_option("--replay", replay_path,
+                 "play an onboard event log (events_<utime>.lcmlog) into the panels; nothing is sent on any bus")
+      ->check(CLI::ExistingFile);
+  cli.add_option("--speed", replay_speed, "replay speed")
+      ->check(CLI::Range(uav::gcs::LogReplay::kMinSpeed, uav::gcs::LogReplay::kMaxSpeed))
+      ->needs("--replay")
+      ->capture_default_str();
   cli.add_option("--exit-after", exit_after, "quit after this many seconds (0: never)")->check(CLI::Range(0.0, 1e6));
   CLI11_PARSE(cli, argc, argv);
 
@@ -53,36 +85,75 @@ int main(int argc, char** argv) {
     if (demo) runner = std::make_unique<uav::gcs::ScriptRunner>(uav::gcs::Script::Parse(uav::gcs::kDemoScript, "demo"), stdout);
     else if (!script_path.empty()) runner = std::make_unique<uav::gcs::ScriptRunner>(uav::gcs::Script::LoadFile(script_path), stdout);
 
-    uav::gcs::GcsModel model(name, uav::WallTimeMicros());
-    uav::gcs::GcsLink link(lcm_url, model);
+    const bool replaying = !replay_path.empty();
+    // Live: the bus and a link on it. Replay: no bus at all (nothing can be sent), a decode-only
+    // link, and both rebuilt when the replay seeks back.
+    std::unique_ptr<uav::Bus> bus = replaying ? nullptr : std::make_unique<uav::Bus>(lcm_url);
+    std::unique_ptr<uav::gcs::GcsModel> model_ptr;
+    std::unique_ptr<uav::gcs::GcsLink> link_ptr;
+    uav::gcs::UiContext ctx;
+    auto fresh_model = [&]() -> uav::gcs::GcsLink& {
+      link_ptr.reset();
+      model_ptr = std::make_unique<uav::gcs::GcsModel>(name, uav::WallTimeMicros());
+      model_ptr->SetReplay(replaying);
+      if (!download_dir.empty()) model_ptr->maps().SetDownloadDir(download_dir);
+      link_ptr = std::make_unique<uav::gcs::GcsLink>(bus.get(), *model_ptr);
+      // The panels' caches belong to the old model's frames and tiles.
+      ctx.state.live_tiles.clear();
+      ctx.state.live_map_id = -1;
+      ctx.state.video_frames_shown = -1;
+      return *link_ptr;
+    };
+    std::unique_ptr<uav::gcs::LogReplay> replay;
+    if (replaying) {
+      replay = std::make_unique<uav::gcs::LogReplay>(replay_path, fresh_model);
+      replay->SetSpeed(replay_speed);
+      std::printf("uav-gcs: replaying %s: %zu events, %.1f s of flight at x%.1f%s%s\n", replay_path.c_str(),
+                  replay->events(), replay->duration(), replay_speed, replay->damage().empty() ? "" : "; damaged at ",
+                  replay->damage().c_str());
+    } else {
+      fresh_model();
+    }
+    std::unique_ptr<ReplayScriptControl> replay_control;
+    if (replay) {
+      replay_control = std::make_unique<ReplayScriptControl>(*replay);
+      ctx.replay = replay_control.get();
+      if (runner) runner->SetReplay(replay_control.get());
+    }
     std::unique_ptr<uav::gcs::Platform> platform =
         headless ? uav::gcs::MakeNullPlatform(1600, 900)
                  : uav::gcs::MakeGlfwPlatform(1600, 900, "uav-gcs", layout);
-    uav::gcs::UiContext ctx;
-    if (!download_dir.empty()) {
-      model.SetDownloadDir(download_dir);
-      ctx.state.download_dir = download_dir;
-    }
+    if (!download_dir.empty()) ctx.state.download_dir = download_dir;
     uav::gcs::Platform* p = platform.get();
     uav::gcs::ImGuiScriptDriver driver(
         ctx, p->has_display() ? uav::gcs::ImGuiScriptDriver::ScreenshotFn(
                                     [p](const std::string& path, std::string* err) { return p->Screenshot(path, err); })
                               : nullptr);
-    std::printf("uav-gcs %s: %s, LCM %s%s\n", name.c_str(), headless ? "headless" : "window",
-                lcm_url.c_str(), runner ? (demo ? ", demo script" : (", script " + script_path).c_str()) : "");
+    std::printf("uav-gcs %s: %s, %s%s\n", name.c_str(), headless ? "headless" : "window",
+                replaying ? "replay, no bus" : ("LCM " + lcm_url).c_str(), runner ? (demo ? ", demo script" : (", script " + script_path).c_str()) : "");
     std::fflush(stdout);
 
     const double start = Now();
-    ctx.start_time = start;
+    ctx.start_time = replay ? replay->now() - replay->position() : start;  // the log's start in a replay
     ctx.update_texture = [&platform](int slot, const uint8_t* rgba, int w, int h) {
       return platform->UpdateTexture(slot, rgba, w, h);
     };
     double last = start;
+    double last_replay = start;
     std::vector<double> frame_ms;  // work per frame (panels, draw data, rendering), for the exit line
     while (!g_stop) {
-      const double now = Now();
+      const double wall = Now();
+      double now = wall;
+      if (replay) {
+        replay->Advance(wall - last_replay);
+        last_replay = wall;
+        now = replay->now();  // the model's clock is the flight's
+        if (headless) usleep(15000);
+      } else {
+        link_ptr->Poll(headless ? 15 : 0, now);  // headless: the receive wait paces the loop (~60 Hz)
+      }
       ctx.now = now;
-      link.Poll(headless ? 15 : 0, now);  // headless: the receive wait paces the loop (~60 Hz)
+      uav::gcs::GcsModel& model = *model_ptr;
       model.Tick(now);
       if (!vehicle.empty() && model.selected_id() != vehicle) model.SelectVehicle(vehicle);
       if (!p->NewFrame(now - last)) break;
@@ -94,7 +165,7 @@ int main(int argc, char** argv) {
       p->Render();
       frame_ms.push_back(1e3 * (Now() - work_start));
       if (runner && !runner->Update(model, driver, Now())) break;
-      if (exit_after > 0 && now - start > exit_after) break;
+      if (exit_after > 0 && wall - start > exit_after) break;
     }
     if (!frame_ms.empty()) {
       const double seconds = Now() - start;

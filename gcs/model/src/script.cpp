@@ -52,16 +52,16 @@ std::vector<std::vector<std::string>> Clauses(const std::vector<std::string>& to
 }
 
 // Value of a name: number (is_number) or string.
-bool Lookup(const std::string& name, const GcsModel& m, double now, double* num, std::string* str,
-            bool* is_number) {
+bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* replay, double now, double* num,
+            std::string* str, bool* is_number) {
   const VehicleModel* v = m.selected();
-  const SentCommand* last = m.sent_commands().empty() ? nullptr : &m.sent_commands().back();
+  const SentCommand* last = m.commands().sent().empty() ? nullptr : &m.commands().sent().back();
   *is_number = false;
-  if (name == "ack") return *str = last && last->last_ack ? last->last_ack->result : "none", true;
+  if (name == "ack") return *str = last && last->last_ack ? std::string(Name(last->last_ack->result)) : "none", true;
   if (name == "ack.reason") return *str = last && last->last_ack ? last->last_ack->reason : "", true;
   if (name == "ack.command") return *str = last && last->last_ack ? last->last_ack->command : "", true;
-  if (name == "error") return *str = m.command_error(), true;
-  if (name == "survey.problem") return *str = m.planner().problem(), true;
+  if (name == "error") return *str = m.commands().error(), true;
+  if (name == "survey.problem") return *str = m.missions().planner().problem(), true;
   if (name == "upload") {
     using State = waypoints::MissionUploader::State;
     if (!v || !v->upload) return *str = "none", true;
@@ -69,12 +69,13 @@ bool Lookup(const std::string& name, const GcsModel& m, double now, double* num,
     return *str = st == State::kSending ? "sending" : st == State::kAccepted ? "accepted"
                 : st == State::kRejected ? "rejected" : "failed", true;
   }
-  if (name == "upload.reason") return *str = v && v->upload ? v->upload->reason() : m.upload_error(), true;
-  if (name == "task") return *str = v ? v->task : "none", true;
+  if (name == "upload.reason") return *str = v && v->upload ? v->upload->reason() : m.missions().error(), true;
+  if (name == "task") return *str = !v ? "none" : v->task ? std::string(Name(*v->task)) : "unknown", true;
   if (name == "selected") return *str = m.selected_id(), true;
-  if (name == "link") return *str = v && v->LinkUp(now) ? "up" : "down", true;
+  if (name == "link") return *str = v && v->LinkUp(now, m.telemetry_params()) ? "up" : "down", true;
+  if (name == "replay.damage") return *str = replay ? replay->damage() : "", true;
   if (name == "track.method" || name == "track.state" || name == "track.error") {
-    if (name == "track.error") return *str = m.track_error(), true;
+    if (name == "track.error") return *str = m.video().error(), true;
     if (name == "track.method") {
       if (!v || !v->track_target) return *str = "none", true;
       const auto k = v->track_target->method;
@@ -86,17 +87,17 @@ bool Lookup(const std::string& name, const GcsModel& m, double now, double* num,
   }
   if (name == "log") {
     str->clear();
-    for (const auto& l : m.log()) *str += l.vehicle_id + ": " + l.text + "\n";
+    for (const auto& l : m.log().lines()) *str += l.vehicle_id + ": " + l.text + "\n";
     return true;
   }
   *is_number = true;
   if (name == "ack.percent") return *num = last && last->last_ack ? last->last_ack->percent : -1, true;
   if (name == "tries") return *num = last ? last->tries : 0, true;
-  if (name == "survey.vertices") return *num = static_cast<double>(m.planner().polygon().size()), true;
-  if (name == "survey.images") return *num = m.planner().plan() ? static_cast<double>(m.planner().plan()->captures.size()) : 0.0, true;
-  if (name == "survey.lines") return *num = m.planner().plan() ? m.planner().plan()->lines : 0, true;
-  if (name == "survey.altitude") return *num = m.planner().plan() ? m.planner().plan()->altitude_m : 0.0, true;
-  if (name == "survey.ok") return *num = m.planner().plan() && m.planner().problem().empty() ? 1.0 : 0.0, true;
+  if (name == "survey.vertices") return *num = static_cast<double>(m.missions().planner().polygon().size()), true;
+  if (name == "survey.images") return *num = m.missions().planner().plan() ? static_cast<double>(m.missions().planner().plan()->captures.size()) : 0.0, true;
+  if (name == "survey.lines") return *num = m.missions().planner().plan() ? m.missions().planner().plan()->lines : 0, true;
+  if (name == "survey.altitude") return *num = m.missions().planner().plan() ? m.missions().planner().plan()->altitude_m : 0.0, true;
+  if (name == "survey.ok") return *num = m.missions().planner().plan() && m.missions().planner().problem().empty() ? 1.0 : 0.0, true;
   if (name == "video.frames") return *num = v ? static_cast<double>(v->video.frames) : 0.0, true;
   if (name == "video.rejected") return *num = v ? static_cast<double>(v->video.rejected) : 0.0, true;
   if (name == "video.width") return *num = v ? v->video.width : 0.0, true;
@@ -112,20 +113,20 @@ bool Lookup(const std::string& name, const GcsModel& m, double now, double* num,
     return *num = n, true;
   }
   if (name == "vehicles") return *num = static_cast<double>(m.vehicles().size()), true;
-  if (name == "plot_panels") return *num = static_cast<double>(m.plots().size()), true;
-  if (name == "plot.window") return *num = m.plot_window(), true;
-  if (name == "plot.held") return *num = m.plot_hold() ? 1.0 : 0.0, true;
+  if (name == "plot_panels") return *num = static_cast<double>(m.plots().specs().size()), true;
+  if (name == "plot.window") return *num = m.plots().window(), true;
+  if (name == "plot.held") return *num = m.plots().hold() ? 1.0 : 0.0, true;
   if (name.size() > 5 && name.rfind("plot", 0) == 0 && std::isdigit(static_cast<unsigned char>(name[4]))) {
     const std::size_t dot = name.find('.');
     const int index = std::atoi(name.substr(4, dot - 4).c_str()) - 1;
-    if (dot == std::string::npos || index < 0 || index >= static_cast<int>(m.plots().size())) return false;
+    if (dot == std::string::npos || index < 0 || index >= static_cast<int>(m.plots().specs().size())) return false;
     const std::string what = name.substr(dot + 1);
     int n = 0;
-    for (const auto& [key, axis] : m.plots()[index].signals) n += what == "signals" || axis == PlotAxis::kRight;
+    for (const auto& [key, axis] : m.plots().specs()[index].signals) n += what == "signals" || axis == PlotAxis::kRight;
     if (what != "signals" && what != "right") return false;
     return *num = n, true;
   }
-  if (name == "video.frozen") return *num = m.frozen_video() ? 1.0 : 0.0, true;
+  if (name == "video.frozen") return *num = m.video().frozen() ? 1.0 : 0.0, true;
   if (name == "track.sent") return *num = v ? static_cast<double>(v->track_targets_sent) : 0.0, true;
   if (name.rfind("track.", 0) == 0) {
     if (!v) return false;
@@ -141,25 +142,30 @@ bool Lookup(const std::string& name, const GcsModel& m, double now, double* num,
     if (name == "track.h") return *num = t.height, true;
     return false;
   }
-  if (name == "plots") return *num = static_cast<double>(m.plot_signals().size()), true;
-  if (name == "sent") return *num = static_cast<double>(m.sent_commands().size()), true;
+  if (name == "plots") return *num = static_cast<double>(m.plots().ticked().size()), true;
+  if (name == "sent") return *num = static_cast<double>(m.commands().sent().size()), true;
   if (name == "gave_up") {
     int n = 0;
-    for (const auto& c : m.sent_commands()) n += c.gave_up;
+    for (const auto& c : m.commands().sent()) n += c.gave_up;
     return *num = n, true;
   }
   if (!v) return false;
-  const std::string key = name.find('.') == std::string::npos ? "STATE." + name : name;
-  auto it = v->latest.find(key);
-  if (it == v->latest.end()) return false;
-  *num = it->second;
+  if (name == "replay.position") return replay ? (*num = replay->position(), true) : false;
+  if (name == "replay.events") return replay ? (*num = static_cast<double>(replay->dispatched()), true) : false;
+  if (name == "replay.paused") return replay ? (*num = replay->paused() ? 1.0 : 0.0, true) : false;
+  // A telemetry signal, through the signal tables: "alt" is STATE's, "HEARTBEAT.task" another group's.
+  const auto signal = FindSignal(name);
+  if (!signal) return false;
+  const auto value = v->Latest(*signal);
+  if (!value) return false;
+  *num = *value;
   return true;
 }
 
 }  // namespace
 
-ConditionResult EvaluateCondition(const std::vector<std::string>& tokens, const GcsModel& model,
-                                  double now) {
+ConditionResult EvaluateCondition(const std::vector<std::string>& tokens, const GcsModel& model, double now,
+                                  const ReplayControl* replay) {
   ConditionResult r;
   r.holds = true;
   std::vector<std::vector<std::string>> clauses;
@@ -174,7 +180,7 @@ ConditionResult EvaluateCondition(const std::vector<std::string>& tokens, const 
     double lv = 0;
     std::string ls;
     bool lnum = false;
-    if (!Lookup(c[0], model, now, &lv, &ls, &lnum)) {
+    if (!Lookup(c[0], model, replay, now, &lv, &ls, &lnum)) {
       r.holds = false;
       r.observed += (r.observed.empty() ? "" : " and ") + c[0] + " = (no value yet)";
       continue;
@@ -210,7 +216,7 @@ Script Script::Parse(const std::string& text, const std::string& name) {
                                                "screenshot", "echo", "set", "map_click", "map_right_click",
                                                "map_drag", "map_zoom", "video_click", "video_right_click",
                                                "video_drag", "plot_zoom", "plot_drag", "plot_hover",
-                                               "livemap_zoom", "livemap_drag", "key"};
+                                               "livemap_zoom", "livemap_drag", "key", "seek", "pause", "play"};
   static const std::map<std::string, std::size_t> kNumericArgs = {
       {"video_click", 2}, {"video_right_click", 2}, {"video_drag", 4}, {"plot_zoom", 2}, {"plot_drag", 3},
       {"plot_hover", 2}, {"livemap_zoom", 1}, {"livemap_drag", 4}};
@@ -234,7 +240,7 @@ Script Script::Parse(const std::string& text, const std::string& name) {
       throw std::runtime_error(name + ":" + std::to_string(n) + ": " + why);
     };
     if (!kVerbs.count(st.verb)) fail("unknown step '" + st.verb + "'");
-    const bool needs_args = st.verb != "echo";
+    const bool needs_args = st.verb != "echo" && st.verb != "pause" && st.verb != "play";
     if (needs_args && st.args.empty()) fail(st.verb + " needs an argument");
     double d;
     if (st.verb == "wait" && (st.args.size() != 1 || !ToNumber(st.args[0], &d) || d < 0))
@@ -251,6 +257,8 @@ Script Script::Parse(const std::string& text, const std::string& name) {
       for (const auto& a : st.args)
         if (!ToNumber(a, &d) || !std::isfinite(d)) fail(st.verb + ": '" + a + "' is not a number");
     }
+    if (st.verb == "seek" && (st.args.size() != 1 || !ToNumber(st.args[0], &d) || d < 0))
+      fail("seek needs one non-negative number of seconds from the start of the log");
     if (st.verb == "key" && st.args.size() != 1) fail("key needs one chord, e.g. ctrl+h or escape");
     if (st.verb == "wait_until" || st.verb == "assert") {
       std::vector<std::string> cond = st.args;
@@ -306,6 +314,17 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
   }();
   if (s.verb == "echo") {
     Pass(s, now, "");
+  } else if (s.verb == "seek" || s.verb == "pause" || s.verb == "play") {
+    if (!replay_) {
+      Fail(s, now, s.verb + " needs a replay (uav-gcs --replay LOG)");
+    } else {
+      if (s.verb == "seek") replay_->Seek(std::atof(s.args[0].c_str()));
+      else if (s.verb == "pause") replay_->Pause();
+      else replay_->Play();
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "replay at %.2f s of %.2f s", replay_->position(), replay_->duration());
+      Pass(s, now, buf);
+    }
   } else if (s.verb == "wait") {
     if (now - step_start_ >= std::atof(s.args[0].c_str())) Pass(s, now, "");
   } else if (s.verb == "type" || s.verb == "click" || s.verb == "tick" || s.verb == "select" ||
@@ -318,7 +337,10 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
       for (const auto& a : s.args) xy.push_back(std::atof(a.c_str()));
       using G = ScriptDriver::Gesture;
       bool ok;
-      if (s.verb == "type") ok = driver.StartType(joined, &err);
+      tick_searched_ = false;
+      // A tick searches the signal first, as an operator would in a tree longer than its window.
+      if (s.verb == "tick") ok = driver.StartSet("signals:search", label.substr(5), &err);
+      else if (s.verb == "type") ok = driver.StartType(joined, &err);
       else if (s.verb == "set") ok = driver.StartSet(s.args[0], joined.substr(s.args[0].size() + 1), &err);
       else if (s.verb == "map_click") ok = driver.StartMapClick(xy[0], xy[1], false, &err);
       else if (s.verb == "map_right_click") ok = driver.StartMapClick(xy[0], xy[1], true, &err);
@@ -341,9 +363,13 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
       }
       else ok = driver.StartClick(label, &err);
       if (!ok) Fail(s, now, err);
+    } else if (s.verb == "tick" && !tick_searched_ && !driver.InputPending()) {
+      tick_searched_ = true;
+      if (!driver.StartClick("tick:" + std::string(s.args[0].find('.') == std::string::npos ? "STATE." : "") + s.args[0], &err))
+        Fail(s, now, err);
     } else if (!driver.InputPending()) {
-      Pass(s, now, s.verb == "type" && !model.command_error().empty()
-                       ? "command bar says: " + model.command_error() : "");
+      Pass(s, now, s.verb == "type" && !model.commands().error().empty()
+                       ? "command bar says: " + model.commands().error() : "");
     } else if (now - step_start_ > 10.0) {
       Fail(s, now, "input was not consumed within 10 s");
     }
@@ -358,7 +384,7 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
       timeout = std::atof(cond.back().c_str());
       cond.resize(cond.size() - 2);
     }
-    const ConditionResult r = EvaluateCondition(cond, model, now);
+    const ConditionResult r = EvaluateCondition(cond, model, now, replay_);
     if (!r.error.empty()) Fail(s, now, r.error);
     else if (r.holds) Pass(s, now, r.observed);
     else if (s.verb == "assert") Fail(s, now, "observed " + r.observed);

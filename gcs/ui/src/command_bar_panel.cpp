@@ -19,7 +19,7 @@ struct CallbackData {
 
 int OnInputEvent(ImGuiInputTextCallbackData* data) {
   auto* cb = static_cast<CallbackData*>(data->UserData);
-  const auto& history = cb->model->command_history();
+  const auto& history = cb->model->commands().history();
   if (data->EventFlag == ImGuiInputTextFlags_CallbackCompletion) {
     const auto names = CompleteCommandName(std::string(data->Buf, data->BufTextLen));
     if (names.size() == 1) {
@@ -66,8 +66,10 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
     else ImGui::TextColored(ImVec4(1.0f, 0.5f, 0.3f, 1), "%s", r.error.c_str());
     const std::string hint = ArgumentHint(st.command_text);
     if (!hint.empty()) ImGui::TextDisabled("%s", hint.c_str());
-  } else if (!model.command_error().empty()) {
-    ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1), "not sent: %s", model.command_error().c_str());
+  } else if (model.replay()) {
+    ImGui::TextColored(ImVec4(0.4f, 0.7f, 1, 1), "%s", model.commands().refusal().c_str());
+  } else if (!model.commands().error().empty()) {
+    ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1), "not sent: %s", model.commands().error().c_str());
   } else {
     std::string names = "commands:";
     for (const auto& spec : CommandSpecs()) names += std::string(" ") + spec.name;  // one list: the grammar's
@@ -114,14 +116,14 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
   ImGui::Separator();
   // Acknowledgements of the most recent commands, newest first.
   int shown = 0;
-  for (auto it = model.sent_commands().rbegin(); it != model.sent_commands().rend() && shown < 6; ++it, ++shown) {
+  for (auto it = model.commands().sent().rbegin(); it != model.commands().sent().rend() && shown < 6; ++it, ++shown) {
     const SentCommand& c = *it;
-    std::string state = c.gave_up ? "no answer, gave up" : !c.last_ack ? "waiting for ack" : c.last_ack->result;
+    std::string state = c.gave_up ? "no answer, gave up" : !c.last_ack ? "waiting for ack" : std::string(Name(c.last_ack->result));
     if (c.tries > 1 && !c.acknowledged) state += " (try " + std::to_string(c.tries) + ")";
-    const bool bad = c.gave_up || (c.last_ack && (c.last_ack->result == "rejected" || c.last_ack->result == "failed"));
+    const bool bad = c.gave_up || (c.last_ack && (c.last_ack->result == CommandResult::kRejected || c.last_ack->result == CommandResult::kFailed));
     ImGui::TextColored(bad ? ImVec4(1, 0.45f, 0.35f, 1) : ImVec4(0.85f, 0.85f, 0.85f, 1), "%s  %-12s  %s",
                        c.vehicle_id.c_str(), c.text.c_str(), state.c_str());
-    if (c.last_ack && c.last_ack->result == "in_progress") {
+    if (c.last_ack && c.last_ack->result == CommandResult::kInProgress) {
       ImGui::SameLine();
       ImGui::ProgressBar(c.last_ack->percent / 100.0f, ImVec2(120, 0));
     }

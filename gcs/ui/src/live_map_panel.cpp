@@ -92,9 +92,9 @@ void DrawTiles(const VehicleModel& v, UiContext& ctx, float reserve_y) {
       draw->AddImage(texture, screen(key.first, key.second), screen(key.first + 1, key.second + 1));
   }
   // The vehicle on the map.
-  const auto n = v.latest.find("STATE.x"), e = v.latest.find("STATE.y");
-  if (map.georeferenced && n != v.latest.end() && e != v.latest.end()) {
-    const double c = (e->second - map.origin_east_m) / map.gsd_m, r = (map.origin_north_m - n->second) / map.gsd_m;
+  if (map.georeferenced && v.state) {
+    const double c = (v.state->p_N.y() - map.origin_east_m) / map.gsd_m;
+    const double r = (map.origin_north_m - v.state->p_N.x()) / map.gsd_m;
     draw->AddCircleFilled(screen(c / map.tile_px, r / map.tile_px), 4.0f, IM_COL32(255, 80, 40, 255));
   }
   draw->PopClipRect();
@@ -117,7 +117,7 @@ void DrawLiveMapPanel(GcsModel& model, UiContext& ctx) {
   ImGui::SameLine();
   if (ImGui::Button("Download")) model.StartDownload(ctx.state.download_dir, ctx.now);
   RegisterLastItem(ctx, "map:download");
-  if (!model.download_error().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", model.download_error().c_str());
+  if (!model.maps().error().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", model.maps().error().c_str());
   const std::vector<FileOffer> offers = v->files.offers();
   DrawTiles(*v, ctx, (offers.size() + 2) * ImGui::GetFrameHeightWithSpacing());
   if (offers.empty()) ImGui::TextDisabled("no map offered yet: the vehicle offers it after the survey, at landing");
@@ -129,7 +129,7 @@ void DrawLiveMapPanel(GcsModel& model, UiContext& ctx) {
                   p->complete ? "saved" : p->failed ? "failed" : p->started ? "downloading" : "offered");
     ImGui::ProgressBar(p->complete ? 1.0f : fraction, ImVec2(-1, 0), overlay);
   }
-  if (!v->saved.empty() && !model.download_dir().empty()) ImGui::TextDisabled("saved in %s", model.download_dir().c_str());
+  if (!v->saved.empty() && !model.maps().dir().empty()) ImGui::TextDisabled("saved in %s", model.maps().dir().c_str());
   ImGui::End();
 }
 

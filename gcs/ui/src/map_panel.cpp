@@ -44,10 +44,8 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
   RegisterLastItem(ctx, "map:edit");
   ImGui::SameLine();
   if (ImGui::Button("Centre on vehicle")) {
-    if (const VehicleModel* v = model.selected()) {
-      auto x = v->latest.find("STATE.x"), y = v->latest.find("STATE.y");
-      if (x != v->latest.end() && y != v->latest.end()) st.map_center_n = x->second, st.map_center_e = y->second;
-    }
+    if (const VehicleModel* v = model.selected(); v && v->state)
+      st.map_center_n = v->state->p_N.x(), st.map_center_e = v->state->p_N.y();
   }
   RegisterLastItem(ctx, "map:centre");
   ImGui::SameLine();
@@ -67,7 +65,7 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
   auto to_map = [&](ImVec2 s) {
     return Eigen::Vector2d(st.map_center_n - (s.y - c.y) / st.map_px_per_m, st.map_center_e + (s.x - c.x) / st.map_px_per_m);
   };
-  SurveyPlanner& planner = model.planner();
+  SurveyPlanner& planner = model.missions().planner();
   const ImGuiIO& io = ImGui::GetIO();
 
   // ---- Input.
@@ -187,32 +185,27 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
   }
   const ImVec2 home = to_screen(0, 0);
   // The geofence the vehicle enforces: its radius around home, red.
-  if (v) {
-    auto r = v->latest.find("STATE.fence_radius"), a = v->latest.find("STATE.fence_alt");
-    if (r != v->latest.end() && r->second > 0) {
-      const float px = static_cast<float>(r->second * st.map_px_per_m);
+  if (v && v->state && v->state->fence_radius_m > 0) {
+    {
+      const float px = static_cast<float>(v->state->fence_radius_m * st.map_px_per_m);
       dl->AddCircle(home, px, IM_COL32(230, 60, 60, 200), 128, 2.0f);
       char label[64];
-      std::snprintf(label, sizeof label, "geofence %.0f m, %.0f m high", r->second,
-                    a != v->latest.end() ? a->second : 0.0);
+      std::snprintf(label, sizeof label, "geofence %.0f m, %.0f m high", v->state->fence_radius_m,
+                    v->state->fence_alt_m);
       dl->AddText(ImVec2(home.x + px * 0.7071f + 4, home.y - px * 0.7071f - 14), IM_COL32(230, 60, 60, 220), label);
     }
   }
   dl->AddRect(ImVec2(home.x - 7, home.y - 7), ImVec2(home.x + 7, home.y + 7), kVehicle, 0, 0, 2.0f);
   dl->AddText(ImVec2(home.x + 9, home.y - 7), kVehicle, "H");
   if (v) {
-    auto hx = v->history.find("STATE.x"), hy = v->history.find("STATE.y");
-    if (hx != v->history.end() && hy != v->history.end() && !hx->second.empty()) {
-      const std::size_t n = std::min(hx->second.size(), hy->second.size());
-      const std::size_t from = n > 15000 ? n - 15000 : 0;  // last 5 minutes at 50 Hz
+    {
       std::vector<ImVec2> trail;
-      for (std::size_t i = from; i < n; i += 5) trail.push_back(to_screen(hx->second.ValueAt(i), hy->second.ValueAt(i)));
+      for (const auto& p_N : v->trail) trail.push_back(to_screen(p_N.x(), p_N.y()));
       if (trail.size() > 1) dl->AddPolyline(trail.data(), static_cast<int>(trail.size()), kTrail, 0, 1.5f);
     }
-    auto x = v->latest.find("STATE.x"), y = v->latest.find("STATE.y"), psi = v->latest.find("STATE.psi");
-    if (x != v->latest.end() && y != v->latest.end()) {
-      const double h = psi != v->latest.end() ? psi->second : 0.0;
-      const ImVec2 s = to_screen(x->second, y->second);
+    if (v->state) {
+      const double h = v->state->euler.psi;
+      const ImVec2 s = to_screen(v->state->p_N.x(), v->state->p_N.y());
       auto rot = [&](float fwd, float right) {  // body offset in pixels to screen
         return ImVec2(s.x + static_cast<float>(fwd * std::sin(h) + right * std::cos(h)),
                       s.y - static_cast<float>(fwd * std::cos(h) - right * std::sin(h)));

@@ -8,9 +8,10 @@ namespace uav::gcs {
 void DrawMessagesPanel(GcsModel& model, UiContext& ctx) {
   ImGui::Begin("Messages");
   ImGui::BeginChild("log");
-  for (const LogLine& l : model.log()) {
-    const ImVec4 color = l.severity <= 3 ? ImVec4(1, 0.35f, 0.3f, 1)
-                       : l.severity == 4 ? ImVec4(1, 0.8f, 0.3f, 1) : ImVec4(0.8f, 0.8f, 0.8f, 1);
+  for (const LogLine& l : model.log().lines()) {
+    const ImVec4 color = l.severity == Severity::kError     ? ImVec4(1, 0.35f, 0.3f, 1)
+                         : l.severity == Severity::kWarning ? ImVec4(1, 0.8f, 0.3f, 1)
+                                                            : ImVec4(0.8f, 0.8f, 0.8f, 1);
     ImGui::TextColored(color, "%7.1f  %s  %s", l.t - ctx.start_time, l.vehicle_id.c_str(), l.text.c_str());
   }
   if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY() - 20) ImGui::SetScrollHereY(1.0f);

@@ -2,7 +2,8 @@
 // ticked signals on a left and a right y axis, drawn with ImGui's draw list (Debian has no ImPlot). Mouse: the wheel zooms
 // the time window, a drag pans it (and holds the time), hovering reads every value at that time.
 // Each series is reduced to min/max per pixel column, so the cost is bounded by the plot width,
-// not by the 30 minutes of history behind it.
+// not by the 30 minutes of history behind it. Values are drawn in display units (angles in
+// degrees), as the telemetry tree shows them.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,7 +28,7 @@ struct Column {
 
 // Min/max of `s` per pixel column over [t0, t1]; empty columns have lo > hi. Uses the series'
 // min/max pyramid, so a column costs O(log n) whatever the window.
-std::vector<Column> Reduce(const SignalSeries& s, double t0, double t1, int width) {
+std::vector<Column> Reduce(const SignalSeries& s, double t0, double t1, int width, double scale) {
   std::vector<Column> cols(width, {std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()});
   std::size_t i = s.LowerBound(t0);
   for (int c = 0; c < width && i < s.size(); ++c) {
@@ -36,7 +37,8 @@ std::vector<Column> Reduce(const SignalSeries& s, double t0, double t1, int widt
     if (j > i) {
       float lo, hi;
       s.MinMax(i, j, &lo, &hi);
-      cols[c] = {lo, hi};
+      cols[c] = scale >= 0 ? Column{static_cast<float>(lo * scale), static_cast<float>(hi * scale)}
+                           : Column{static_cast<float>(hi * scale), static_cast<float>(lo * scale)};
     }
     i = std::max(i, j);
   }
@@ -45,18 +47,18 @@ std::vector<Column> Reduce(const SignalSeries& s, double t0, double t1, int widt
 
 void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float height) {
   UiState& st = ctx.state;
-  const PlotSpec spec = model.plots()[index];  // a copy: the buttons below may add a plot
+  const PlotSpec spec = model.plots().specs()[index];  // a copy: the buttons below may add a plot
   const VehicleModel* v = model.selected();
   const std::string tag = "plot:" + std::to_string(index + 1);
   bool open = true;
   ImGui::BeginChild(tag.c_str(), ImVec2(0, height), false, ImGuiWindowFlags_NoScrollbar);
   // Where ticks in the state list go.
-  bool active = model.active_plot() == index;
-  if (ImGui::RadioButton(("Plot " + std::to_string(index + 1)).c_str(), active)) model.SetActivePlot(index);
+  bool active = model.plots().active() == index;
+  if (ImGui::RadioButton(("Plot " + std::to_string(index + 1)).c_str(), active)) model.plots().SetActive(index);
   RegisterLastItem(ctx, tag + ":select");
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("ticks in the state list go to this plot");
   ImGui::SameLine();
-  if (model.plots().size() > 1) {
+  if (model.plots().specs().size() > 1) {
     if (ImGui::SmallButton("x")) open = false;
     RegisterLastItem(ctx, tag + ":close");
     ImGui::SameLine();
@@ -66,14 +68,14 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
     const PlotAxis axis = static_cast<PlotAxis>(a);
     bool auto_y = spec.auto_y[a];
     if (ImGui::Checkbox(((a == 0 ? "auto L##" : "auto R##") + tag).c_str(), &auto_y))
-      model.SetPlotRange(index, axis, auto_y, spec.y_min[a], spec.y_max[a]);
+      model.plots().SetRange(index, axis, auto_y, spec.y_min[a], spec.y_max[a]);
     RegisterLastItem(ctx, tag + (a == 0 ? ":autoL" : ":autoR"));
     if (!spec.auto_y[a]) {
       ImGui::SameLine();
       float lo = static_cast<float>(spec.y_min[a]), hi = static_cast<float>(spec.y_max[a]);
       ImGui::SetNextItemWidth(140);
       if (ImGui::DragFloatRange2(("##range" + std::to_string(a) + tag).c_str(), &lo, &hi, 0.1f))
-        model.SetPlotRange(index, axis, false, lo, hi);
+        model.plots().SetRange(index, axis, false, lo, hi);
     }
     if (a == 0) ImGui::SameLine();
   }
@@ -89,27 +91,28 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
   const ImVec2 p1(p0.x + size.x, p0.y + size.y);
   dl->AddRectFilled(p0, p1, IM_COL32(20, 22, 28, 255));
   dl->AddRect(p0, p1, IM_COL32(90, 90, 100, 255));
-  const double t_start = t_end - model.plot_window();
+  const double t_start = t_end - model.plots().window();
 
   // Mouse: wheel zooms the time window about the newest time (with Shift: the y axes, below), a
   // drag pans and holds the time.
   const bool shift_wheel = hovered && ImGui::GetIO().MouseWheel != 0.0f && ImGui::GetIO().KeyShift;
   if (hovered && ImGui::GetIO().MouseWheel != 0.0f && !shift_wheel)
-    model.SetPlotWindow(std::clamp(model.plot_window() * std::pow(1.25, -ImGui::GetIO().MouseWheel), 1.0, 1800.0));
+    model.plots().SetWindow(std::clamp(model.plots().window() * std::pow(1.25, -ImGui::GetIO().MouseWheel), 1.0, 1800.0));
   if (ImGui::IsItemActive() && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 2.0f)) {
     const float dx = ImGui::GetIO().MouseDelta.x;
-    if (dx != 0.0f) model.HoldPlotTime(t_end - dx / size.x * model.plot_window());
+    if (dx != 0.0f) model.plots().Hold(t_end - dx / size.x * model.plots().window());
   }
 
   if (!v || spec.signals.empty()) {
     dl->AddText(ImVec2(p0.x + 10, p0.y + 10), IM_COL32(160, 160, 160, 255),
                 "tick signals in the state list to plot them here");
     ImGui::EndChild();
-    if (!open) model.RemovePlot(index);
+    if (!open) model.plots().Remove(index);
     return;
   }
   const int width = std::max(2, static_cast<int>(size.x));
   struct Series {
+    SignalRef signal;
     std::string key;
     PlotAxis axis;
     std::vector<Column> cols;
@@ -118,12 +121,16 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
   float lo[2] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
   float hi[2] = {-std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
   bool has[2] = {false, false};
-  for (const auto& [key, axis] : spec.signals) {
-    auto it = v->history.find(key);
-    if (it == v->history.end()) continue;
+  for (const auto& [signal, axis] : spec.signals) {
+    const SignalSeries* history = v->History(signal);
+    if (!history) continue;
     const int a = static_cast<int>(axis);
     has[a] = true;
-    reduced.push_back({key, axis, Reduce(it->second, t_start, t_end, width)});
+    // Display units are a linear scale of SI (degrees, percent): scale the reduced columns.
+    const SignalDef& def = Def(signal);
+    const std::string unit(DisplayUnit(def));
+    reduced.push_back({signal, Key(signal) + (unit.empty() ? "" : " [" + unit + "]"), axis,
+                       Reduce(*history, t_start, t_end, width, DisplayValue(def, 1.0))});
     for (const Column& c : reduced.back().cols)
       if (c.lo <= c.hi) lo[a] = std::min(lo[a], c.lo), hi[a] = std::max(hi[a], c.hi);
   }
@@ -142,7 +149,7 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
     const double f = std::pow(1.25, -ImGui::GetIO().MouseWheel);
     for (int a = 0; a < 2; ++a) {
       const double mid = 0.5 * (lo[a] + hi[a]), half = 0.5 * (hi[a] - lo[a]) * f;
-      model.SetPlotRange(index, static_cast<PlotAxis>(a), false, mid - half, mid + half);
+      model.plots().SetRange(index, static_cast<PlotAxis>(a), false, mid - half, mid + half);
     }
   }
   auto Y = [&](int a, float val) { return p1.y - (val - lo[a]) / (hi[a] - lo[a]) * size.y; };
@@ -160,7 +167,7 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
     }
   }
   char tbuf[64];
-  std::snprintf(tbuf, sizeof tbuf, "%.1f .. %.1f s%s", t_start, t_end, model.plot_hold() ? " (held)" : "");
+  std::snprintf(tbuf, sizeof tbuf, "%.1f .. %.1f s%s", t_start, t_end, model.plots().hold() ? " (held)" : "");
   dl->AddText(ImVec2(p0.x + size.x * 0.5f - 60, p1.y - 16), IM_COL32(150, 150, 150, 255), tbuf);
 
   dl->PushClipRect(p0, p1, true);
@@ -195,16 +202,19 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
     std::snprintf(line, sizeof line, "t = %.2f s", t);
     st.plot_readout = line;
     for (const auto& r : reduced) {
-      const SignalSeries& s = v->history.at(r.key);
+      const SignalSeries& s = *v->History(r.signal);
       const std::size_t i = std::min(s.LowerBound(t), s.size() - 1);
-      std::snprintf(line, sizeof line, "\n%s = %.4g", r.key.c_str(), s.ValueAt(i));
+      const SignalDef& def = Def(r.signal);
+      const std::string unit(DisplayUnit(def));
+      std::snprintf(line, sizeof line, "\n%s = %.6g %s", Key(r.signal).c_str(), DisplayValue(def, s.ValueAt(i)),
+                    unit.c_str());
       st.plot_readout += line;
     }
     ImGui::SetTooltip("%s", st.plot_readout.c_str());
   }
   dl->PopClipRect();
   ImGui::EndChild();
-  if (!open) model.RemovePlot(index);
+  if (!open) model.plots().Remove(index);
 }
 
 }  // namespace
@@ -215,29 +225,28 @@ void DrawPlotPanel(GcsModel& model, UiContext& ctx) {
   // The shared time axis: the newest sample of any plotted signal, unless held.
   double t_end = -1e300;
   if (const VehicleModel* v = model.selected())
-    for (const auto& key : model.plot_signals())
-      if (auto it = v->history.find(key); it != v->history.end() && !it->second.empty())
-        t_end = std::max(t_end, it->second.LastTime());
+    for (const SignalRef signal : model.plots().ticked())
+      if (const SignalSeries* h = v->History(signal); h && !h->empty()) t_end = std::max(t_end, h->LastTime());
   if (t_end < -1e299) t_end = 0.0;
-  if (model.plot_hold()) t_end = *model.plot_hold();
-  const double t_start = t_end - model.plot_window();
-  float window = static_cast<float>(model.plot_window());
+  if (model.plots().hold()) t_end = *model.plots().hold();
+  const double t_start = t_end - model.plots().window();
+  float window = static_cast<float>(model.plots().window());
   ImGui::SetNextItemWidth(140);
   if (ImGui::SliderFloat("window [s]", &window, 1.0f, 1800.0f, "%.0f", ImGuiSliderFlags_Logarithmic))
-    model.SetPlotWindow(window);
+    model.plots().SetWindow(window);
   ImGui::SameLine();
-  bool paused = model.plot_hold().has_value();
-  if (ImGui::Checkbox("pause", &paused)) paused ? model.HoldPlotTime(t_end) : model.FollowPlotTime();
+  bool paused = model.plots().hold().has_value();
+  if (ImGui::Checkbox("pause", &paused)) paused ? model.plots().Hold(t_end) : model.plots().Follow();
   RegisterLastItem(ctx, "plot:pause");
   ImGui::SameLine();
-  if (ImGui::Button("+ plot")) model.AddPlot();
+  if (ImGui::Button("+ plot")) model.plots().Add();
   RegisterLastItem(ctx, "plot:add");
   ImGui::SameLine();
   ImGui::TextDisabled("wheel: zoom time, shift+wheel: zoom y, drag: pan, hover: values");
   const float export_row = ImGui::GetFrameHeightWithSpacing();
-  const int n = static_cast<int>(model.plots().size());
+  const int n = static_cast<int>(model.plots().specs().size());
   const float each = std::max(60.0f, (ImGui::GetContentRegionAvail().y - export_row) / n);
-  for (int i = 0; i < n && i < static_cast<int>(model.plots().size()); ++i) DrawOnePlot(model, ctx, i, t_end, each);
+  for (int i = 0; i < n && i < static_cast<int>(model.plots().specs().size()); ++i) DrawOnePlot(model, ctx, i, t_end, each);
   {
     // CSV export of the ticked signals (all plots) over a chosen time range; an empty end is
     // the visible window's.

@@ -1,6 +1,8 @@
 // One line across the top: every vehicle's link quality (heartbeat age, message rate, messages
 // lost to sequence gaps), then the selected vehicle's flight mode, task, battery and failsafe.
 #include <algorithm>
+#include <cctype>
+#include <string>
 
 #include <imgui.h>
 
@@ -20,7 +22,7 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
     return;
   }
   for (const auto& [id, veh] : model.vehicles()) {
-    const bool up = veh.LinkUp(ctx.now);
+    const bool up = veh.LinkUp(ctx.now, model.telemetry_params());
     const bool sel = id == model.selected_id();
     ImGui::TextColored(up ? ImVec4(0.4f, 0.9f, 0.4f, 1) : ImVec4(1, 0.3f, 0.3f, 1), "%s%s %s %.1fs %.0f/s %lld lost",
                        sel ? ">" : "", id.c_str(), up ? "UP" : "LOST", std::min(veh.HeartbeatAge(ctx.now), 99.9),
@@ -33,19 +35,27 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
     ImGui::SameLine();
   }
   const VehicleModel* v = model.selected();
-  auto get = [&](const char* k) {
-    auto it = v->latest.find(k);
-    return it == v->latest.end() ? 0.0 : it->second;
-  };
-  ImGui::Text("%s: task %s | %s | mode %s | alt %.1f m | battery %.2f V (%.0f %%)", v->id.c_str(), v->task.c_str(),
-              v->armed ? "ARMED" : "disarmed", get("STATE.mode") > 0.5 ? "auto" : "manual", get("STATE.alt"),
-              get("STATE.battery_v"), 100.0 * get("STATE.battery_remaining"));
-  // The vehicle's failsafe in red, so it cannot be missed (the reason is in the messages).
-  static const char* const kFailsafe[] = {"", "HOLD", "RETURN", "LAND", "PILOT (RC switch)"};
-  const int fs = static_cast<int>(get("STATE.failsafe"));
-  if (fs > 0 && fs < 5) {
+  if (!v->state) {
+    ImGui::Text("%s: task %s | %s | no state yet", v->id.c_str(), v->task ? std::string(Name(*v->task)).c_str() : "unknown",
+                v->armed ? "ARMED" : "disarmed");
+  } else {
+    const VehicleState& s = *v->state;
+    ImGui::Text("%s: task %s | %s | mode %s | alt %.1f m | battery %.2f V (%.0f %%)", v->id.c_str(),
+                std::string(Name(s.task)).c_str(), s.armed ? "ARMED" : "disarmed",
+                std::string(Name(s.flight_mode)).c_str(), s.altitude(), s.battery_voltage_v,
+                100.0 * s.battery_remaining);
+    // The vehicle's failsafe in red, so it cannot be missed (the reason is in the messages).
+    if (s.failsafe != FailsafeAction::kNone) {
+      std::string name(Name(s.failsafe));
+      for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      ImGui::SameLine();
+      ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| FAILSAFE %s%s", name.c_str(),
+                         s.failsafe == FailsafeAction::kManual ? " (RC switch)" : "");
+    }
+  }
+  if (model.replay()) {
     ImGui::SameLine();
-    ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| FAILSAFE %s", kFailsafe[fs]);
+    ImGui::TextColored(ImVec4(0.4f, 0.7f, 1, 1), "| REPLAY (nothing is sent)");
   }
   ImGui::End();
 }

@@ -35,7 +35,7 @@ bool Field(UiContext& ctx, SurveyPlanner& planner, const char* label, const char
 
 void DrawSurveyPanel(GcsModel& model, UiContext& ctx) {
   ImGui::Begin("Survey");
-  SurveyPlanner& planner = model.planner();
+  SurveyPlanner& planner = model.missions().planner();
   waypoints::SurveyParams& p = planner.params();
 
   const auto& cams = planner.cameras();
@@ -106,7 +106,7 @@ void DrawSurveyPanel(GcsModel& model, UiContext& ctx) {
                          up.reason().c_str());
     }
   }
-  if (!model.upload_error().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", model.upload_error().c_str());
+  if (!model.missions().error().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", model.missions().error().c_str());
 
   ImGui::AlignTextToFramePadding();
   ImGui::TextUnformatted("file (.plan, .waypoints)");

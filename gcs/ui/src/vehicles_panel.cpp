@@ -1,5 +1,6 @@
 // Vehicles discovered by heartbeat; the selected one is what the other panels show and command.
 #include <cstdio>
+#include <string>
 
 #include <imgui.h>
 
@@ -13,8 +14,9 @@ void DrawVehiclesPanel(GcsModel& model, UiContext& ctx) {
   for (const auto& [id, v] : model.vehicles()) {
     char line[160];
     std::snprintf(line, sizeof line, "%-8s %-4s  hb %4.1fs  %3.0f msg/s  %s%s", id.c_str(),
-                  v.LinkUp(ctx.now) ? "up" : "LOST", v.HeartbeatAge(ctx.now), v.MessageRate(ctx.now),
-                  v.task.c_str(), v.armed ? " (armed)" : "");
+                  v.LinkUp(ctx.now, model.telemetry_params()) ? "up" : "LOST", v.HeartbeatAge(ctx.now),
+                  v.MessageRate(ctx.now), v.task ? std::string(Name(*v.task)).c_str() : "unknown",
+                  v.armed ? " (armed)" : "");
     // The ID ignores the changing numbers, or a click would land on a different item each frame.
     if (ImGui::Selectable((std::string(line) + "###vehicle:" + id).c_str(), id == model.selected_id()))
       model.SelectVehicle(id);

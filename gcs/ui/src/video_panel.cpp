@@ -48,8 +48,8 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
     ImGui::End();
     return;
   }
-  const bool frozen = model.frozen_video().has_value() && model.frozen_vehicle() == v->id;
-  const VideoFeed& feed = frozen ? *model.frozen_video() : v->video;
+  const bool frozen = model.video().frozen().has_value() && model.video().frozen_vehicle() == v->id;
+  const VideoFeed& feed = frozen ? *model.video().frozen() : v->video;
   if (ImGui::Button(frozen ? "Live" : "Freeze")) {
     model.FreezeVideo(!frozen);
     st.video_clicks.clear();
@@ -66,9 +66,9 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "FROZEN: drag a box or click 4 corners (%zu/4), right click clears",
                        st.video_clicks.size());
-  } else if (!model.track_error().empty()) {
+  } else if (!model.video().error().empty()) {
     ImGui::SameLine();
-    ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", model.track_error().c_str());
+    ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", model.video().error().c_str());
   }
 
   const int64_t shown = frozen ? -feed.frames - 1 : feed.frames;  // a frozen frame is its own texture

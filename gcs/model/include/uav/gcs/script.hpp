@@ -2,7 +2,8 @@
 // Operator scripts for the headless GCS (and the window, for end-to-end tests). One step a line:
 //   type TEXT                 type TEXT into the command bar and press Enter
 //   click LABEL               click the widget registered under LABEL (buttons, list entries)
-//   tick SIGNAL               tick a signal into the plot (click "tick:STATE.SIGNAL")
+//   tick SIGNAL               search the telemetry tree for SIGNAL, then tick it into the plot
+//                             (click "tick:STATE.SIGNAL")
 //   set LABEL VALUE           click the input field LABEL, select all, type VALUE, Enter
 //   map_click N E             left click on the map at north N, east E [m from the map origin]
 //   map_right_click N E       right click there (deletes a survey vertex)
@@ -21,6 +22,8 @@
 //   wait SECONDS              let time pass
 //   wait_until COND [timeout SECONDS]   (default timeout 30 s)
 //   assert COND
+//   seek T                    replay only: jump to T seconds from the start of the log
+//   pause / play              replay only: stop or go on
 //   screenshot FILE           window mode only
 //   echo TEXT
 // COND is "LHS OP RHS" clauses joined by "and"; OP is == != < <= > >= contains, or
@@ -30,13 +33,15 @@
 // survey.lines survey.altitude survey.ok survey.problem upload upload.reason mission.items
 // video.frames video.rejected video.frozen livemap.tiles livemap.received download.offered
 // download.saved plot_panels plot.window plot.held plotN.signals plotN.right track.sent track.x
-// track.y track.w track.h track.method track.state track.cx track.cy track.error.
+// track.y track.w track.h track.method track.state track.cx track.cy track.error; in a replay
+// also replay.position replay.events replay.paused replay.damage.
 // '#' starts a comment.
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "uav/gcs/gcs_model.hpp"
+#include "uav/gcs/replay_control.hpp"
 
 namespace uav::gcs {
 
@@ -61,8 +66,8 @@ struct ConditionResult {
   std::string observed;  // "alt = 9.93 and ack = completed"
   std::string error;     // set when a name is unknown
 };
-ConditionResult EvaluateCondition(const std::vector<std::string>& tokens, const GcsModel& model,
-                                  double now);
+ConditionResult EvaluateCondition(const std::vector<std::string>& tokens, const GcsModel& model, double now,
+                                  const ReplayControl* replay = nullptr);
 
 // What a script needs from the user interface: real input delivered to the panels.
 class ScriptDriver {
@@ -90,6 +95,7 @@ class ScriptRunner {
   ScriptRunner(Script script, std::FILE* out) : script_(std::move(script)), out_(out) {}
   // Advances the script; call once per frame. Returns false when it has finished or failed.
   bool Update(GcsModel& model, ScriptDriver& driver, double now);
+  void SetReplay(ReplayControl* replay) { replay_ = replay; }
   bool failed() const { return failed_; }
   bool finished() const { return index_ >= script_.steps.size() || failed_; }
   int passed() const { return passed_; }
@@ -100,6 +106,8 @@ class ScriptRunner {
 
   Script script_;
   std::FILE* out_;
+  ReplayControl* replay_ = nullptr;
+  bool tick_searched_ = false;  // a tick step has typed its signal into the search box
   std::size_t index_ = 0;
   bool step_started_ = false;
   double step_start_ = 0.0;

@@ -21,5 +21,6 @@ void DrawLiveMapPanel(GcsModel& model, UiContext& ctx);
 // Live map panels).
 void SyncLiveMapTextures(const VehicleModel& v, UiContext& ctx);
 void DrawVideoPanel(GcsModel& model, UiContext& ctx);
+void DrawReplayPanel(GcsModel& model, UiContext& ctx);
 
 }  // namespace uav::gcs

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "uav/gcs/replay_control.hpp"
+
 struct ImVec2;
 
 namespace uav::gcs {
@@ -58,6 +60,7 @@ struct UiState {
   std::string video_vehicle;
   int64_t video_frames_shown = -1;
   void* video_texture = nullptr;
+  float replay_seek = -1.0f;  // the seek slider while it is being dragged [s]; < 0: follows the replay
 };
 
 // Where the map was drawn this frame: screen = centre + (east, -north) * px_per_m.
@@ -77,6 +80,8 @@ struct UiContext {
   // Set by the application from its platform: uploads RGBA into a texture slot and returns the
   // ImTextureID (nullptr headless). Unset: panels draw no images.
   std::function<void*(int slot, const uint8_t* rgba, int width, int height)> update_texture;
+  // Set while replaying a log: the Replay panel's pause, seek slider and speed act on it.
+  ReplayControl* replay = nullptr;
 };
 
 // Records the last ImGui item under `label` (call right after drawing it).

@@ -1,0 +1,31 @@
+#pragma once
+// The Messages panel's log: the vehicles' status texts and the GCS's own notes, newest last.
+#include <cstddef>
+#include <deque>
+#include <string>
+
+#include "uav/shared/vehicle_enums.hpp"
+
+namespace uav::gcs {
+
+struct LogLine {
+  double t;  // GCS clock
+  std::string vehicle_id;
+  std::string text;
+  Severity severity;
+};
+
+class MessageLog {
+ public:
+  static constexpr std::size_t kMaxLines = 500;
+  void Add(double now, const std::string& vehicle, const std::string& text, Severity severity) {
+    lines_.push_back({now, vehicle, text, severity});
+    while (lines_.size() > kMaxLines) lines_.pop_front();
+  }
+  const std::deque<LogLine>& lines() const { return lines_; }
+
+ private:
+  std::deque<LogLine> lines_;
+};
+
+}  // namespace uav::gcs

@@ -1,0 +1,56 @@
+#pragma once
+// Mission planning and upload: the survey planner, the upload in progress to each vehicle and
+// the mission each vehicle accepted (which the map draws).
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "uav/gcs/commands.hpp"
+#include "uav/gcs/message_log.hpp"
+#include "uav/gcs/survey_planner.hpp"
+#include "uav/waypoints/mission_transfer.hpp"
+
+namespace uav::gcs {
+
+struct OutgoingMissionChunk {
+  std::string vehicle_id;
+  waypoints::MissionChunk chunk;
+};
+
+// Per vehicle.
+struct VehicleMission {
+  std::optional<waypoints::MissionUploader> upload;  // in progress, or the last finished
+  std::optional<waypoints::Mission> mission;         // the last one it accepted
+};
+
+class MissionUploads {
+ public:
+  // Map origin until a vehicle reports its home: the simulator's default home (NUS, Singapore).
+  static constexpr GeodeticPoint kDefaultMapOrigin{1.2966, 103.7764, 15.0};
+  MissionUploads() : planner_(UAV_CAMERA_DIR, kDefaultMapOrigin) {}
+
+  // Uploads the planner's survey to `v` (its home is the mission's origin). Returns false and
+  // sets error() when there is no vehicle, no valid plan, or an upload is already running.
+  bool UploadSurvey(VehicleMission* v, const std::string& vehicle_id, const std::optional<GeodeticPoint>& home,
+                    CommandCenter& commands, double now, MessageLog& log);
+  // Only answers to this GCS (`gcs_name`) count.
+  void OnMissionAck(VehicleMission& v, const std::string& vehicle_id, const waypoints::MissionUploadAck& ack,
+                    double now, MessageLog& log);
+  void Tick(VehicleMission& v, const std::string& vehicle_id, double now, MessageLog& log);
+  std::vector<OutgoingMissionChunk> TakeOutgoing() { return std::exchange(outgoing_, {}); }
+  // The planner's file actions; the outcome is logged. Import keeps the map on `home` if given.
+  bool ExportSurvey(const std::string& path, double now, MessageLog& log);
+  bool ImportSurvey(const std::string& path, const std::optional<GeodeticPoint>& home, double now, MessageLog& log);
+
+  SurveyPlanner& planner() { return planner_; }
+  const SurveyPlanner& planner() const { return planner_; }
+  const std::string& error() const { return error_; }
+
+ private:
+  SurveyPlanner planner_;
+  std::string error_;
+  std::vector<OutgoingMissionChunk> outgoing_;
+};
+
+}  // namespace uav::gcs

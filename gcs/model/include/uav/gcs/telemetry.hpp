@@ -1,0 +1,101 @@
+#pragma once
+// Vehicles and their telemetry: link quality, the newest typed state, and the history of every
+// signal of the signal tables (uav/shared/vehicle_state.hpp for STATE; the heartbeat and tracker
+// groups below). A signal is addressed by its group and its row in the group's table.
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "uav/gcs/signal_series.hpp"
+#include "uav/shared/vehicle_state.hpp"
+
+namespace uav::gcs {
+
+// The telemetry tree's groups, one per message.
+enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2 };
+inline constexpr int kSignalGroups = 3;
+std::string_view GroupName(SignalGroupId g);  // "STATE", "HEARTBEAT", "TRACK"
+const std::vector<SignalDef>& GroupSignals(SignalGroupId g);
+
+struct SignalRef {
+  SignalGroupId group = SignalGroupId::kState;
+  int index = 0;  // row of GroupSignals(group)
+  bool operator<(const SignalRef& o) const { return group != o.group ? group < o.group : index < o.index; }
+  bool operator==(const SignalRef& o) const { return group == o.group && index == o.index; }
+};
+const SignalDef& Def(SignalRef s);
+std::string Key(SignalRef s);  // "STATE.alt": for scripts, CSV headers and widget labels
+// "STATE.alt", or a bare name ("alt") for the STATE group; nullopt when no table has it.
+std::optional<SignalRef> FindSignal(std::string_view key);
+
+// What the heartbeat says (heartbeat_t, 1 Hz).
+struct HeartbeatInfo {
+  Task task = Task::kIdle;
+  bool armed = false;
+  FlightMode flight_mode = FlightMode::kAuto;
+};
+
+// What the vehicle's tracker reports (track_status_t), image coordinates normalised to 0..1.
+struct TrackStatus {
+  enum State { kIdle = 0, kTracking = 1, kLost = 2 };
+  int64_t utime = 0;  // vehicle clock of the frame
+  int64_t seq = 0;    // message counter (header.seq)
+  int64_t target_seq = 0;
+  State state = kIdle;
+  double center_x = 0, center_y = 0, width = 0, height = 0, angle_rad = 0;
+  double received = -1.0;  // GCS clock
+};
+
+// One group's receipts (rate and age), newest values and histories (one per table row).
+struct SignalGroup {
+  double last_receipt = -1.0;  // GCS clock
+  std::deque<double> recent;   // receipt times within the last second
+  int64_t received = 0;
+  int64_t last_seq = -1;
+  std::vector<double> latest;          // empty until the first message
+  std::vector<SignalSeries> history;   // empty for groups without a time base (heartbeat)
+  double Rate(double now) const;
+  double Age(double now) const { return last_receipt < 0 ? 1e9 : now - last_receipt; }
+};
+
+struct TelemetryParams {
+  double link_up_age_s = 3.0;     // a vehicle whose heartbeat is older is shown as LOST
+};
+
+struct VehicleTelemetry {
+  // Link quality, measured on the GCS's clock.
+  double last_heartbeat = -1.0;
+  double last_message = -1.0;
+  int64_t messages_total = 0;
+  int64_t sequence_gaps = 0;               // messages missed, from header.seq jumps
+  std::deque<double> recent_receipts;      // receive times within the last second
+  SignalGroup groups[kSignalGroups];
+  double first_t = -1.0;                   // vehicle time of the first sample (plot origin)
+  std::optional<VehicleState> state;       // newest STATE
+  std::optional<HeartbeatInfo> heartbeat;  // newest HEARTBEAT
+  std::optional<Task> task;                // from the newer of the two
+  bool armed = false;
+  std::optional<GeodeticPoint> home;       // origin of the vehicle's x, y, z (last valid one)
+  // The map's trail: north, east [m] of every kTrailDecimation-th state, the newest kTrailPoints.
+  static constexpr int kTrailDecimation = 5;        // 50 Hz state -> 10 Hz trail
+  static constexpr std::size_t kTrailPoints = 3000;  // 5 minutes
+  std::deque<Eigen::Vector2d> trail;
+
+  const SignalGroup& group(SignalGroupId g) const { return groups[static_cast<int>(g)]; }
+  // Newest value and history of a signal; nullopt / nullptr before its first sample.
+  std::optional<double> Latest(SignalRef s) const;
+  const SignalSeries* History(SignalRef s) const;
+  double HeartbeatAge(double now) const { return last_heartbeat < 0 ? 1e9 : now - last_heartbeat; }
+  double MessageRate(double now) const;
+  bool LinkUp(double now, const TelemetryParams& p = {}) const { return HeartbeatAge(now) < p.link_up_age_s; }
+};
+
+// Telemetry inputs; each updates the link statistics and the group's values and histories.
+void OnHeartbeat(VehicleTelemetry& v, int64_t seq, const HeartbeatInfo& hb, double now);
+void OnState(VehicleTelemetry& v, int64_t seq, const VehicleState& s, double now);
+void OnTrackTelemetry(VehicleTelemetry& v, const TrackStatus& st, double now);
+
+}  // namespace uav::gcs

@@ -1,0 +1,105 @@
+#pragma once
+// Video and target tracking: each vehicle's newest decoded preview frame, freezing a frame to
+// pick a target on, the target sent (track_target_t) and what the vehicle's tracker reports.
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "uav/gcs/message_log.hpp"
+#include "uav/gcs/telemetry.hpp"
+
+namespace uav::gcs {
+
+// Largest JPEG accepted in a video frame or map tile (video_frame_t / map_tile_t.MAX_JPEG_BYTES;
+// gcs_link.cpp checks they agree).
+inline constexpr std::size_t kMaxJpegBytes = 60000;
+
+// A JPEG preview frame as received.
+struct VideoFrameIn {
+  int64_t utime = 0;
+  std::string camera;
+  int width = 0, height = 0;
+  int source_width = 0, source_height = 0;
+  std::vector<uint8_t> jpeg;
+};
+
+// The newest decoded frame of a vehicle's camera stream.
+struct VideoFeed {
+  int64_t frames = 0;    // accepted frames; panels redraw when it changes
+  int64_t rejected = 0;  // frames that were not a decodable JPEG of the stated size
+  std::deque<double> recent;  // receive times within the last second
+  int64_t utime = 0;
+  std::string camera;
+  int width = 0, height = 0;
+  int source_width = 0, source_height = 0;
+  std::vector<uint8_t> rgba;  // width * height * 4
+  double Rate(double now) const;
+};
+
+// A target picked on a frozen video frame (video panel), normalised image coordinates.
+struct TrackTarget {
+  enum Method { kDrag = 0, kFourClicks = 1, kCancel = 2 };
+  int64_t frame_utime = 0;
+  std::string camera;
+  Method method = kDrag;
+  double x = 0, y = 0, width = 0, height = 0;  // axis-aligned rectangle, top-left and size
+  std::array<std::array<double, 2>, 4> corners{};  // clicked corners (x, y) in click order
+};
+
+struct OutgoingTrackTarget {
+  std::string vehicle_id;
+  int64_t target_seq = 0;
+  TrackTarget target;
+};
+
+// Per vehicle.
+struct VehicleVideo {
+  VideoFeed video;
+  std::optional<TrackTarget> track_target;  // the last selection sent
+  int64_t track_targets_sent = 0;
+  std::optional<TrackStatus> track;         // what its tracker reports
+};
+
+class VideoTracking {
+ public:
+  static constexpr double kMinTargetSide = 0.005;  // of the image side, each way
+
+  // Decodes the JPEG; a frame that does not decode to its stated size is counted as rejected
+  // (the first one is logged with the reason) and the previous frame stays on screen.
+  static void OnVideoFrame(VehicleVideo& v, const std::string& vehicle_id, const VideoFrameIn& frame, double now,
+                           MessageLog& log);
+  // A status that is not finite, names an unknown state or lies far outside the image is logged
+  // and dropped (returns false).
+  static bool OnTrackStatus(VehicleVideo& v, const std::string& vehicle_id, const TrackStatus& status, double now,
+                            MessageLog& log);
+  // Freezes `v`'s video on its current frame (target selection picks on it), or goes back to
+  // live. Returns false when there is no frame to freeze.
+  bool Freeze(const VehicleVideo* v, const std::string& vehicle_id, bool freeze);
+  void Unfreeze() { Freeze(nullptr, "", false); }
+  // Sends the target to the vehicle. Returns false and sets error() when there is no vehicle,
+  // a coordinate is not finite or outside 0..1, or the rectangle is smaller than kMinTargetSide.
+  bool SelectTarget(VehicleVideo* v, const std::string& vehicle_id, const TrackTarget& target, double now,
+                    MessageLog& log);
+  std::vector<OutgoingTrackTarget> TakeOutgoing() { return std::exchange(outgoing_, {}); }
+
+  const std::optional<VideoFeed>& frozen() const { return frozen_; }
+  const std::string& frozen_vehicle() const { return frozen_vehicle_; }
+  const std::string& error() const { return error_; }
+
+ private:
+  std::optional<VideoFeed> frozen_;
+  std::string frozen_vehicle_;
+  std::string error_;
+  int64_t next_target_seq_ = 1;
+  std::vector<OutgoingTrackTarget> outgoing_;
+};
+
+// Decodes a JPEG to RGBA of exactly `width` x `height`; on failure returns false and says why.
+bool DecodeJpeg(const std::vector<uint8_t>& jpeg, int width, int height, std::vector<uint8_t>* rgba,
+                std::string* problem);
+
+}  // namespace uav::gcs

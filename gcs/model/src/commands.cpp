@@ -1,0 +1,69 @@
+#include "uav/gcs/commands.hpp"
+
+#include "uav/shared/command_grammar.hpp"
+
+namespace uav::gcs {
+
+bool CommandCenter::Submit(const std::string& text, const std::string& vehicle_id, double now, MessageLog& log) {
+  if (!refusal_.empty()) {
+    error_ = refusal_;
+    return false;
+  }
+  const ParseResult parsed = ParseCommand(text);
+  if (!parsed.ok()) {
+    error_ = parsed.error;
+    return false;
+  }
+  if (vehicle_id.empty()) {
+    error_ = "no vehicle selected";
+    return false;
+  }
+  error_.clear();
+  const std::string canonical = parsed.command->Text();
+  if (history_.empty() || history_.back() != text) history_.push_back(text);
+  SentCommand c;
+  c.command_seq = next_seq_++;
+  c.vehicle_id = vehicle_id;
+  c.text = canonical;
+  c.first_sent = c.last_sent = now;
+  c.tries = 1;
+  sent_.push_back(c);
+  while (sent_.size() > kMaxSentKept) sent_.pop_front();
+  outgoing_.push_back({c.vehicle_id, c.command_seq, c.text});
+  log.Add(now, vehicle_id, "sent: " + canonical, Severity::kInfo);
+  return true;
+}
+
+void CommandCenter::OnAck(const std::string& vehicle_id, const std::string& source, const AckInfo& ack, double now,
+                          MessageLog& log) {
+  if (source != gcs_name_) return;  // another GCS's conversation
+  for (auto& c : sent_) {
+    if (c.command_seq != ack.command_seq || c.vehicle_id != vehicle_id) continue;
+    c.acknowledged = true;
+    const bool changed = !c.last_ack || c.last_ack->result != ack.result;
+    c.last_ack = ack;
+    if (changed && ack.result != CommandResult::kInProgress) {
+      const bool bad = ack.result == CommandResult::kRejected || ack.result == CommandResult::kFailed;
+      log.Add(now, vehicle_id,
+              c.text + ": " + std::string(Name(ack.result)) + (ack.reason.empty() ? "" : " (" + ack.reason + ")"),
+              bad ? Severity::kWarning : Severity::kInfo);
+    }
+  }
+}
+
+void CommandCenter::Tick(double now, MessageLog& log) {
+  for (auto& c : sent_) {
+    if (c.acknowledged || c.gave_up || now - c.last_sent < kResendTimeout) continue;
+    if (c.tries >= kMaxTries) {
+      c.gave_up = true;
+      log.Add(now, c.vehicle_id, c.text + ": no acknowledgement after " + std::to_string(kMaxTries) + " tries",
+              Severity::kError);
+      continue;
+    }
+    ++c.tries;
+    c.last_sent = now;
+    outgoing_.push_back({c.vehicle_id, c.command_seq, c.text});  // same command_seq
+  }
+}
+
+}  // namespace uav::gcs

@@ -1,0 +1,126 @@
+#include "uav/gcs/video_tracking.hpp"
+
+#include <stb_image.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace uav::gcs {
+
+bool DecodeJpeg(const std::vector<uint8_t>& jpeg, int width, int height, std::vector<uint8_t>* rgba,
+                std::string* problem) {
+  if (jpeg.empty() || jpeg.size() > kMaxJpegBytes) {
+    *problem = "JPEG of " + std::to_string(jpeg.size()) + " bytes (1.." + std::to_string(kMaxJpegBytes) + " allowed)";
+    return false;
+  }
+  int w = 0, h = 0, channels = 0;
+  unsigned char* pixels = stbi_load_from_memory(jpeg.data(), static_cast<int>(jpeg.size()), &w, &h, &channels, 4);
+  if (!pixels) {
+    *problem = std::string("undecodable JPEG: ") + stbi_failure_reason();
+    return false;
+  }
+  if (w != width || h != height) {
+    *problem = "JPEG is " + std::to_string(w) + "x" + std::to_string(h) + ", message says " + std::to_string(width) +
+               "x" + std::to_string(height);
+    stbi_image_free(pixels);
+    return false;
+  }
+  rgba->assign(pixels, pixels + static_cast<size_t>(w) * h * 4);
+  stbi_image_free(pixels);
+  return true;
+}
+
+double VideoFeed::Rate(double now) const {
+  int n = 0;
+  for (double t : recent) n += now - t <= 1.0;
+  return n;
+}
+
+void VideoTracking::OnVideoFrame(VehicleVideo& v, const std::string& vehicle_id, const VideoFrameIn& f, double now,
+                                 MessageLog& log) {
+  VideoFeed& feed = v.video;
+  std::string problem;
+  std::vector<uint8_t> rgba;
+  if (!DecodeJpeg(f.jpeg, f.width, f.height, &rgba, &problem)) {
+    if (feed.rejected++ == 0) log.Add(now, vehicle_id, "video frame rejected: " + problem, Severity::kWarning);
+    return;
+  }
+  feed.rgba = std::move(rgba);
+  feed.width = f.width;
+  feed.height = f.height;
+  feed.source_width = f.source_width;
+  feed.source_height = f.source_height;
+  feed.camera = f.camera;
+  feed.utime = f.utime;
+  ++feed.frames;
+  feed.recent.push_back(now);
+  while (!feed.recent.empty() && now - feed.recent.front() > 1.0) feed.recent.pop_front();
+}
+
+bool VideoTracking::OnTrackStatus(VehicleVideo& v, const std::string& vehicle_id, const TrackStatus& st, double now,
+                                  MessageLog& log) {
+  const bool finite = std::isfinite(st.center_x) && std::isfinite(st.center_y) && std::isfinite(st.width) &&
+                      std::isfinite(st.height) && std::isfinite(st.angle_rad);
+  const bool known_state =
+      st.state == TrackStatus::kIdle || st.state == TrackStatus::kTracking || st.state == TrackStatus::kLost;
+  // A box may reach past the edge, but a centre far outside the image is a broken message.
+  const bool plausible = finite && std::abs(st.center_x - 0.5) <= 1.0 && std::abs(st.center_y - 0.5) <= 1.0 &&
+                         st.width >= 0 && st.height >= 0 && st.width <= 2 && st.height <= 2;
+  if (!known_state || !plausible) {
+    log.Add(now, vehicle_id, "track status refused: not finite, unknown state or outside the image", Severity::kWarning);
+    return false;
+  }
+  v.track = st;
+  v.track->received = now;
+  return true;
+}
+
+bool VideoTracking::Freeze(const VehicleVideo* v, const std::string& vehicle_id, bool freeze) {
+  if (!freeze) {
+    frozen_.reset();
+    frozen_vehicle_.clear();
+    return true;
+  }
+  if (!v || v->video.frames == 0) return false;
+  frozen_ = v->video;
+  frozen_vehicle_ = vehicle_id;
+  return true;
+}
+
+bool VideoTracking::SelectTarget(VehicleVideo* v, const std::string& vehicle_id, const TrackTarget& target, double now,
+                                 MessageLog& log) {
+  error_.clear();
+  if (!v) {
+    error_ = "no vehicle selected";
+    return false;
+  }
+  if (target.method != TrackTarget::kCancel) {
+    auto inside = [](double c) { return std::isfinite(c) && c >= 0.0 && c <= 1.0; };
+    bool ok = inside(target.x) && inside(target.y) && inside(target.x + target.width) &&
+              inside(target.y + target.height);
+    for (const auto& c : target.corners) ok = ok && inside(c[0]) && inside(c[1]);
+    if (!ok) {
+      error_ = "target outside the image (coordinates must be finite, within 0..1)";
+      return false;
+    }
+    if (!(target.width >= kMinTargetSide && target.height >= kMinTargetSide)) {
+      error_ = "target too small: at least 0.5 % of the image on each side";
+      return false;
+    }
+  }
+  const int64_t seq = next_target_seq_++;
+  outgoing_.push_back({vehicle_id, seq, target});
+  v->track_target = target;
+  ++v->track_targets_sent;
+  char buf[160];
+  if (target.method == TrackTarget::kCancel)
+    std::snprintf(buf, sizeof buf, "tracking cancelled");
+  else
+    std::snprintf(buf, sizeof buf, "target %lld sent (%s): x %.3f y %.3f w %.3f h %.3f", static_cast<long long>(seq),
+                  target.method == TrackTarget::kFourClicks ? "four corners" : "drag", target.x, target.y,
+                  target.width, target.height);
+  log.Add(now, vehicle_id, buf, Severity::kInfo);
+  return true;
+}
+
+}  // namespace uav::gcs

@@ -1,0 +1,418 @@
+// GcsLink over an in-process bus (memq://): every message path in both directions, decoded once
+// into the model's typed state; and LogReplay of recorded event logs, whole, damaged and truncated.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "uav/gcs/gcs_link.hpp"
+#include "uav/gcs/log_replay.hpp"
+#include "uav/shared/bus.hpp"
+#include "uav/shared/channels.hpp"
+#include "uav/shared/sha256.hpp"
+#include "uav/waypoints/mission_messages.hpp"
+#include "uavmsg/command_ack_t.hpp"
+#include "uavmsg/command_t.hpp"
+#include "uavmsg/file_chunk_t.hpp"
+#include "uavmsg/file_offer_t.hpp"
+#include "uavmsg/file_request_t.hpp"
+#include "uavmsg/heartbeat_t.hpp"
+#include "uavmsg/map_tile_t.hpp"
+#include "uavmsg/status_text_t.hpp"
+#include "uavmsg/track_status_t.hpp"
+#include "uavmsg/track_target_t.hpp"
+#include "uavmsg/vehicle_state_t.hpp"
+#include "uavmsg/video_frame_t.hpp"
+#include "unit/gcs_test_util.hpp"
+
+namespace uav::gcs {
+namespace {
+
+std::vector<uint8_t> Jpeg(int w, int h) {
+  cv::Mat img(h, w, CV_8UC3, cv::Scalar(40, 120, 200));
+  std::vector<uint8_t> out;
+  cv::imencode(".jpg", img, out);
+  return out;
+}
+
+uavmsg::vehicle_state_t StateMsg(int64_t seq, double t, double alt) {
+  uavmsg::vehicle_state_t m{};
+  m.utime = static_cast<int64_t>(t * 1e6);
+  m.header = {"UAV1", seq};
+  m.z = -alt;
+  m.x = 3.0;
+  m.psi = 0.5;
+  m.task = uavmsg::vehicle_state_t::TASK_HOVER;
+  m.flight_mode = uavmsg::vehicle_state_t::MODE_AUTO;
+  m.attitude_mode = uavmsg::vehicle_state_t::ATTITUDE_GYRO_CRUISE;
+  m.failsafe = uavmsg::vehicle_state_t::FAILSAFE_RETURN;
+  m.home_latitude_deg = 1.3;
+  m.home_longitude_deg = 103.8;
+  m.home_altitude_m = 15;
+  m.armed = true;
+  m.battery_remaining = 0.75f;
+  return m;
+}
+
+uavmsg::map_tile_t TileMsg(int64_t seq, int tx) {
+  uavmsg::map_tile_t m{};
+  m.utime = seq;
+  m.header = {"UAV1", seq};
+  m.map_id = 1;
+  m.tile_x = tx;
+  m.tile_px = 64;
+  m.gsd_m = 0.05;
+  m.georeferenced = true;
+  m.jpeg = Jpeg(64, 64);
+  m.size = static_cast<int32_t>(m.jpeg.size());
+  return m;
+}
+
+class LinkTest : public ::testing::Test {
+ protected:
+  Bus bus_{"memq://"};
+  GcsModel model_{"gcs", 100};
+  GcsLink link_{&bus_, model_};
+  double now_ = 10.0;
+  void Poll() { link_.Poll(0, now_ += 0.02); }
+};
+
+TEST_F(LinkTest, VehicleMessagesReachTheModelTyped) {
+  uavmsg::heartbeat_t hb{};
+  hb.header = {"UAV1", 1};
+  hb.source_kind = uavmsg::heartbeat_t::SOURCE_VEHICLE;
+  hb.task = uavmsg::vehicle_state_t::TASK_MISSION;
+  hb.armed = true;
+  bus_.Publish("UAV1/HEARTBEAT", hb);
+  bus_.Publish("UAV1/STATE", StateMsg(1, 5.0, 12.5));
+  uavmsg::status_text_t st{};
+  st.header = {"UAV1", 1};
+  st.severity = uavmsg::status_text_t::SEVERITY_WARNING;
+  st.text = "battery low";
+  bus_.Publish("UAV1/STATUS_TEXT", st);
+  uavmsg::video_frame_t vf{};
+  vf.header = {"UAV1", 1};
+  vf.utime = 7;
+  vf.camera = "down";
+  vf.width = 32, vf.height = 24, vf.source_width = 640, vf.source_height = 480;
+  vf.jpeg = Jpeg(32, 24);
+  vf.size = static_cast<int32_t>(vf.jpeg.size());
+  bus_.Publish("UAV1/VIDEO", vf);
+  bus_.Publish("UAV1/MAP_TILE", TileMsg(1, 3));
+  uavmsg::track_status_t ts{};
+  ts.header = {"UAV1", 1};
+  ts.utime = 5000000;
+  ts.state = 1;
+  ts.center_x = 0.25, ts.center_y = 0.5, ts.width = 0.1, ts.height = 0.1;
+  bus_.Publish("UAV1/TRACK_STATUS", ts);
+  const std::string contents = "map bytes";
+  uavmsg::file_offer_t fo{};
+  fo.header = {"UAV1", 1};
+  fo.transfer_id = 9;
+  fo.name = "map.tif";
+  fo.size = static_cast<int64_t>(contents.size());
+  fo.chunk_bytes = 4096;
+  fo.chunks = 1;
+  fo.sha256 = Sha256::HexOf(contents.data(), contents.size());
+  bus_.Publish("UAV1/FILE_OFFER", fo);
+  Poll();
+
+  ASSERT_EQ(model_.vehicles().count("UAV1"), 1u);
+  const VehicleModel& v = model_.vehicles().at("UAV1");
+  ASSERT_TRUE(v.state);
+  EXPECT_DOUBLE_EQ(v.state->altitude(), 12.5);
+  EXPECT_EQ(v.state->task, Task::kHover);
+  EXPECT_EQ(v.state->attitude_mode, AttitudeMode::kGyroCruise);
+  EXPECT_EQ(v.state->failsafe, FailsafeAction::kReturn);
+  EXPECT_EQ(v.task, Task::kHover);  // the state is newer than the heartbeat
+  ASSERT_TRUE(v.heartbeat);
+  EXPECT_EQ(v.heartbeat->task, Task::kMission);
+  ASSERT_TRUE(v.home);
+  EXPECT_DOUBLE_EQ(v.home->latitude_deg, 1.3);
+  EXPECT_DOUBLE_EQ(*v.Latest(Sig("STATE.alt")), 12.5);
+  EXPECT_DOUBLE_EQ(*v.Latest(Sig("STATE.battery_remaining")), 0.75);
+  EXPECT_EQ(v.video.frames, 1);
+  EXPECT_EQ(v.video.width, 32);
+  EXPECT_EQ(v.live_map.tiles.size(), 1u);
+  ASSERT_TRUE(v.track);
+  EXPECT_DOUBLE_EQ(v.track->center_x, 0.25);
+  EXPECT_EQ(v.files.offers().size(), 1u);
+  EXPECT_EQ(model_.log().lines().back().severity, Severity::kInfo);  // the offer, after the warning
+  bool warned = false;
+  for (const auto& l : model_.log().lines()) warned |= l.text == "battery low" && l.severity == Severity::kWarning;
+  EXPECT_TRUE(warned);
+  EXPECT_EQ(link_.dropped_messages(), 0);
+}
+
+TEST_F(LinkTest, CommandsGoOutAndAcknowledgementsComeBack) {
+  bus_.Publish("UAV1/STATE", StateMsg(1, 1.0, 0.0));
+  Poll();
+  std::vector<uavmsg::command_t> sent;
+  bus_.Subscribe<uavmsg::command_t>("UAV1/COMMAND", [&](const std::string&, const uavmsg::command_t& m) { sent.push_back(m); });
+  ASSERT_TRUE(model_.SubmitCommand("takeoff 10", now_));
+  Poll();
+  bus_.Handle(0);
+  ASSERT_EQ(sent.size(), 1u);
+  EXPECT_EQ(sent[0].text, "takeoff 10");
+  EXPECT_EQ(sent[0].source, "gcs");
+  uavmsg::command_ack_t ack{};
+  ack.header = {"UAV1", 1};
+  ack.source = "gcs";
+  ack.command_seq = sent[0].command_seq;
+  ack.command = "takeoff";
+  ack.result = uavmsg::command_ack_t::RESULT_IN_PROGRESS;
+  ack.progress_percent = 40;
+  bus_.Publish("UAV1/COMMAND_ACK", ack);
+  Poll();
+  ASSERT_TRUE(model_.commands().sent().back().last_ack);
+  EXPECT_EQ(model_.commands().sent().back().last_ack->result, CommandResult::kInProgress);
+  EXPECT_EQ(model_.commands().sent().back().last_ack->percent, 40);
+  ack.result = 17;  // no such result: refused, counted, the last good answer stays
+  bus_.Publish("UAV1/COMMAND_ACK", ack);
+  Poll();
+  EXPECT_EQ(link_.dropped_messages(), 1);
+  EXPECT_NE(link_.last_drop_reason().find("unknown command result"), std::string::npos);
+  EXPECT_EQ(model_.commands().sent().back().last_ack->result, CommandResult::kInProgress);
+}
+
+TEST_F(LinkTest, HeartbeatTargetAndFileRequestGoOut) {
+  bus_.Publish("UAV1/STATE", StateMsg(1, 1.0, 0.0));
+  Poll();
+  int heartbeats = 0;
+  std::vector<uavmsg::track_target_t> targets;
+  std::vector<uavmsg::file_request_t> requests;
+  bus_.Subscribe<uavmsg::heartbeat_t>("UAV1/GCS_HEARTBEAT", [&](const std::string&, const uavmsg::heartbeat_t& m) {
+    heartbeats += m.source_kind == uavmsg::heartbeat_t::SOURCE_GCS && m.source_name == "gcs";
+  });
+  bus_.Subscribe<uavmsg::track_target_t>("UAV1/TRACK_TARGET", [&](const std::string&, const uavmsg::track_target_t& m) { targets.push_back(m); });
+  bus_.Subscribe<uavmsg::file_request_t>("UAV1/FILE_REQUEST", [&](const std::string&, const uavmsg::file_request_t& m) { requests.push_back(m); });
+  TrackTarget t;
+  t.x = 0.1, t.y = 0.2, t.width = 0.3, t.height = 0.2;
+  t.corners = {{{0.1, 0.2}, {0.4, 0.2}, {0.4, 0.4}, {0.1, 0.4}}};
+  ASSERT_TRUE(model_.SelectTarget(t, now_));
+  uavmsg::file_offer_t fo{};
+  fo.header = {"UAV1", 1};
+  fo.transfer_id = 4;
+  fo.name = "a.png";
+  fo.size = 10;
+  fo.chunk_bytes = 4096;
+  fo.chunks = 1;
+  fo.sha256 = Sha256::HexOf("0123456789", 10);
+  bus_.Publish("UAV1/FILE_OFFER", fo);
+  Poll();
+  const auto dir = std::filesystem::temp_directory_path() / "uav_test_gcs_link_dl";
+  ASSERT_TRUE(model_.StartDownload(dir.string(), now_));
+  model_.Tick(now_);
+  now_ += GcsLink::kHeartbeatPeriod;
+  Poll();
+  bus_.Handle(0);
+  EXPECT_GE(heartbeats, 1);
+  ASSERT_EQ(targets.size(), 1u);
+  EXPECT_DOUBLE_EQ(targets[0].width, 0.3);
+  EXPECT_EQ(targets[0].method, int8_t{uavmsg::track_target_t::METHOD_DRAG});
+  ASSERT_FALSE(requests.empty());
+  EXPECT_EQ(requests[0].transfer_id, 4);
+  // The chunk comes back: the file is saved once its SHA-256 matched.
+  uavmsg::file_chunk_t ch{};
+  ch.header = {"UAV1", 2};
+  ch.transfer_id = 4;
+  ch.index = 0;
+  const std::string data = "0123456789";
+  ch.data.assign(data.begin(), data.end());
+  ch.size = 10;
+  ch.crc32 = static_cast<int32_t>(Crc32(data.data(), data.size()));
+  bus_.Publish("UAV1/FILE_CHUNK", ch);
+  Poll();
+  model_.Tick(now_);
+  EXPECT_TRUE(std::filesystem::exists(dir / "a.png"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_F(LinkTest, MissionUploadGoesOutAndItsAcknowledgementComesBack) {
+  bus_.Publish("UAV1/STATE", StateMsg(1, 1.0, 0.0));
+  Poll();
+  SurveyPlanner& planner = model_.missions().planner();
+  planner.AddVertex({0, 0});
+  planner.AddVertex({60, 0});
+  planner.AddVertex({60, 60});
+  planner.AddVertex({0, 60});
+  ASSERT_TRUE(model_.UploadSurvey(now_)) << model_.missions().error();
+  std::vector<uavmsg::mission_upload_t> chunks;
+  bus_.Subscribe<uavmsg::mission_upload_t>("UAV1/MISSION_UPLOAD", [&](const std::string&, const uavmsg::mission_upload_t& m) { chunks.push_back(m); });
+  waypoints::MissionAssembler assembler;
+  for (int i = 0; i < 50 && !model_.vehicles().at("UAV1").mission; ++i) {
+    model_.Tick(now_);
+    Poll();
+    bus_.Handle(0);
+    for (const auto& c : std::exchange(chunks, {})) {
+      auto ack = assembler.Receive(waypoints::FromMessage(c), [](const waypoints::Mission&) { return std::string(); });
+      uavmsg::mission_ack_t m = waypoints::ToMessage(ack);
+      m.header = {"UAV1", i + 1};
+      m.source = "gcs";
+      bus_.Publish("UAV1/MISSION_ACK", m);
+    }
+  }
+  ASSERT_TRUE(model_.vehicles().at("UAV1").mission);
+  EXPECT_GT(model_.vehicles().at("UAV1").mission->items.size(), 5u);
+}
+
+TEST_F(LinkTest, MismatchedVehicleIdsAndGarbageAreDroppedAndCounted) {
+  bus_.Publish("UAV2/STATE", StateMsg(1, 1.0, 0.0));  // header says UAV1
+  auto bad_task = StateMsg(2, 1.0, 0.0);
+  bad_task.task = 42;
+  bus_.Publish("UAV1/STATE", bad_task);
+  Poll();
+  EXPECT_EQ(link_.dropped_messages(), 2);
+  EXPECT_NE(link_.last_drop_reason().find("task"), std::string::npos);
+  const char garbage[] = "not an LCM message";
+  EXPECT_FALSE(link_.Dispatch("UAV1/STATE", garbage, sizeof garbage, now_));
+  EXPECT_EQ(link_.dropped_messages(), 3);
+  EXPECT_TRUE(model_.vehicles().empty() || !model_.vehicles().at("UAV1").state);
+}
+
+// ---- Replay of recorded event logs.
+
+// Writes a log of a short flight: STATE at 50 Hz for `seconds`, a heartbeat per second, a tile
+// every 0.2 s, and the GCS's commands in between (which the replay must only read).
+std::string WriteLog(const std::string& name, double seconds) {
+  const std::string path = (std::filesystem::temp_directory_path() / name).string();
+  lcm::LogFile log(path, "w");
+  int64_t n = 0;
+  auto write = [&](const std::string& channel, const auto& msg, int64_t wall_us) {
+    std::vector<uint8_t> buf(msg.getEncodedSize());
+    msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    lcm::LogEvent e;
+    e.eventnum = n++;
+    e.timestamp = wall_us;
+    e.channel = channel;
+    e.datalen = static_cast<int32_t>(buf.size());
+    e.data = buf.data();
+    log.writeEvent(&e);
+  };
+  const int states = static_cast<int>(seconds * 50);
+  for (int i = 0; i < states; ++i) {
+    const double t = 1000.0 + i * 0.02;
+    const int64_t wall = 5'000'000 + i * 2000;  // the simulator ran at 10x
+    write("UAV1/STATE", StateMsg(i + 1, t, 10.0 * std::sin(i * 0.01)), wall);
+    if (i % 50 == 0) {
+      uavmsg::heartbeat_t hb{};
+      hb.utime = static_cast<int64_t>(t * 1e6);
+      hb.header = {"UAV1", i / 50 + 1};
+      hb.source_kind = uavmsg::heartbeat_t::SOURCE_VEHICLE;
+      write("UAV1/HEARTBEAT", hb, wall);
+      uavmsg::command_t c{};
+      c.header = {"UAV1", i / 50 + 1};
+      c.source = "gcs-live";
+      c.text = "hover";
+      write("UAV1/COMMAND", c, wall);
+    }
+    if (i % 10 == 5) write("UAV1/MAP_TILE", TileMsg(i / 10 + 1, i / 10), wall);
+  }
+  return path;
+}
+
+struct Replayed {
+  std::unique_ptr<GcsModel> model;
+  std::unique_ptr<GcsLink> link;
+  GcsLink& Reset() {
+    link.reset();
+    model = std::make_unique<GcsModel>("gcs", 1);
+    model->SetReplay(true);
+    link = std::make_unique<GcsLink>(nullptr, *model);
+    return *link;
+  }
+};
+
+TEST(LogReplay, ReproducesTheFlightSampleForSampleOnTheVehicleClock) {
+  const std::string path = WriteLog("uav_test_replay.lcmlog", 20.0);
+  // What the live GCS saw: the same messages, decoded by the link as they came.
+  Replayed live;
+  live.Reset();
+  live.model->SetReplay(false);
+  {
+    lcm::LogFile in(path, "r");
+    for (const lcm::LogEvent* e = in.readNextEvent(); e; e = in.readNextEvent())
+      live.link->Dispatch(e->channel, e->data, e->datalen, e->timestamp * 1e-6);
+  }
+  Replayed r;
+  LogReplay replay(path, [&]() -> GcsLink& { return r.Reset(); });
+  EXPECT_TRUE(replay.damage().empty());
+  EXPECT_NEAR(replay.duration(), 19.98, 1e-6);  // vehicle time, not the 10x wall time
+  replay.SetSpeed(10.0);
+  EXPECT_FALSE(replay.SetSpeed(20.0));
+  replay.Advance(1.0);  // 10 s of flight
+  EXPECT_NEAR(replay.position(), 10.0, 1e-9);
+  EXPECT_NEAR(*r.model->vehicles().at("UAV1").Latest(Sig("STATE.alt")), 10.0 * std::sin(500 * 0.01), 1e-9);
+  replay.Pause();
+  replay.Advance(5.0);
+  EXPECT_NEAR(replay.position(), 10.0, 1e-9);
+  replay.Play();
+  replay.Advance(5.0);
+  ASSERT_TRUE(replay.finished());
+  const SignalSeries* a = live.model->vehicles().at("UAV1").History(Sig("STATE.alt"));
+  const SignalSeries* b = r.model->vehicles().at("UAV1").History(Sig("STATE.alt"));
+  ASSERT_TRUE(a && b);
+  ASSERT_EQ(a->size(), 1000u);
+  ASSERT_EQ(b->size(), a->size());
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    ASSERT_EQ(a->TimeAt(i), b->TimeAt(i)) << i;
+    ASSERT_EQ(a->ValueAt(i), b->ValueAt(i)) << i;
+  }
+  EXPECT_EQ(r.model->vehicles().at("UAV1").live_map.tiles.size(), 100u);
+  EXPECT_EQ(r.model->vehicles().at("UAV1").live_map.received, live.model->vehicles().at("UAV1").live_map.received);
+  // Seeking back starts a fresh model and replays up to the point.
+  GcsModel* before = r.model.get();
+  replay.Seek(2.0);
+  EXPECT_NE(r.model.get(), before);
+  EXPECT_EQ(r.model->vehicles().at("UAV1").History(Sig("STATE.alt"))->size(), 101u);  // t = 0 .. 2.00 s
+  EXPECT_EQ(r.model->vehicles().at("UAV1").live_map.tiles.size(), 10u);
+  // A replay refuses commands, saying why.
+  EXPECT_FALSE(r.model->SubmitCommand("hover", 1.0));
+  EXPECT_NE(r.model->commands().error().find("replaying"), std::string::npos);
+  std::filesystem::remove(path);
+}
+
+TEST(LogReplay, TruncatedAndDamagedLogsReplayUpToTheDamageAndSayWhere) {
+  const std::string path = WriteLog("uav_test_replay_damaged.lcmlog", 4.0);
+  const auto size = std::filesystem::file_size(path);
+  Replayed whole;
+  const std::size_t all = LogReplay(path, [&]() -> GcsLink& { return whole.Reset(); }).events();
+
+  const std::string cut = path + ".cut";
+  std::filesystem::copy_file(path, cut, std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::resize_file(cut, size * 6 / 10);
+  Replayed r1;
+  LogReplay truncated(cut, [&]() -> GcsLink& { return r1.Reset(); });
+  EXPECT_LT(truncated.events(), all);
+  EXPECT_GT(truncated.events(), all / 2);
+  EXPECT_NE(truncated.damage().find("truncated or damaged"), std::string::npos) << truncated.damage();
+  truncated.Seek(1e9);
+  EXPECT_TRUE(truncated.finished());
+  EXPECT_GT(r1.model->vehicles().at("UAV1").History(Sig("STATE.alt"))->size(), 50u);
+
+  // Garbage written over the middle: the events before it replay, and the replay says where.
+  const std::string bad = path + ".bad";
+  std::filesystem::copy_file(path, bad, std::filesystem::copy_options::overwrite_existing);
+  {
+    std::fstream f(bad, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(size / 2));
+    const std::string junk(300, '\x5a');
+    f.write(junk.data(), static_cast<std::streamsize>(junk.size()));
+  }
+  Replayed r2;
+  LogReplay damaged(bad, [&]() -> GcsLink& { return r2.Reset(); });
+  EXPECT_LT(damaged.events(), all);
+  EXPECT_NE(damaged.damage().find("byte "), std::string::npos);
+  damaged.Seek(1e9);
+  EXPECT_GT(r2.model->vehicles().at("UAV1").History(Sig("STATE.alt"))->size(), 50u);
+
+  Replayed r3;
+  EXPECT_THROW(LogReplay("/nonexistent/events.lcmlog", [&]() -> GcsLink& { return r3.Reset(); }), std::runtime_error);
+  for (const auto& p : {path, cut, bad}) std::filesystem::remove(p);
+}
+
+}  // namespace
+}  // namespace uav::gcs
