@@ -1,6 +1,7 @@
 # Sourced by the integration tests: runs uav-onboard --sim and a headless uav-gcs script against
 # it over LCM (inside netns.sh), then prints the vehicle's output.
-# Sets: work (temporary directory with log/ and onboard.log), status (the GCS's exit code).
+# Sets: work (temporary directory with log/, onboard.log and gcs.log, the GCS's output), status
+# (the GCS's exit code).
 # Usage: run_sim_and_gcs BIN_DIR SPEED GCS_NAME SCRIPT TIMEOUT_S [LINGER_S UNTIL_FUNCTION]
 # With LINGER_S, the vehicle keeps flying after the GCS exits, until UNTIL_FUNCTION succeeds or
 # LINGER_S pass.
@@ -14,7 +15,9 @@ run_sim_and_gcs() {
     > "$work/onboard.log" 2>&1 &
   status=0
   # From inside the work directory: relative paths the script types (downloads) land there.
-  (cd "$work" && timeout "$limit" "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" --script "$script") || status=$?
+  (cd "$work" && timeout "$limit" "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" --script "$script") \
+    > "$work/gcs.log" 2>&1 || status=$?
+  cat "$work/gcs.log"
   local waited=0
   while [ "$waited" -lt "$linger" ] && ! "$until"; do sleep 1; waited=$((waited + 1)); done
   kill %1 2>/dev/null || true

@@ -6,9 +6,19 @@
 #include <string>
 #include <utility>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "uav/gcs/gcs_model.hpp"
 
 namespace uav::gcs {
+
+// A real JPEG (encoded by OpenCV) of one colour, for video frames and map tiles.
+inline std::vector<uint8_t> Jpeg(int w, int h) {
+  cv::Mat img(h, w, CV_8UC3, cv::Scalar(30, 120, 200));
+  std::vector<uint8_t> out;
+  cv::imencode(".jpg", img, out);
+  return out;
+}
 
 inline HeartbeatInfo Hb(int task, bool armed) { return {*TaskFromWire(task), armed, FlightMode::kAuto}; }
 

@@ -31,13 +31,6 @@
 namespace uav::gcs {
 namespace {
 
-std::vector<uint8_t> Jpeg(int w, int h) {
-  cv::Mat img(h, w, CV_8UC3, cv::Scalar(40, 120, 200));
-  std::vector<uint8_t> out;
-  cv::imencode(".jpg", img, out);
-  return out;
-}
-
 uavmsg::vehicle_state_t StateMsg(int64_t seq, double t, double alt) {
   uavmsg::vehicle_state_t m{};
   m.utime = static_cast<int64_t>(t * 1e6);
@@ -271,6 +264,26 @@ TEST_F(LinkTest, MismatchedVehicleIdsAndGarbageAreDroppedAndCounted) {
   EXPECT_FALSE(link_.Dispatch("UAV1/STATE", garbage, sizeof garbage, now_));
   EXPECT_EQ(link_.dropped_messages(), 3);
   EXPECT_TRUE(model_.vehicles().empty() || !model_.vehicles().at("UAV1").state);
+}
+
+TEST_F(LinkTest, AReplayingModelSendsNothingOnTheBus) {
+  bus_.Publish("UAV1/STATE", StateMsg(1, 1.0, 0.0));
+  Poll();
+  int heard = 0;
+  bus_.SubscribeRaw("UAV1/(COMMAND|GCS_HEARTBEAT|TRACK_TARGET|FILE_REQUEST|MISSION_UPLOAD)",
+                    [&](const std::string&, const lcm::ReceiveBuffer&) { ++heard; });
+  model_.SetReplay(true);
+  EXPECT_FALSE(model_.SubmitCommand("land", now_));
+  EXPECT_NE(model_.commands().error().find("nothing is sent"), std::string::npos);
+  TrackTarget t;
+  t.width = t.height = 0.2;
+  EXPECT_TRUE(model_.SelectTarget(t, now_));  // queued by the concern, dropped by the replay
+  for (int i = 0; i < 200; ++i) {  // 4 s: heartbeats would be due
+    model_.Tick(now_);
+    Poll();
+    bus_.Handle(0);
+  }
+  EXPECT_EQ(heard, 0);
 }
 
 // ---- Replay of recorded event logs.

@@ -174,14 +174,6 @@ TEST(PlotCsvExport, WritesTheTickedSignalsOverTheRangeAndNothingElse) {
 namespace uav::gcs {
 namespace {
 
-// A real 4x2 JPEG (encoded by OpenCV) for the video feed tests.
-std::vector<uint8_t> TinyJpeg(int w, int h) {
-  cv::Mat img(h, w, CV_8UC3, cv::Scalar(30, 120, 200));
-  std::vector<uint8_t> out;
-  cv::imencode(".jpg", img, out);
-  return out;
-}
-
 // Live map tiles: decoded per vehicle, black (unmapped) made transparent, a newer map replaces
 // the old one, bad tiles rejected and counted.
 TEST(GcsLiveMap, TilesArePerVehicleAndANewMapReplacesTheOld) {
@@ -258,7 +250,7 @@ TEST(GcsVideo, DecodesFramesPerVehicleAndRejectsBadOnesNamingWhy) {
   f.height = 6;
   f.source_width = 640;
   f.source_height = 480;
-  f.jpeg = TinyJpeg(8, 6);
+  f.jpeg = Jpeg(8, 6);
   m.OnVideoFrame("UAV1", f, 0.1);
   m.OnVideoFrame("UAV1", f, 0.3);
   const VideoFeed& feed = m.vehicles().at("UAV1").video;

@@ -14,6 +14,12 @@
 namespace uav::gcs {
 namespace {
 
+// The tick box of a signal ("alt" is STATE's): "tick:STATE.alt".
+std::string TickLabel(const std::string& signal) {
+  const auto s = FindSignal(signal);
+  return "tick:" + (s ? Key(*s) : signal);
+}
+
 const std::set<std::string> kOps = {"==", "!=", "<", "<=", ">", ">=", "~", "contains"};
 
 bool ToNumber(const std::string& s, double* v) {
@@ -331,7 +337,7 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
              s.verb == "set" || s.verb.rfind("map_", 0) == 0 || s.verb.rfind("video_", 0) == 0 ||
              s.verb.rfind("plot_", 0) == 0 || s.verb.rfind("livemap_", 0) == 0 || s.verb == "key") {
     if (first) {
-      const std::string label = s.verb == "tick" ? "tick:" + std::string(s.args[0].find('.') == std::string::npos ? "STATE." : "") + s.args[0]
+      const std::string label = s.verb == "tick" ? TickLabel(s.args[0])
                               : s.verb == "select" ? "vehicle:" + s.args[0] : joined;
       std::vector<double> xy;
       for (const auto& a : s.args) xy.push_back(std::atof(a.c_str()));
@@ -365,7 +371,7 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
       if (!ok) Fail(s, now, err);
     } else if (s.verb == "tick" && !tick_searched_ && !driver.InputPending()) {
       tick_searched_ = true;
-      if (!driver.StartClick("tick:" + std::string(s.args[0].find('.') == std::string::npos ? "STATE." : "") + s.args[0], &err))
+      if (!driver.StartClick(TickLabel(s.args[0]), &err))
         Fail(s, now, err);
     } else if (!driver.InputPending()) {
       Pass(s, now, s.verb == "type" && !model.commands().error().empty()
