@@ -99,8 +99,22 @@ values = [a for _, a in replay]
 starts = [i for i in range(len(replay) - 200) if values[i:i + 200] == head]
 assert starts, "the live altitude series is not in the replay"
 offset = replay[starts[0]][0] - live[0][0]
-by_time = {round(t, 3): a for t, a in replay}
-missing = [t for t, a in live if by_time.get(round(t + offset, 3)) != a]
-assert not missing, f"{len(missing)} live samples differ in the replay, first at t = {missing[0]}"
+# In order, each live sample must be the next replayed sample at its time (times can repeat when
+# the estimate did not advance); the log may end a moment before the live GCS stopped listening.
+j, missing, after_end = starts[0], [], 0
+for t, a in live:
+    if t + offset > replay[-1][0] + 1e-6:
+        after_end += 1
+        continue
+    while j < len(replay) and replay[j][0] < t + offset - 1e-6:
+        j += 1
+    while j < len(replay) and abs(replay[j][0] - t - offset) < 1e-6 and replay[j][1] != a:
+        j += 1
+    if j < len(replay) and abs(replay[j][0] - t - offset) < 1e-6:
+        j += 1
+    else:
+        missing.append(t)
+assert not missing, f"{len(missing)} live samples not in the replay, first at t = {missing[0]}"
+assert after_end < 10, f"{after_end} live samples after the log's end"
 print(f"replay: {len(live)} live altitude samples found sample for sample among {len(replay)} replayed")
 PY

@@ -58,7 +58,7 @@ void DrawGcs(GcsModel& model, UiContext& ctx) {
   DrawSurveyPanel(model, ctx);
   Place(0.62f, 0.82f, 0.38f, 0.18f);
   DrawLiveMapPanel(model, ctx);
-  Place(0.22f, 0.04f, 0.40f, 0.10f);
+  Place(0.0f, 0.10f, 0.22f, 0.12f);  // over the Vehicles panel's empty lower half
   DrawReplayPanel(model, ctx);
 }
 

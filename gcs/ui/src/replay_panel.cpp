@@ -14,20 +14,19 @@ void DrawReplayPanel(GcsModel& model, UiContext& ctx) {
   RegisterLastItem(ctx, "replay:play");
   ImGui::SameLine();
   float t = ctx.state.replay_seek >= 0 ? ctx.state.replay_seek : static_cast<float>(r->position());
-  ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.6f);
+  ImGui::SetNextItemWidth(-1);
   if (ImGui::SliderFloat("##replay:seek", &t, 0.0f, static_cast<float>(r->duration()), "%.1f s")) ctx.state.replay_seek = t;
   RegisterLastItem(ctx, "replay:seek");
   if (ImGui::IsItemDeactivatedAfterEdit()) {  // seek when the slider is let go: seeking back replays from the start
     r->Seek(ctx.state.replay_seek);
     ctx.state.replay_seek = -1.0f;
   }
-  ImGui::SameLine();
   float speed = static_cast<float>(r->speed());
   ImGui::SetNextItemWidth(-1);
   if (ImGui::SliderFloat("##replay:speed", &speed, 0.1f, 10.0f, "x%.1f", ImGuiSliderFlags_Logarithmic)) r->SetSpeed(speed);
   RegisterLastItem(ctx, "replay:speed");
-  ImGui::TextDisabled("%s: %zu of %zu events, %.1f of %.1f s; nothing is sent", r->path().c_str(), r->dispatched(),
-                      r->events(), r->position(), r->duration());
+  ImGui::TextDisabled("%zu of %zu events; nothing is sent", r->dispatched(), r->events());
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", r->path().c_str());
   if (!r->damage().empty()) ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "log damaged at %s", r->damage().c_str());
   ImGui::End();
 }
