@@ -3,6 +3,11 @@
 #include "link_translators.hpp"
 
 namespace uav::app {
+namespace {
+// Messages the event log's subscription holds between two CMM ticks (LCM's default is 30: a map
+// download's chunk burst overflowed it and the log lost telemetry).
+constexpr int kEventLogQueue = 5000;
+}  // namespace
 
 LinkParams LinkParams::FromParameters(const ParameterSet& p, AttitudeMode attitude_mode) {
   return {p.Get("link_heartbeat_period"), p.Get("link_tile_period"), attitude_mode};
@@ -24,9 +29,13 @@ LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url
   LinkContext& c = im.context;
   im.events = std::move(events);
   if (EventLog* log = im.events.get()) {
-    c.bus.SubscribeRaw(".*", [log](const std::string& channel, const lcm::ReceiveBuffer& rbuf) {
-      log->Write(channel, rbuf.data, static_cast<int>(rbuf.data_size), rbuf.recv_utime);
-    });
+    // The whole bus, bursts included: a queue of kEventLogQueue messages between two ticks.
+    c.bus.SubscribeRaw(
+        ".*",
+        [log](const std::string& channel, const lcm::ReceiveBuffer& rbuf) {
+          log->Write(channel, rbuf.data, static_cast<int>(rbuf.data_size), rbuf.recv_utime);
+        },
+        kEventLogQueue);
   }
   SubscribeMissionUploads(c);
   SubscribeCommands(c);

@@ -36,11 +36,15 @@ class Bus {
     handlers_.push_back(std::move(handler));
   }
 
-  // Every message on channels matching `pattern`, undecoded (for the event log).
+  // Every message on channels matching `pattern`, undecoded (for the event log). LCM queues 30
+  // messages per subscription between Handle() calls and drops the rest; a recorder that must
+  // keep bursts (a map download's chunks) asks for a deeper queue.
   void SubscribeRaw(const std::string& pattern,
-                    std::function<void(const std::string& channel, const lcm::ReceiveBuffer& rbuf)> on_message) {
+                    std::function<void(const std::string& channel, const lcm::ReceiveBuffer& rbuf)> on_message,
+                    int queue_capacity = 30) {
     auto handler = std::make_unique<RawHandler>(std::move(on_message));
-    lcm_.subscribe(pattern, &HandlerBase::Handle, static_cast<HandlerBase*>(handler.get()));
+    lcm::Subscription* sub = lcm_.subscribe(pattern, &HandlerBase::Handle, static_cast<HandlerBase*>(handler.get()));
+    if (sub) sub->setQueueCapacity(queue_capacity);
     handlers_.push_back(std::move(handler));
   }
 
