@@ -321,6 +321,12 @@ std::string WriteLog(const std::string& name, double seconds) {
       c.source = "gcs-live";
       c.text = "hover";
       write("UAV1/COMMAND", c, wall);
+      uavmsg::command_ack_t ack{};
+      ack.header = {"UAV1", i / 50 + 1};
+      ack.source = "gcs-live";
+      ack.command = "hover";
+      ack.result = uavmsg::command_ack_t::RESULT_COMPLETED;
+      write("UAV1/COMMAND_ACK", ack, wall);
     }
     if (i % 10 == 5) write("UAV1/MAP_TILE", TileMsg(i / 10 + 1, i / 10), wall);
   }
@@ -382,6 +388,10 @@ TEST(LogReplay, ReproducesTheFlightSampleForSampleOnTheVehicleClock) {
   EXPECT_NE(r.model.get(), before);
   EXPECT_EQ(r.model->vehicles().at("UAV1").History(Sig("STATE.alt"))->size(), 101u);  // t = 0 .. 2.00 s
   EXPECT_EQ(r.model->vehicles().at("UAV1").live_map.tiles.size(), 10u);
+  // The live GCS's acknowledgements are in the messages, naming whom they answered.
+  bool ack_shown = false;
+  for (const auto& l : r.model->log().lines()) ack_shown |= l.text == "hover: completed [to gcs-live]";
+  EXPECT_TRUE(ack_shown);
   // A replay refuses commands, saying why.
   EXPECT_FALSE(r.model->SubmitCommand("hover", 1.0));
   EXPECT_NE(r.model->commands().error().find("replaying"), std::string::npos);

@@ -48,7 +48,8 @@ class GcsModel {
   bool ImportSurvey(const std::string& path, double now);
   bool StartDownload(const std::string& dir, double now);
   bool ExportPlotCsv(const std::string& path, double t0, double t1, double now);
-  // Replay: nothing is sent on any bus; commands are refused saying so.
+  // Replay: nothing is sent on any bus; commands are refused saying so; every GCS's
+  // acknowledgements go to the messages, naming the GCS they answered.
   void SetReplay(bool replay);
   bool replay() const { return replay_; }
 
