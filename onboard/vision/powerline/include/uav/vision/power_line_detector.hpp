@@ -1,0 +1,82 @@
+#pragma once
+// Power lines in one image (thesis 3.6): a thickness filter keeps only structures thinner than a
+// wire can be, Sobel gradients of what is left (Eq. 3.28-3.30) with an inverse threshold give an
+// edge map, the line segment detector (LSD) finds straight pieces in it, short pieces are
+// removed, pieces that continue one another are grouped into wires, and each wire is fitted
+// with a least-squares quadratic (Eq. 3.31-3.40) in its own frame, so wires at any angle work
+// (a downward or tilted camera sees them so); the thesis's forward-camera mode, near-horizontal
+// wires only, is a setting. A plain class: images in, curves out.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core/mat.hpp>
+
+namespace uav::vision {
+
+struct PowerLineParams {
+  enum class Mode { kAny, kHorizontal };
+  Mode mode = Mode::kAny;
+  double max_wire_width_px = 4.0;     // thickness filter: thinner structures pass
+  double edge_threshold = 10.0;       // [grey levels] weakest thin-structure edge kept (inverse threshold)
+  double min_segment_fraction = 0.03;  // of the image diagonal: shorter LSD pieces are dropped
+  double horizontal_max_angle_deg = 30.0;  // horizontal mode: steeper pieces are dropped
+  double group_angle_deg = 5.0;       // pieces of one wire differ in direction by less ...
+  double group_offset_px = 2.0;       // ... lie within this of each other's line ...
+  double group_gap_fraction = 0.25;   // ... and leave gaps under this share of the diagonal
+  double min_wire_fraction = 0.15;    // a wire spans at least this share of the diagonal ...
+  double min_support = 0.5;           // ... with pieces along at least this share of its span
+  double max_fit_rms_px = 2.0;        // [px] residual of the quadratic over its pieces (both borders of a wire)
+
+  // Throws std::invalid_argument naming the field when a value is out of its range.
+  void Validate() const;
+};
+
+// One detected wire: v = b0 + b1 u + b2 u^2 (Eq. 3.31) in the wire's own frame, whose origin is
+// `origin_px` and whose u axis is `axis` (unit, image pixels); u runs over [u_min, u_max].
+struct WireCurve {
+  Eigen::Vector2d origin_px = Eigen::Vector2d::Zero();
+  Eigen::Vector2d axis = Eigen::Vector2d::UnitX();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();  // b0, b1, b2
+  double u_min = 0.0, u_max = 0.0;
+  double rms_px = 0.0;        // residual of the fit over its supporting pieces
+  double support = 0.0;       // share of [u_min, u_max] covered by pieces
+  int segments = 0;           // LSD pieces grouped into it
+  Eigen::Vector2d PointAt(double u) const;  // image pixel at u
+  std::vector<Eigen::Vector2d> Sample(double step_px) const;  // from u_min to u_max
+  Eigen::Vector2d first() const { return PointAt(u_min); }
+  Eigen::Vector2d last() const { return PointAt(u_max); }
+};
+
+// Least squares quadratic through points (Eq. 3.38-3.40, solved by QR rather than by the normal
+// equations' inverse, which squares the condition number). Needs at least three distinct u.
+Eigen::Vector3d FitQuadratic(const std::vector<Eigen::Vector2d>& uv);
+
+class PowerLineDetector {
+ public:
+  explicit PowerLineDetector(const PowerLineParams& params = {});
+  // Wires in a BGR image (CV_8UC3). Throws std::invalid_argument naming what is wrong with an
+  // empty image, another type, or one under 32 x 32 pixels.
+  std::vector<WireCurve> Detect(const cv::Mat& bgr) const;
+  const PowerLineParams& params() const { return params_; }
+
+ private:
+  PowerLineParams params_;
+};
+
+// The LSD-only baseline of the accuracy tables: every segment LSD finds in the grey image.
+std::vector<cv::Vec4f> LsdSegments(const cv::Mat& bgr);
+
+// A mask of the image's size: 255 on the curves (or segments) drawn `width_px` wide, 0 elsewhere.
+cv::Mat DrawWireMask(const cv::Size& size, const std::vector<WireCurve>& wires, int width_px = 2);
+cv::Mat DrawSegmentMask(const cv::Size& size, const std::vector<cv::Vec4f>& segments, int width_px = 2);
+
+// Per-pixel precision and recall of `detected` against `truth` (both 8-bit masks) with a
+// tolerance: a detected pixel is right within tol_px of a true one, a true pixel found within
+// tol_px of a detected one.
+struct MaskScore {
+  double precision = 0.0, recall = 0.0, f1 = 0.0;
+};
+MaskScore ScoreMasks(const cv::Mat& detected, const cv::Mat& truth, double tol_px);
+
+}  // namespace uav::vision

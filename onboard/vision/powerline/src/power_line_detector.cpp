@@ -1,0 +1,305 @@
+#include "uav/vision/power_line_detector.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <opencv2/imgproc.hpp>
+
+namespace uav::vision {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+struct Segment {
+  Eigen::Vector2d p, q;  // end points [px]
+  Eigen::Vector2d d;     // unit direction, x >= 0 (undirected lines)
+  double length;
+};
+
+int Find(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+// Distance of point x from the infinite line through s.
+double LineDistance(const Segment& s, const Eigen::Vector2d& x) {
+  const Eigen::Vector2d n(-s.d.y(), s.d.x());
+  return std::abs(n.dot(x - s.p));
+}
+
+// Whether a and b continue one another: nearly parallel, each near the other's line, and the gap
+// between them along the line short. Allowing the offset to grow with the distance between the
+// pieces lets a sagging wire's pieces join.
+bool SameWire(const Segment& a, const Segment& b, const PowerLineParams& P, double diag) {
+  const double cos_angle = std::abs(a.d.dot(b.d));
+  if (cos_angle < std::cos(P.group_angle_deg * kDeg)) return false;
+  const Eigen::Vector2d ma = 0.5 * (a.p + a.q), mb = 0.5 * (b.p + b.q);
+  const double along = std::abs(a.d.dot(mb - ma));
+  const double gap = along - 0.5 * (a.length + b.length);
+  if (gap > P.group_gap_fraction * diag) return false;
+  const double tolerance = P.group_offset_px + 0.02 * std::max(0.0, gap);
+  return LineDistance(a, b.p) < tolerance && LineDistance(a, b.q) < tolerance && LineDistance(b, a.p) < tolerance &&
+         LineDistance(b, a.q) < tolerance;
+}
+
+// Fits one group in its own frame; false when it is not a wire.
+bool FitWire(const std::vector<const Segment*>& group, const PowerLineParams& P, double diag, WireCurve* w) {
+  // Points every 2 px along each piece, weighted by length through their count.
+  std::vector<Eigen::Vector2d> pts;
+  for (const Segment* s : group) {
+    const int n = std::max(2, static_cast<int>(s->length / 2.0));
+    for (int i = 0; i <= n; ++i) pts.push_back(s->p + (s->q - s->p) * (static_cast<double>(i) / n));
+  }
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  for (const auto& p : pts) c += p;
+  c /= static_cast<double>(pts.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+  Eigen::Vector2d axis = eig.eigenvectors().col(1);
+  if (axis.x() < 0 || (axis.x() == 0 && axis.y() < 0)) axis = -axis;
+  const Eigen::Vector2d perp(-axis.y(), axis.x());
+  std::vector<Eigen::Vector2d> uv;
+  uv.reserve(pts.size());
+  for (const auto& p : pts) uv.emplace_back(axis.dot(p - c), perp.dot(p - c));
+  double u_min = 1e300, u_max = -1e300;
+  for (const auto& x : uv) u_min = std::min(u_min, x.x()), u_max = std::max(u_max, x.x());
+  if (u_max - u_min < P.min_wire_fraction * diag) return false;
+  const Eigen::Vector3d b = FitQuadratic(uv);
+  double sq = 0;
+  for (const auto& x : uv) {
+    const double r = b(0) + b(1) * x.x() + b(2) * x.x() * x.x() - x.y();
+    sq += r * r;
+  }
+  const double rms = std::sqrt(sq / static_cast<double>(uv.size()));
+  if (rms > P.max_fit_rms_px) return false;
+  // Support: the share of the span covered by the pieces' projections.
+  std::vector<std::pair<double, double>> spans;
+  for (const Segment* s : group) {
+    const double a = axis.dot(s->p - c), e = axis.dot(s->q - c);
+    spans.emplace_back(std::min(a, e), std::max(a, e));
+  }
+  std::sort(spans.begin(), spans.end());
+  double covered = 0, reach = -1e300;
+  for (const auto& [a, e] : spans) {
+    if (e <= reach) continue;
+    covered += e - std::max(a, reach);
+    reach = e;
+  }
+  const double support = covered / (u_max - u_min);
+  if (support < P.min_support) return false;
+  w->origin_px = c;
+  w->axis = axis;
+  w->b = b;
+  w->u_min = u_min;
+  w->u_max = u_max;
+  w->rms_px = rms;
+  w->support = support;
+  w->segments = static_cast<int>(group.size());
+  return true;
+}
+
+void CheckImage(const cv::Mat& bgr) {
+  if (bgr.empty()) throw std::invalid_argument("empty image");
+  if (bgr.type() != CV_8UC3)
+    throw std::invalid_argument("image has " + std::to_string(bgr.channels()) + " channel(s) of depth " +
+                                std::to_string(bgr.depth()) + "; a BGR colour image (8-bit, 3 channels) is needed");
+  if (bgr.cols < 32 || bgr.rows < 32)
+    throw std::invalid_argument("image of " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) +
+                                " px is smaller than 32x32");
+}
+
+}  // namespace
+
+void PowerLineParams::Validate() const {
+  auto check = [](bool ok, const char* name) {
+    if (!ok) throw std::invalid_argument(std::string("power-line parameter ") + name + " out of range");
+  };
+  check(max_wire_width_px >= 1 && max_wire_width_px <= 30, "max_wire_width_px (1..30)");
+  check(edge_threshold >= 0 && edge_threshold <= 255, "edge_threshold (0..255)");
+  check(min_segment_fraction > 0 && min_segment_fraction < 1, "min_segment_fraction (0..1)");
+  check(horizontal_max_angle_deg > 0 && horizontal_max_angle_deg <= 90, "horizontal_max_angle_deg (0..90)");
+  check(group_angle_deg > 0 && group_angle_deg < 45, "group_angle_deg (0..45)");
+  check(group_offset_px > 0 && group_offset_px < 50, "group_offset_px (0..50)");
+  check(group_gap_fraction >= 0 && group_gap_fraction < 1, "group_gap_fraction (0..1)");
+  check(min_wire_fraction > 0 && min_wire_fraction <= 1, "min_wire_fraction (0..1)");
+  check(min_support > 0 && min_support <= 1, "min_support (0..1)");
+  check(max_fit_rms_px > 0 && max_fit_rms_px < 50, "max_fit_rms_px (0..50)");
+}
+
+Eigen::Vector2d WireCurve::PointAt(double u) const {
+  const Eigen::Vector2d perp(-axis.y(), axis.x());
+  return origin_px + u * axis + (b(0) + b(1) * u + b(2) * u * u) * perp;
+}
+
+std::vector<Eigen::Vector2d> WireCurve::Sample(double step_px) const {
+  std::vector<Eigen::Vector2d> out;
+  const int n = std::max(1, static_cast<int>(std::ceil((u_max - u_min) / std::max(step_px, 0.1))));
+  for (int i = 0; i <= n; ++i) out.push_back(PointAt(u_min + (u_max - u_min) * i / n));
+  return out;
+}
+
+Eigen::Vector3d FitQuadratic(const std::vector<Eigen::Vector2d>& uv) {
+  // The rows of X are (1, u, u^2) (Eq. 3.38-3.39); b minimises |X b - v|^2 (Eq. 3.40).
+  Eigen::MatrixXd X(uv.size(), 3);
+  Eigen::VectorXd v(uv.size());
+  for (std::size_t i = 0; i < uv.size(); ++i) {
+    X(i, 0) = 1.0;
+    X(i, 1) = uv[i].x();
+    X(i, 2) = uv[i].x() * uv[i].x();
+    v(i) = uv[i].y();
+  }
+  return X.colPivHouseholderQr().solve(v);
+}
+
+PowerLineDetector::PowerLineDetector(const PowerLineParams& params) : params_(params) { params_.Validate(); }
+
+std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
+  CheckImage(bgr);
+  const PowerLineParams& P = params_;
+  const double diag = std::hypot(bgr.cols, bgr.rows);
+  cv::Mat gray;
+  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+  // Thickness filter: the black-hat keeps dark structures, the top-hat bright ones, narrower
+  // than the kernel; a step edge (a roof, a road, a wall) has neither and drops out here.
+  const int k = 2 * static_cast<int>(std::ceil(P.max_wire_width_px)) + 1;
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k));
+  cv::Mat dark, bright, thin;
+  cv::morphologyEx(gray, dark, cv::MORPH_BLACKHAT, kernel);
+  cv::morphologyEx(gray, bright, cv::MORPH_TOPHAT, kernel);
+  cv::max(dark, bright, thin);
+  // Sobel gradients of the thin structures (Eq. 3.28-3.30): both directions for wires at any
+  // angle, d/dy alone for the thesis's near-horizontal wires.
+  cv::Mat gx, gy, mag;
+  cv::Sobel(thin, gy, CV_32F, 0, 1, 3);
+  if (P.mode == PowerLineParams::Mode::kHorizontal) {
+    mag = cv::abs(gy);
+  } else {
+    cv::Sobel(thin, gx, CV_32F, 1, 0, 3);
+    cv::magnitude(gx, gy, mag);
+  }
+  // Inverse threshold: thin structures whose edges are strong enough (the Sobel kernel's gain of
+  // 4 taken out, so the threshold is in grey levels) stay, the rest goes; inverted, the wires
+  // are dark lines on white, and LSD finds each as the pair of its flanks, a pixel either side.
+  cv::Mat strong;
+  mag.convertTo(strong, CV_32F, 0.25);
+  cv::dilate(strong > P.edge_threshold, strong, cv::Mat());  // the ridge lies between its edges
+  cv::Mat kept = cv::Mat::zeros(thin.size(), CV_8U);
+  thin.copyTo(kept, strong);
+  cv::Mat lsd_input;
+  kept.convertTo(lsd_input, CV_8U, -2.0, 255.0);
+  std::vector<cv::Vec4f> raw;
+  cv::createLineSegmentDetector(cv::LSD_REFINE_STD)->detect(lsd_input, raw);
+  std::vector<Segment> segs;
+  const double min_len = P.min_segment_fraction * diag;
+  const double max_slope = std::tan(P.horizontal_max_angle_deg * kDeg);
+  for (const auto& r : raw) {
+    Segment s{{r[0], r[1]}, {r[2], r[3]}, {}, 0.0};
+    s.length = (s.q - s.p).norm();
+    if (s.length < min_len) continue;  // removal of short segments
+    s.d = (s.q - s.p) / s.length;
+    if (s.d.x() < 0 || (s.d.x() == 0 && s.d.y() < 0)) s.d = -s.d;
+    if (P.mode == PowerLineParams::Mode::kHorizontal && std::abs(s.d.y()) > max_slope * std::abs(s.d.x())) continue;
+    segs.push_back(s);
+  }
+  // Grouping: pieces that continue one another belong to one wire (union-find).
+  std::vector<int> parent(segs.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (std::size_t i = 0; i < segs.size(); ++i)
+    for (std::size_t j = i + 1; j < segs.size(); ++j)
+      if (SameWire(segs[i], segs[j], P, diag)) parent[Find(parent, static_cast<int>(i))] = Find(parent, static_cast<int>(j));
+  std::vector<std::vector<const Segment*>> groups(segs.size());
+  for (std::size_t i = 0; i < segs.size(); ++i) groups[Find(parent, static_cast<int>(i))].push_back(&segs[i]);
+  // Second pass, on the curves: a group whose pieces all lie on another group's fitted curve
+  // (within the grouping offset, extrapolated across the gap) is the same wire: a sagging wire's
+  // far pieces, or its other flank. Groups too short to be wires alone join this way too.
+  std::vector<std::pair<int, WireCurve>> fitted;
+  PowerLineParams loose = P;
+  loose.min_wire_fraction = P.min_segment_fraction;
+  loose.min_support = 0.01;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    WireCurve w;
+    if (!groups[g].empty() && FitWire(groups[g], loose, diag, &w)) fitted.emplace_back(static_cast<int>(g), w);
+  }
+  auto on_curve = [&](const std::vector<const Segment*>& pieces, const WireCurve& w) {
+    const Eigen::Vector2d perp(-w.axis.y(), w.axis.x());
+    const double reach = P.group_gap_fraction * diag;
+    for (const Segment* s : pieces)
+      for (const Eigen::Vector2d& x : {s->p, s->q, Eigen::Vector2d(0.5 * (s->p + s->q))}) {
+        const double u = w.axis.dot(x - w.origin_px), v = perp.dot(x - w.origin_px);
+        if (u < w.u_min - reach || u > w.u_max + reach) return false;
+        if (std::abs(w.b(0) + w.b(1) * u + w.b(2) * u * u - v) > P.group_offset_px) return false;
+      }
+    return true;
+  };
+  std::vector<int> merged(groups.size());
+  std::iota(merged.begin(), merged.end(), 0);
+  // Longest curves first, so that pieces join the best-supported curve.
+  std::sort(fitted.begin(), fitted.end(), [](const auto& a, const auto& b) {
+    return a.second.u_max - a.second.u_min > b.second.u_max - b.second.u_min;
+  });
+  for (std::size_t i = 0; i < fitted.size(); ++i)
+    for (std::size_t j = i + 1; j < fitted.size(); ++j)
+      if (on_curve(groups[fitted[j].first], fitted[i].second) || on_curve(groups[fitted[i].first], fitted[j].second))
+        merged[Find(merged, fitted[j].first)] = Find(merged, fitted[i].first);
+  std::vector<std::vector<const Segment*>> wires_pieces(groups.size());
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    for (const Segment* s : groups[g]) wires_pieces[Find(merged, static_cast<int>(g))].push_back(s);
+  std::vector<WireCurve> wires;
+  for (const auto& g : wires_pieces) {
+    WireCurve w;
+    if (!g.empty() && FitWire(g, P, diag, &w)) wires.push_back(w);
+  }
+  // Longest first.
+  std::sort(wires.begin(), wires.end(),
+            [](const WireCurve& a, const WireCurve& b) { return a.u_max - a.u_min > b.u_max - b.u_min; });
+  return wires;
+}
+
+std::vector<cv::Vec4f> LsdSegments(const cv::Mat& bgr) {
+  CheckImage(bgr);
+  cv::Mat gray;
+  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+  std::vector<cv::Vec4f> segs;
+  cv::createLineSegmentDetector(cv::LSD_REFINE_STD)->detect(gray, segs);
+  return segs;
+}
+
+cv::Mat DrawWireMask(const cv::Size& size, const std::vector<WireCurve>& wires, int width_px) {
+  cv::Mat mask = cv::Mat::zeros(size, CV_8U);
+  for (const auto& w : wires) {
+    std::vector<cv::Point> pts;
+    for (const auto& p : w.Sample(2.0)) pts.emplace_back(cvRound(p.x()), cvRound(p.y()));
+    cv::polylines(mask, pts, false, cv::Scalar(255), width_px, cv::LINE_8);
+  }
+  return mask;
+}
+
+cv::Mat DrawSegmentMask(const cv::Size& size, const std::vector<cv::Vec4f>& segments, int width_px) {
+  cv::Mat mask = cv::Mat::zeros(size, CV_8U);
+  for (const auto& s : segments)
+    cv::line(mask, cv::Point(cvRound(s[0]), cvRound(s[1])), cv::Point(cvRound(s[2]), cvRound(s[3])), cv::Scalar(255),
+             width_px, cv::LINE_8);
+  return mask;
+}
+
+MaskScore ScoreMasks(const cv::Mat& detected, const cv::Mat& truth, double tol_px) {
+  // Distance of every pixel to the nearest set pixel of each mask.
+  auto distance_to = [](const cv::Mat& mask) {
+    cv::Mat inverted = mask == 0, dist;
+    cv::distanceTransform(inverted, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    return dist;
+  };
+  const cv::Mat to_truth = distance_to(truth), to_detected = distance_to(detected);
+  const double n_det = cv::countNonZero(detected), n_truth = cv::countNonZero(truth);
+  MaskScore s;
+  if (n_det > 0) s.precision = cv::countNonZero((to_truth <= tol_px) & (detected > 0)) / n_det;
+  if (n_truth > 0) s.recall = cv::countNonZero((to_detected <= tol_px) & (truth > 0)) / n_truth;
+  if (s.precision + s.recall > 0) s.f1 = 2 * s.precision * s.recall / (s.precision + s.recall);
+  return s;
+}
+
+}  // namespace uav::vision

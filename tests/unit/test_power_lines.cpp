@@ -1,0 +1,191 @@
+// Power-line detection (thesis 3.6) against the renderer's exact wires: per-pixel precision,
+// recall and F1 with a 3 px tolerance beside the LSD-only baseline, in the plain power-line
+// scene and through a village (roofs, roads, trees, building edges), from a forward camera and a
+// tilted one; the quadratic fit; bad input.
+#include <cstdio>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "uav/shared/frames.hpp"
+#include "uav/vision/power_line_detector.hpp"
+#include "uav/world/renderer.hpp"
+#include "uav/world/scene.hpp"
+
+namespace uav::vision {
+namespace {
+
+const world::Scene& LoadScene(const std::string& name) {
+  static std::map<std::string, world::Scene> cache;
+  auto it = cache.find(name);
+  if (it == cache.end())
+    it = cache.emplace(name, world::Scene::LoadFile(std::string(UAV_RESOURCE_DIR) + "/scenes/" + name + ".scene.json")).first;
+  return it->second;
+}
+
+// A camera at p_N looking along yaw (from north) with the optical axis pitched up by `pitch`.
+Eigen::Isometry3d CameraPose(const Eigen::Vector3d& p_N, double yaw, double pitch_up) {
+  Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
+  T_NB.linear() = RotationNBFromEuler({0.0, pitch_up, yaw});
+  T_NB.translation() = p_N;
+  Eigen::Isometry3d T_BC = Eigen::Isometry3d::Identity();
+  T_BC.linear() = world::RotationBCForward();
+  return T_NB * T_BC;
+}
+
+struct View {
+  const char* scene;
+  const char* name;
+  Eigen::Vector3d p_N;
+  double yaw_deg, pitch_deg;
+};
+
+struct Truth {
+  cv::Mat mask;                 // 1 px centre lines of the visible wires
+  std::vector<double> range_m;  // per visible wire: nearest visible point's distance
+  std::vector<cv::Mat> wires;   // each visible wire's own mask
+};
+
+// Projects every cable of the scene into the frame, keeping the points nothing hides (the
+// renderer's depth behind them, or sky).
+Truth WireTruth(const world::Scene& scene, const world::CameraSetup& cam, const world::Frame& f) {
+  Truth t;
+  t.mask = cv::Mat::zeros(f.image.size(), CV_8U);
+  const Eigen::Isometry3d T_CN = f.T_NC.inverse();
+  for (const auto& cable : scene.cables()) {
+    cv::Mat one = cv::Mat::zeros(f.image.size(), CV_8U);
+    double nearest = 1e9;
+    cv::Point prev(-1, -1);
+    for (const auto& p_N : cable.Sample(2000)) {
+      const Eigen::Vector3d p_C = T_CN * p_N;
+      cv::Point cur(-1, -1);
+      if (p_C.z() > 0.3) {
+        const Eigen::Vector2d uv = Project(cam.intrinsics, p_C);
+        const int u = cvRound(uv.x()), v = cvRound(uv.y());
+        if (u >= 0 && v >= 0 && u < f.image.cols && v < f.image.rows) {
+          const float depth = f.depth.at<float>(v, u);
+          if (depth <= 0 || depth > p_C.z() - 0.5) {
+            cur = cv::Point(u, v);
+            nearest = std::min(nearest, p_C.norm());
+          }
+        }
+      }
+      if (cur.x >= 0 && prev.x >= 0 && std::abs(cur.x - prev.x) + std::abs(cur.y - prev.y) < 20) cv::line(one, prev, cur, 255);
+      else if (cur.x >= 0) one.at<uint8_t>(cur) = 255;
+      prev = cur;
+    }
+    if (cv::countNonZero(one) < 20) continue;
+    t.mask |= one;
+    t.wires.push_back(one);
+    t.range_m.push_back(nearest);
+  }
+  return t;
+}
+
+struct Result {
+  MaskScore ours, lsd;
+  int wires_within_30m = 0, found_within_30m = 0;
+};
+
+Result Evaluate(const View& v, PowerLineParams::Mode mode = PowerLineParams::Mode::kAny) {
+  const world::Scene& scene = LoadScene(v.scene);
+  world::CameraSetup cam = scene.stereo_camera()->left;
+  cam.noise_sigma = 2.0;
+  const world::Renderer renderer(scene, cam);
+  const world::Frame f = renderer.Render(CameraPose(v.p_N, v.yaw_deg * M_PI / 180, v.pitch_deg * M_PI / 180), 1'000'000);
+  const Truth truth = WireTruth(scene, cam, f);
+  PowerLineParams params;
+  params.mode = mode;
+  const auto wires = PowerLineDetector(params).Detect(f.image);
+  const cv::Mat ours = DrawWireMask(f.image.size(), wires, 2);
+  const cv::Mat lsd = DrawSegmentMask(f.image.size(), LsdSegments(f.image), 2);
+  Result r;
+  r.ours = ScoreMasks(ours, truth.mask, 3.0);
+  r.lsd = ScoreMasks(lsd, truth.mask, 3.0);
+  for (std::size_t i = 0; i < truth.wires.size(); ++i) {
+    if (truth.range_m[i] > 30.0) continue;
+    ++r.wires_within_30m;
+    r.found_within_30m += ScoreMasks(ours, truth.wires[i], 3.0).recall > 0.5;
+  }
+  std::printf("%-22s %-24s ours P %.3f R %.3f F1 %.3f | LSD-only P %.3f R %.3f F1 %.3f | wires <= 30 m found %d/%d (%zu detected)\n",
+              v.scene, v.name, r.ours.precision, r.ours.recall, r.ours.f1, r.lsd.precision, r.lsd.recall, r.lsd.f1,
+              r.found_within_30m, r.wires_within_30m, wires.size());
+  if (const char* dir = std::getenv("UAV_POWERLINE_PICTURES")) {
+    cv::Mat shown = f.image.clone();
+    for (const auto& w : wires) {
+      std::vector<cv::Point> pts;
+      for (const auto& p : w.Sample(2.0)) pts.emplace_back(cvRound(p.x()), cvRound(p.y()));
+      cv::polylines(shown, pts, false, cv::Scalar(0, 0, 255), 2, cv::LINE_AA);
+    }
+    cv::imwrite(std::string(dir) + "/" + v.scene + "_" + v.name + ".png", shown);
+  }
+  return r;
+}
+
+// Views the method is meant for: a forward camera flying toward the wires at 10 and 20 m, and a
+// camera tilted 40 degrees down from above them, in the open and through the village.
+const View kViews[] = {
+    {"power_lines", "forward_10m", {10, 5, -8}, 0, 5},
+    {"power_lines", "forward_20m", {0, 15, -6}, 10, 8},
+    {"power_lines", "tilted_down_above", {12, 0, -16}, 0, -40},
+    {"power_lines_village", "forward_10m", {10, 5, -8}, 0, 5},
+    {"power_lines_village", "forward_20m", {0, 15, -6}, 10, 8},
+    {"power_lines_village", "tilted_down_above", {12, 0, -16}, 0, -40},
+};
+
+class PowerLineAccuracy : public ::testing::TestWithParam<View> {};
+
+TEST_P(PowerLineAccuracy, FindsEveryNearWireAndBeatsLsdAlone) {
+  const Result r = Evaluate(GetParam());
+  ASSERT_GT(r.wires_within_30m, 0);
+  EXPECT_EQ(r.found_within_30m, r.wires_within_30m);
+  EXPECT_GT(r.ours.f1, 0.85);
+  EXPECT_GT(r.ours.f1, r.lsd.f1 + 0.05);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, PowerLineAccuracy, ::testing::ValuesIn(kViews),
+                         [](const auto& info) { return std::string(info.param.scene) + "_" + info.param.name; });
+
+// The view the method does not handle yet: wires seen obliquely, descending across the fields
+// toward a pole 15 m away, with the horizon and the pole (straight thin structures too) beside
+// them. Pinned at what it does today so that it can only get better.
+TEST(PowerLineAccuracyKnownHard, ObliqueWiresAcrossTheFields) {
+  const Result open = Evaluate({"power_lines", "oblique_15m", {8, -30, -9}, 40, 5});
+  const Result village = Evaluate({"power_lines_village", "oblique_15m", {8, -30, -9}, 40, 5});
+  EXPECT_GE(village.found_within_30m, 2);
+  EXPECT_GT(village.ours.f1, village.lsd.f1);
+  EXPECT_GT(open.ours.precision, 0.15);
+}
+
+TEST(PowerLineFit, QuadraticThroughNoisyPointsRecoversTheCurve) {
+  std::vector<Eigen::Vector2d> uv;
+  for (int i = -50; i <= 50; ++i) uv.emplace_back(i * 3.0, 4.0 - 0.2 * i * 3.0 + 0.001 * i * i * 9.0 + (((i + 300) % 3) - 1) * 0.2);
+  const Eigen::Vector3d b = FitQuadratic(uv);
+  EXPECT_NEAR(b(0), 4.0, 0.1);
+  EXPECT_NEAR(b(1), -0.2, 1e-3);
+  EXPECT_NEAR(b(2), 0.001, 1e-5);
+}
+
+TEST(PowerLineInput, BadImagesAreRefusedByName) {
+  const PowerLineDetector d;
+  auto error = [&](const cv::Mat& m) {
+    try {
+      d.Detect(m);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error(cv::Mat()).find("empty"), std::string::npos);
+  EXPECT_NE(error(cv::Mat(100, 100, CV_8UC1, cv::Scalar(0))).find("1 channel"), std::string::npos);
+  EXPECT_NE(error(cv::Mat(10, 100, CV_8UC3, cv::Scalar(0))).find("smaller than 32x32"), std::string::npos);
+  PowerLineParams p;
+  p.max_wire_width_px = 0;
+  EXPECT_THROW(PowerLineDetector{p}, std::invalid_argument);
+  // A blank image has no wire.
+  EXPECT_TRUE(d.Detect(cv::Mat(120, 160, CV_8UC3, cv::Scalar(90, 120, 140))).empty());
+}
+
+}  // namespace
+}  // namespace uav::vision
