@@ -6,6 +6,7 @@
 #include <csignal>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include <CLI/CLI.hpp>
 #include <imgui.h>
@@ -27,11 +28,19 @@ volatile std::sig_atomic_t g_stop = 0;
 void OnSignal(int) { g_stop = 1; }
 double Now() { return uav::MonotonicMicros() * 1e-6; }
 
-// Scripts drive the replay through this.
+// Scripts and the Replay panel drive the replay through this. A seek back rebuilds the model, so
+// the panel's seeks wait for the start of the next frame (`deferred`), when no panel holds it.
 class ReplayScriptControl : public uav::gcs::ReplayControl {
  public:
-  explicit ReplayScriptControl(uav::gcs::LogReplay& r) : r_(r) {}
-  void Seek(double t) override { r_.Seek(t); }
+  ReplayScriptControl(uav::gcs::LogReplay& r, bool deferred) : r_(r), deferred_(deferred) {}
+  void Seek(double t) override {
+    if (deferred_) pending_ = t;
+    else r_.Seek(t);
+  }
+  void ApplyPending() {
+    if (pending_) r_.Seek(*pending_);
+    pending_.reset();
+  }
   void Pause() override { r_.Pause(); }
   void Play() override { r_.Play(); }
   bool SetSpeed(double speed) override { return r_.SetSpeed(speed); }
@@ -46,6 +55,8 @@ class ReplayScriptControl : public uav::gcs::ReplayControl {
 
  private:
   uav::gcs::LogReplay& r_;
+  bool deferred_;
+  std::optional<double> pending_;
 };
 }  // namespace
 
@@ -114,11 +125,12 @@ int main(int argc, char** argv) {
     } else {
       fresh_model();
     }
-    std::unique_ptr<ReplayScriptControl> replay_control;
+    std::unique_ptr<ReplayScriptControl> panel_control, script_control;
     if (replay) {
-      replay_control = std::make_unique<ReplayScriptControl>(*replay);
-      ctx.replay = replay_control.get();
-      if (runner) runner->SetReplay(replay_control.get());
+      panel_control = std::make_unique<ReplayScriptControl>(*replay, true);
+      script_control = std::make_unique<ReplayScriptControl>(*replay, false);
+      ctx.replay = panel_control.get();
+      if (runner) runner->SetReplay(script_control.get());  // runs after the frame's panels
     }
     std::unique_ptr<uav::gcs::Platform> platform =
         headless ? uav::gcs::MakeNullPlatform(1600, 900)
@@ -145,6 +157,7 @@ int main(int argc, char** argv) {
       const double wall = Now();
       double now = wall;
       if (replay) {
+        panel_control->ApplyPending();
         replay->Advance(wall - last_replay);
         last_replay = wall;
         now = replay->now();  // the model's clock is the flight's
