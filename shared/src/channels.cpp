@@ -21,6 +21,7 @@ const char* TopicName(Topic t) {
     case Topic::kMapTile: return "MAP_TILE";
     case Topic::kTrackTarget: return "TRACK_TARGET";
     case Topic::kTrackStatus: return "TRACK_STATUS";
+    case Topic::kPowerLines: return "POWER_LINES";
   }
   return "UNKNOWN";
 }

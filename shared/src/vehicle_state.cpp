@@ -48,6 +48,7 @@ const std::vector<Signal<VehicleState>>& VehicleStateSignals() {
       {{"mission_item", "mission_item", "1", "", F::kInteger}, [](const S& s) { return double(s.mission_item); }},
       {{"capturing", "capturing", "1", "", F::kBool}, [](const S& s) { return B(s.capturing); }},
       {{"obstacle_range", "obstacle_range_m", "m", "B", F::kMetres}, [](const S& s) { return s.obstacle_range_m; }},
+      {{"wire_range", "nearest_wire_m", "m", "B", F::kMetres}, [](const S& s) { return s.nearest_wire_m; }},
       {{"alt", "", "m", "above home", F::kMetres}, [](const S& s) { return s.altitude(); }},
       {{"gps_lat", "gps_latitude_deg", "deg", "WGS84", F::kLatLon}, [](const S& s) { return s.gps.latitude_deg; }},
       {{"gps_lon", "gps_longitude_deg", "deg", "WGS84", F::kLatLon}, [](const S& s) { return s.gps.longitude_deg; }},
@@ -170,6 +171,7 @@ VehicleState FromMessage(const uavmsg::vehicle_state_t& m) {
   s.battery_voltage_v = m.battery_voltage_v;
   s.battery_remaining = m.battery_remaining;
   s.obstacle_range_m = m.obstacle_range_m;
+  s.nearest_wire_m = m.nearest_wire_m;
   s.fence_radius_m = m.fence_radius_m;
   s.fence_alt_m = m.fence_alt_m;
   s.chirp_channel = m.chirp_channel;
@@ -206,6 +208,7 @@ void ToMessage(const VehicleState& s, uavmsg::vehicle_state_t* m) {
   m->battery_voltage_v = static_cast<float>(s.battery_voltage_v);
   m->battery_remaining = static_cast<float>(s.battery_remaining);
   m->obstacle_range_m = static_cast<float>(s.obstacle_range_m);
+  m->nearest_wire_m = static_cast<float>(s.nearest_wire_m);
   m->fence_radius_m = static_cast<float>(s.fence_radius_m);
   m->fence_alt_m = static_cast<float>(s.fence_alt_m);
   m->chirp_channel = static_cast<int8_t>(s.chirp_channel);

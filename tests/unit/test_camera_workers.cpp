@@ -74,7 +74,7 @@ TEST(StereoWorker, PostsTheObstacleRangeAhead) {
   Blackboard board;
   Eigen::Isometry3d T_NB = Pose(4, 3, -1.5);  // the pole at (8, 3) 4 m ahead
   sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return T_NB; });
-  StereoWorker worker(sim_pair, board);
+  StereoWorker worker(sim_pair, board, StereoWorkerParams());
   worker.Tick(1'000'000);
   EXPECT_NEAR(board.Snapshot().obstacle_range_m, 3.7, 0.15);  // truth 3.70 m (test_vision)
   T_NB = Pose(-58, 55, -1.5);  // the corner of the forest, looking out over open ground
@@ -82,6 +82,55 @@ TEST(StereoWorker, PostsTheObstacleRangeAhead) {
   worker.Tick(1'066'667);
   EXPECT_LT(board.Snapshot().obstacle_range_m, 0.0);
   EXPECT_EQ(worker.frames(), 2);
+}
+
+// The power-line scene's rig is rolled 45 degrees (level wires are diagonal to its baseline).
+// Facing the line from 15 m with the estimate equal to the truth, the wires come out in NED
+// where the scene strung them (20 m north, 8.5-10 m up), and the nearest one in the state.
+TEST(StereoWorker, ReportsPowerLinesInNedAndTheNearestWire) {
+  const world::Scene scene = LoadScene("power_lines");
+  Blackboard board;
+  const Eigen::Isometry3d T_NB = Pose(5, 0, -7);
+  board.Update([&](BlackboardData& d) {
+    d.estimate.p_N = T_NB.translation();
+    d.estimate.euler = {0.0, 0.0, 0.0};
+  });
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return T_NB; });
+  StereoWorker worker(sim_pair, board, StereoWorkerParams());
+  worker.Tick(1'000'000);
+  const auto report = board.TakePowerLines();
+  ASSERT_TRUE(report);
+  EXPECT_EQ(report->camera, "stereo_left");
+  ASSERT_FALSE(report->wires.empty());
+  int ranged = 0;
+  for (const PowerLine& w : report->wires) {
+    for (const Eigen::Vector2d& uv : w.image_uv) {
+      EXPECT_GE(uv.x(), -0.01);
+      EXPECT_LE(uv.x(), 1.01);
+    }
+    if (w.p_N.empty()) continue;
+    ++ranged;
+    for (const Eigen::Vector3d& p : w.p_N) {
+      EXPECT_NEAR(p.x(), 20.0, 2.5);   // the line's north, +-1.2 m wire spacing
+      EXPECT_LT(p.z(), -7.0);          // above the vehicle (poles 10 m, 1.5 m sag)
+      EXPECT_GT(p.z(), -11.0);
+    }
+  }
+  EXPECT_GT(ranged, 0);
+  EXPECT_NEAR(board.Snapshot().nearest_wire_m, 13.8, 2.0);  // nearest visible cable point 13.77 m
+  EXPECT_DOUBLE_EQ(board.Snapshot().nearest_wire_m, report->nearest_m);
+}
+
+TEST(StereoWorker, PowerLinesOffSendsNone) {
+  const world::Scene scene = LoadScene("power_lines");
+  Blackboard board;
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return Pose(5, 0, -7); });
+  StereoWorkerParams params;
+  params.power_lines = false;
+  StereoWorker worker(sim_pair, board, params);
+  worker.Tick(1'000'000);
+  EXPECT_FALSE(board.TakePowerLines());
+  EXPECT_LT(board.Snapshot().nearest_wire_m, 0.0);
 }
 
 }  // namespace

@@ -21,6 +21,7 @@
 #include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/map_tile_t.hpp"
+#include "uavmsg/power_lines_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/track_status_t.hpp"
 #include "uavmsg/track_target_t.hpp"
@@ -250,6 +251,81 @@ TEST_F(LinkTest, MissionUploadGoesOutAndItsAcknowledgementComesBack) {
   }
   ASSERT_TRUE(model_.vehicles().at("UAV1").mission);
   EXPECT_GT(model_.vehicles().at("UAV1").mission->items.size(), 5u);
+}
+
+uavmsg::power_lines_t WiresMsg(int64_t seq, double nearest_m) {
+  PowerLines p;
+  p.utime = seq;
+  p.camera = "stereo_left";
+  p.nearest_m = nearest_m;
+  PowerLine ranged;
+  ranged.image_uv = {{0.1, 0.8}, {0.5, 0.5}, {0.9, 0.2}};
+  ranged.p_N = {{20, -5, -9}, {20, 0, -8.5}, {20, 5, -9}};
+  ranged.range_m = nearest_m;
+  ranged.range_sigma_m = 0.4;
+  PowerLine unranged;
+  unranged.image_uv = {{0.0, 0.3}, {1.0, 0.35}};
+  p.wires = {ranged, unranged};
+  uavmsg::power_lines_t m = ToMessage(p);
+  m.header = {"UAV1", seq};
+  return m;
+}
+
+// Power lines decode into the model; a wire nearer than the warning distance raises the warning
+// once, it clears beyond the margin, and stale reports clear it too, saying so.
+TEST_F(LinkTest, PowerLinesWarnWhenAWireComesNearAndClearWithAMargin) {
+  model_.wires().params().warn_distance_m = 15.0;
+  auto publish = [&](int64_t seq, double nearest) {
+    bus_.Publish("UAV1/POWER_LINES", WiresMsg(seq, nearest));
+    Poll();
+  };
+  auto warnings = [&] {
+    int n = 0;
+    for (const auto& l : model_.log().lines()) n += l.text.find("power line ") == 0 && l.severity == Severity::kWarning;
+    return n;
+  };
+  publish(1, 20.0);
+  const VehicleModel& v = model_.vehicles().at("UAV1");
+  ASSERT_TRUE(v.power_lines);
+  ASSERT_EQ(v.power_lines->wires.size(), 2u);
+  EXPECT_TRUE(v.power_lines->wires[0].ranged());
+  EXPECT_FALSE(v.power_lines->wires[1].ranged());
+  EXPECT_NEAR(v.power_lines->wires[0].p_N[1].z(), -8.5, 1e-5);
+  EXPECT_NEAR(v.power_lines->wires[0].image_uv[2].x(), 0.9, 1e-6);
+  EXPECT_EQ(v.power_lines->camera, "stereo_left");
+  EXPECT_FALSE(v.wire_warning);
+  EXPECT_EQ(v.wire_map.size(), 1u);  // the ranged wire kept for the map
+  publish(2, 12.0);
+  EXPECT_TRUE(v.wire_warning);
+  publish(3, 11.0);
+  publish(4, 16.0);  // inside the clearing margin (15 m x 1.2): still warning, no new message
+  EXPECT_TRUE(v.wire_warning);
+  EXPECT_EQ(warnings(), 1);
+  publish(5, 19.0);
+  EXPECT_FALSE(v.wire_warning);
+  EXPECT_EQ(model_.log().lines().back().text, "power lines clear: nearest 19.0 m");
+  publish(6, 9.0);
+  EXPECT_EQ(warnings(), 2);
+  model_.Tick(now_ + 3.0);  // no report for 3 s
+  EXPECT_FALSE(v.wire_warning);
+  EXPECT_NE(model_.log().lines().back().text.find("reports stopped"), std::string::npos);
+  EXPECT_EQ(link_.dropped_messages(), 0);
+}
+
+TEST_F(LinkTest, MalformedPowerLinesAreDroppedWithTheReason) {
+  auto nan_point = WiresMsg(1, 10.0);
+  nan_point.wires[0].down_m[1] = NAN;
+  bus_.Publish("UAV1/POWER_LINES", nan_point);
+  Poll();
+  EXPECT_EQ(link_.dropped_messages(), 1);
+  EXPECT_NE(link_.last_drop_reason().find("wire 0: point 1 is not finite"), std::string::npos) << link_.last_drop_reason();
+  auto range_without_points = WiresMsg(3, 10.0);
+  range_without_points.wires[1].range_m = 4.0;
+  bus_.Publish("UAV1/POWER_LINES", range_without_points);
+  Poll();
+  EXPECT_EQ(link_.dropped_messages(), 2);
+  EXPECT_NE(link_.last_drop_reason().find("a range needs points"), std::string::npos);
+  EXPECT_TRUE(model_.vehicles().empty() || !model_.vehicles().at("UAV1").power_lines);
 }
 
 TEST_F(LinkTest, MismatchedVehicleIdsAndGarbageAreDroppedAndCounted) {

@@ -12,17 +12,12 @@
 #include "uav/vision/power_line_detector.hpp"
 #include "uav/world/renderer.hpp"
 #include "uav/world/scene.hpp"
+#include "unit/scene_test_util.hpp"
 
 namespace uav::vision {
 namespace {
 
-const world::Scene& LoadScene(const std::string& name) {
-  static std::map<std::string, world::Scene> cache;
-  auto it = cache.find(name);
-  if (it == cache.end())
-    it = cache.emplace(name, world::Scene::LoadFile(std::string(UAV_RESOURCE_DIR) + "/scenes/" + name + ".scene.json")).first;
-  return it->second;
-}
+const world::Scene& LoadScene(const std::string& name) { return test::CachedScene(name); }
 
 // A camera at p_N looking along yaw (from north) with the optical axis pitched up by `pitch`.
 Eigen::Isometry3d CameraPose(const Eigen::Vector3d& p_N, double yaw, double pitch_up) {

@@ -70,6 +70,7 @@ int main(int argc, char** argv) {
   std::string download_dir;
   std::string replay_path;
   double replay_speed = 1.0;
+  uav::gcs::WireWarningParams wire_warning;
   cli.add_option("--lcm-url", lcm_url, "LCM URL")->capture_default_str();
   cli.add_option("--name", name, "this GCS's name on the bus (commands are answered to it)");
   cli.add_flag("--headless", headless, "no window: ImGui null backend, same panels");
@@ -85,6 +86,10 @@ int main(int argc, char** argv) {
   cli.add_option("--speed", replay_speed, "replay speed")
       ->check(CLI::Range(uav::gcs::LogReplay::kMinSpeed, uav::gcs::LogReplay::kMaxSpeed))
       ->needs("--replay")
+      ->capture_default_str();
+  cli.add_option("--wire-warning", wire_warning.warn_distance_m,
+                 "warn (status bar, messages) when a ranged power line is nearer than this [m]")
+      ->check(CLI::Range(0.5, 500.0))
       ->capture_default_str();
   cli.add_option("--exit-after", exit_after, "quit after this many seconds (0: never)")->check(CLI::Range(0.0, 1e6));
   CLI11_PARSE(cli, argc, argv);
@@ -108,6 +113,7 @@ int main(int argc, char** argv) {
       model_ptr = std::make_unique<uav::gcs::GcsModel>(name, uav::WallTimeMicros());
       model_ptr->SetReplay(replaying);
       if (!download_dir.empty()) model_ptr->maps().SetDownloadDir(download_dir);
+      model_ptr->wires().params() = wire_warning;
       link_ptr = std::make_unique<uav::gcs::GcsLink>(bus.get(), *model_ptr);
       // The panels' caches belong to the old model's frames and tiles.
       ctx.state.live_tiles.clear();

@@ -6,6 +6,7 @@
 
 #include "uav/shared/bus.hpp"
 #include "uav/shared/channels.hpp"
+#include "uav/shared/power_lines.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/waypoints/mission_messages.hpp"
 #include "uavmsg/command_ack_t.hpp"
@@ -15,6 +16,7 @@
 #include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/map_tile_t.hpp"
+#include "uavmsg/power_lines_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/track_status_t.hpp"
 #include "uavmsg/track_target_t.hpp"
@@ -120,6 +122,10 @@ const std::map<Topic, Decoder>& Decoders() {
          st.height = m.height;
          st.angle_rad = m.angle_rad;
          model.OnTrackStatus(id, st, now);
+       }},
+      {Topic::kPowerLines,
+       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
+         model.OnPowerLines(id, FromMessage(Decode<uavmsg::power_lines_t>(d, n, id)), now);
        }},
       {Topic::kStatusText,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {

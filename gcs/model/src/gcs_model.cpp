@@ -81,6 +81,10 @@ void GcsModel::OnTrackStatus(const std::string& vehicle_id, const TrackStatus& s
   if (VideoTracking::OnTrackStatus(v, vehicle_id, status, now, log_)) gcs::OnTrackTelemetry(v, status, now);
 }
 
+void GcsModel::OnPowerLines(const std::string& vehicle_id, PowerLines lines, double now) {
+  wires_.OnPowerLines(Vehicle(vehicle_id), vehicle_id, std::move(lines), now, log_);
+}
+
 void GcsModel::SelectVehicle(const std::string& id) {
   if (!vehicles_.count(id) || id == selected_) return;
   selected_ = id;
@@ -128,6 +132,7 @@ void GcsModel::Tick(double now) {
   for (auto& [id, v] : vehicles_) {
     maps_.Tick(v, id, now, log_);
     missions_.Tick(v, id, now, log_);
+    wires_.Tick(v, id, now, log_);
   }
   commands_.Tick(now, log_);
   if (replay_) {  // a replay only watches: whatever the concerns queued goes nowhere

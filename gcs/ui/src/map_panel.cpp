@@ -1,6 +1,6 @@
 // Map view: top-down in local metres (north up) around the map origin (the selected vehicle's
 // home). Shows the map the vehicle is stitching (live tiles, to scale), the vehicle with heading
-// and trail, home, the survey being planned (polygon,
+// and trail, home, the power lines it has ranged, the survey being planned (polygon,
 // coverage of the capture legs, path) and the mission the vehicle accepted. Mouse: wheel zooms
 // about the pointer; drag on empty ground pans; with "Edit survey" a click adds a vertex, a drag
 // on a vertex moves it and a right click deletes it. Latitude/longitude under the pointer.
@@ -198,6 +198,17 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
   dl->AddRect(ImVec2(home.x - 7, home.y - 7), ImVec2(home.x + 7, home.y + 7), kVehicle, 0, 0, 2.0f);
   dl->AddText(ImVec2(home.x + 9, home.y - 7), kVehicle, "H");
   if (v) {
+    // Power lines ranged during the flight (thesis 3.6): those in the newest report bright,
+    // earlier ones dim.
+    auto draw_wire = [&](const std::vector<Eigen::Vector3d>& p_N, ImU32 colour, float width) {
+      std::vector<ImVec2> pts;
+      for (const auto& p : p_N) pts.push_back(to_screen(p.x(), p.y()));
+      if (pts.size() > 1) dl->AddPolyline(pts.data(), static_cast<int>(pts.size()), colour, 0, width);
+    };
+    for (const auto& w : v->wire_map) draw_wire(w, IM_COL32(255, 120, 40, 110), 1.5f);
+    if (const PowerLines* lines = v->FreshPowerLines(ctx.now, model.wires().params()))
+      for (const PowerLine& w : lines->wires)
+        draw_wire(w.p_N, w.range_m < model.wires().params().warn_distance_m ? IM_COL32(255, 60, 60, 255) : IM_COL32(255, 160, 40, 255), 3.0f);
     {
       std::vector<ImVec2> trail;
       for (const auto& p_N : v->trail) trail.push_back(to_screen(p_N.x(), p_N.y()));

@@ -1,5 +1,6 @@
 // One line across the top: every vehicle's link quality (heartbeat age, message rate, messages
-// lost to sequence gaps), then the selected vehicle's flight mode, task, battery and failsafe.
+// lost to sequence gaps), then the selected vehicle's flight mode, task, battery, failsafe and
+// a power-line warning.
 #include <algorithm>
 #include <cctype>
 #include <string>
@@ -52,6 +53,11 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
       ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| FAILSAFE %s%s", name.c_str(),
                          s.failsafe == FailsafeAction::kManual ? " (RC switch)" : "");
     }
+  }
+  // A power line nearer than the warning distance, in red (the messages say when it started).
+  if (v->wire_warning && v->power_lines) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| WIRE %.1f m", v->power_lines->nearest_m);
   }
   if (model.replay()) {
     ImGui::SameLine();

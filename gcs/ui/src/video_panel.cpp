@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <vector>
 
 #include <imgui.h>
 
@@ -146,6 +148,25 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
       // Sent, no answer yet: the selection, thin.
       const TrackTarget& t = *v->track_target;
       dl->AddRect(to_screen(t.x, t.y), to_screen(t.x + t.width, t.y + t.height), IM_COL32(255, 255, 255, 180));
+    }
+  }
+  // Power lines over the picture, when they were found in this camera's image (thesis 3.6):
+  // red nearer than the warning distance, orange ranged, thin yellow seen but not ranged.
+  const WireWarningParams& wp = model.wires().params();
+  if (const PowerLines* lines = v->FreshPowerLines(ctx.now, wp); lines && lines->camera == feed.camera) {
+    for (const PowerLine& w : lines->wires) {
+      if (w.image_uv.size() < 2) continue;
+      const bool near = w.ranged() && w.range_m < wp.warn_distance_m;
+      const ImU32 colour = near ? IM_COL32(255, 60, 60, 255) : w.ranged() ? IM_COL32(255, 160, 40, 255) : IM_COL32(255, 230, 80, 200);
+      std::vector<ImVec2> pts;
+      for (const auto& uv : w.image_uv) pts.push_back(to_screen(uv.x(), uv.y()));
+      dl->AddPolyline(pts.data(), static_cast<int>(pts.size()), colour, ImDrawFlags_None, w.ranged() ? 2.5f : 1.5f);
+      if (w.ranged()) {
+        char label[32];
+        std::snprintf(label, sizeof label, "%.1f m", w.range_m);
+        const ImVec2 at = pts[pts.size() / 2];
+        dl->AddText(ImVec2(at.x + 4, at.y - 16), colour, label);
+      }
     }
   }
   ImGui::Text("%s %dx%d (from %dx%d), %.0f fps, frame %lld%s", feed.camera.c_str(), feed.width, feed.height,

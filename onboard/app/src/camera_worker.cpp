@@ -15,7 +15,10 @@
 namespace uav::app {
 
 CameraWorker::CameraWorker(hal::Camera& camera_in, Blackboard& board, const Options& options)
-    : camera_(camera_in), board_(board), options_(options) {
+    : camera_(camera_in),
+      board_(board),
+      options_(options),
+      preview_(camera_in.info().name, camera_in.info().preview_rate_hz, options.preview_width, options.preview_quality) {
   const hal::CameraInfo& camera = camera_.info();
   if (!options_.capture_dir.empty()) {
     std::filesystem::create_directories(options_.capture_dir);
@@ -59,15 +62,9 @@ void CameraWorker::Tick(int64_t utime) {
   T_NB_estimate.linear() = RotationNBFromEuler(d.estimate.euler);
   T_NB_estimate.translation() = d.estimate.p_N;
 
-  // The preview has its own rate: the GCS link need not carry every frame the camera takes.
-  // A schedule (not "time since the last one") keeps the average rate when it does not divide
-  // the frame rate.
-  const double preview_rate = camera_.info().preview_rate_hz;
-  if (preview_rate > 0 && (next_preview_utime_ < 0 || utime >= next_preview_utime_ - 1000)) {
-    SendPreview(utime, frame.image);
-    const int64_t period = static_cast<int64_t>(std::llround(1e6 / preview_rate));
-    next_preview_utime_ = next_preview_utime_ < 0 || utime - next_preview_utime_ > period ? utime + period
-                                                                                          : next_preview_utime_ + period;
+  if (preview_.Due(utime)) {
+    board_.PutPreview(preview_.Encode(utime, frame.image));
+    ++previews_;
   }
 
   // Survey capture by time or by distance, as the mission's camera item asked.
@@ -92,23 +89,6 @@ void CameraWorker::Tick(int64_t utime) {
     last_capture_utime_ = utime;
     last_capture_p_N_ = T_NB_estimate.translation();
   }
-}
-
-void CameraWorker::SendPreview(int64_t utime, const cv::Mat& image) {
-  PreviewFrame preview;
-  preview.utime = utime;
-  preview.camera = camera_.info().name;
-  preview.source_width = image.cols;
-  preview.source_height = image.rows;
-  cv::Mat small;
-  const double scale = static_cast<double>(options_.preview_width) / image.cols;
-  cv::resize(image, small, cv::Size(), scale, scale, cv::INTER_AREA);
-  preview.width = small.cols;
-  preview.height = small.rows;
-  cv::imencode(".jpg", small, preview.jpeg, {cv::IMWRITE_JPEG_QUALITY, options_.preview_quality});
-  board_.PutPreview(std::move(preview));
-
-  ++previews_;
 }
 
 void CameraWorker::Record(int64_t utime, const hal::CameraFrame& frame, const BlackboardData& d) {

@@ -1,4 +1,4 @@
-// Outbound translators: acknowledgements, status texts, state, heartbeat, video, live-map tiles
+// Outbound translators: acknowledgements, status texts, state, heartbeat, video, power lines, live-map tiles
 // and file offers and chunks. Each reads the blackboard (or a store) and publishes one topic.
 #include "link_translators.hpp"
 
@@ -9,6 +9,7 @@
 #include "uavmsg/file_offer_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/map_tile_t.hpp"
+#include "uavmsg/power_lines_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
@@ -107,6 +108,20 @@ class VideoTranslator : public Translator {
   LinkContext& c_;
 };
 
+class PowerLinesTranslator : public Translator {
+ public:
+  explicit PowerLinesTranslator(LinkContext& c) : c_(c) {}
+  void Tick(int64_t) override {
+    auto lines = c_.board.TakePowerLines();
+    if (!lines) return;
+    uavmsg::power_lines_t m = ToMessage(*lines);
+    c_.Publish(Topic::kPowerLines, m);
+  }
+
+ private:
+  LinkContext& c_;
+};
+
 class MapTileTranslator : public Translator {
  public:
   explicit MapTileTranslator(LinkContext& c) : c_(c) {}
@@ -177,6 +192,7 @@ std::unique_ptr<Translator> MakeStatusTextTranslator(LinkContext& c) { return st
 std::unique_ptr<Translator> MakeStateTranslator(LinkContext& c) { return std::make_unique<StateTranslator>(c); }
 std::unique_ptr<Translator> MakeHeartbeatTranslator(LinkContext& c) { return std::make_unique<HeartbeatTranslator>(c); }
 std::unique_ptr<Translator> MakeVideoTranslator(LinkContext& c) { return std::make_unique<VideoTranslator>(c); }
+std::unique_ptr<Translator> MakePowerLinesTranslator(LinkContext& c) { return std::make_unique<PowerLinesTranslator>(c); }
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c) { return std::make_unique<MapTileTranslator>(c); }
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files) {
   return std::make_unique<FileTransferTranslator>(c, files);

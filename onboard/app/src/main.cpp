@@ -153,7 +153,8 @@ int main(int argc, char** argv) {
       if (scene->stereo_camera())
       {
         stereo_camera = std::make_unique<uav::sim::SimStereoCamera>(*scene, *scene->stereo_camera(), truth_T_NB);
-        stereo = std::make_unique<uav::app::StereoWorker>(*stereo_camera, board);
+        stereo = std::make_unique<uav::app::StereoWorker>(*stereo_camera, board,
+                                                          uav::app::StereoWorkerParams::FromParameters(params));
       }
     }
 

@@ -28,6 +28,7 @@ VehicleState ReportedState(const BlackboardData& d, const GeodeticPoint& home, A
   s.battery_voltage_v = d.sample.battery_voltage_v;
   s.battery_remaining = d.sample.battery_remaining;
   s.obstacle_range_m = d.obstacle_range_m;
+  s.nearest_wire_m = d.nearest_wire_m;
   s.fence_radius_m = d.fence_radius_m;
   s.fence_alt_m = d.fence_alt_m;
   s.chirp_channel = d.chirp_channel;

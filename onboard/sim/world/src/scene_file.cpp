@@ -159,7 +159,8 @@ bool Free(const std::vector<Footprint>& taken, const Eigen::Vector2d& c, double 
 }
 
 CameraSetup ReadCamera(const Reader& rd, const json& j, const std::string& path, const std::string& camera_dir,
-                       const std::string& name, const std::string& default_file, double default_rate) {
+                       const std::string& name, const std::string& default_file, double default_rate,
+                       double default_preview_rate) {
   CameraSetup c;
   c.name = name;
   std::string file = rd.String(j, path, "file", default_file);
@@ -170,7 +171,7 @@ CameraSetup ReadCamera(const Reader& rd, const json& j, const std::string& path,
     rd.Fail(path + ".file", e.what());
   }
   c.rate_hz = rd.Number(j, path, "rate_hz", 0.1, 100, default_rate);
-  c.preview_rate_hz = rd.Number(j, path, "preview_rate_hz", 0, c.rate_hz, std::min(c.rate_hz, 5.0));
+  c.preview_rate_hz = rd.Number(j, path, "preview_rate_hz", 0, c.rate_hz, std::min(c.rate_hz, default_preview_rate));
   c.noise_sigma = rd.Number(j, path, "noise_sigma", 0, 49, c.noise_sigma);
   c.exposure_s = rd.Number(j, path, "exposure_s", 0, 0.5, c.exposure_s);
   c.blur_samples = rd.Integer(j, path, "blur_samples", 1, 16, c.blur_samples);
@@ -398,7 +399,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
       if (cams.contains("downward")) {
         const json& j = cams["downward"];
         const std::string p = "$.cameras.downward";
-        CameraSetup c = ReadCamera(rd, j, p, camera_dir, "downward", "sim_downward_640x480.camera", 5.0);
+        CameraSetup c = ReadCamera(rd, j, p, camera_dir, "downward", "sim_downward_640x480.camera", 5.0, 5.0);
         const Eigen::Vector3d mount = j.contains("mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0, 0, 0.1);
         const double yaw = rd.Number(j, p, "mount_yaw_deg", -360, 360, 0) * M_PI / 180;
         c.T_BC = Eigen::Isometry3d::Identity();
@@ -409,10 +410,17 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
       if (cams.contains("stereo")) {
         const json& j = cams["stereo"];
         const std::string p = "$.cameras.stereo";
-        const CameraSetup c = ReadCamera(rd, j, p, camera_dir, "stereo", "sim_stereo_640x480.camera", 10.0);
+        const CameraSetup c = ReadCamera(rd, j, p, camera_dir, "stereo", "sim_stereo_640x480.camera", 10.0,
+                                           scene.downward_camera() ? 0.0 : 5.0);
         const Eigen::Vector3d mount = j.contains("mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0.15, 0, 0);
+        // Mount angles: the optical axis pitched up from the body x axis (-90: facing down), and
+        // the pair rolled about it (a rolled baseline ranges the level wires a level one cannot:
+        // a wire parallel to the baseline has no disparity to measure).
+        const double pitch_up = rd.Number(j, p, "mount_pitch_deg", -90, 90, 0) * M_PI / 180;
+        const double roll = rd.Number(j, p, "mount_roll_deg", -90, 90, 0) * M_PI / 180;
         Eigen::Isometry3d T_B_rig = Eigen::Isometry3d::Identity();
-        T_B_rig.linear() = RotationBCForward();
+        T_B_rig.linear() = Eigen::AngleAxisd(pitch_up, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+                           RotationBCForward() * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix();
         T_B_rig.translation() = mount;
         LaserEmitter laser;
         if (j.contains("laser")) {

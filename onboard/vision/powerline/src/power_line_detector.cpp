@@ -163,14 +163,7 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
   const double diag = std::hypot(bgr.cols, bgr.rows);
   cv::Mat gray;
   cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
-  // Thickness filter: the black-hat keeps dark structures, the top-hat bright ones, narrower
-  // than the kernel; a step edge (a roof, a road, a wall) has neither and drops out here.
-  const int k = 2 * static_cast<int>(std::ceil(P.max_wire_width_px)) + 1;
-  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k));
-  cv::Mat dark, bright, thin;
-  cv::morphologyEx(gray, dark, cv::MORPH_BLACKHAT, kernel);
-  cv::morphologyEx(gray, bright, cv::MORPH_TOPHAT, kernel);
-  cv::max(dark, bright, thin);
+  const cv::Mat thin = ThinStructureResponse(gray, P.max_wire_width_px);
   // Sobel gradients of the thin structures (Eq. 3.28-3.30): both directions for wires at any
   // angle, d/dy alone for the thesis's near-horizontal wires.
   cv::Mat gx, gy, mag;
@@ -257,6 +250,18 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
   std::sort(wires.begin(), wires.end(),
             [](const WireCurve& a, const WireCurve& b) { return a.u_max - a.u_min > b.u_max - b.u_min; });
   return wires;
+}
+
+cv::Mat ThinStructureResponse(const cv::Mat& grey, double max_wire_width_px) {
+  // The black-hat keeps dark structures, the top-hat bright ones, narrower than the kernel; a
+  // step edge (a roof, a road, a wall) has neither and drops out here.
+  const int k = 2 * static_cast<int>(std::ceil(max_wire_width_px)) + 1;
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k));
+  cv::Mat dark, bright, thin;
+  cv::morphologyEx(grey, dark, cv::MORPH_BLACKHAT, kernel);
+  cv::morphologyEx(grey, bright, cv::MORPH_TOPHAT, kernel);
+  cv::max(dark, bright, thin);
+  return thin;
 }
 
 std::vector<cv::Vec4f> LsdSegments(const cv::Mat& bgr) {

@@ -20,7 +20,8 @@ enum class Topic {
   kFileChunk,
   kMapTile,
   kTrackTarget,
-  kTrackStatus
+  kTrackStatus,
+  kPowerLines
 };
 
 const char* TopicName(Topic t);

@@ -11,13 +11,14 @@
 #include "uav/gcs/message_log.hpp"
 #include "uav/gcs/mission_uploads.hpp"
 #include "uav/gcs/plots.hpp"
+#include "uav/gcs/power_line_warnings.hpp"
 #include "uav/gcs/telemetry.hpp"
 #include "uav/gcs/video_tracking.hpp"
 
 namespace uav::gcs {
 
 // One vehicle as the GCS knows it: each concern's per-vehicle part.
-struct VehicleModel : VehicleTelemetry, VehicleVideo, VehicleMaps, VehicleMission {
+struct VehicleModel : VehicleTelemetry, VehicleVideo, VehicleMaps, VehicleMission, VehiclePowerLines {
   std::string id;
 };
 
@@ -37,6 +38,7 @@ class GcsModel {
   void OnFileChunk(const std::string& vehicle_id, const FileChunk& chunk, double now);
   void OnMapTile(const std::string& vehicle_id, const MapTileIn& tile, double now);
   void OnTrackStatus(const std::string& vehicle_id, const TrackStatus& status, double now);
+  void OnPowerLines(const std::string& vehicle_id, PowerLines lines, double now);
 
   // ---- Operator actions on the selected vehicle (false: error() of the concern says why).
   void SelectVehicle(const std::string& id);
@@ -68,6 +70,8 @@ class GcsModel {
   MissionUploads& missions() { return missions_; }
   const MissionUploads& missions() const { return missions_; }
   const MessageLog& log() const { return log_; }
+  WireWarnings& wires() { return wires_; }
+  const WireWarnings& wires() const { return wires_; }
 
   // ---- Vehicles.
   const std::map<std::string, VehicleModel>& vehicles() const { return vehicles_; }
@@ -91,6 +95,7 @@ class GcsModel {
   VideoTracking video_;
   MapsDownloads maps_;
   MissionUploads missions_;
+  WireWarnings wires_;
 };
 
 }  // namespace uav::gcs

@@ -16,6 +16,7 @@
 #include "uav/control/mixer.hpp"
 #include "uav/control/task_manager.hpp"
 #include "uav/hal/vehicle_backend.hpp"
+#include "uav/shared/power_lines.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
 namespace uav::app {
@@ -72,6 +73,8 @@ struct BlackboardData {
   std::array<double, 4> rotor_inputs = {-1, -1, -1, -1};
   // STEREO thread: nearest obstacle in the forward corridor [m]; < 0: none seen or no stereo pair
   double obstacle_range_m = -1.0;
+  // STEREO thread: nearest ranged power line [m] from the body origin; < 0: none
+  double nearest_wire_m = -1.0;
 };
 
 class Blackboard {
@@ -121,6 +124,17 @@ class Blackboard {
     std::lock_guard<std::mutex> lock(mutex_);
     std::optional<PreviewFrame> out = std::move(preview_);
     preview_.reset();
+    return out;
+  }
+  // STEREO -> CMM: the newest pair's power lines replace ones not yet sent.
+  void PutPowerLines(PowerLines r) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    power_lines_ = std::move(r);
+  }
+  std::optional<PowerLines> TakePowerLines() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<PowerLines> out = std::move(power_lines_);
+    power_lines_.reset();
     return out;
   }
   // CAM -> STITCH: every capture, in order (a survey frame is never dropped).
@@ -177,6 +191,7 @@ class Blackboard {
   std::deque<control::TaskReport> reports_;
   std::deque<StatusText> status_;
   std::optional<PreviewFrame> preview_;
+  std::optional<PowerLines> power_lines_;
   std::deque<SurveyCapture> captures_;
   std::deque<std::pair<std::string, std::string>> downloads_;
   std::map<std::tuple<int, int, int>, LiveTile> tiles_;

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "uav/app/blackboard.hpp"
+#include "uav/app/preview_stream.hpp"
 #include "uav/shared/geodesy.hpp"
 #include "uav/hal/camera.hpp"
 
@@ -35,17 +36,16 @@ class CameraWorker {
   int previews() const { return previews_; }
 
  private:
-  void SendPreview(int64_t utime, const cv::Mat& image);
   // Writes the capture's JPEG and its captures.csv row.
   void Record(int64_t utime, const hal::CameraFrame& frame, const BlackboardData& d);
 
   hal::Camera& camera_;
   Blackboard& board_;
   Options options_;
+  PreviewStream preview_;
   std::FILE* csv_ = nullptr;
   int captures_ = 0;
   int previews_ = 0;
-  int64_t next_preview_utime_ = -1;
   int64_t last_capture_utime_ = -1;
   Eigen::Vector3d last_capture_p_N_ = Eigen::Vector3d::Zero();
 };

@@ -64,6 +64,11 @@ class PowerLineDetector {
   PowerLineParams params_;
 };
 
+// The thickness filter alone (CV_8U, same size as the 8-bit grey image): per pixel the larger
+// of the black-hat (dark structures) and top-hat (bright ones) with a disc a little wider than
+// max_wire_width_px, so thin lines stay bright and step edges (roofs, roads, walls) drop out.
+cv::Mat ThinStructureResponse(const cv::Mat& grey, double max_wire_width_px);
+
 // The LSD-only baseline of the accuracy tables: every segment LSD finds in the grey image.
 std::vector<cv::Vec4f> LsdSegments(const cv::Mat& bgr);
 

@@ -9,17 +9,9 @@
 #include <Eigen/Geometry>
 #include <opencv2/core/mat.hpp>
 
-#include "uav/shared/camera_intrinsics.hpp"
+#include "uav/vision/stereo_rectifier.hpp"
 
 namespace uav::vision {
-
-struct StereoRig {
-  CameraIntrinsics left;
-  CameraIntrinsics right;
-  // Pose of the right camera in the left camera frame (C: x right, y down, z forward); a
-  // parallel rig with baseline b has identity rotation and translation (b, 0, 0).
-  Eigen::Isometry3d T_LR = Eigen::Isometry3d::Identity();
-};
 
 struct StereoRangeParams {
   int downscale = 2;                     // match at 1/downscale resolution (1, 2 or 4)

@@ -1,0 +1,226 @@
+#include "uav/vision/power_line_stereo.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <opencv2/imgproc.hpp>
+
+namespace uav::vision {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kDisparityStepPx = 0.5;  // [px] search grid; the peak is refined below it
+
+// Bilinear sample of a CV_32F image; false outside.
+bool Sample(const cv::Mat& image, double x, double y, double* value) {
+  if (x < 0 || y < 0 || x > image.cols - 1.001 || y > image.rows - 1.001) return false;
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const double fx = x - x0, fy = y - y0;
+  const float* r0 = image.ptr<float>(y0);
+  const float* r1 = image.ptr<float>(y0 + 1);
+  *value = (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+  return true;
+}
+
+// The matching window of one piece: points along it and across it (the wire and its neighbours:
+// wires strung together form a pattern across the window that only the right shift reproduces).
+std::vector<Eigen::Vector2d> Window(const std::vector<Eigen::Vector2d>& along, double half_width_px) {
+  const Eigen::Vector2d t = (along.back() - along.front()).normalized();
+  const Eigen::Vector2d n(-t.y(), t.x());
+  std::vector<Eigen::Vector2d> out;
+  for (std::size_t i = 0; i < along.size(); i += 2)
+    for (double j = -half_width_px; j <= half_width_px; j += 1.0) out.push_back(along[i] + j * n);
+  return out;
+}
+
+// Zero-mean normalised cross-correlation of the left window with the right image shifted by d;
+// NaN when part of the window falls outside either image.
+double Ncc(const std::vector<double>& left, const cv::Mat& right, const std::vector<Eigen::Vector2d>& pts, double d) {
+  double sl = 0, sr = 0, sll = 0, srr = 0, slr = 0, r = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (!Sample(right, pts[i].x() - d, pts[i].y(), &r)) return std::nan("");
+    sl += left[i], sr += r, sll += left[i] * left[i], srr += r * r, slr += left[i] * r;
+  }
+  const double n = static_cast<double>(pts.size());
+  const double var_l = sll - sl * sl / n, var_r = srr - sr * sr / n;
+  if (var_l <= 1e-9 || var_r <= 1e-9) return 0.0;
+  return (slr - sl * sr / n) / std::sqrt(var_l * var_r);
+}
+
+struct PieceMatch {
+  double u = 0.0;  // curve parameter of the piece's centre
+  double d = 0.0;  // [px] disparity
+};
+
+// Distance from the origin to the segment ab.
+double SegmentDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double t = ab.squaredNorm() > 0 ? std::clamp(-a.dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (a + t * ab).norm();
+}
+
+}  // namespace
+
+void WireRangingParams::Validate() const {
+  auto check = [](bool ok, const char* name) {
+    if (!ok) throw std::invalid_argument(std::string("wire ranging parameter ") + name + " out of range");
+  };
+  check(std::isfinite(min_range_m) && min_range_m > 0.1, "min_range_m (> 0.1 m)");
+  check(std::isfinite(max_range_m) && max_range_m > min_range_m && max_range_m < 1000, "max_range_m (min_range_m..1000 m)");
+  check(pieces >= 2 && pieces <= 100, "pieces (2..100)");
+  check(min_baseline_angle_deg > 0 && min_baseline_angle_deg < 90, "min_baseline_angle_deg (0..90)");
+  check(window_half_width_px >= 2 && window_half_width_px <= 50, "window_half_width_px (2..50)");
+  check(min_correlation > 0 && min_correlation < 1, "min_correlation (0..1)");
+  check(max_ambiguity > 0 && max_ambiguity <= 1, "max_ambiguity (0..1)");
+  check(disparity_sigma_px > 0 && disparity_sigma_px < 10, "disparity_sigma_px (0..10)");
+  check(max_fit_residual_px > 0 && max_fit_residual_px < 10, "max_fit_residual_px (0..10)");
+}
+
+struct PowerLineStereo::Impl {
+  Impl(const StereoRig& rig, const PowerLineParams& detection, const WireRangingParams& ranging)
+      : rectifier(rig), detector(detection), params(ranging), left(rig.left) {
+    params.Validate();
+  }
+  StereoRectifier rectifier;
+  PowerLineDetector detector;
+  WireRangingParams params;
+  CameraIntrinsics left;
+
+  // The disparity of one piece of the curve, or false when it cannot be told.
+  bool MatchPiece(const std::vector<Eigen::Vector2d>& along, const cv::Mat& response_left,
+                  const cv::Mat& response_right, double* d_out) const {
+    const WireRangingParams& P = params;
+    const Eigen::Vector2d t = (along.back() - along.front()).normalized();
+    const double sin_angle = std::abs(t.y());  // rectified rows are the epipolar lines
+    if (sin_angle < std::sin(P.min_baseline_angle_deg * kDeg)) return false;
+    const RectifiedGeometry& g = rectifier.geometry();
+    const double d_lo = g.f_px * g.baseline_m / P.max_range_m, d_hi = g.f_px * g.baseline_m / P.min_range_m;
+    const std::vector<Eigen::Vector2d> pts = Window(along, P.window_half_width_px);
+    std::vector<double> left(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (!Sample(response_left, pts[i].x(), pts[i].y(), &left[i])) return false;
+    const int n = static_cast<int>((d_hi - d_lo) / kDisparityStepPx) + 1;
+    std::vector<double> score(n);
+    int best = -1;
+    for (int i = 0; i < n; ++i) {
+      score[i] = Ncc(left, response_right, pts, d_lo + i * kDisparityStepPx);
+      if (std::isfinite(score[i]) && (best < 0 || score[i] > score[best])) best = i;
+    }
+    if (best < 0 || score[best] < P.min_correlation) return false;
+    // A second peak beyond the first one's width (the widest wire moved across itself, which
+    // takes 1 / sin_angle of disparity per pixel) makes the piece ambiguous.
+    const double peak_halfwidth = (detector.params().max_wire_width_px + 2.0) / sin_angle;
+    for (int i = 0; i < n; ++i) {
+      const bool local_max = (i == 0 || !(score[i - 1] > score[i])) && (i == n - 1 || !(score[i + 1] > score[i]));
+      if (local_max && std::abs(i - best) * kDisparityStepPx > peak_halfwidth && score[i] > P.max_ambiguity * score[best])
+        return false;
+    }
+    double d = d_lo + best * kDisparityStepPx;
+    if (best > 0 && best < n - 1 && std::isfinite(score[best - 1]) && std::isfinite(score[best + 1])) {
+      const double a = score[best - 1], b = score[best], c = score[best + 1];
+      const double den = a - 2 * b + c;
+      if (den < 0) d += 0.5 * (a - c) / den * kDisparityStepPx;
+    }
+    *d_out = d;
+    return d > 0;
+  }
+
+  Wire3D Range(const WireCurve& curve, const cv::Mat& response_left, const cv::Mat& response_right) const {
+    const WireRangingParams& P = params;
+    const RectifiedGeometry& g = rectifier.geometry();
+    Wire3D w;
+    w.curve = curve;
+    w.pieces = P.pieces;
+    for (const Eigen::Vector2d& x : curve.Sample(8.0)) {
+      const Eigen::Vector3d ray = g.R_L_rect * Eigen::Vector3d((x.x() - g.cx) / g.f_px, (x.y() - g.cy) / g.f_px, 1.0);
+      if (ray.z() > 1e-6) w.image_px.push_back(Project(left, ray));
+    }
+    const double span = curve.u_max - curve.u_min, piece_len = span / P.pieces;
+    std::vector<PieceMatch> matches;
+    for (int k = 0; k < P.pieces; ++k) {
+      const double u0 = curve.u_min + k * piece_len;
+      std::vector<Eigen::Vector2d> pts;
+      const int n = std::max(2, static_cast<int>(piece_len));
+      for (int i = 0; i <= n; ++i) pts.push_back(curve.PointAt(u0 + piece_len * i / n));
+      double d = 0;
+      if (MatchPiece(pts, response_left, response_right, &d)) matches.push_back({u0 + 0.5 * piece_len, d});
+    }
+    if (matches.size() < 2) return w;
+    // Robust line d(u) = a + b u: the pair of pieces that most others agree with, then least
+    // squares over those that agree.
+    std::vector<int> inliers;
+    double best_sum = 1e300;
+    for (std::size_t i = 0; i < matches.size(); ++i)
+      for (std::size_t j = i + 1; j < matches.size(); ++j) {
+        const double b = (matches[j].d - matches[i].d) / (matches[j].u - matches[i].u);
+        const double a = matches[i].d - b * matches[i].u;
+        std::vector<int> in;
+        double sum = 0;
+        for (std::size_t k = 0; k < matches.size(); ++k) {
+          const double r = std::abs(a + b * matches[k].u - matches[k].d);
+          if (r < P.max_fit_residual_px) in.push_back(static_cast<int>(k)), sum += r;
+        }
+        if (in.size() > inliers.size() || (in.size() == inliers.size() && sum < best_sum)) inliers = in, best_sum = sum;
+      }
+    if (inliers.size() < 2) return w;
+    Eigen::MatrixXd A(inliers.size(), 2);
+    Eigen::VectorXd y(inliers.size());
+    for (std::size_t k = 0; k < inliers.size(); ++k) {
+      A(k, 0) = 1.0;
+      A(k, 1) = matches[inliers[k]].u;
+      y(k) = matches[inliers[k]].d;
+    }
+    const Eigen::Vector2d ab = A.colPivHouseholderQr().solve(y);
+    const double rms = std::sqrt((A * ab - y).squaredNorm() / static_cast<double>(inliers.size()));
+    const double sigma_d = std::max(P.disparity_sigma_px, rms);
+    w.ranged_pieces = static_cast<int>(inliers.size());
+    // The polyline covers the ranged pieces only: no extrapolation past the evidence.
+    const double u_first = matches[inliers.front()].u - 0.5 * piece_len;
+    const double u_last = matches[inliers.back()].u + 0.5 * piece_len;
+    const int steps = std::max(1, static_cast<int>(std::lround((u_last - u_first) / piece_len)));
+    for (int i = 0; i <= steps; ++i) {
+      const double u = u_first + (u_last - u_first) * i / steps;
+      const double d = ab(0) + ab(1) * u;
+      if (!(d > 0)) continue;
+      const Eigen::Vector2d x = curve.PointAt(u);
+      const Eigen::Vector3d p = g.Triangulate(x.x(), x.y(), d);
+      w.p_L.push_back(p);
+      w.sigma_m.push_back(g.DepthSigma(g.f_px * g.baseline_m / d, sigma_d));
+    }
+    if (w.p_L.empty()) return w;
+    w.range_m = w.p_L[0].norm();
+    w.range_sigma_m = w.sigma_m[0];
+    for (std::size_t i = 0; i < w.p_L.size(); ++i) {
+      const double r = i + 1 < w.p_L.size() ? SegmentDistance(w.p_L[i], w.p_L[i + 1]) : w.p_L[i].norm();
+      if (r < w.range_m) w.range_m = r, w.range_sigma_m = w.sigma_m[i];
+    }
+    return w;
+  }
+};
+
+PowerLineStereo::PowerLineStereo(const StereoRig& rig, const PowerLineParams& detection, const WireRangingParams& ranging)
+    : impl_(std::make_unique<Impl>(rig, detection, ranging)) {}
+PowerLineStereo::~PowerLineStereo() = default;
+PowerLineStereo::PowerLineStereo(PowerLineStereo&&) noexcept = default;
+
+const RectifiedGeometry& PowerLineStereo::geometry() const { return impl_->rectifier.geometry(); }
+
+std::vector<Wire3D> PowerLineStereo::Process(const cv::Mat& left, const cv::Mat& right) const {
+  const Impl& m = *impl_;
+  if (left.type() != CV_8UC3 || right.type() != CV_8UC3)
+    throw std::invalid_argument("power lines in 3-D: both images must be 8-bit BGR");
+  cv::Mat rect[2], response[2];
+  m.rectifier.Rectify(left, right, &rect[0], &rect[1]);
+  for (int i = 0; i < 2; ++i) {
+    cv::Mat grey;
+    cv::cvtColor(rect[i], grey, cv::COLOR_BGR2GRAY);
+    ThinStructureResponse(grey, m.detector.params().max_wire_width_px).convertTo(response[i], CV_32F);
+  }
+  std::vector<Wire3D> wires;
+  for (const WireCurve& c : m.detector.Detect(rect[0])) wires.push_back(m.Range(c, response[0], response[1]));
+  return wires;
+}
+
+}  // namespace uav::vision

@@ -1,0 +1,90 @@
+#include "uav/vision/stereo_rectifier.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace uav::vision {
+
+namespace {
+cv::Mat CameraMatrix(const CameraIntrinsics& k) {
+  return (cv::Mat_<double>(3, 3) << k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
+}
+cv::Mat Distortion(const CameraIntrinsics& k) {
+  return (cv::Mat_<double>(1, 5) << k.distortion[0], k.distortion[1], k.distortion[2], k.distortion[3],
+          k.distortion[4]);
+}
+void Require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("stereo rig: " + what);
+}
+}  // namespace
+
+Eigen::Vector3d RectifiedGeometry::Triangulate(double u, double v, double d) const {
+  const double z = f_px * baseline_m / d;
+  return R_L_rect * Eigen::Vector3d((u - cx) * z / f_px, (v - cy) * z / f_px, z);
+}
+
+struct StereoRectifier::Impl {
+  RectifiedGeometry geometry;
+  cv::Mat map_lx, map_ly, map_rx, map_ry;
+};
+
+StereoRectifier::StereoRectifier(const StereoRig& rig) : impl_(std::make_unique<Impl>()) {
+  ValidateIntrinsics(rig.left);
+  ValidateIntrinsics(rig.right);
+  Require(rig.left.width == rig.right.width && rig.left.height == rig.right.height,
+          "left and right images must have the same size");
+  Require(rig.T_LR.matrix().allFinite(), "rig pose must be finite");
+  const double baseline = rig.T_LR.translation().norm();
+  Require(baseline > 0.01 && baseline < 10.0, "baseline must be 0.01..10 m, got " + std::to_string(baseline));
+  const cv::Size size(rig.left.width, rig.left.height);
+  // OpenCV's convention: p_R = R p_L + T.
+  const Eigen::Isometry3d T_RL = rig.T_LR.inverse();
+  cv::Mat R, T;
+  cv::eigen2cv(Eigen::Matrix3d(T_RL.linear()), R);
+  cv::eigen2cv(Eigen::Vector3d(T_RL.translation()), T);
+  cv::Mat R1, R2, P1, P2, Q;
+  const cv::Mat K1 = CameraMatrix(rig.left), K2 = CameraMatrix(rig.right);
+  const cv::Mat D1 = Distortion(rig.left), D2 = Distortion(rig.right);
+  cv::stereoRectify(K1, D1, K2, D2, size, R, T, R1, R2, P1, P2, Q, cv::CALIB_ZERO_DISPARITY, 0.0);
+  Require(std::abs(P2.at<double>(1, 3)) < 1e-9,
+          "the baseline is vertical in the image; mount the pair side by side along the image x axis");
+  Impl& m = *impl_;
+  cv::initUndistortRectifyMap(K1, D1, R1, P1, size, CV_32FC1, m.map_lx, m.map_ly);
+  cv::initUndistortRectifyMap(K2, D2, R2, P2, size, CV_32FC1, m.map_rx, m.map_ry);
+  RectifiedGeometry& g = m.geometry;
+  g.width = size.width;
+  g.height = size.height;
+  g.f_px = P1.at<double>(0, 0);
+  g.cx = P1.at<double>(0, 2);
+  g.cy = P1.at<double>(1, 2);
+  g.baseline_m = -P2.at<double>(0, 3) / P2.at<double>(0, 0);
+  Require(g.baseline_m > 0, "the right camera must sit to the right of the left one (x > 0 in the left frame)");
+  Eigen::Matrix3d R1e;
+  cv::cv2eigen(R1, R1e);
+  g.R_L_rect = R1e.transpose();  // R1 rotates the left frame into the rectified frame
+}
+
+StereoRectifier::~StereoRectifier() = default;
+StereoRectifier::StereoRectifier(StereoRectifier&&) noexcept = default;
+
+const RectifiedGeometry& StereoRectifier::geometry() const { return impl_->geometry; }
+
+void StereoRectifier::Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat* left_rect, cv::Mat* right_rect) const {
+  const Impl& m = *impl_;
+  for (const cv::Mat* image : {&left, &right}) {
+    Require(!image->empty(), "empty image");
+    Require(image->cols == m.geometry.width && image->rows == m.geometry.height,
+            "image is " + std::to_string(image->cols) + "x" + std::to_string(image->rows) + ", the rig's cameras are " +
+                std::to_string(m.geometry.width) + "x" + std::to_string(m.geometry.height));
+    Require(image->type() == CV_8UC3 || image->type() == CV_8UC1, "images must be 8-bit BGR or grey");
+  }
+  cv::remap(left, *left_rect, m.map_lx, m.map_ly, cv::INTER_LINEAR);
+  cv::remap(right, *right_rect, m.map_rx, m.map_ry, cv::INTER_LINEAR);
+}
+
+}  // namespace uav::vision
