@@ -462,6 +462,34 @@ TEST(WorldScene, BadScenesAreRejectedNamingTheEntry) {
       "sag_m": 2}]})").find("sag_m"), std::string::npos);
 }
 
+// The stereo rig's mount angles: pitched down 90 degrees its optical axis is the body's down axis;
+// rolled, the baseline turns about that axis; the camera frames stay parallel (a plain stereo
+// pair for the matcher). Preview defaults: the stereo camera streams only without a downward one.
+TEST(WorldScene, StereoMountAnglesAndPreviewDefaults) {
+  const std::string cams = std::string(UAV_RESOURCE_DIR) + "/cameras/";
+  const std::string stereo_file = "\"file\": \"" + cams + "sim_stereo_640x480.camera\"";
+  const std::string down_file = "\"file\": \"" + cams + "sim_downward_640x480.camera\"";
+  const Scene down = Scene::Parse(R"({"cameras": {"stereo": {"mount_pitch_deg": -90, )" + stereo_file + "}}}", "down.scene.json");
+  const Eigen::Matrix3d R_BC = down.stereo_camera()->left.T_BC.linear();
+  EXPECT_TRUE((R_BC.col(2) - Eigen::Vector3d(0, 0, 1)).norm() < 1e-9) << R_BC;  // optical axis: body down
+  EXPECT_NEAR(down.stereo_camera()->left.preview_rate_hz, 5.0, 1e-12);
+  const Scene rolled = Scene::Parse(
+      R"({"cameras": {"downward": {)" + down_file + R"(}, "stereo": {"mount_roll_deg": 45, )" + stereo_file + "}}}", "r.scene.json");
+  const world::StereoSetup& s = *rolled.stereo_camera();
+  const Eigen::Vector3d baseline_B = s.right.T_BC.translation() - s.left.T_BC.translation();
+  EXPECT_NEAR(baseline_B.y(), 0.12 * std::cos(M_PI / 4), 1e-9);   // body right ...
+  EXPECT_NEAR(baseline_B.z(), 0.12 * std::sin(M_PI / 4), 1e-9);   // ... and down
+  EXPECT_TRUE(s.T_LR().linear().isIdentity(1e-12));
+  EXPECT_NEAR(s.T_LR().translation().x(), 0.12, 1e-12);
+  EXPECT_EQ(s.left.preview_rate_hz, 0.0);
+  try {
+    Scene::Parse(R"({"cameras": {"stereo": {"mount_roll_deg": 120, )" + stereo_file + "}}}", "bad.scene.json");
+    ADD_FAILURE() << "accepted a 120 degree roll";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("$.cameras.stereo.mount_roll_deg"), std::string::npos) << e.what();
+  }
+}
+
 TEST(WorldScene, CameraIntrinsicsAreValidated) {
   CameraIntrinsics k;
   k.fx = -1;
