@@ -9,7 +9,7 @@
 // baseline has no measurable disparity and is left unranged; so is one whose best match is not
 // clearly better than a second one. A wire's disparity is affine along its image (its points lie
 // on a plane, so inverse depth is affine in the image, thesis Eq. 3.11), which a robust line fit
-// over the pieces enforces. Depth uncertainty follows the error model of thesis 3.2 (Eq. 3.4).
+// over the pieces enforces. Depth uncertainty follows the error model of thesis 3.2 (Eq. 3.6-3.7).
 #include <memory>
 #include <vector>
 

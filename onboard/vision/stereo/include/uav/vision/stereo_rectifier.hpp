@@ -33,7 +33,7 @@ struct RectifiedGeometry {
   // (Eq. 3.11: Z = f b / d, X = (u - cx) Z / f, Y = (v - cy) Z / f, then rotated back).
   Eigen::Vector3d Triangulate(double u, double v, double d) const;
   // Depth standard deviation for a disparity standard deviation sigma_d at depth z (thesis 3.2,
-  // Eq. 3.4: dZ = Z^2 / (f b) dd).
+  // Eq. 3.6-3.7: dZ = Z^2 / (f b) dd).
   double DepthSigma(double z_m, double sigma_d_px) const { return z_m * z_m / (f_px * baseline_m) * sigma_d_px; }
 };
 
