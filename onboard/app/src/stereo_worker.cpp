@@ -75,6 +75,13 @@ void StereoWorker::ReportPowerLines(int64_t utime, const hal::StereoImages& pair
     }
     report.wires.push_back(std::move(seen));
   }
+  // The nearest wire the vehicle reports is the median of the last three pairs (none counting
+  // as farthest): one pair's misrange, a bundle of wires matched one wire off, must not raise
+  // the operator's warning; three pairs take 0.2 s at 15 Hz.
+  recent_nearest_m_[frames_ % recent_nearest_m_.size()] = report.nearest_m < 0 ? kNoWire : report.nearest_m;
+  std::array<double, 3> sorted = recent_nearest_m_;
+  std::sort(sorted.begin(), sorted.end());
+  report.nearest_m = sorted[1] == kNoWire ? -1.0 : sorted[1];
   board_.Update([&](BlackboardData& b) { b.nearest_wire_m = report.nearest_m; });
   board_.PutPowerLines(std::move(report));
 }

@@ -109,9 +109,10 @@ struct PowerLineStereo::Impl {
       if (std::isfinite(score[i]) && (best < 0 || score[i] > score[best])) best = i;
     }
     if (best < 0 || score[best] < P.min_correlation) return false;
-    // A second peak beyond the first one's width (the widest wire moved across itself, which
-    // takes 1 / sin_angle of disparity per pixel) makes the piece ambiguous.
-    const double peak_halfwidth = (detector.params().max_wire_width_px + 2.0) / sin_angle;
+    // A second peak clear of the first (two pixels across the wire, which takes 1 / sin_angle of
+    // disparity per pixel) and nearly as strong makes the piece ambiguous: the window lined up
+    // with a neighbouring wire of a bundle, one wire spacing off.
+    const double peak_halfwidth = 2.0 / sin_angle;
     for (int i = 0; i < n; ++i) {
       const bool local_max = (i == 0 || !(score[i - 1] > score[i])) && (i == n - 1 || !(score[i + 1] > score[i]));
       if (local_max && std::abs(i - best) * kDisparityStepPx > peak_halfwidth && score[i] > P.max_ambiguity * score[best])

@@ -3,8 +3,9 @@
 // (simulated or real): takes both images at the pair's rate, feeds vision::StereoRange (the
 // nearest obstacle ahead, vehicle_state_t.obstacle_range_m) and vision::PowerLineStereo (power
 // lines in the image and in 3-D, thesis 3.6: power_lines_t, and the nearest wire in
-// vehicle_state_t.nearest_wire_m), and streams the left image to the GCS video panel at its
+// vehicle_state_t.nearest_wire_m, the median of the last three pairs), and streams the left image to the GCS video panel at its
 // preview rate. The wires are placed in NED with the flight stack's estimate, never the truth.
+#include <array>
 #include <memory>
 #include <optional>
 
@@ -38,6 +39,8 @@ class StereoWorker {
   std::optional<vision::PowerLineStereo> power_lines_;
   Blackboard& board_;
   PreviewStream preview_;
+  static constexpr double kNoWire = 1e9;
+  std::array<double, 3> recent_nearest_m_{kNoWire, kNoWire, kNoWire};  // per pair, kNoWire: none ranged
   int frames_ = 0;
 };
 
