@@ -42,21 +42,23 @@ StereoWorker::StereoWorker(hal::StereoCamera& camera, Blackboard& board, const S
 
 void StereoWorker::Tick(int64_t utime) {
   const hal::StereoImages pair = camera_.Capture(utime);
-  const vision::StereoRangeResult r = range_.Process(pair.left, pair.right);
+  // One rectification of the pair for every algorithm that reads it.
+  cv::Mat left_rect, right_rect;
+  range_.rectifier().Rectify(pair.left, pair.right, &left_rect, &right_rect);
+  const vision::StereoRangeResult r = range_.ProcessRectified(left_rect, right_rect);
   board_.Update([&](BlackboardData& d) { d.obstacle_range_m = r.obstacle ? r.range_m : -1.0; });
   if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
-  if (power_lines_) ReportPowerLines(utime, pair);
+  if (power_lines_) ReportPowerLines(utime, power_lines_->ProcessRectified(left_rect, right_rect), pair.left.size());
   ++frames_;
 }
 
-void StereoWorker::ReportPowerLines(int64_t utime, const hal::StereoImages& pair) {
-  const std::vector<vision::Wire3D> wires = power_lines_->Process(pair.left, pair.right);
+void StereoWorker::ReportPowerLines(int64_t utime, const std::vector<vision::Wire3D>& wires, const cv::Size& image) {
   const BlackboardData d = board_.Snapshot();
   Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
   T_NB.linear() = RotationNBFromEuler(d.estimate.euler);
   T_NB.translation() = d.estimate.p_N;
   const Eigen::Isometry3d& T_BL = camera_.left().T_BC;
-  const double width = pair.left.cols, height = pair.left.rows;
+  const double width = image.width, height = image.height;
   PowerLines report;
   report.utime = utime;
   report.camera = camera_.left().name;

@@ -209,11 +209,20 @@ PowerLineStereo::PowerLineStereo(PowerLineStereo&&) noexcept = default;
 const RectifiedGeometry& PowerLineStereo::geometry() const { return impl_->rectifier.geometry(); }
 
 std::vector<Wire3D> PowerLineStereo::Process(const cv::Mat& left, const cv::Mat& right) const {
-  const Impl& m = *impl_;
   if (left.type() != CV_8UC3 || right.type() != CV_8UC3)
     throw std::invalid_argument("power lines in 3-D: both images must be 8-bit BGR");
-  cv::Mat rect[2], response[2];
-  m.rectifier.Rectify(left, right, &rect[0], &rect[1]);
+  cv::Mat left_rect, right_rect;
+  impl_->rectifier.Rectify(left, right, &left_rect, &right_rect);
+  return ProcessRectified(left_rect, right_rect);
+}
+
+std::vector<Wire3D> PowerLineStereo::ProcessRectified(const cv::Mat& left_rect, const cv::Mat& right_rect) const {
+  const Impl& m = *impl_;
+  m.rectifier.CheckPair(left_rect, right_rect);
+  if (left_rect.type() != CV_8UC3 || right_rect.type() != CV_8UC3)
+    throw std::invalid_argument("power lines in 3-D: both images must be 8-bit BGR");
+  const cv::Mat rect[2] = {left_rect, right_rect};
+  cv::Mat response[2];
   for (int i = 0; i < 2; ++i) {
     cv::Mat grey;
     cv::cvtColor(rect[i], grey, cv::COLOR_BGR2GRAY);

@@ -70,10 +70,19 @@ StereoRangeResult StereoRange::RangeFromPoints(const std::vector<Eigen::Vector3d
   return r;
 }
 
+const StereoRectifier& StereoRange::rectifier() const { return impl_->rectifier; }
+
 StereoRangeResult StereoRange::Process(const cv::Mat& left, const cv::Mat& right) const {
+  cv::Mat left_rect, right_rect;
+  impl_->rectifier.Rectify(left, right, &left_rect, &right_rect);
+  return ProcessRectified(left_rect, right_rect);
+}
+
+StereoRangeResult StereoRange::ProcessRectified(const cv::Mat& left_rect, const cv::Mat& right_rect) const {
   const Impl& m = *impl_;
-  cv::Mat rect[2], grey, small[2];
-  m.rectifier.Rectify(left, right, &rect[0], &rect[1]);
+  m.rectifier.CheckPair(left_rect, right_rect);
+  const cv::Mat rect[2] = {left_rect, right_rect};
+  cv::Mat grey, small[2];
   for (int i = 0; i < 2; ++i) {
     if (rect[i].channels() == 3) cv::cvtColor(rect[i], grey, cv::COLOR_BGR2GRAY);
     else grey = rect[i];

@@ -74,15 +74,20 @@ StereoRectifier::StereoRectifier(StereoRectifier&&) noexcept = default;
 
 const RectifiedGeometry& StereoRectifier::geometry() const { return impl_->geometry; }
 
-void StereoRectifier::Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat* left_rect, cv::Mat* right_rect) const {
-  const Impl& m = *impl_;
+void StereoRectifier::CheckPair(const cv::Mat& left, const cv::Mat& right) const {
+  const RectifiedGeometry& g = impl_->geometry;
   for (const cv::Mat* image : {&left, &right}) {
     Require(!image->empty(), "empty image");
-    Require(image->cols == m.geometry.width && image->rows == m.geometry.height,
+    Require(image->cols == g.width && image->rows == g.height,
             "image is " + std::to_string(image->cols) + "x" + std::to_string(image->rows) + ", the rig's cameras are " +
-                std::to_string(m.geometry.width) + "x" + std::to_string(m.geometry.height));
+                std::to_string(g.width) + "x" + std::to_string(g.height));
     Require(image->type() == CV_8UC3 || image->type() == CV_8UC1, "images must be 8-bit BGR or grey");
   }
+}
+
+void StereoRectifier::Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat* left_rect, cv::Mat* right_rect) const {
+  CheckPair(left, right);
+  const Impl& m = *impl_;
   cv::remap(left, *left_rect, m.map_lx, m.map_ly, cv::INTER_LINEAR);
   cv::remap(right, *right_rect, m.map_rx, m.map_ry, cv::INTER_LINEAR);
 }

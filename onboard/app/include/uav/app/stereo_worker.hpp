@@ -32,7 +32,7 @@ class StereoWorker {
   int frames() const { return frames_; }
 
  private:
-  void ReportPowerLines(int64_t utime, const hal::StereoImages& pair);
+  void ReportPowerLines(int64_t utime, const std::vector<vision::Wire3D>& wires, const cv::Size& image);
 
   hal::StereoCamera& camera_;
   vision::StereoRange range_;

@@ -58,6 +58,8 @@ class PowerLineStereo {
   // Left and right 8-bit BGR images of the rig's size. Throws std::invalid_argument for an empty
   // image, a size or a type that does not match. Longest wires first.
   std::vector<Wire3D> Process(const cv::Mat& left, const cv::Mat& right) const;
+  // The same on a BGR pair already rectified for this rig (by any StereoRectifier of it).
+  std::vector<Wire3D> ProcessRectified(const cv::Mat& left_rect, const cv::Mat& right_rect) const;
   const RectifiedGeometry& geometry() const;
 
  private:

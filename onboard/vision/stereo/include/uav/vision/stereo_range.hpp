@@ -42,6 +42,10 @@ class StereoRange {
   // Left and right 8-bit BGR or grey images of the rig's size. Throws std::invalid_argument
   // for an empty image, a size or type that does not match.
   StereoRangeResult Process(const cv::Mat& left, const cv::Mat& right) const;
+  // The same on a pair rectified by rectifier() (a worker feeding several stereo algorithms
+  // rectifies once).
+  StereoRangeResult ProcessRectified(const cv::Mat& left_rect, const cv::Mat& right_rect) const;
+  const StereoRectifier& rectifier() const;
 
   // Left-image columns [0, BlindColumns()) have no partner within the disparity search range:
   // obstacles seen only there (very near and far to the left) are not measured.

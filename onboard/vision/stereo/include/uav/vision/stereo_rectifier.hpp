@@ -47,6 +47,8 @@ class StereoRectifier {
   // Rectifies a pair of 8-bit BGR or grey images of the rig's size (the channel count is kept).
   // Throws std::invalid_argument for an empty image, a size or type that does not match.
   void Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat* left_rect, cv::Mat* right_rect) const;
+  // The same checks alone, for algorithms handed an already rectified pair.
+  void CheckPair(const cv::Mat& left, const cv::Mat& right) const;
   const RectifiedGeometry& geometry() const;
 
  private:
