@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "uav/vision/voxel_filter.hpp"
+#include "uav/vision/point_cloud.hpp"
 
 namespace uav::vision {
 namespace {

@@ -188,7 +188,7 @@ struct PowerLineStereo::Impl {
       const Eigen::Vector2d x = curve.PointAt(u);
       const Eigen::Vector3d p = g.Triangulate(x.x(), x.y(), d);
       w.p_L.push_back(p);
-      w.sigma_m.push_back(g.DepthSigma(g.f_px * g.baseline_m / d, sigma_d));
+      w.sigma_m.push_back(g.ErrorModel(sigma_d, 0.0).DepthSigma(g.f_px * g.baseline_m / d));
     }
     if (w.p_L.empty()) return w;
     w.range_m = w.p_L[0].norm();

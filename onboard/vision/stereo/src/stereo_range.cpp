@@ -16,37 +16,31 @@ void Require(bool ok, const std::string& what) {
 }
 }  // namespace
 
+namespace {
+DisparityParams MatchingOf(const StereoRangeParams& p) {
+  DisparityParams d;
+  d.matcher = MatcherKind::kSemiGlobal;
+  d.downscale = p.downscale;
+  d.num_disparities = p.num_disparities;
+  d.block_size = p.block_size;
+  d.texture_threshold = p.texture_threshold;
+  return d;
+}
+}  // namespace
+
 struct StereoRange::Impl {
-  explicit Impl(const StereoRig& rig) : rectifier(rig) {}
+  Impl(const StereoRig& rig, const StereoRangeParams& p) : params(p), rectifier(rig), matcher(MatchingOf(p)) {}
   StereoRangeParams params;
   StereoRectifier rectifier;
-  cv::Size small;  // matching resolution
-  cv::Ptr<cv::StereoSGBM> matcher;
+  DisparityMatcher matcher;
 };
 
-StereoRange::StereoRange(const StereoRig& rig, const StereoRangeParams& p) : impl_(std::make_unique<Impl>(rig)) {
-  Require(p.downscale == 1 || p.downscale == 2 || p.downscale == 4, "downscale must be 1, 2 or 4");
-  Require(p.num_disparities >= 16 && p.num_disparities <= 256 && p.num_disparities % 16 == 0,
-          "num_disparities must be a multiple of 16 in 16..256");
-  Require(p.block_size >= 3 && p.block_size <= 21 && p.block_size % 2 == 1, "block_size must be odd, 3..21");
+StereoRange::StereoRange(const StereoRig& rig, const StereoRangeParams& p) {
   Require(std::isfinite(p.corridor_half_width_m) && p.corridor_half_width_m > 0, "corridor_half_width_m must be positive");
   Require(std::isfinite(p.corridor_half_height_m) && p.corridor_half_height_m > 0, "corridor_half_height_m must be positive");
   Require(std::isfinite(p.max_range_m) && p.max_range_m > 0, "max_range_m must be positive");
   Require(p.min_points >= 1, "min_points must be at least 1");
-  Require(std::isfinite(p.texture_threshold) && p.texture_threshold >= 0, "texture_threshold must not be negative");
-  Impl& m = *impl_;
-  m.params = p;
-  const RectifiedGeometry& g = m.rectifier.geometry();
-  m.small = cv::Size(g.width / p.downscale, g.height / p.downscale);
-  // Semi-global matching (smoothness carries weakly textured surfaces such as a person's
-  // clothes); left-right consistency, uniqueness and speckle filtering drop ambiguous and
-  // isolated matches that would otherwise pose as near obstacles. Featureless surfaces (a plain
-  // wall, thesis 4.4) are masked by a texture test in Process() instead of matching their noise;
-  // the laser grid (thesis 4.2) gives them back texture.
-  const int block = p.block_size;
-  m.matcher = cv::StereoSGBM::create(0, p.num_disparities, block, 8 * block * block, 32 * block * block,
-                                     /*disp12MaxDiff=*/1, /*preFilterCap=*/31, /*uniquenessRatio=*/15,
-                                     /*speckleWindowSize=*/100, /*speckleRange=*/2, cv::StereoSGBM::MODE_SGBM);
+  impl_ = std::make_unique<Impl>(rig, p);
 }
 
 StereoRange::~StereoRange() = default;
@@ -82,34 +76,20 @@ StereoRangeResult StereoRange::ProcessRectified(const cv::Mat& left_rect, const 
   const Impl& m = *impl_;
   m.rectifier.CheckPair(left_rect, right_rect);
   const cv::Mat rect[2] = {left_rect, right_rect};
-  cv::Mat grey, small[2];
-  for (int i = 0; i < 2; ++i) {
-    if (rect[i].channels() == 3) cv::cvtColor(rect[i], grey, cv::COLOR_BGR2GRAY);
-    else grey = rect[i];
-    if (m.params.downscale == 1) small[i] = grey.clone();
-    else cv::resize(grey, small[i], m.small, 0, 0, cv::INTER_AREA);
-  }
-  cv::Mat disparity16;
-  m.matcher->compute(small[0], small[1], disparity16);
-  // Texture: mean |d/dx| over the matching window of the left image, in grey levels per pixel.
-  cv::Mat gradient, texture;
-  cv::Sobel(small[0], gradient, CV_32F, 1, 0, 3, 0.25);
-  cv::boxFilter(cv::abs(gradient), texture, CV_32F, cv::Size(m.params.block_size, m.params.block_size));
-
+  const DisparityMap disparity = m.matcher.Compute(left_rect, right_rect);
+  const cv::Mat& disparity16 = disparity.d16;
   StereoRangeResult r;
-  r.depth_m = cv::Mat::zeros(m.small, CV_32F);
+  r.depth_m = cv::Mat::zeros(disparity16.size(), CV_32F);
   std::vector<Eigen::Vector3d> points;
-  points.reserve(static_cast<size_t>(m.small.area()) / 4);
+  points.reserve(disparity16.total() / 4);
   const RectifiedGeometry& g = m.rectifier.geometry();
   const double s = m.params.downscale;
   int valid = 0;
   for (int v = 0; v < disparity16.rows; ++v) {
     const int16_t* d16 = disparity16.ptr<int16_t>(v);
     float* depth = r.depth_m.ptr<float>(v);
-    const float* tex = texture.ptr<float>(v);
     for (int u = 0; u < disparity16.cols; ++u) {
       if (d16[u] <= 0) continue;  // invalid (negative) or at infinity
-      if (tex[u] < m.params.texture_threshold) continue;
       ++valid;
       const double d = d16[u] / 16.0;
       // Matching-resolution pixels and disparities scale by s to the full-resolution geometry.
@@ -122,7 +102,7 @@ StereoRangeResult StereoRange::ProcessRectified(const cv::Mat& left_rect, const 
   r.obstacle = corridor.obstacle;
   r.range_m = corridor.range_m;
   r.corridor_points = corridor.corridor_points;
-  r.valid_fraction = static_cast<double>(valid) / m.small.area();
+  r.valid_fraction = static_cast<double>(valid) / static_cast<double>(disparity16.total());
   return r;
 }
 

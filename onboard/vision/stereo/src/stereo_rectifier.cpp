@@ -28,6 +28,41 @@ Eigen::Vector3d RectifiedGeometry::Triangulate(double u, double v, double d) con
   return R_L_rect * Eigen::Vector3d((u - cx) * z / f_px, (v - cy) * z / f_px, z);
 }
 
+std::array<double, 16> RectifiedGeometry::Q(int downscale) const {
+  const double s = downscale;
+  // Eq. 3.10 in the rectified frame with z forward: X = (u - cx), Y = (v - cy), Z = f, W = d / B.
+  return {1, 0, 0, -cx / s,  //
+          0, 1, 0, -cy / s,  //
+          0, 0, 0, f_px / s,  //
+          0, 0, 1.0 / baseline_m, 0};
+}
+
+StereoErrorModel RectifiedGeometry::ErrorModel(double sigma_d_px, double calibration_px, int downscale) const {
+  StereoErrorModel m;
+  m.f_px = f_px / downscale;
+  m.baseline_m = baseline_m;
+  m.sigma_d_px = sigma_d_px;
+  m.calibration_px = calibration_px;
+  m.Validate();
+  return m;
+}
+
+RectifiedGeometry RectifiedGeometry::OfRectifiedPair(int width, int height, double f_px, double baseline_m, double cx,
+                                                     double cy) {
+  Require(width >= 16 && height >= 16, "image size must be at least 16x16");
+  Require(std::isfinite(f_px) && f_px > 0, "focal length must be a positive number of pixels");
+  Require(std::isfinite(baseline_m) && baseline_m > 0, "baseline must be a positive number of metres");
+  Require(std::isfinite(cx) && std::isfinite(cy), "principal point must be finite");
+  RectifiedGeometry g;
+  g.width = width;
+  g.height = height;
+  g.f_px = f_px;
+  g.baseline_m = baseline_m;
+  g.cx = cx < 0 ? 0.5 * (width - 1) : cx;
+  g.cy = cy < 0 ? 0.5 * (height - 1) : cy;
+  return g;
+}
+
 struct StereoRectifier::Impl {
   RectifiedGeometry geometry;
   cv::Mat map_lx, map_ly, map_rx, map_ry;

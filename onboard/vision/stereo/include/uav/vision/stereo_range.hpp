@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core/mat.hpp>
 
+#include "uav/vision/disparity.hpp"
 #include "uav/vision/stereo_rectifier.hpp"
 
 namespace uav::vision {

@@ -3,12 +3,14 @@
 // scene point appears on the same row in each, displaced by the disparity d along the row, and
 // the rectified left frame gives depth Z = f b / d (Eq. 3.10-3.11). Shared by every stereo
 // algorithm (forward clearance, power lines), so that each one rectifies the same way.
+#include <array>
 #include <memory>
 
 #include <Eigen/Geometry>
 #include <opencv2/core/mat.hpp>
 
 #include "uav/shared/camera_intrinsics.hpp"
+#include "uav/vision/stereo_error_model.hpp"
 
 namespace uav::vision {
 
@@ -32,9 +34,17 @@ struct RectifiedGeometry {
   // Point in the left camera frame of rectified left pixel (u, v) with disparity d > 0 [px]
   // (Eq. 3.11: Z = f b / d, X = (u - cx) Z / f, Y = (v - cy) Z / f, then rotated back).
   Eigen::Vector3d Triangulate(double u, double v, double d) const;
-  // Depth standard deviation for a disparity standard deviation sigma_d at depth z (thesis 3.2,
-  // Eq. 3.6-3.7: dZ = Z^2 / (f b) dd).
-  double DepthSigma(double z_m, double sigma_d_px) const { return z_m * z_m / (f_px * baseline_m) * sigma_d_px; }
+  // The reprojection matrix of Eq. 3.10 for disparities at 1/downscale resolution: Q (u, v, d, 1)
+  // is the homogeneous point in the rectified left frame (Eq. 3.11); c_xl = c_xr after
+  // rectification. Row-major 4x4.
+  std::array<double, 16> Q(int downscale = 1) const;
+  // The error model of thesis 3.2 for disparities at 1/downscale resolution.
+  StereoErrorModel ErrorModel(double sigma_d_px, double calibration_px, int downscale = 1) const;
+  // A pair that is already rectified (Middlebury, KITTI): focal length and baseline known,
+  // principal point at the image centre unless given. Throws std::invalid_argument naming a
+  // non-finite or non-positive value.
+  static RectifiedGeometry OfRectifiedPair(int width, int height, double f_px, double baseline_m,
+                                           double cx = -1.0, double cy = -1.0);
 };
 
 class StereoRectifier {

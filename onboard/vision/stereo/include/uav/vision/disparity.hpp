@@ -1,0 +1,76 @@
+#pragma once
+// Dense disparity of a rectified pair (thesis 3.5.1): block matching (fast, misses weakly
+// textured areas) or semi-global matching (smooths along 8 paths and carries weak texture),
+// selectable, always with a left-right consistency check, optionally followed by the
+// edge-aware weighted-least-squares filter (opencv-contrib ximgproc), and a texture mask so
+// that featureless surfaces give no depth instead of matched noise (thesis 4.4).
+#include <memory>
+#include <string>
+
+#include <opencv2/core/mat.hpp>
+
+namespace uav::vision {
+
+enum class MatcherKind { kBlockMatching, kSemiGlobal };
+// "bm" or "sgbm"; throws std::invalid_argument naming the text otherwise.
+MatcherKind ParseMatcherKind(const std::string& text);
+const char* MatcherKindName(MatcherKind kind);
+
+struct DisparityParams {
+  MatcherKind matcher = MatcherKind::kSemiGlobal;
+  int downscale = 2;                 // match at 1/downscale resolution (1, 2 or 4)
+  int num_disparities = 48;          // [px] search range at matching resolution, multiple of 16, 16..512
+  int block_size = 5;                // [px] matching window at matching resolution, odd, 5..21 (thesis 3.2.1)
+  int lr_max_diff_px = 1;            // left-right check: left and right disparities agree within this [px]
+  bool wls_filter = false;           // edge-aware WLS filtering with a right-view confidence
+  double wls_lambda = 8000.0;        // WLS smoothness (ximgproc's default)
+  double wls_sigma_color = 1.5;      // WLS edge sensitivity (ximgproc's default)
+  double texture_threshold = 2.0;    // [grey levels/px] minimum mean |dI/dx| over the window; 0: off
+  // Throws std::invalid_argument naming the bad field.
+  void Validate() const;
+};
+
+// Disparity of the rectified left image at matching resolution: CV_16S, disparity x 16
+// (OpenCV's fixed point), negative where invalid. Full-resolution pixel (u, v) and disparity d
+// are downscale times the matching-resolution ones.
+struct DisparityMap {
+  cv::Mat d16;
+  int downscale = 1;
+  // Disparity at full resolution, x 16, 0 where invalid, CV_16U of the full image size (the
+  // 16-bit PNG format of uav-stereo --disparity).
+  cv::Mat FullResolution16U(const cv::Size& full) const;
+  double ValidFraction() const;
+};
+
+// A disparity map against ground truth (Middlebury's measure): over the pixels with a known
+// true disparity, the share whose estimate is missing or off by more than bad_threshold_px.
+struct DisparityErrors {
+  long pixels = 0;               // pixels with ground truth
+  double bad_fraction = 0.0;     // missing or wrong, of `pixels`
+  double invalid_fraction = 0.0; // missing, of `pixels`
+  double mean_abs_error_px = 0.0;  // over the valid estimates
+};
+// estimate_x16: CV_16U or CV_16S, disparity x 16, <= 0 invalid; truth_px: CV_32F, 0 unknown.
+// Throws std::invalid_argument when the sizes differ.
+DisparityErrors CompareDisparity(const cv::Mat& estimate_x16, const cv::Mat& truth_px, double bad_threshold_px = 1.0);
+
+class DisparityMatcher {
+ public:
+  // Throws std::invalid_argument naming the bad field.
+  explicit DisparityMatcher(const DisparityParams& params);
+  ~DisparityMatcher();
+  DisparityMatcher(DisparityMatcher&&) noexcept;
+
+  // A rectified pair, 8-bit BGR or grey, equal sizes divisible by downscale. Throws
+  // std::invalid_argument naming what is wrong with the images.
+  DisparityMap Compute(const cv::Mat& left_rect, const cv::Mat& right_rect) const;
+  const DisparityParams& params() const;
+  // Nearest depth the search range covers at full-resolution focal length f [px], baseline b [m].
+  double MinDepth(double f_px, double baseline_m) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace uav::vision

@@ -1,0 +1,235 @@
+#include "uav/vision/stereo_obstacles.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <opencv2/calib3d.hpp>
+
+#include "uav/vision/point_cloud.hpp"
+
+namespace uav::vision {
+
+namespace {
+void Require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("stereo obstacles: " + what);
+}
+
+double Milliseconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since).count();
+}
+
+double Quantile(std::vector<double> v, double q) {
+  const auto k = static_cast<std::ptrdiff_t>(std::lround(q * static_cast<double>(v.size() - 1)));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[static_cast<std::size_t>(k)];
+}
+}  // namespace
+
+void ObstacleParams::Validate() const {
+  disparity.Validate();
+  auto positive = [](double x) { return std::isfinite(x) && x > 0; };
+  Require(positive(sigma_d_px), "sigma_d_px must be positive");
+  Require(std::isfinite(calibration_px) && calibration_px >= 0, "calibration_px must not be negative");
+  Require(positive(max_depth_sigma_m), "max_depth_sigma_m must be positive");
+  Require(positive(max_disparity_step_px), "max_disparity_step_px must be positive");
+  Require(positive(voxel_leaf_m) && voxel_leaf_m <= 1.0, "voxel_leaf_m must be in (0, 1] m");
+  Require(positive(ground_tolerance_m), "ground_tolerance_m must be positive");
+  Require(std::isfinite(max_ground_tilt_deg) && max_ground_tilt_deg >= 0 && max_ground_tilt_deg < 45,
+          "max_ground_tilt_deg must be 0..45");
+  Require(positive(cluster_tolerance_m), "cluster_tolerance_m must be positive");
+  Require(min_cluster_voxels >= 3, "min_cluster_voxels must be at least 3");
+  Require(std::isfinite(safety_margin_m) && safety_margin_m >= 0, "safety_margin_m must not be negative");
+}
+
+struct StereoObstacleDetector::Impl {
+  RectifiedGeometry geometry;
+  ObstacleParams params;
+  DisparityMatcher matcher;
+  StereoErrorModel model;
+  double gate_depth_m = 0.0;
+  cv::Matx44d Q;
+  Impl(const RectifiedGeometry& g, const ObstacleParams& p) : geometry(g), params(p), matcher(p.disparity) {}
+};
+
+StereoObstacleDetector::StereoObstacleDetector(const RectifiedGeometry& g, const ObstacleParams& p) {
+  p.Validate();
+  Require(g.width >= 16 && g.height >= 16, "image size must be at least 16x16");
+  Require(std::isfinite(g.f_px) && g.f_px > 0, "focal length must be positive");
+  Require(std::isfinite(g.baseline_m) && g.baseline_m > 0, "baseline must be positive");
+  Require(g.R_L_rect.allFinite(), "rectification rotation must be finite");
+  impl_ = std::make_unique<Impl>(g, p);
+  const std::array<double, 16> q = g.Q(p.disparity.downscale);
+  for (int i = 0; i < 16; ++i) {
+    Require(std::isfinite(q[i]), "reprojection matrix Q is not finite");
+    impl_->Q(i / 4, i % 4) = q[i];
+  }
+  impl_->model = g.ErrorModel(p.sigma_d_px, p.calibration_px, p.disparity.downscale);
+  impl_->gate_depth_m = impl_->model.DepthWhereSigmaReaches(p.max_depth_sigma_m);
+}
+
+StereoObstacleDetector::~StereoObstacleDetector() = default;
+StereoObstacleDetector::StereoObstacleDetector(StereoObstacleDetector&&) noexcept = default;
+
+const RectifiedGeometry& StereoObstacleDetector::geometry() const { return impl_->geometry; }
+const ObstacleParams& StereoObstacleDetector::params() const { return impl_->params; }
+const StereoErrorModel& StereoObstacleDetector::error_model() const { return impl_->model; }
+double StereoObstacleDetector::GateDepth() const { return impl_->gate_depth_m; }
+
+Eigen::Isometry3d StereoObstacleDetector::LevelCameraPose() {
+  Eigen::Isometry3d T_WL = Eigen::Isometry3d::Identity();
+  // Camera axes (x right, y down, z forward) in W (x forward/north, y right/east, z down).
+  T_WL.linear() << 0, 0, 1,  //
+      1, 0, 0,               //
+      0, 1, 0;
+  return T_WL;
+}
+
+StereoObstacles StereoObstacleDetector::Process(const cv::Mat& left_rect, const cv::Mat& right_rect,
+                                                const Eigen::Isometry3d& T_WL) const {
+  const Impl& m = *impl_;
+  const ObstacleParams& P = m.params;
+  const RectifiedGeometry& g = m.geometry;
+  Require(T_WL.matrix().allFinite(), "camera pose is not finite");
+  for (const cv::Mat* image : {&left_rect, &right_rect})
+    Require(image->cols == g.width && image->rows == g.height,
+            "image is " + std::to_string(image->cols) + "x" + std::to_string(image->rows) + ", the calibration is " +
+                std::to_string(g.width) + "x" + std::to_string(g.height));
+  StereoObstacles out;
+  out.gate_depth_m = m.gate_depth_m;
+  out.ground_z_m = std::numeric_limits<double>::quiet_NaN();
+
+  auto t0 = std::chrono::steady_clock::now();
+  out.disparity = m.matcher.Compute(left_rect, right_rect);
+  out.times.disparity_ms = Milliseconds(t0);
+
+  // Eq. 3.11: (X, Y, Z, W) = Q (u, v, d, 1) in the rectified left frame, then into the left
+  // camera frame. Invalid disparities (negative) are skipped.
+  t0 = std::chrono::steady_clock::now();
+  cv::Mat disparity_px, xyz;
+  out.disparity.d16.convertTo(disparity_px, CV_32F, 1.0 / 16.0);
+  cv::reprojectImageTo3D(disparity_px, xyz, m.Q, false, CV_32F);
+  const Eigen::Matrix3f R_L_rect = g.R_L_rect.cast<float>();
+  const Eigen::Matrix3f R_WL = T_WL.linear().cast<float>();
+  const Eigen::Vector3f p_W_L = T_WL.translation().cast<float>();
+  const double min_depth = m.matcher.MinDepth(g.f_px, g.baseline_m);
+  std::vector<Eigen::Vector3f> gated_W;
+  out.points_L.reserve(static_cast<std::size_t>(disparity_px.total()) / 2);
+  const float jump = static_cast<float>(P.max_disparity_step_px);
+  const int rows = disparity_px.rows, cols = disparity_px.cols;
+  for (int v = 0; v < rows; ++v) {
+    const float* d = disparity_px.ptr<float>(v);
+    const float* up = disparity_px.ptr<float>(std::max(v - 1, 0));
+    const float* down = disparity_px.ptr<float>(std::min(v + 1, rows - 1));
+    const cv::Vec3f* p = xyz.ptr<cv::Vec3f>(v);
+    for (int u = 0; u < cols; ++u) {
+      if (!(d[u] > 0)) continue;
+      const Eigen::Vector3f p_L = R_L_rect * Eigen::Vector3f(p[u][0], p[u][1], p[u][2]);
+      out.points_L.push_back(p_L);
+      // At a depth discontinuity the window straddles both surfaces and the match lands between
+      // them; such points would bridge an obstacle to what stands behind it.
+      const float left = d[std::max(u - 1, 0)], right = d[std::min(u + 1, cols - 1)];
+      bool edge = false;
+      for (float n : {left, right, up[u], down[u]}) edge |= n > 0 && std::abs(n - d[u]) > jump;
+      if (edge) continue;
+      // Range gate (thesis 3.5 step 3) where the model's depth error passes its limit.
+      if (p[u][2] <= m.gate_depth_m && p[u][2] >= min_depth) gated_W.push_back(R_WL * p_L + p_W_L);
+    }
+  }
+  out.times.reproject_ms = Milliseconds(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  out.cloud_W = VoxelDownsample(gated_W, static_cast<float>(P.voxel_leaf_m));
+  out.times.voxel_ms = Milliseconds(t0);
+
+  // The ground (or floor) is the largest near-horizontal plane below the camera; objects standing
+  // on it would otherwise join into one cluster through it.
+  t0 = std::chrono::steady_clock::now();
+  std::vector<char> is_ground(out.cloud_W.size(), 0);
+  const std::vector<int> ground = PlaneInliers(out.cloud_W, Eigen::Vector3f::UnitZ(),
+                                               P.max_ground_tilt_deg * M_PI / 180.0, P.ground_tolerance_m,
+                                               std::max(P.min_cluster_voxels, static_cast<int>(out.cloud_W.size() / 10)));
+  if (!ground.empty()) {
+    std::vector<double> z;
+    for (int i : ground) z.push_back(out.cloud_W[static_cast<std::size_t>(i)].z());
+    const double ground_z = Quantile(z, 0.5);
+    if (ground_z > p_W_L.z() + 2 * P.ground_tolerance_m) {
+      out.ground_z_m = ground_z;
+      // Everything within the tolerance of the plane's height is ground, inliers or not.
+      for (std::size_t i = 0; i < out.cloud_W.size(); ++i)
+        if (out.cloud_W[i].z() > ground_z - P.ground_tolerance_m) is_ground[i] = 1;
+    }
+  }
+  std::vector<Eigen::Vector3f> above;
+  for (std::size_t i = 0; i < out.cloud_W.size(); ++i)
+    if (!is_ground[i]) above.push_back(out.cloud_W[i]);
+  out.times.ground_ms = Milliseconds(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  const std::vector<std::vector<int>> clusters = EuclideanClusters(above, P.cluster_tolerance_m, P.min_cluster_voxels);
+  out.times.cluster_ms = Milliseconds(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  const Eigen::Vector2d c = p_W_L.head<2>().cast<double>();
+  for (const std::vector<int>& cluster : clusters) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    double top = std::numeric_limits<double>::infinity(), bottom = -top;
+    for (int i : cluster) {
+      const Eigen::Vector3f& q = above[static_cast<std::size_t>(i)];
+      mean += q.head<2>().cast<double>();
+      top = std::min(top, static_cast<double>(q.z()));
+      bottom = std::max(bottom, static_cast<double>(q.z()));
+    }
+    mean /= static_cast<double>(cluster.size());
+    if ((mean - c).norm() < 1e-6) continue;
+    // Along the line of sight (t) and across it (s), horizontally.
+    const Eigen::Vector2d dir = (mean - c).normalized();
+    const Eigen::Vector2d lat(-dir.y(), dir.x());
+    std::vector<double> t, s;
+    for (int i : cluster) {
+      const Eigen::Vector2d q = above[static_cast<std::size_t>(i)].head<2>().cast<double>() - c;
+      t.push_back(q.dot(dir));
+      s.push_back(q.dot(lat));
+    }
+    const auto [s_lo, s_hi] = std::minmax_element(s.begin(), s.end());
+    double radius = 0.5 * (*s_hi - *s_lo);
+    const double s_mid = 0.5 * (*s_hi + *s_lo);
+    // Stereo sees the near side only. For a round object the visible points lie at depth
+    // centre - sqrt(r^2 - s^2), whose mean over the width is centre - (pi/4) r: the axis sits
+    // (pi/4) r behind the median depth. A cluster deeper than it is wide (a wall seen at a
+    // slant, a row of crates) is bounded by its depth extent instead.
+    const double t_near = Quantile(t, 0.05), t_far = Quantile(t, 0.95);
+    double t_mid = Quantile(t, 0.5) + M_PI / 4.0 * radius;
+    if (t_far - t_near > 2.0 * radius) {
+      radius = 0.5 * (t_far - t_near);
+      t_mid = 0.5 * (t_far + t_near);
+    }
+    ObstacleCylinder o;
+    o.centre_W.head<2>() = c + t_mid * dir + s_mid * lat;
+    // Standing on the ground: the cylinder reaches down to it.
+    if (std::isfinite(out.ground_z_m) && bottom > out.ground_z_m - 3 * P.ground_tolerance_m) bottom = out.ground_z_m;
+    o.top_m = top;
+    o.bottom_m = bottom;
+    o.centre_W.z() = 0.5 * (top + bottom);
+    o.radius_m = radius;
+    o.safety_radius_m = radius + P.safety_margin_m;
+    o.range_m = std::max(0.0, t_mid - radius);
+    // Eq. 3.6-3.7 along the line of sight, Eq. 3.4-3.5 across it, at the centre's depth.
+    const double sigma_t = m.model.DepthSigma(t_mid), sigma_s = m.model.LateralSigma(t_mid);
+    Eigen::Matrix2d R;
+    R.col(0) = dir;
+    R.col(1) = lat;
+    o.cov_xy = R * Eigen::Vector2d(sigma_t * sigma_t, sigma_s * sigma_s).asDiagonal() * R.transpose();
+    o.voxels = static_cast<int>(cluster.size());
+    out.obstacles.push_back(o);
+  }
+  std::sort(out.obstacles.begin(), out.obstacles.end(),
+            [](const ObstacleCylinder& a, const ObstacleCylinder& b) { return a.range_m < b.range_m; });
+  out.times.cylinders_ms = Milliseconds(t0);
+  return out;
+}
+
+}  // namespace uav::vision
