@@ -182,64 +182,7 @@ TEST(WorldProjection, UnprojectInvertsProject) {
 
 // ---- Chessboard and stereo calibration -------------------------------------------------------
 
-TEST(WorldCalibration, StereoCalibrationFromRenderedBoardsRecoversTheBaseline) {
-  const Scene scene = Scene::LoadFile(ScenePath("calibration"));
-  ASSERT_TRUE(scene.stereo_camera());
-  ASSERT_EQ(scene.chessboards().size(), 1u);
-  const StereoSetup& setup = *scene.stereo_camera();
-  const StereoRenderer renderer(scene, setup);
-  const Chessboard& board = scene.chessboards()[0];
-  const Eigen::Vector3d centre_N = board.T_N_board * Eigen::Vector3d(4 * board.square_m, 2.5 * board.square_m, 0);
-  const cv::Size pattern(board.cols, board.rows);
-  std::vector<cv::Point3f> object;
-  for (const auto& c : board.CornersInBoard()) object.emplace_back(c.x(), c.y(), c.z());
-
-  std::vector<std::vector<cv::Point3f>> objects;
-  std::vector<std::vector<cv::Point2f>> left_points, right_points;
-  int poses = 0;
-  for (int i = 0; i < 24; ++i) {
-    // Rig positions around the board: distance 0.7..1.3 m, off-axis, yawed, pitched and rolled.
-    const double dist = 0.7 + 0.6 * ((i * 7) % 11) / 10.0;
-    const double east = 0.25 * std::sin(i * 1.7), down = 0.15 * std::cos(i * 2.3);
-    const Eigen::Vector3d eye = centre_N + Eigen::Vector3d(-dist, east, down);
-    EulerAngles e;
-    const Eigen::Vector3d to = centre_N - eye;
-    e.psi = std::atan2(to.y(), to.x()) + 0.08 * std::sin(i * 0.9);
-    e.theta = std::atan2(-to.z(), to.head<2>().norm()) + 0.06 * std::cos(i * 1.3);
-    e.phi = 0.35 * std::sin(i * 0.77);
-    Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
-    T_NB.linear() = RotationNBFromEuler(e);
-    T_NB.translation() = eye - T_NB.linear() * setup.T_BE.translation();
-    const StereoFrame f = renderer.Render(T_NB, i * 100000);
-    std::vector<cv::Point2f> left, right;
-    cv::Mat gl, gr;
-    cv::cvtColor(f.left.image, gl, cv::COLOR_BGR2GRAY);
-    cv::cvtColor(f.right.image, gr, cv::COLOR_BGR2GRAY);
-    if (!cv::findChessboardCorners(gl, pattern, left) || !cv::findChessboardCorners(gr, pattern, right)) continue;
-    const cv::TermCriteria term(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-4);
-    cv::cornerSubPix(gl, left, cv::Size(5, 5), cv::Size(-1, -1), term);
-    cv::cornerSubPix(gr, right, cv::Size(5, 5), cv::Size(-1, -1), term);
-    objects.push_back(object);
-    left_points.push_back(left);
-    right_points.push_back(right);
-    ++poses;
-  }
-  ASSERT_GE(poses, 15) << "OpenCV found the board in too few renders";
-  const cv::Size size(setup.left.intrinsics.width, setup.left.intrinsics.height);
-  cv::Mat K1, D1, K2, D2, R, T, E, F;
-  std::vector<cv::Mat> rv, tv;
-  const double rms1 = cv::calibrateCamera(objects, left_points, size, K1, D1, rv, tv);
-  const double rms2 = cv::calibrateCamera(objects, right_points, size, K2, D2, rv, tv);
-  const double rms = cv::stereoCalibrate(objects, left_points, right_points, K1, D1, K2, D2, size, R, T, E, F,
-                                         cv::CALIB_FIX_INTRINSIC);
-  const double baseline = cv::norm(T);
-  std::printf("%d poses, RMS %.3f / %.3f / stereo %.3f px, baseline %.5f m, fx %.2f (true %.2f)\n", poses, rms1, rms2,
-              rms, baseline, K1.at<double>(0, 0), setup.left.intrinsics.fx);
-  EXPECT_NEAR(baseline, setup.baseline_m, 0.01 * setup.baseline_m);
-  EXPECT_NEAR(K1.at<double>(0, 0), setup.left.intrinsics.fx, 0.01 * setup.left.intrinsics.fx);
-  EXPECT_NEAR(D1.at<double>(0), setup.left.intrinsics.distortion[0], 0.02);
-  EXPECT_LT(rms, 0.5);
-}
+// Stereo calibration from rendered boards: test_stereo_calibration.cpp.
 
 // ---- Laser dots --------------------------------------------------------------------------------
 

@@ -161,9 +161,15 @@ StereoCalibration ReadStereoCalibration(const std::string& path) {
   fs["image_height"] >> height;
   const cv::Size size(width, height);
   StereoCalibration c;
-  c.rig.left = Intrinsics(matrix("K1", 3, 3), matrix("D1", 1, 5), size);
-  c.rig.right = Intrinsics(matrix("K2", 3, 3), matrix("D2", 1, 5), size);
-  const cv::Mat R = matrix("R", 3, 3), T = matrix("T", 3, 1);
+  // One entry after the other, so the first bad one is named.
+  const cv::Mat K1 = matrix("K1", 3, 3);
+  const cv::Mat D1 = matrix("D1", 1, 5);
+  const cv::Mat K2 = matrix("K2", 3, 3);
+  const cv::Mat D2 = matrix("D2", 1, 5);
+  const cv::Mat R = matrix("R", 3, 3);
+  const cv::Mat T = matrix("T", 3, 1);
+  c.rig.left = Intrinsics(K1, D1, size);
+  c.rig.right = Intrinsics(K2, D2, size);
   if (!fs["rms_px"].empty()) fs["rms_px"] >> c.rms_px;
   Eigen::Matrix3d R_RL;
   Eigen::Vector3d t_RL;

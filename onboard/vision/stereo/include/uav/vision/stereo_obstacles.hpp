@@ -18,7 +18,7 @@ namespace uav::vision {
 
 struct ObstacleParams {
   DisparityParams disparity;
-  double sigma_d_px = 0.15;          // [px] disparity precision at matching resolution (uav-stereo-error)
+  double sigma_d_px = 0.20;          // [px] disparity precision at matching resolution (uav-stereo-error: 0.20 at 320x240)
   double calibration_px = 0.5;       // [px] pixel position error p (Eq. 3.4-3.5)
   double max_depth_sigma_m = 0.3;    // range gate: points deeper than where the model's dZ reaches this are dropped
   double max_disparity_step_px = 1.0; // [px] at matching resolution: a larger step to a neighbour is a depth edge, dropped
