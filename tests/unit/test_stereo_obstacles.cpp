@@ -154,6 +154,7 @@ TEST(StereoObstacles, RangeGateComesFromTheErrorModel) {
   const RectifiedGeometry g = RectifiedGeometry::OfRectifiedPair(640, 480, 500.0, 0.12);
   ObstacleParams p;
   p.max_depth_sigma_m = 0.2;
+  p.sigma_d_px = 0.15;
   const StereoObstacleDetector detector(g, p);
   // Eq. 3.7 at half resolution: dZ = Z^2 dd / (f/2 B) = 0.2 m at Z = sqrt(0.2 * 250 * 0.12 / 0.15).
   EXPECT_NEAR(detector.GateDepth(), std::sqrt(0.2 * 250 * 0.12 / 0.15), 1e-9);
