@@ -22,6 +22,8 @@ const char* TopicName(Topic t) {
     case Topic::kTrackTarget: return "TRACK_TARGET";
     case Topic::kTrackStatus: return "TRACK_STATUS";
     case Topic::kPowerLines: return "POWER_LINES";
+    case Topic::kObstacles: return "OBSTACLES";
+    case Topic::kPointCloud: return "POINT_CLOUD";
   }
   return "UNKNOWN";
 }

@@ -49,6 +49,8 @@ const std::vector<Signal<VehicleState>>& VehicleStateSignals() {
       {{"capturing", "capturing", "1", "", F::kBool}, [](const S& s) { return B(s.capturing); }},
       {{"obstacle_range", "obstacle_range_m", "m", "B", F::kMetres}, [](const S& s) { return s.obstacle_range_m; }},
       {{"wire_range", "nearest_wire_m", "m", "B", F::kMetres}, [](const S& s) { return s.nearest_wire_m; }},
+      {{"obstacles", "obstacle_count", "1", "", F::kInteger}, [](const S& s) { return double(s.obstacle_count); }},
+      {{"obstacle_nearest", "nearest_obstacle_m", "m", "N", F::kMetres}, [](const S& s) { return s.nearest_obstacle_m; }},
       {{"alt", "", "m", "above home", F::kMetres}, [](const S& s) { return s.altitude(); }},
       {{"gps_lat", "gps_latitude_deg", "deg", "WGS84", F::kLatLon}, [](const S& s) { return s.gps.latitude_deg; }},
       {{"gps_lon", "gps_longitude_deg", "deg", "WGS84", F::kLatLon}, [](const S& s) { return s.gps.longitude_deg; }},
@@ -172,6 +174,8 @@ VehicleState FromMessage(const uavmsg::vehicle_state_t& m) {
   s.battery_remaining = m.battery_remaining;
   s.obstacle_range_m = m.obstacle_range_m;
   s.nearest_wire_m = m.nearest_wire_m;
+  s.obstacle_count = m.obstacle_count;
+  s.nearest_obstacle_m = m.nearest_obstacle_m;
   s.fence_radius_m = m.fence_radius_m;
   s.fence_alt_m = m.fence_alt_m;
   s.chirp_channel = m.chirp_channel;
@@ -209,6 +213,8 @@ void ToMessage(const VehicleState& s, uavmsg::vehicle_state_t* m) {
   m->battery_remaining = static_cast<float>(s.battery_remaining);
   m->obstacle_range_m = static_cast<float>(s.obstacle_range_m);
   m->nearest_wire_m = static_cast<float>(s.nearest_wire_m);
+  m->obstacle_count = static_cast<int16_t>(s.obstacle_count);
+  m->nearest_obstacle_m = static_cast<float>(s.nearest_obstacle_m);
   m->fence_radius_m = static_cast<float>(s.fence_radius_m);
   m->fence_alt_m = static_cast<float>(s.fence_alt_m);
   m->chirp_channel = static_cast<int8_t>(s.chirp_channel);

@@ -6,6 +6,7 @@
 
 #include "uav/shared/bus.hpp"
 #include "uav/shared/channels.hpp"
+#include "uav/shared/obstacles.hpp"
 #include "uav/shared/power_lines.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/waypoints/mission_messages.hpp"
@@ -16,6 +17,8 @@
 #include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/map_tile_t.hpp"
+#include "uavmsg/obstacles_t.hpp"
+#include "uavmsg/point_cloud_t.hpp"
 #include "uavmsg/power_lines_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/track_status_t.hpp"
@@ -126,6 +129,14 @@ const std::map<Topic, Decoder>& Decoders() {
       {Topic::kPowerLines,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
          model.OnPowerLines(id, FromMessage(Decode<uavmsg::power_lines_t>(d, n, id)), now);
+       }},
+      {Topic::kObstacles,
+       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
+         model.OnObstacles(id, FromMessage(Decode<uavmsg::obstacles_t>(d, n, id)), now);
+       }},
+      {Topic::kPointCloud,
+       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
+         model.OnPointCloud(id, FromMessage(Decode<uavmsg::point_cloud_t>(d, n, id)), now);
        }},
       {Topic::kStatusText,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {

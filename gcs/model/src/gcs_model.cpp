@@ -85,6 +85,14 @@ void GcsModel::OnPowerLines(const std::string& vehicle_id, PowerLines lines, dou
   wires_.OnPowerLines(Vehicle(vehicle_id), vehicle_id, std::move(lines), now, log_);
 }
 
+void GcsModel::OnObstacles(const std::string& vehicle_id, Obstacles obstacles, double now) {
+  obstacles_.OnObstacles(Vehicle(vehicle_id), vehicle_id, std::move(obstacles), now, log_);
+}
+
+void GcsModel::OnPointCloud(const std::string& vehicle_id, PointCloud cloud, double now) {
+  obstacles_.OnPointCloud(Vehicle(vehicle_id), std::move(cloud), now);
+}
+
 void GcsModel::SelectVehicle(const std::string& id) {
   if (!vehicles_.count(id) || id == selected_) return;
   selected_ = id;

@@ -46,8 +46,10 @@ void DrawGcs(GcsModel& model, UiContext& ctx) {
   DrawStateListPanel(model, ctx);
   Place(0.0f, 0.64f, 0.22f, 0.36f);
   DrawVideoPanel(model, ctx);
-  Place(0.22f, 0.04f, 0.40f, 0.51f);
+  Place(0.22f, 0.04f, 0.24f, 0.51f);
   DrawPlotPanel(model, ctx);
+  Place(0.46f, 0.04f, 0.16f, 0.51f);
+  DrawObstacleViewPanel(model, ctx);
   Place(0.22f, 0.55f, 0.40f, 0.22f);
   DrawCommandBarPanel(model, ctx);
   Place(0.22f, 0.77f, 0.40f, 0.23f);

@@ -209,6 +209,15 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
     if (const PowerLines* lines = v->FreshPowerLines(ctx.now, model.wires().params()))
       for (const PowerLine& w : lines->wires)
         draw_wire(w.p_N, w.range_m < model.wires().params().warn_distance_m ? IM_COL32(255, 60, 60, 255) : IM_COL32(255, 160, 40, 255), 3.0f);
+    // Stereo obstacles (thesis 3.5) to scale: the seen radius filled, the safety radius (radius
+    // plus margin) as a ring the vehicle keeps out of.
+    if (const Obstacles* obstacles = v->FreshObstacles(ctx.now, model.obstacles().params()))
+      for (const Obstacle& o : obstacles->obstacles) {
+        const ImVec2 c = to_screen(o.p_NE.x(), o.p_NE.y());
+        const float r = std::max(2.0f, static_cast<float>(o.radius_m * st.map_px_per_m));
+        dl->AddCircleFilled(c, r, IM_COL32(200, 80, 255, 150), 32);
+        dl->AddCircle(c, static_cast<float>(o.safety_radius_m * st.map_px_per_m), IM_COL32(200, 80, 255, 230), 48, 1.5f);
+      }
     {
       std::vector<ImVec2> trail;
       for (const auto& p_N : v->trail) trail.push_back(to_screen(p_N.x(), p_N.y()));

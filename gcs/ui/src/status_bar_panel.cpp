@@ -59,6 +59,14 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| WIRE %.1f m", v->power_lines->nearest_m);
   }
+  // Stereo obstacles from telemetry (count, nearest surface), and a stereo channel that is down.
+  if (v->stereo_unhealthy) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| STEREO DOWN");
+  } else if (v->state && v->state->obstacle_count > 0) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(0.85f, 0.5f, 1, 1), "| OBS %d, %.1f m", v->state->obstacle_count, v->state->nearest_obstacle_m);
+  }
   if (model.replay()) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(0.4f, 0.7f, 1, 1), "| REPLAY (nothing is sent)");

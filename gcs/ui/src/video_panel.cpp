@@ -169,6 +169,19 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
       }
     }
   }
+  // Stereo obstacles (thesis 3.5) as boxes around their projected cylinders, labelled with the
+  // horizontal distance to their surface.
+  if (const Obstacles* obstacles = v->FreshObstacles(ctx.now, model.obstacles().params());
+      obstacles && obstacles->camera == feed.camera) {
+    for (const Obstacle& o : obstacles->obstacles) {
+      const ImU32 colour = IM_COL32(200, 80, 255, 230);
+      const ImVec2 a = to_screen(o.image_box[0], o.image_box[1]), b = to_screen(o.image_box[2], o.image_box[3]);
+      dl->AddRect(a, b, colour, 0, 0, 2.0f);
+      char label[32];
+      std::snprintf(label, sizeof label, "%.1f m", o.range_m);
+      dl->AddText(ImVec2(a.x + 2, a.y + 2), colour, label);
+    }
+  }
   ImGui::Text("%s %dx%d (from %dx%d), %.0f fps, frame %lld%s", feed.camera.c_str(), feed.width, feed.height,
               feed.source_width, feed.source_height, v->video.Rate(ctx.now), static_cast<long long>(feed.frames),
               feed.rejected ? ", some frames rejected" : "");

@@ -9,6 +9,8 @@
 #include "uavmsg/file_offer_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/map_tile_t.hpp"
+#include "uavmsg/obstacles_t.hpp"
+#include "uavmsg/point_cloud_t.hpp"
 #include "uavmsg/power_lines_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
@@ -122,6 +124,24 @@ class PowerLinesTranslator : public Translator {
   LinkContext& c_;
 };
 
+class ObstaclesTranslator : public Translator {
+ public:
+  explicit ObstaclesTranslator(LinkContext& c) : c_(c) {}
+  void Tick(int64_t) override {
+    if (auto obstacles = c_.board.TakeObstacles()) {
+      uavmsg::obstacles_t m = ToMessage(*obstacles);
+      c_.Publish(Topic::kObstacles, m);
+    }
+    if (auto cloud = c_.board.TakePointCloud()) {
+      uavmsg::point_cloud_t m = ToMessage(*cloud);
+      c_.Publish(Topic::kPointCloud, m);
+    }
+  }
+
+ private:
+  LinkContext& c_;
+};
+
 class MapTileTranslator : public Translator {
  public:
   explicit MapTileTranslator(LinkContext& c) : c_(c) {}
@@ -193,6 +213,7 @@ std::unique_ptr<Translator> MakeStateTranslator(LinkContext& c) { return std::ma
 std::unique_ptr<Translator> MakeHeartbeatTranslator(LinkContext& c) { return std::make_unique<HeartbeatTranslator>(c); }
 std::unique_ptr<Translator> MakeVideoTranslator(LinkContext& c) { return std::make_unique<VideoTranslator>(c); }
 std::unique_ptr<Translator> MakePowerLinesTranslator(LinkContext& c) { return std::make_unique<PowerLinesTranslator>(c); }
+std::unique_ptr<Translator> MakeObstaclesTranslator(LinkContext& c) { return std::make_unique<ObstaclesTranslator>(c); }
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c) { return std::make_unique<MapTileTranslator>(c); }
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files) {
   return std::make_unique<FileTransferTranslator>(c, files);

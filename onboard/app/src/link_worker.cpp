@@ -47,6 +47,7 @@ LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url
   im.translators.push_back(MakeHeartbeatTranslator(c));
   im.translators.push_back(MakeVideoTranslator(c));
   im.translators.push_back(MakePowerLinesTranslator(c));
+  im.translators.push_back(MakeObstaclesTranslator(c));
   im.translators.push_back(MakeMapTileTranslator(c));
   im.translators.push_back(MakeFileTransferTranslator(c, im.files));
 }

@@ -29,6 +29,8 @@ VehicleState ReportedState(const BlackboardData& d, const GeodeticPoint& home, A
   s.battery_remaining = d.sample.battery_remaining;
   s.obstacle_range_m = d.obstacle_range_m;
   s.nearest_wire_m = d.nearest_wire_m;
+  s.obstacle_count = d.obstacle_count;
+  s.nearest_obstacle_m = d.nearest_obstacle_m;
   s.fence_radius_m = d.fence_radius_m;
   s.fence_alt_m = d.fence_alt_m;
   s.chirp_channel = d.chirp_channel;

@@ -1,6 +1,7 @@
 #include "uav/app/stereo_worker.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "uav/shared/frames.hpp"
 
@@ -29,12 +30,20 @@ StereoWorkerParams StereoWorkerParams::FromParameters(const ParameterSet& p) {
   s.ranging.min_range_m = p.Get("pwl_min_range");
   s.ranging.max_range_m = p.Get("pwl_max_range");
   s.ranging.Validate();
+  s.obstacles.disparity.matcher = p.Get("obs_matcher") != 0.0 ? vision::MatcherKind::kSemiGlobal : vision::MatcherKind::kBlockMatching;
+  s.obstacles.max_depth_sigma_m = p.Get("obs_max_sigma");
+  s.obstacles.safety_margin_m = p.Get("obs_margin");
+  s.obstacles.min_cluster_voxels = static_cast<int>(p.Get("obs_min_voxels"));
+  s.obstacles.Validate();
+  s.cloud_rate_hz = p.Get("obs_cloud_rate");
   return s;
 }
 
 StereoWorker::StereoWorker(hal::StereoCamera& camera, Blackboard& board, const StereoWorkerParams& params)
     : camera_(camera),
-      range_(RigOf(camera), vision::StereoRangeParams()),
+      rectifier_(RigOf(camera)),
+      obstacles_(rectifier_.geometry(), params.obstacles),
+      cloud_rate_hz_(params.cloud_rate_hz),
       board_(board),
       preview_(camera.left().name, camera.left().preview_rate_hz) {
   if (params.power_lines) power_lines_.emplace(RigOf(camera), vision::PowerLineParams(), params.ranging);
@@ -42,18 +51,106 @@ StereoWorker::StereoWorker(hal::StereoCamera& camera, Blackboard& board, const S
 
 void StereoWorker::Tick(int64_t utime) {
   const hal::StereoImages pair = camera_.Capture(utime);
-  // One rectification of the pair for every algorithm that reads it.
+  const BlackboardData d = board_.Snapshot();
+  Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
+  T_NB.linear() = RotationNBFromEuler(d.estimate.euler);
+  T_NB.translation() = d.estimate.p_N;
+  // One rectification of the pair for every algorithm that reads it. A pair that cannot be used
+  // (a camera gone blank, a wrong size, a navigation solution gone non-finite) leaves the
+  // channel unhealthy: nothing stale is reported and the thread keeps running.
   cv::Mat left_rect, right_rect;
-  range_.rectifier().Rectify(pair.left, pair.right, &left_rect, &right_rect);
-  const vision::StereoRangeResult r = range_.ProcessRectified(left_rect, right_rect);
-  board_.Update([&](BlackboardData& d) { d.obstacle_range_m = r.obstacle ? r.range_m : -1.0; });
+  vision::StereoObstacles found;
+  try {
+    rectifier_.Rectify(pair.left, pair.right, &left_rect, &right_rect);
+    found = obstacles_.Process(left_rect, right_rect, T_NB * camera_.left().T_BC);
+  } catch (const std::exception& e) {
+    ReportUnhealthy(utime, e.what());
+    return;
+  }
+  // The corridor ahead from the same points (one disparity per pair).
+  std::vector<Eigen::Vector3d> p_L;
+  p_L.reserve(found.points_L.size());
+  for (const Eigen::Vector3f& p : found.points_L) p_L.push_back(p.cast<double>());
+  const vision::StereoRangeResult corridor = vision::StereoRange::RangeFromPoints(p_L, vision::StereoRangeParams());
+  board_.Update([&](BlackboardData& b) { b.obstacle_range_m = corridor.obstacle ? corridor.range_m : -1.0; });
+  ReportObstacles(utime, found, T_NB);
   if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
   if (power_lines_) ReportPowerLines(utime, power_lines_->ProcessRectified(left_rect, right_rect), pair.left.size());
   ++frames_;
 }
 
+void StereoWorker::ReportUnhealthy(int64_t utime, const std::string& reason) {
+  board_.Update([&](BlackboardData& b) {
+    b.obstacle_range_m = -1.0;
+    b.obstacle_count = 0;
+    b.nearest_obstacle_m = -1.0;
+    b.nearest_wire_m = -1.0;
+  });
+  Obstacles report;
+  report.utime = utime;
+  report.camera = camera_.left().name;
+  report.healthy = false;
+  report.reason = reason;
+  report.range_gate_m = obstacles_.GateDepth();
+  board_.PutObstacles(std::move(report));
+  ++unhealthy_;
+}
+
+void StereoWorker::ReportObstacles(int64_t utime, const vision::StereoObstacles& found, const Eigen::Isometry3d& T_NB) {
+  const CameraIntrinsics& k = camera_.left().intrinsics;
+  const Eigen::Isometry3d T_LN = (T_NB * camera_.left().T_BC).inverse();
+  Obstacles report;
+  report.utime = utime;
+  report.camera = camera_.left().name;
+  report.range_gate_m = found.gate_depth_m;
+  for (const vision::ObstacleCylinder& c : found.obstacles) {
+    Obstacle o;
+    o.p_NE = c.centre_W.head<2>();
+    o.top_down_m = c.top_m;
+    o.bottom_down_m = c.bottom_m;
+    o.radius_m = c.radius_m;
+    o.safety_radius_m = c.safety_radius_m;
+    o.range_m = std::max(0.0, (o.p_NE - T_NB.translation().head<2>()).norm() - c.radius_m);
+    o.cov_NE = c.cov_xy;
+    // The box around the cylinder's projection into the (unrectified) left image.
+    double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
+    for (int i = 0; i < 8; ++i) {
+      const double a = i % 4 * M_PI / 2;
+      const Eigen::Vector3d p_N(o.p_NE.x() + c.radius_m * std::cos(a), o.p_NE.y() + c.radius_m * std::sin(a),
+                                i < 4 ? c.top_m : c.bottom_m);
+      const Eigen::Vector3d p_C = T_LN * p_N;
+      if (p_C.z() < 0.1) continue;
+      const Eigen::Vector2d px = Project(k, p_C);
+      x0 = std::min(x0, px.x()), x1 = std::max(x1, px.x());
+      y0 = std::min(y0, px.y()), y1 = std::max(y1, px.y());
+    }
+    if (x1 >= x0) {
+      auto clamp = [](double v) { return std::clamp(v, 0.0, 1.0); };
+      o.image_box = {clamp((x0 + 0.5) / k.width), clamp((y0 + 0.5) / k.height), clamp((x1 + 0.5) / k.width),
+                     clamp((y1 + 0.5) / k.height)};
+    }
+    if (report.nearest_m < 0 || o.range_m < report.nearest_m) report.nearest_m = o.range_m;
+    report.obstacles.push_back(o);
+  }
+  std::sort(report.obstacles.begin(), report.obstacles.end(),
+            [](const Obstacle& a, const Obstacle& b) { return a.range_m < b.range_m; });
+  board_.Update([&](BlackboardData& b) {
+    b.obstacle_count = static_cast<int>(report.obstacles.size());
+    b.nearest_obstacle_m = report.nearest_m;
+  });
+  board_.PutObstacles(std::move(report));
+  if (cloud_rate_hz_ > 0 && (last_cloud_utime_ < 0 || utime - last_cloud_utime_ >= static_cast<int64_t>(1e6 / cloud_rate_hz_))) {
+    last_cloud_utime_ = utime;
+    PointCloud cloud;
+    cloud.utime = utime;
+    cloud.origin_N = T_NB.translation();
+    cloud.p_N = found.cloud_W;
+    board_.PutPointCloud(std::move(cloud));
+  }
+}
+
 void StereoWorker::ReportPowerLines(int64_t utime, const std::vector<vision::Wire3D>& wires, const cv::Size& image) {
-  const BlackboardData d = board_.Snapshot();
+  const BlackboardData d = board_.Snapshot();  // the estimate at this pair (not the truth)
   Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
   T_NB.linear() = RotationNBFromEuler(d.estimate.euler);
   T_NB.translation() = d.estimate.p_N;

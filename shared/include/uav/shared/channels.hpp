@@ -21,7 +21,9 @@ enum class Topic {
   kMapTile,
   kTrackTarget,
   kTrackStatus,
-  kPowerLines
+  kPowerLines,
+  kObstacles,
+  kPointCloud
 };
 
 const char* TopicName(Topic t);

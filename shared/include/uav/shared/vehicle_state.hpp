@@ -46,6 +46,8 @@ struct VehicleState {
   double battery_remaining = 0.0;                   // [0..1]
   double obstacle_range_m = -1.0;                   // [m] nearest ahead; < 0 none
   double nearest_wire_m = -1.0;                     // [m] nearest ranged power line; < 0 none
+  int obstacle_count = 0;                           // stereo obstacle cylinders in view
+  double nearest_obstacle_m = -1.0;                 // [m] horizontal, to the nearest one's surface; < 0 none
   double fence_radius_m = 0.0;                      // [m] geofence around home
   double fence_alt_m = 0.0;                         // [m] geofence ceiling
   int chirp_channel = 0;                            // servo channel being chirped, 0 none

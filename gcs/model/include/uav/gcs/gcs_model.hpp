@@ -10,6 +10,7 @@
 #include "uav/gcs/maps_downloads.hpp"
 #include "uav/gcs/message_log.hpp"
 #include "uav/gcs/mission_uploads.hpp"
+#include "uav/gcs/obstacle_reports.hpp"
 #include "uav/gcs/plots.hpp"
 #include "uav/gcs/power_line_warnings.hpp"
 #include "uav/gcs/telemetry.hpp"
@@ -18,7 +19,7 @@
 namespace uav::gcs {
 
 // One vehicle as the GCS knows it: each concern's per-vehicle part.
-struct VehicleModel : VehicleTelemetry, VehicleVideo, VehicleMaps, VehicleMission, VehiclePowerLines {
+struct VehicleModel : VehicleTelemetry, VehicleVideo, VehicleMaps, VehicleMission, VehiclePowerLines, VehicleObstacles {
   std::string id;
 };
 
@@ -39,6 +40,8 @@ class GcsModel {
   void OnMapTile(const std::string& vehicle_id, const MapTileIn& tile, double now);
   void OnTrackStatus(const std::string& vehicle_id, const TrackStatus& status, double now);
   void OnPowerLines(const std::string& vehicle_id, PowerLines lines, double now);
+  void OnObstacles(const std::string& vehicle_id, Obstacles obstacles, double now);
+  void OnPointCloud(const std::string& vehicle_id, PointCloud cloud, double now);
 
   // ---- Operator actions on the selected vehicle (false: error() of the concern says why).
   void SelectVehicle(const std::string& id);
@@ -72,6 +75,7 @@ class GcsModel {
   const MessageLog& log() const { return log_; }
   WireWarnings& wires() { return wires_; }
   const WireWarnings& wires() const { return wires_; }
+  const ObstacleReports& obstacles() const { return obstacles_; }
 
   // ---- Vehicles.
   const std::map<std::string, VehicleModel>& vehicles() const { return vehicles_; }
@@ -96,6 +100,7 @@ class GcsModel {
   MapsDownloads maps_;
   MissionUploads missions_;
   WireWarnings wires_;
+  ObstacleReports obstacles_;
 };
 
 }  // namespace uav::gcs

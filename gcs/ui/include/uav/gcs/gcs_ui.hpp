@@ -17,6 +17,7 @@ void DrawMessagesPanel(GcsModel& model, UiContext& ctx);
 void DrawMapPanel(GcsModel& model, UiContext& ctx);
 void DrawSurveyPanel(GcsModel& model, UiContext& ctx);
 void DrawLiveMapPanel(GcsModel& model, UiContext& ctx);
+void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx);
 // Uploads the selected vehicle's changed live-map tiles into textures (shared by the Map and
 // Live map panels).
 void SyncLiveMapTextures(const VehicleModel& v, UiContext& ctx);

@@ -16,6 +16,7 @@
 #include "uav/control/mixer.hpp"
 #include "uav/control/task_manager.hpp"
 #include "uav/hal/vehicle_backend.hpp"
+#include "uav/shared/obstacles.hpp"
 #include "uav/shared/power_lines.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
@@ -75,6 +76,9 @@ struct BlackboardData {
   double obstacle_range_m = -1.0;
   // STEREO thread: nearest ranged power line [m] from the body origin; < 0: none
   double nearest_wire_m = -1.0;
+  // STEREO thread: obstacle cylinders in view, nearest surface [m] horizontally; < 0: none
+  int obstacle_count = 0;
+  double nearest_obstacle_m = -1.0;
 };
 
 class Blackboard {
@@ -137,6 +141,28 @@ class Blackboard {
     power_lines_.reset();
     return out;
   }
+  // STEREO -> CMM: the newest pair's obstacles and the newest decimated cloud replace ones not
+  // yet sent.
+  void PutObstacles(Obstacles o) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    obstacles_ = std::move(o);
+  }
+  std::optional<Obstacles> TakeObstacles() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<Obstacles> out = std::move(obstacles_);
+    obstacles_.reset();
+    return out;
+  }
+  void PutPointCloud(PointCloud c) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    point_cloud_ = std::move(c);
+  }
+  std::optional<PointCloud> TakePointCloud() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<PointCloud> out = std::move(point_cloud_);
+    point_cloud_.reset();
+    return out;
+  }
   // CAM -> STITCH: every capture, in order (a survey frame is never dropped).
   void PushCapture(SurveyCapture c) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -192,6 +218,8 @@ class Blackboard {
   std::deque<StatusText> status_;
   std::optional<PreviewFrame> preview_;
   std::optional<PowerLines> power_lines_;
+  std::optional<Obstacles> obstacles_;
+  std::optional<PointCloud> point_cloud_;
   std::deque<SurveyCapture> captures_;
   std::deque<std::pair<std::string, std::string>> downloads_;
   std::map<std::tuple<int, int, int>, LiveTile> tiles_;

@@ -1,7 +1,9 @@
 #pragma once
 // STEREO: the forward stereo pair on the vehicle clock. A thin shell around hal::StereoCamera
-// (simulated or real): takes both images at the pair's rate, feeds vision::StereoRange (the
-// nearest obstacle ahead, vehicle_state_t.obstacle_range_m) and vision::PowerLineStereo (power
+// (simulated or real): takes both images at the pair's rate, rectifies them once, feeds
+// vision::StereoObstacleDetector (obstacle cylinders, thesis 3.5: obstacles_t every pair, a
+// decimated point_cloud_t at obs_cloud_rate; its points give the nearest obstacle ahead in the
+// corridor, vehicle_state_t.obstacle_range_m) and vision::PowerLineStereo (power
 // lines in the image and in 3-D, thesis 3.6: power_lines_t, and the nearest wire in
 // vehicle_state_t.nearest_wire_m, the median of the last three pairs), and streams the left image to the GCS video panel at its
 // preview rate. The wires are placed in NED with the flight stack's estimate, never the truth.
@@ -14,6 +16,7 @@
 #include "uav/hal/camera.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/vision/power_line_stereo.hpp"
+#include "uav/vision/stereo_obstacles.hpp"
 #include "uav/vision/stereo_range.hpp"
 
 namespace uav::app {
@@ -21,6 +24,8 @@ namespace uav::app {
 struct StereoWorkerParams {
   bool power_lines = true;             // pwl_enable
   vision::WireRangingParams ranging;   // pwl_min_range, pwl_max_range
+  vision::ObstacleParams obstacles;    // obs_matcher, obs_max_sigma, obs_margin, obs_min_voxels
+  double cloud_rate_hz = 1.0;          // obs_cloud_rate
   // From a vehicle parameter file; throws naming a missing or out-of-range parameter.
   static StereoWorkerParams FromParameters(const ParameterSet& p);
 };
@@ -29,19 +34,26 @@ class StereoWorker {
  public:
   StereoWorker(hal::StereoCamera& camera, Blackboard& board, const StereoWorkerParams& params);
   void Tick(int64_t utime);
-  int frames() const { return frames_; }
+  int frames() const { return frames_; }        // pairs processed
+  int unhealthy() const { return unhealthy_; }  // pairs that could not be used
 
  private:
   void ReportPowerLines(int64_t utime, const std::vector<vision::Wire3D>& wires, const cv::Size& image);
+  void ReportObstacles(int64_t utime, const vision::StereoObstacles& found, const Eigen::Isometry3d& T_NB);
+  void ReportUnhealthy(int64_t utime, const std::string& reason);
 
   hal::StereoCamera& camera_;
-  vision::StereoRange range_;
+  vision::StereoRectifier rectifier_;
+  vision::StereoObstacleDetector obstacles_;
+  double cloud_rate_hz_;
+  int64_t last_cloud_utime_ = -1;
   std::optional<vision::PowerLineStereo> power_lines_;
   Blackboard& board_;
   PreviewStream preview_;
   static constexpr double kNoWire = 1e9;
   std::array<double, 3> recent_nearest_m_{kNoWire, kNoWire, kNoWire};  // per pair, kNoWire: none ranged
   int frames_ = 0;
+  int unhealthy_ = 0;
 };
 
 }  // namespace uav::app

@@ -19,7 +19,7 @@ const char* MatcherKindName(MatcherKind kind);
 struct DisparityParams {
   MatcherKind matcher = MatcherKind::kSemiGlobal;
   int downscale = 2;                 // match at 1/downscale resolution (1, 2 or 4)
-  int num_disparities = 48;          // [px] search range at matching resolution, multiple of 16, 16..512
+  int num_disparities = 64;          // [px] search range at matching resolution, multiple of 16, 16..512
   int block_size = 5;                // [px] matching window at matching resolution, odd, 5..21 (thesis 3.2.1)
   int lr_max_diff_px = 1;            // left-right check: left and right disparities agree within this [px]
   bool wls_filter = false;           // edge-aware WLS filtering with a right-view confidence

@@ -1,0 +1,44 @@
+#pragma once
+// Obstacles the vehicle's stereo pair sees (thesis 3.5): each vehicle's newest obstacles_t and
+// point_cloud_t, decoded, for the map, video and obstacle-view panels. Reports older than a set
+// age are not drawn (stale obstacles must not look current). A stereo channel that turns
+// unhealthy, and its recovery, go to the messages once each.
+#include <optional>
+#include <string>
+
+#include "uav/gcs/message_log.hpp"
+#include "uav/shared/obstacles.hpp"
+
+namespace uav::gcs {
+
+struct ObstacleReportParams {
+  double stale_after_s = 2.0;        // [s] obstacle reports older than this are not drawn
+  double cloud_stale_after_s = 5.0;  // [s] the point cloud comes at about 1 Hz
+};
+
+// Per vehicle.
+struct VehicleObstacles {
+  std::optional<Obstacles> obstacles;  // newest report
+  double obstacles_at = -1.0;          // [s] GCS clock it arrived
+  std::optional<PointCloud> cloud;
+  double cloud_at = -1.0;
+  bool stereo_unhealthy = false;
+  const Obstacles* FreshObstacles(double now, const ObstacleReportParams& p) const {
+    return obstacles && now - obstacles_at <= p.stale_after_s ? &*obstacles : nullptr;
+  }
+  const PointCloud* FreshCloud(double now, const ObstacleReportParams& p) const {
+    return cloud && now - cloud_at <= p.cloud_stale_after_s ? &*cloud : nullptr;
+  }
+};
+
+class ObstacleReports {
+ public:
+  const ObstacleReportParams& params() const { return params_; }
+  void OnObstacles(VehicleObstacles& v, const std::string& vehicle_id, Obstacles o, double now, MessageLog& log) const;
+  void OnPointCloud(VehicleObstacles& v, PointCloud c, double now) const;
+
+ private:
+  ObstacleReportParams params_;
+};
+
+}  // namespace uav::gcs

@@ -1,0 +1,129 @@
+#include "uav/shared/obstacles.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "uavmsg/obstacles_t.hpp"
+#include "uavmsg/point_cloud_t.hpp"
+
+namespace uav {
+
+namespace {
+void Require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument(what);
+}
+bool Finite(std::initializer_list<float> v) {
+  for (float x : v)
+    if (!std::isfinite(x)) return false;
+  return true;
+}
+}  // namespace
+
+Obstacles FromMessage(const uavmsg::obstacles_t& m) {
+  const std::string what = "obstacles_t: ";
+  Require(m.num_obstacles >= 0 && m.num_obstacles <= uavmsg::obstacles_t::MAX_OBSTACLES,
+          what + "num_obstacles " + std::to_string(m.num_obstacles) + " outside 0.." +
+              std::to_string(uavmsg::obstacles_t::MAX_OBSTACLES));
+  Require(static_cast<int>(m.obstacles.size()) == m.num_obstacles, what + "num_obstacles does not match the obstacles sent");
+  Require(Finite({m.range_gate_m, m.nearest_m}), what + "range_gate_m or nearest_m is not finite");
+  Require(m.healthy || m.num_obstacles == 0, what + "an unhealthy report carries obstacles");
+  Obstacles o;
+  o.utime = m.utime;
+  o.camera = m.camera;
+  o.healthy = m.healthy;
+  o.reason = m.reason;
+  o.range_gate_m = m.range_gate_m;
+  o.nearest_m = m.nearest_m < 0 ? -1.0 : m.nearest_m;
+  for (int i = 0; i < m.num_obstacles; ++i) {
+    const uavmsg::obstacle_t& c = m.obstacles[i];
+    const std::string where = what + "obstacle " + std::to_string(i) + ": ";
+    Require(Finite({c.north_m, c.east_m, c.top_down_m, c.bottom_down_m, c.radius_m, c.safety_radius_m, c.range_m, c.cov_nn,
+                    c.cov_ne, c.cov_ee, c.image_x0, c.image_y0, c.image_x1, c.image_y1}),
+            where + "a value is not finite");
+    Require(c.top_down_m <= c.bottom_down_m, where + "top is below bottom");
+    Require(c.radius_m >= 0 && c.safety_radius_m >= c.radius_m, where + "radius negative or above the safety radius");
+    Require(c.cov_nn >= 0 && c.cov_ee >= 0 && c.cov_ne * c.cov_ne <= c.cov_nn * c.cov_ee * 1.0001f + 1e-9f,
+            where + "covariance is not positive semi-definite");
+    Obstacle b;
+    b.p_NE = Eigen::Vector2d(c.north_m, c.east_m);
+    b.top_down_m = c.top_down_m;
+    b.bottom_down_m = c.bottom_down_m;
+    b.radius_m = c.radius_m;
+    b.safety_radius_m = c.safety_radius_m;
+    b.range_m = c.range_m;
+    b.cov_NE << c.cov_nn, c.cov_ne, c.cov_ne, c.cov_ee;
+    b.image_box = {c.image_x0, c.image_y0, c.image_x1, c.image_y1};
+    o.obstacles.push_back(b);
+  }
+  return o;
+}
+
+uavmsg::obstacles_t ToMessage(const Obstacles& o) {
+  uavmsg::obstacles_t m;
+  m.utime = o.utime;
+  m.camera = o.camera;
+  m.healthy = o.healthy;
+  m.reason = o.reason;
+  m.range_gate_m = static_cast<float>(o.range_gate_m);
+  m.nearest_m = static_cast<float>(o.nearest_m);
+  for (const Obstacle& b : o.obstacles) {
+    if (!o.healthy || static_cast<int>(m.obstacles.size()) >= uavmsg::obstacles_t::MAX_OBSTACLES) break;
+    uavmsg::obstacle_t c;
+    c.north_m = static_cast<float>(b.p_NE.x());
+    c.east_m = static_cast<float>(b.p_NE.y());
+    c.top_down_m = static_cast<float>(b.top_down_m);
+    c.bottom_down_m = static_cast<float>(b.bottom_down_m);
+    c.radius_m = static_cast<float>(b.radius_m);
+    c.safety_radius_m = static_cast<float>(b.safety_radius_m);
+    c.range_m = static_cast<float>(b.range_m);
+    c.cov_nn = static_cast<float>(b.cov_NE(0, 0));
+    c.cov_ne = static_cast<float>(b.cov_NE(0, 1));
+    c.cov_ee = static_cast<float>(b.cov_NE(1, 1));
+    c.image_x0 = static_cast<float>(b.image_box[0]);
+    c.image_y0 = static_cast<float>(b.image_box[1]);
+    c.image_x1 = static_cast<float>(b.image_box[2]);
+    c.image_y1 = static_cast<float>(b.image_box[3]);
+    m.obstacles.push_back(c);
+  }
+  m.num_obstacles = static_cast<int16_t>(m.obstacles.size());
+  return m;
+}
+
+PointCloud FromMessage(const uavmsg::point_cloud_t& m) {
+  const std::string what = "point_cloud_t: ";
+  Require(m.num_points >= 0 && m.num_points <= uavmsg::point_cloud_t::MAX_POINTS,
+          what + "num_points " + std::to_string(m.num_points) + " outside 0.." + std::to_string(uavmsg::point_cloud_t::MAX_POINTS));
+  const auto n = static_cast<std::size_t>(m.num_points);
+  Require(m.north_cm.size() == n && m.east_cm.size() == n && m.down_cm.size() == n,
+          what + "point arrays do not match num_points");
+  Require(Finite({m.origin_north_m, m.origin_east_m, m.origin_down_m}), what + "origin is not finite");
+  PointCloud c;
+  c.utime = m.utime;
+  c.origin_N = Eigen::Vector3d(m.origin_north_m, m.origin_east_m, m.origin_down_m);
+  c.p_N.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
+    c.p_N.emplace_back(m.origin_north_m + 0.01f * m.north_cm[i], m.origin_east_m + 0.01f * m.east_cm[i],
+                       m.origin_down_m + 0.01f * m.down_cm[i]);
+  return c;
+}
+
+uavmsg::point_cloud_t ToMessage(const PointCloud& c) {
+  const Eigen::Vector3d& origin_N = c.origin_N;
+  uavmsg::point_cloud_t m;
+  m.utime = c.utime;
+  m.origin_north_m = static_cast<float>(origin_N.x());
+  m.origin_east_m = static_cast<float>(origin_N.y());
+  m.origin_down_m = static_cast<float>(origin_N.z());
+  const std::size_t step = c.p_N.size() / uavmsg::point_cloud_t::MAX_POINTS + 1;
+  for (std::size_t i = 0; i < c.p_N.size(); i += step) {
+    const Eigen::Vector3f d = (c.p_N[i] - origin_N.cast<float>()) * 100.0f;
+    if (!d.allFinite() || d.cwiseAbs().maxCoeff() > 32700.0f) continue;
+    m.north_cm.push_back(static_cast<int16_t>(std::lround(d.x())));
+    m.east_cm.push_back(static_cast<int16_t>(std::lround(d.y())));
+    m.down_cm.push_back(static_cast<int16_t>(std::lround(d.z())));
+  }
+  m.num_points = static_cast<int32_t>(m.north_cm.size());
+  return m;
+}
+
+}  // namespace uav
