@@ -142,5 +142,83 @@ TEST(StereoWorker, PowerLinesOffSendsNone) {
   EXPECT_LT(board.Snapshot().nearest_wire_m, 0.0);
 }
 
+// Obstacles (thesis 3.5) in NED with the estimate equal to the truth: at (3, -1.5), 1.5 m up,
+// facing north, the forest's person (6, -1.5), radius 0.2 m, is straight ahead, its surface
+// 2.8 m away; a decimated cloud goes out with the first pair.
+TEST(StereoWorker, ReportsObstacleCylindersInNed) {
+  const world::Scene scene = LoadScene("forest");
+  Blackboard board;
+  const Eigen::Isometry3d T_NB = Pose(3, -1.5, -1.5);
+  board.Update([&](BlackboardData& d) {
+    d.estimate.p_N = T_NB.translation();
+    d.estimate.euler = {0.0, 0.0, 0.0};
+  });
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return T_NB; });
+  StereoWorker worker(sim_pair, board, StereoWorkerParams());
+  worker.Tick(1'000'000);
+  const auto report = board.TakeObstacles();
+  ASSERT_TRUE(report);
+  EXPECT_TRUE(report->healthy);
+  EXPECT_EQ(report->camera, "stereo_left");
+  ASSERT_FALSE(report->obstacles.empty());
+  const Obstacle& nearest = report->obstacles.front();
+  EXPECT_NEAR(nearest.p_NE.x(), 6.0, 0.15);
+  EXPECT_NEAR(nearest.p_NE.y(), -1.5, 0.15);
+  EXPECT_NEAR(nearest.range_m, 2.8, 0.2);
+  EXPECT_GT(nearest.safety_radius_m, nearest.radius_m);
+  EXPECT_GT(nearest.cov_NE(0, 0), 0.0);
+  // Its box on the left image: around the centre column (the left camera sits 6 cm left of
+  // the body axis), from above the head to the ground.
+  EXPECT_LT(nearest.image_box[0], 0.5);
+  EXPECT_GT(nearest.image_box[2], 0.5);
+  EXPECT_LT(nearest.image_box[1], 0.5);
+  EXPECT_GT(nearest.image_box[3], 0.6);
+  EXPECT_EQ(board.Snapshot().obstacle_count, static_cast<int>(report->obstacles.size()));
+  EXPECT_DOUBLE_EQ(board.Snapshot().nearest_obstacle_m, report->nearest_m);
+  const auto cloud = board.TakePointCloud();
+  ASSERT_TRUE(cloud);
+  EXPECT_GT(cloud->p_N.size(), 100u);
+  EXPECT_TRUE(cloud->origin_N.isApprox(T_NB.translation()));
+}
+
+// A camera that goes blank: the channel reports unhealthy with the reason, no stale obstacles,
+// and the thread keeps running.
+TEST(StereoWorker, BlankCameraReportsUnhealthyAndNoObstacles) {
+  const world::Scene scene = LoadScene("forest");
+  Blackboard board;
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return Pose(3, 0, -1.5); });
+  struct Failing : hal::StereoCamera {
+    explicit Failing(hal::StereoCamera& c) : inner(c) {}
+    const hal::CameraInfo& left() const override { return inner.left(); }
+    const hal::CameraInfo& right() const override { return inner.right(); }
+    hal::StereoImages Capture(int64_t utime) override {
+      hal::StereoImages images = inner.Capture(utime);
+      if (blank) images.right = cv::Mat();
+      return images;
+    }
+    hal::StereoCamera& inner;
+    bool blank = false;
+  } camera(sim_pair);
+  StereoWorker worker(camera, board, StereoWorkerParams());
+  worker.Tick(1'000'000);
+  ASSERT_GT(board.Snapshot().obstacle_count, 0);
+  board.TakeObstacles();
+  camera.blank = true;
+  worker.Tick(1'066'667);
+  const auto report = board.TakeObstacles();
+  ASSERT_TRUE(report);
+  EXPECT_FALSE(report->healthy);
+  EXPECT_NE(report->reason.find("empty"), std::string::npos) << report->reason;
+  EXPECT_TRUE(report->obstacles.empty());
+  EXPECT_EQ(board.Snapshot().obstacle_count, 0);
+  EXPECT_LT(board.Snapshot().nearest_obstacle_m, 0.0);
+  EXPECT_LT(board.Snapshot().obstacle_range_m, 0.0);
+  EXPECT_EQ(worker.unhealthy(), 1);
+  camera.blank = false;
+  worker.Tick(1'133'333);
+  EXPECT_TRUE(board.TakeObstacles()->healthy);
+  EXPECT_EQ(worker.frames(), 2);
+}
+
 }  // namespace
 }  // namespace uav::app

@@ -46,14 +46,14 @@ void DrawGcs(GcsModel& model, UiContext& ctx) {
   DrawStateListPanel(model, ctx);
   Place(0.0f, 0.64f, 0.22f, 0.36f);
   DrawVideoPanel(model, ctx);
-  Place(0.22f, 0.04f, 0.24f, 0.51f);
+  Place(0.22f, 0.04f, 0.40f, 0.51f);
   DrawPlotPanel(model, ctx);
-  Place(0.46f, 0.04f, 0.16f, 0.51f);
-  DrawObstacleViewPanel(model, ctx);
   Place(0.22f, 0.55f, 0.40f, 0.22f);
   DrawCommandBarPanel(model, ctx);
-  Place(0.22f, 0.77f, 0.40f, 0.23f);
+  Place(0.22f, 0.77f, 0.26f, 0.23f);
   DrawMessagesPanel(model, ctx);
+  Place(0.48f, 0.77f, 0.14f, 0.23f);
+  DrawObstacleViewPanel(model, ctx);
   Place(0.62f, 0.04f, 0.38f, 0.46f);
   DrawMapPanel(model, ctx);
   Place(0.62f, 0.50f, 0.38f, 0.32f);

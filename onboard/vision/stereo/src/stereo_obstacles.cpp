@@ -8,6 +8,7 @@
 #include <string>
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "uav/vision/point_cloud.hpp"
 
@@ -118,23 +119,35 @@ StereoObstacles StereoObstacleDetector::Process(const cv::Mat& left_rect, const 
   const double min_depth = m.matcher.MinDepth(g.f_px, g.baseline_m);
   std::vector<Eigen::Vector3f> gated_W;
   out.points_L.reserve(static_cast<std::size_t>(disparity_px.total()) / 2);
+  // Depth edges: a step larger than max_disparity_step_px to a 4-neighbour. A pixel whose
+  // matching window reaches across such an edge (within half a window of it) matched both
+  // surfaces at once: the nearer one bleeds outwards (foreground fattening) and points land
+  // between the two, bridging an obstacle to what stands behind it. Those pixels are dropped.
   const float jump = static_cast<float>(P.max_disparity_step_px);
   const int rows = disparity_px.rows, cols = disparity_px.cols;
+  cv::Mat edge = cv::Mat::zeros(disparity_px.size(), CV_8U);
   for (int v = 0; v < rows; ++v) {
     const float* d = disparity_px.ptr<float>(v);
-    const float* up = disparity_px.ptr<float>(std::max(v - 1, 0));
     const float* down = disparity_px.ptr<float>(std::min(v + 1, rows - 1));
+    uint8_t* e = edge.ptr<uint8_t>(v);
+    uint8_t* e_down = edge.ptr<uint8_t>(std::min(v + 1, rows - 1));
+    for (int u = 0; u < cols; ++u) {
+      if (!(d[u] > 0)) continue;
+      if (u + 1 < cols && d[u + 1] > 0 && std::abs(d[u + 1] - d[u]) > jump) e[u] = e[u + 1] = 1;
+      if (v + 1 < rows && down[u] > 0 && std::abs(down[u] - d[u]) > jump) e[u] = e_down[u] = 1;
+    }
+  }
+  const int half_window = P.disparity.block_size / 2;
+  cv::dilate(edge, edge, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half_window + 1, 2 * half_window + 1)));
+  for (int v = 0; v < rows; ++v) {
+    const float* d = disparity_px.ptr<float>(v);
+    const uint8_t* e = edge.ptr<uint8_t>(v);
     const cv::Vec3f* p = xyz.ptr<cv::Vec3f>(v);
     for (int u = 0; u < cols; ++u) {
       if (!(d[u] > 0)) continue;
       const Eigen::Vector3f p_L = R_L_rect * Eigen::Vector3f(p[u][0], p[u][1], p[u][2]);
       out.points_L.push_back(p_L);
-      // At a depth discontinuity the window straddles both surfaces and the match lands between
-      // them; such points would bridge an obstacle to what stands behind it.
-      const float left = d[std::max(u - 1, 0)], right = d[std::min(u + 1, cols - 1)];
-      bool edge = false;
-      for (float n : {left, right, up[u], down[u]}) edge |= n > 0 && std::abs(n - d[u]) > jump;
-      if (edge) continue;
+      if (e[u]) continue;
       // Range gate (thesis 3.5 step 3) where the model's depth error passes its limit.
       if (p[u][2] <= m.gate_depth_m && p[u][2] >= min_depth) gated_W.push_back(R_WL * p_L + p_W_L);
     }
