@@ -2,7 +2,7 @@
 # uav-stereo on opencv-doc's rectified Middlebury aloe pair: the 16-bit disparity PNG (x 16, 0
 # invalid, the left image's size), a PCD cloud and an obstacle JSON with --focal/--baseline, the
 # score against aloeGT.png; a raw pair with a calibration written by the library's YAML; bad
-# input named with nothing written.
+# input named with nothing written; uav-stereo-calibrate on opencv-doc's chessboard pairs.
 set -euo pipefail
 bin=$1
 data=/usr/share/doc/opencv-doc/examples/data
@@ -55,4 +55,13 @@ grep -q "640x480" "$out/err" || fail "calib size message: $(cat "$out/err")"
 # The same calibration on a pair of its size works (rectifies, then matches).
 "$bin/uav-stereo" "$data/left01.jpg" "$data/right01.jpg" --calib "$out/rig.yml" --disparity "$out/z.png" > /dev/null
 [ -s "$out/z.png" ] || fail "no disparity for a fitting calibration"
+# Calibrate opencv-doc's 13 real pairs (9x6 corners, 1 unit squares), then rectify and match one.
+pairs=()
+for i in 01 02 03 04 05 06 07 08 09 11 12 13 14; do pairs+=("$data/left$i.jpg" "$data/right$i.jpg"); done
+"$bin/uav-stereo-calibrate" --board 9x6 --square 1 --out "$out/doc.yml" "${pairs[@]}" | tee "$out/calib.txt"
+grep -q "13 of 13 pairs" "$out/calib.txt" || fail "calibration used too few pairs"
+"$bin/uav-stereo" "$data/left01.jpg" "$data/right01.jpg" --calib "$out/doc.yml" --disparity "$out/doc.png" > /dev/null
+[ -s "$out/doc.png" ] || fail "no disparity from the calibrated pair"
+if "$bin/uav-stereo-calibrate" --out "$out/bad.yml" "$data/left01.jpg" 2> "$out/err"; then fail "odd image count"; fi
+[ ! -e "$out/bad.yml" ] || fail "calibration written for bad input"
 echo "uav-stereo: ok"

@@ -2,7 +2,8 @@
 # Integration test: stereo obstacles end to end. uav-onboard --sim in the forest scene and a
 # headless uav-gcs whose script takes off facing a person and a pole and asserts the nearest
 # obstacle; then the vehicle's flight log must carry the obstacle count and nearest distance,
-# and the nearest while hovering at (3, -1.5) must be the person's surface at 2.8 m.
+# and the nearest while hovering at (3, -1.5) must be the person's surface at 2.8 m (+-0.7 m:
+# the hover point is the INS estimate's, up to half a metre from the truth).
 # Usage: stereo_obstacles.sh BIN_DIR SCRIPT SCENE
 set -euo pipefail
 bin=$1 script=$2 scene=$3
@@ -23,5 +24,5 @@ if not hover: sys.exit(1)
 median = statistics.median(hover)
 print(f"nearest obstacle while hovering at (3, -1.5): median {median:.2f} m (truth 2.8 m), "
       f"min {min(hover):.2f}, max {max(hover):.2f}")
-sys.exit(0 if abs(median - 2.8) < 0.3 else 1)
+sys.exit(0 if abs(median - 2.8) < 0.7 else 1)
 PY

@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
   params.disparity.downscale = 1;
   params.disparity.num_disparities = 128;
   params.disparity.block_size = 5;
+  params.disparity.texture_threshold = 0.0;  // any pair; the vehicle masks featureless areas (2)
   cli.add_option("left", left_path, "left image")->required();
   cli.add_option("right", right_path, "right image")->required();
   auto* calib = cli.add_option("--calib", calib_path, "calibration file (.yml/.xml) of a raw pair");
