@@ -29,14 +29,14 @@ Eigen::Isometry3d BodyPose(double n, double e, double d, double yaw) {
 
 // Truth: the exact point of every pixel the matcher can see (right of the blind strip) in the
 // left camera frame.
-std::vector<Eigen::Vector3d> TruePoints(const world::Frame& left, const CameraIntrinsics& k, int blind_columns) {
-  std::vector<Eigen::Vector3d> p;
+std::vector<Eigen::Vector3f> TruePoints(const world::Frame& left, const CameraIntrinsics& k, int blind_columns) {
+  std::vector<Eigen::Vector3f> p;
   for (int v = 0; v < left.depth.rows; ++v)
     for (int u = blind_columns; u < left.depth.cols; ++u) {
       const float z = left.depth.at<float>(v, u);
       if (z <= 0) continue;
       const Eigen::Vector2d x = Unproject(k, Eigen::Vector2d(u, v));
-      p.emplace_back(x.x() * z, x.y() * z, z);
+      p.emplace_back(static_cast<float>(x.x() * z), static_cast<float>(x.y() * z), z);
     }
   return p;
 }
@@ -125,7 +125,7 @@ TEST(StereoRange, RejectsBadRigsParametersAndImages) {
 TEST(StereoRange, CorridorRuleTakesTheKthNearestPointInside) {
   StereoRangeParams p;
   p.min_points = 3;
-  std::vector<Eigen::Vector3d> pts = {{0, 0, 5}, {0.5, 0.2, 4}, {0.9, -0.4, 6}, {1.5, 0, 1}, {0, 0.8, 1}, {0, 0, 30}};
+  std::vector<Eigen::Vector3f> pts = {{0, 0, 5}, {0.5, 0.2, 4}, {0.9, -0.4, 6}, {1.5, 0, 1}, {0, 0.8, 1}, {0, 0, 30}};
   StereoRangeResult r = StereoRange::RangeFromPoints(pts, p);
   ASSERT_TRUE(r.obstacle);
   EXPECT_EQ(r.corridor_points, 3);  // (1.5, 0) is wide of it, (0, 0.8) above it, 30 m beyond range

@@ -68,14 +68,11 @@ void StereoWorker::Tick(int64_t utime) {
     return;
   }
   // The corridor ahead from the same points (one disparity per pair).
-  std::vector<Eigen::Vector3d> p_L;
-  p_L.reserve(found.points_L.size());
-  for (const Eigen::Vector3f& p : found.points_L) p_L.push_back(p.cast<double>());
-  const vision::StereoRangeResult corridor = vision::StereoRange::RangeFromPoints(p_L, vision::StereoRangeParams());
+  const vision::StereoRangeResult corridor = vision::StereoRange::RangeFromPoints(found.points_L, vision::StereoRangeParams());
   board_.Update([&](BlackboardData& b) { b.obstacle_range_m = corridor.obstacle ? corridor.range_m : -1.0; });
   ReportObstacles(utime, found, T_NB);
   if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
-  if (power_lines_) ReportPowerLines(utime, power_lines_->ProcessRectified(left_rect, right_rect), pair.left.size());
+  if (power_lines_) ReportPowerLines(power_lines_->ProcessRectified(left_rect, right_rect), pair.left.size(), utime, T_NB);
   ++frames_;
 }
 
@@ -149,11 +146,8 @@ void StereoWorker::ReportObstacles(int64_t utime, const vision::StereoObstacles&
   }
 }
 
-void StereoWorker::ReportPowerLines(int64_t utime, const std::vector<vision::Wire3D>& wires, const cv::Size& image) {
-  const BlackboardData d = board_.Snapshot();  // the estimate at this pair (not the truth)
-  Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
-  T_NB.linear() = RotationNBFromEuler(d.estimate.euler);
-  T_NB.translation() = d.estimate.p_N;
+void StereoWorker::ReportPowerLines(const std::vector<vision::Wire3D>& wires, const cv::Size& image, int64_t utime,
+                                    const Eigen::Isometry3d& T_NB) {
   const Eigen::Isometry3d& T_BL = camera_.left().T_BC;
   const double width = image.width, height = image.height;
   PowerLines report;

@@ -48,10 +48,10 @@ StereoRange::StereoRange(StereoRange&&) noexcept = default;
 
 int StereoRange::BlindColumns() const { return impl_->params.num_disparities * impl_->params.downscale; }
 
-StereoRangeResult StereoRange::RangeFromPoints(const std::vector<Eigen::Vector3d>& p_L, const StereoRangeParams& p) {
+StereoRangeResult StereoRange::RangeFromPoints(const std::vector<Eigen::Vector3f>& p_L, const StereoRangeParams& p) {
   StereoRangeResult r;
   std::vector<double> z;
-  for (const Eigen::Vector3d& q : p_L)
+  for (const Eigen::Vector3f& q : p_L)
     if (q.z() > 0 && q.z() <= p.max_range_m && std::abs(q.x()) <= p.corridor_half_width_m &&
         std::abs(q.y()) <= p.corridor_half_height_m)
       z.push_back(q.z());
@@ -75,12 +75,11 @@ StereoRangeResult StereoRange::Process(const cv::Mat& left, const cv::Mat& right
 StereoRangeResult StereoRange::ProcessRectified(const cv::Mat& left_rect, const cv::Mat& right_rect) const {
   const Impl& m = *impl_;
   m.rectifier.CheckPair(left_rect, right_rect);
-  const cv::Mat rect[2] = {left_rect, right_rect};
   const DisparityMap disparity = m.matcher.Compute(left_rect, right_rect);
   const cv::Mat& disparity16 = disparity.d16;
   StereoRangeResult r;
   r.depth_m = cv::Mat::zeros(disparity16.size(), CV_32F);
-  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3f> points;
   points.reserve(disparity16.total() / 4);
   const RectifiedGeometry& g = m.rectifier.geometry();
   const double s = m.params.downscale;
@@ -95,7 +94,7 @@ StereoRangeResult StereoRange::ProcessRectified(const cv::Mat& left_rect, const 
       // Matching-resolution pixels and disparities scale by s to the full-resolution geometry.
       const Eigen::Vector3d p_L = g.Triangulate(u * s, v * s, d * s);
       depth[u] = static_cast<float>(g.f_px * g.baseline_m / (d * s));
-      points.push_back(p_L);
+      points.push_back(p_L.cast<float>());
     }
   }
   StereoRangeResult corridor = RangeFromPoints(points, m.params);

@@ -38,7 +38,9 @@ class StereoWorker {
   int unhealthy() const { return unhealthy_; }  // pairs that could not be used
 
  private:
-  void ReportPowerLines(int64_t utime, const std::vector<vision::Wire3D>& wires, const cv::Size& image);
+  // T_NB: the estimate's body pose at this pair (never the truth).
+  void ReportPowerLines(const std::vector<vision::Wire3D>& wires, const cv::Size& image, int64_t utime,
+                        const Eigen::Isometry3d& T_NB);
   void ReportObstacles(int64_t utime, const vision::StereoObstacles& found, const Eigen::Isometry3d& T_NB);
   void ReportUnhealthy(int64_t utime, const std::string& reason);
 

@@ -54,7 +54,7 @@ class StereoRange {
 
   // The corridor rule applied to points in the left camera frame (shared with the tests'
   // ground truth): the min_points-th smallest z of the points inside the corridor.
-  static StereoRangeResult RangeFromPoints(const std::vector<Eigen::Vector3d>& p_L, const StereoRangeParams& params);
+  static StereoRangeResult RangeFromPoints(const std::vector<Eigen::Vector3f>& p_L, const StereoRangeParams& params);
 
  private:
   struct Impl;
