@@ -15,6 +15,9 @@
 namespace uav::vision {
 
 namespace {
+// Fraction of a cluster's points left out at each side when measuring its width.
+constexpr double kWidthTail = 0.02;
+
 void Require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("stereo obstacles: " + what);
 }
@@ -207,9 +210,12 @@ StereoObstacles StereoObstacleDetector::Process(const cv::Mat& left_rect, const 
       t.push_back(q.dot(dir));
       s.push_back(q.dot(lat));
     }
-    const auto [s_lo, s_hi] = std::minmax_element(s.begin(), s.end());
-    double radius = 0.5 * (*s_hi - *s_lo);
-    const double s_mid = 0.5 * (*s_hi + *s_lo);
+    // The width between the 2nd and 98th percentiles: a few voxels left by fattening at the
+    // silhouette, or from a surface touching it, would widen the extremes (a 15 cm pole at 3.7 m
+    // read 23 cm with min/max, 18 cm with percentiles).
+    const double s_lo = Quantile(s, kWidthTail), s_hi = Quantile(s, 1.0 - kWidthTail);
+    double radius = 0.5 * (s_hi - s_lo);
+    const double s_mid = 0.5 * (s_hi + s_lo);
     // Stereo sees the near side only. For a round object the visible points lie at depth
     // centre - sqrt(r^2 - s^2), whose mean over the width is centre - (pi/4) r: the axis sits
     // (pi/4) r behind the median depth. A cluster deeper than it is wide (a wall seen at a
