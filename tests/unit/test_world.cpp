@@ -121,6 +121,101 @@ TEST(WorldDepth, BoxFaceAndCylinderMatchAnalyticDepth) {
   EXPECT_LT(worst_cyl, 1e-5);
 }
 
+// ---- Moving objects (tracking targets) -------------------------------------------------------
+
+// A red ball rolls along a path: it is rendered, and its ground-truth box found, where the path
+// puts it at each time; a looping path comes back round, a back-and-forth one reverses; a car
+// turns to face its leg.
+TEST(WorldMovingObjects, ObjectsAreRenderedWhereTheirPathPutsThem) {
+  Scene scene(3);
+  scene.SetGround(GroundSpec{});
+  const int ball = scene.AddSphere("ball", Eigen::Vector3d(8, -2, -0.3), 0.3, "red");
+  ObjectPath path;
+  path.waypoints_NE = {{8, -2}, {8, 2}, {10, 2}};
+  path.speed_mps = 2.0;
+  path.start_s = 1.0;
+  path.loop = false;
+  scene.SetPath(ball, path);
+  EXPECT_EQ(scene.MovingObjects(), std::vector<int>{ball});
+  // Footprint centres: before the start, where declared; 1 s in, 2 m along the first leg; 2.5 s
+  // in, 1 m along the second; after the end (6 m) it comes back, heading south.
+  EXPECT_LT((scene.PlacementAt(ball, 0.5).base_N - Eigen::Vector3d(8, -2, 0)).norm(), 1e-12);
+  EXPECT_LT((scene.PlacementAt(ball, 2.0).base_N - Eigen::Vector3d(8, 0, 0)).norm(), 1e-12);
+  EXPECT_LT((scene.PlacementAt(ball, 3.5).base_N - Eigen::Vector3d(9, 2, 0)).norm(), 1e-12);
+  EXPECT_LT((scene.PlacementAt(ball, 4.5).base_N - Eigen::Vector3d(9, 2, 0)).norm(), 1e-12);
+  EXPECT_NEAR(std::cos(scene.PlacementAt(ball, 4.5).heading_rad), -1.0, 1e-12);
+  EXPECT_LT((scene.PlacementAt(ball, 2.0).velocity_NE - Eigen::Vector2d(0, 2)).norm(), 1e-12);
+
+  const CameraSetup cam = IdealCamera();
+  const Renderer renderer(scene, cam);
+  const Eigen::Isometry3d T_NC = ForwardCameraPose(Eigen::Vector3d(0, 0, -0.3), 0.0);
+  for (const double t_s : {0.0, 2.0, 3.5}) {
+    const Frame f = renderer.Render(T_NC, static_cast<int64_t>(t_s * 1e6));
+    const Eigen::Vector3d centre_N = scene.PlacementAt(ball, t_s).base_N - Eigen::Vector3d(0, 0, 0.3);
+    const Eigen::Vector2d px = Project(cam.intrinsics, T_NC.inverse() * centre_N);
+    const cv::Rect box = ObjectBox(f, ball);
+    ASSERT_FALSE(box.empty()) << t_s;
+    EXPECT_NEAR(box.x + 0.5 * (box.width - 1), px.x(), 0.6) << t_s;
+    EXPECT_NEAR(box.y + 0.5 * (box.height - 1), px.y(), 0.6) << t_s;
+    // Red: R well above G and B at the box centre.
+    const cv::Vec3b c = f.image.at<cv::Vec3b>(static_cast<int>(px.y()), static_cast<int>(px.x()));
+    EXPECT_GT(c[2], 2 * c[1]) << t_s;
+    // The ray through the centre hits it at that time, not where it was declared.
+    const auto hit = scene.Intersect(T_NC.translation(), centre_N - T_NC.translation(), 1e-6, 1e9, t_s);
+    ASSERT_TRUE(hit);
+    EXPECT_EQ(hit->object_id, ball);
+  }
+
+  // A 4 x 2 m car driving east turns to face north on its second leg: seen from above, its long
+  // side lies along north.
+  Scene town(4);
+  const int car = town.AddBox("car", Eigen::Vector3d(0, 0, -0.75), Eigen::Vector3d(2, 4, 1.5), 0.0, "blue");
+  ObjectPath drive;
+  drive.waypoints_NE = {{0, 0}, {0, 10}, {10, 10}};
+  drive.speed_mps = 5.0;
+  town.SetPath(car, drive);
+  EXPECT_NEAR(town.PlacementAt(car, 3.0).heading_rad, 0.0, 1e-12);  // 15 m along: on the north leg
+  Eigen::Isometry3d T_down = Eigen::Isometry3d::Identity();
+  T_down.linear() = RotationBCDownward();
+  T_down.translation() = Eigen::Vector3d(5, 10, -40);
+  const Frame above = Renderer(town, IdealCamera()).Render(T_down, 3'000'000);
+  const cv::Rect seen = ObjectBox(above, car);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_GT(seen.height, 1.6 * seen.width);  // image up is north: long along the image's y
+}
+
+TEST(WorldMovingObjects, BadPathsAreRejected) {
+  Scene scene(1);
+  const int pole = scene.AddCylinder("pole", Eigen::Vector3d(0, 0, 0), 0.1, 2, "concrete");
+  ObjectPath one;
+  one.waypoints_NE = {{0, 0}};
+  EXPECT_THROW(scene.SetPath(pole, one), std::invalid_argument);
+  ObjectPath same;
+  same.waypoints_NE = {{0, 0}, {0, 0}};
+  EXPECT_THROW(scene.SetPath(pole, same), std::invalid_argument);
+  ObjectPath nan_speed;
+  nan_speed.waypoints_NE = {{0, 0}, {1, 0}};
+  nan_speed.speed_mps = std::nan("");
+  EXPECT_THROW(scene.SetPath(pole, nan_speed), std::invalid_argument);
+  EXPECT_THROW(scene.SetPath(999, nan_speed), std::invalid_argument);
+  auto message = [](const std::string& text) {
+    try {
+      Scene::Parse(text, "bad.scene.json");
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message(R"({"objects": [{"type": "person", "at_ne": [0, 0], "path": {"waypoints_ne": [[0, 0]], "speed_mps": 1}}]})")
+                .find("$.objects[0].path.waypoints_ne"), std::string::npos);
+  EXPECT_NE(message(R"({"objects": [{"type": "tree", "at_ne": [0, 0], "height_m": 5, "crown_radius_m": 1,
+      "path": {"waypoints_ne": [[0, 0], [1, 1]], "speed_mps": 1}}]})").find("$.objects[0].path: only"), std::string::npos);
+  EXPECT_NE(message(R"({"objects": [{"type": "person", "at_ne": [0, 0], "path": {"waypoints_ne": [[0, 0], [1, 1]], "speed_mps": 0}}]})")
+                .find("$.objects[0].path.speed_mps"), std::string::npos);
+  EXPECT_EQ(message(R"({"objects": [{"type": "person", "at_ne": [0, 0], "clothing": "red",
+      "path": {"waypoints_ne": [[0, 0], [1, 1]], "speed_mps": 1.2}}]})"), "accepted");
+}
+
 // ---- Reprojection ----------------------------------------------------------------------------
 
 TEST(WorldProjection, KnownPointsReprojectWithinHalfAPixel) {

@@ -108,7 +108,7 @@ Texture Build(int size, double texel_m, const std::function<Bgr(int, int)>& texe
 const std::vector<std::string>& MaterialNames() {
   static const std::vector<std::string> names = {
       "grass", "grass_low", "field", "soil", "gravel", "asphalt", "roof_tiles", "roof_metal",
-      "brick", "plaster", "concrete", "bark", "foliage", "plain", "dark"};
+      "brick", "plaster", "concrete", "bark", "foliage", "plain", "dark", "red", "blue", "yellow", "orange"};
   return names;
 }
 
@@ -212,6 +212,16 @@ Texture MakeMaterialTexture(const std::string& name, uint64_t seed) {
   if (name == "dark") {  // cables, poles' paint
     return Build(16, 0.1, [&](int, int) { return Bgr{0.07, 0.07, 0.08}; });
   }
+  // Saturated paint and cloth (tracking targets, thesis 3.7): a strong hue with a fine weave so
+  // stereo and flow still find texture on them.
+  const auto paint = [&](Bgr colour) {
+    const Fbm weave(16, 2, s);
+    return Build(kSize, kTexel, [&](int i, int j) { return Scale(colour, 0.85 + 0.3 * weave(i, j)); });
+  };
+  if (name == "red") return paint(Bgr{0.10, 0.12, 0.78});
+  if (name == "blue") return paint(Bgr{0.75, 0.30, 0.08});
+  if (name == "yellow") return paint(Bgr{0.10, 0.75, 0.85});
+  if (name == "orange") return paint(Bgr{0.05, 0.40, 0.90});
   throw std::invalid_argument("unknown material '" + name + "'");
 }
 

@@ -130,8 +130,8 @@ struct Renderer::Impl {
   // clipped to the near plane and projected to a rectangle of normalised coordinates, which is
   // tight even for objects that reach above a low-flying camera. Cables thinner than a pixel
   // are widened by the half pixel they are drawn with.
-  void Bin(const Eigen::Matrix3d& R_CN, const Eigen::Vector3d& o_N, std::vector<std::vector<int>>* tiles,
-           std::vector<int>* everywhere) const {
+  void Bin(const Eigen::Matrix3d& R_CN, const Eigen::Vector3d& o_N, const PrimitiveMotions& motions,
+           std::vector<std::vector<int>>* tiles, std::vector<int>* everywhere) const {
     tiles->assign(tiles_x * tiles_y, {});
     everywhere->clear();
     const auto& prims = scene.impl().prims;
@@ -139,8 +139,9 @@ struct Renderer::Impl {
       const Primitive& p = prims[i];
       Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
       for (int corner = 0; corner < 8; ++corner) {
-        const Eigen::Vector3d q((corner & 1) ? p.box_hi.x() : p.box_lo.x(), (corner & 2) ? p.box_hi.y() : p.box_lo.y(),
-                                (corner & 4) ? p.box_hi.z() : p.box_lo.z());
+        Eigen::Vector3d q((corner & 1) ? p.box_hi.x() : p.box_lo.x(), (corner & 2) ? p.box_hi.y() : p.box_lo.y(),
+                          (corner & 4) ? p.box_hi.z() : p.box_lo.z());
+        if (p.mover >= 0 && !motions.T_N_declared.empty()) q = motions.T_N_declared[i] * q;
         const Eigen::Vector3d c = R_CN * (q - o_N);
         lo = lo.cwiseMin(c);
         hi = hi.cwiseMax(c);
@@ -183,7 +184,7 @@ struct Renderer::Impl {
   };
 
   inline Cast CastRay(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const std::vector<int>& tile,
-                      const std::vector<int>& everywhere) const {
+                      const std::vector<int>& everywhere, const PrimitiveMotions& motions) const {
     const Scene::Impl& s = scene.impl();
     Cast c;
     s.IntersectGround(o, d, kNear, &c.solid);
@@ -192,12 +193,12 @@ struct Renderer::Impl {
     auto test = [&](int i) {
       const Primitive& prim = s.prims[i];
       if (prim.shape != Shape::kCable) {
-        if (IntersectPrimitive(prim, o, d, kNear, pixel_angle, &c.solid)) c.solid.prim = i;
+        if (s.IntersectMoved(i, motions, o, d, kNear, pixel_angle, &c.solid)) c.solid.prim = i;
         return;
       }
       SurfaceHit cand;
       cand.t = c.solid.t;
-      if (!IntersectPrimitive(prim, o, d, kNear, pixel_angle, &cand)) return;
+      if (!s.IntersectMoved(i, motions, o, d, kNear, pixel_angle, &cand)) return;
       cand.prim = i;
       if (cand.coverage < 1.0f) {
         if (cand.t < c.thin.t) c.thin = cand;
@@ -246,6 +247,8 @@ struct Renderer::Impl {
     f.depth.create(H, W, CV_32F);
     f.object_id.create(H, W, CV_16U);
     const double t_s = utime * 1e-6;
+    // Moving objects where they are at mid-exposure (they are not blurred).
+    const PrimitiveMotions motions = s.MotionsAt(t_s);
     const int blur = cam.exposure_s > 0 ? cam.blur_samples : 1;
     const int mid = (blur - 1) / 2;
     const bool truth_in_pass = samples == 1 && blur % 2 == 1;
@@ -271,7 +274,7 @@ struct Renderer::Impl {
       }
       p.R_NC = T.linear();
       p.o = T.translation();
-      Bin(p.R_NC.transpose(), p.o, &p.tiles, &p.everywhere);
+      Bin(p.R_NC.transpose(), p.o, motions, &p.tiles, &p.everywhere);
       p.light_grid.assign(cloud_w * cloud_h, Eigen::Vector4f::Ones());
       if (s.ground.enabled && p.o.z() < 0) {
         cv::parallel_for_(cv::Range(0, static_cast<int>(p.light_grid.size())), [&](const cv::Range& range) {
@@ -299,7 +302,7 @@ struct Renderer::Impl {
           const int i = gy * cloud_w + gx;
           const Eigen::Vector3d d = p.R_NC * Eigen::Vector3d(cloud_rays[i].x(), cloud_rays[i].y(), 1.0);
           const int tile = (std::min(gy * kCloudStep, H - 1) / kTile) * tiles_x + std::min(gx * kCloudStep, W - 1) / kTile;
-          const Cast c = CastRay(p.o, d, p.tiles[tile], p.everywhere);
+          const Cast c = CastRay(p.o, d, p.tiles[tile], p.everywhere, motions);
           sum += Shade(c.solid, d, d.norm(), p.light_grid[i], &parcel).sum() / 3.0;
           ++count;
         }
@@ -356,7 +359,7 @@ struct Renderer::Impl {
                   }
                   continue;
                 }
-                const Cast c = CastRay(p.o, d, p.tiles[tile], p.everywhere);
+                const Cast c = CastRay(p.o, d, p.tiles[tile], p.everywhere, motions);
                 Eigen::Vector3f colour = Shade(c.solid, d, r.z(), light, &parcel);
                 if (c.thin.object_id != kNoObject)
                   colour = (1.0f - c.thin.coverage) * colour + c.thin.coverage * Shade(c.thin, d, r.z(), light, &parcel);
@@ -377,18 +380,18 @@ struct Renderer::Impl {
         }
       }
     });
-    if (!truth_in_pass) RenderTruth(T_NC, &f);
-    DrawLaserDots(dots, T_NC, &f);
+    if (!truth_in_pass) RenderTruth(T_NC, motions, &f);
+    DrawLaserDots(dots, T_NC, t_s, &f);
     return f;
   }
 
   // Depth and ids from the pixel centres at the mid-exposure pose.
-  void RenderTruth(const Eigen::Isometry3d& T_NC, Frame* f) const {
+  void RenderTruth(const Eigen::Isometry3d& T_NC, const PrimitiveMotions& motions, Frame* f) const {
     std::vector<std::vector<int>> tiles;
     std::vector<int> everywhere;
     const Eigen::Matrix3d R_NC = T_NC.linear();
     const Eigen::Vector3d o = T_NC.translation();
-    Bin(R_NC.transpose(), o, &tiles, &everywhere);
+    Bin(R_NC.transpose(), o, motions, &tiles, &everywhere);
     cv::parallel_for_(cv::Range(0, H), [&](const cv::Range& range) {
       for (int v = range.start; v < range.end; ++v) {
         float* depth = f->depth.ptr<float>(v);
@@ -397,7 +400,7 @@ struct Renderer::Impl {
           const Eigen::Vector2d& r = centre_rays[v * W + u];
           const Eigen::Vector3d d = R_NC * Eigen::Vector3d(r.x(), r.y(), 1.0);
           // Tile lists were binned over all sub-samples, which cover the centre ray.
-          const Cast c = CastRay(o, d, tiles[(v / kTile) * tiles_x + u / kTile], everywhere);
+          const Cast c = CastRay(o, d, tiles[(v / kTile) * tiles_x + u / kTile], everywhere, motions);
           const bool thin_wins = c.thin.object_id != kNoObject && c.thin.coverage >= 0.5f;
           const SurfaceHit& h = thin_wins ? c.thin : c.solid;
           depth[u] = h.object_id == kNoObject ? 0.0f : static_cast<float>(h.t);
@@ -407,7 +410,7 @@ struct Renderer::Impl {
     });
   }
 
-  void DrawLaserDots(const std::vector<LaserDot>& dots, const Eigen::Isometry3d& T_NC, Frame* f) const {
+  void DrawLaserDots(const std::vector<LaserDot>& dots, const Eigen::Isometry3d& T_NC, double t_s, Frame* f) const {
     const Eigen::Isometry3d T_CN = T_NC.inverse();
     const Eigen::Vector3d o = T_NC.translation();
     f->laser_dots = dots;
@@ -419,7 +422,7 @@ struct Renderer::Impl {
       const Eigen::Vector2d px = Project(cam.intrinsics, p_C);
       if (!(px.x() >= 0 && px.x() <= W - 1 && px.y() >= 0 && px.y() <= H - 1)) continue;
       // Occluded when anything lies between the camera and the spot.
-      if (scene.Intersect(o, dot.p_N - o, 1e-9, 1.0 - 1e-6)) continue;
+      if (scene.Intersect(o, dot.p_N - o, 1e-9, 1.0 - 1e-6, t_s)) continue;
       dot.visible = true;
       dot.pixel = px;
       const double sigma = std::max(0.7, cam.intrinsics.fx * dot.spot_radius_m / p_C.z());
@@ -439,7 +442,7 @@ struct Renderer::Impl {
   }
 };
 
-std::vector<LaserDot> CastLaser(const Scene& scene, const LaserEmitter& laser, const Eigen::Isometry3d& T_NE) {
+std::vector<LaserDot> CastLaser(const Scene& scene, const LaserEmitter& laser, const Eigen::Isometry3d& T_NE, double t_s) {
   std::vector<LaserDot> dots;
   if (!laser.enabled) return dots;
   if (laser.rows < 1 || laser.cols < 1 || laser.rows * laser.cols > 10000)
@@ -449,7 +452,7 @@ std::vector<LaserDot> CastLaser(const Scene& scene, const LaserEmitter& laser, c
     LaserDot dot;
     dot.beam = i;
     const Eigen::Vector3d d = T_NE.linear() * laser.BeamDirection(i);
-    if (const auto hit = scene.Intersect(o, d, 1e-6, 1e4)) {
+    if (const auto hit = scene.Intersect(o, d, 1e-6, 1e4, t_s)) {
       dot.hit = true;
       dot.p_N = hit->p_N;
       dot.range_m = hit->t;
@@ -459,6 +462,16 @@ std::vector<LaserDot> CastLaser(const Scene& scene, const LaserEmitter& laser, c
     dots.push_back(dot);
   }
   return dots;
+}
+
+cv::Rect ObjectBox(const Frame& frame, int object_id) {
+  int u0 = frame.object_id.cols, v0 = frame.object_id.rows, u1 = -1, v1 = -1;
+  for (int v = 0; v < frame.object_id.rows; ++v) {
+    const uint16_t* ids = frame.object_id.ptr<uint16_t>(v);
+    for (int u = 0; u < frame.object_id.cols; ++u)
+      if (ids[u] == object_id) u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
+  }
+  return u1 < 0 ? cv::Rect() : cv::Rect(u0, v0, u1 - u0 + 1, v1 - v0 + 1);
 }
 
 Renderer::Renderer(const Scene& scene, const CameraSetup& camera) : impl_(std::make_unique<Impl>(scene, camera)) {}
@@ -475,7 +488,7 @@ StereoRenderer::StereoRenderer(const Scene& scene, const StereoSetup& setup)
     : scene_(scene), setup_(setup), left_(scene, setup.left), right_(scene, setup.right) {}
 
 StereoFrame StereoRenderer::Render(const Eigen::Isometry3d& T_NB, int64_t utime) const {
-  const std::vector<LaserDot> dots = CastLaser(scene_, setup_.laser, T_NB * setup_.T_BE);
+  const std::vector<LaserDot> dots = CastLaser(scene_, setup_.laser, T_NB * setup_.T_BE, utime * 1e-6);
   StereoFrame out;
   out.left = left_.Render(T_NB * setup_.left.T_BC, utime, dots);
   out.right = right_.Render(T_NB * setup_.right.T_BC, utime, dots);

@@ -286,6 +286,56 @@ double Scene::Impl::CloudLight(double n, double e, double t_s) const {
   return 1.0 - clouds.darkness * Smoothstep(cloud_threshold - 0.03, cloud_threshold + 0.03, v);
 }
 
+ObjectPlacement Mover::At(double t_s) const {
+  ObjectPlacement out;
+  const double total = cumulative.back();
+  double along = std::max(0.0, t_s - path.start_s) * path.speed_mps;
+  bool backwards = false;
+  if (path.loop) {
+    along = std::fmod(along, total);
+  } else {
+    along = std::fmod(along, 2 * total);
+    if (along > total) along = 2 * total - along, backwards = true;
+  }
+  std::size_t leg = 0;
+  while (leg + 2 < points.size() && cumulative[leg + 1] <= along) ++leg;
+  const Eigen::Vector2d a = points[leg], b = points[leg + 1];
+  const double length = cumulative[leg + 1] - cumulative[leg];
+  const Eigen::Vector2d p = a + (b - a) * std::clamp((along - cumulative[leg]) / length, 0.0, 1.0);
+  Eigen::Vector2d dir = (b - a) / length;
+  if (backwards) dir = -dir;
+  out.base_N = Eigen::Vector3d(p.x(), p.y(), base_N.z());
+  out.heading_rad = std::atan2(dir.y(), dir.x());
+  out.velocity_NE = t_s >= path.start_s ? Eigen::Vector2d(dir * path.speed_mps) : Eigen::Vector2d::Zero();
+  return out;
+}
+
+Eigen::Isometry3d Mover::Motion(double t_s) const {
+  const Eigen::Vector2d first = points[1] - points[0];
+  const ObjectPlacement now = At(t_s);
+  const double yaw = now.heading_rad - std::atan2(first.y(), first.x());
+  // x = R (x0 - base) + now.base: turn about the declared footprint centre, then move.
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = now.base_N - T.linear() * base_N;
+  return T;
+}
+
+PrimitiveMotions Scene::Impl::MotionsAt(double t_s) const {
+  PrimitiveMotions m;
+  if (movers.empty()) return m;
+  std::vector<Eigen::Isometry3d> per_mover;
+  for (const Mover& mv : movers) per_mover.push_back(mv.Motion(t_s));
+  m.T_N_declared.assign(prims.size(), Eigen::Isometry3d::Identity());
+  m.T_declared_N.assign(prims.size(), Eigen::Isometry3d::Identity());
+  for (std::size_t i = 0; i < prims.size(); ++i)
+    if (prims[i].mover >= 0) {
+      m.T_N_declared[i] = per_mover[static_cast<std::size_t>(prims[i].mover)];
+      m.T_declared_N[i] = m.T_N_declared[i].inverse();
+    }
+  return m;
+}
+
 // ---- Scene ------------------------------------------------------------------------------------
 
 Scene::Scene(uint64_t seed) : impl_(std::make_unique<Impl>()) {
@@ -456,13 +506,13 @@ int Scene::AddTree(const Eigen::Vector3d& base_N, double height, double crown_ra
   return id;
 }
 
-int Scene::AddPerson(const Eigen::Vector3d& base_N, double height) {
+int Scene::AddPerson(const Eigen::Vector3d& base_N, double height, const std::string& clothing) {
   RequireFinite(base_N, "person base");
   if (!(height >= 1.0 && height <= 2.3)) throw std::invalid_argument("person height must be 1.0..2.3 m");
   Impl& s = *impl_;
   const int id = s.next_id++;
   const double head = 0.11 * height / 1.75;
-  s.AddCylinderPrimitive(id, base_N, 0.2, height - 2.2 * head, "concrete");
+  s.AddCylinderPrimitive(id, base_N, 0.2, height - 2.2 * head, clothing);
   s.AddSpherePrimitive(id, base_N - Eigen::Vector3d(0, 0, height - head), head, "soil");
   s.AddRoundObstacle(id, "person", base_N, 0.2, height);
   return id;
@@ -545,11 +595,64 @@ int Scene::AddChessboard(int cols, int rows, double square_m, const Eigen::Isome
   return b.id;
 }
 
+void Scene::SetPath(int id, const ObjectPath& path) {
+  Impl& s = *impl_;
+  const auto obstacle = std::find_if(s.obstacles.begin(), s.obstacles.end(), [&](const Obstacle& o) { return o.id == id; });
+  if (obstacle == s.obstacles.end())
+    throw std::invalid_argument("path: object " + std::to_string(id) + " is not a box, cylinder, sphere or person");
+  for (const Mover& m : s.movers)
+    if (m.object_id == id) throw std::invalid_argument("path: object " + std::to_string(id) + " already has a path");
+  if (path.waypoints_NE.size() < 2) throw std::invalid_argument("path needs at least two waypoints");
+  if (!(std::isfinite(path.speed_mps) && path.speed_mps > 0 && path.speed_mps <= 50))
+    throw std::invalid_argument("path speed must be in (0, 50] m/s");
+  if (!std::isfinite(path.start_s)) throw std::invalid_argument("path start must be finite");
+  Mover m;
+  m.object_id = id;
+  m.path = path;
+  m.points = path.waypoints_NE;
+  if (path.loop) m.points.push_back(path.waypoints_NE.front());
+  m.cumulative.push_back(0.0);
+  for (std::size_t i = 1; i < m.points.size(); ++i) {
+    if (!m.points[i].allFinite()) throw std::invalid_argument("path waypoint " + std::to_string(i) + " is not finite");
+    const double leg = (m.points[i] - m.points[i - 1]).norm();
+    if (!(leg > 1e-3)) throw std::invalid_argument("path waypoints " + std::to_string(i - 1) + " and " + std::to_string(i % path.waypoints_NE.size()) + " coincide");
+    m.cumulative.push_back(m.cumulative.back() + leg);
+  }
+  m.base_N = obstacle->base_N;
+  for (Primitive& p : s.prims)
+    if (p.object_id == id) p.mover = static_cast<int>(s.movers.size());
+  s.movers.push_back(std::move(m));
+}
+
+std::vector<int> Scene::MovingObjects() const {
+  std::vector<int> ids;
+  for (const Mover& m : impl_->movers) ids.push_back(m.object_id);
+  return ids;
+}
+
+ObjectPlacement Scene::PlacementAt(int id, double t_s) const {
+  for (const Mover& m : impl_->movers)
+    if (m.object_id == id) return m.At(t_s);
+  for (const Obstacle& o : impl_->obstacles)
+    if (o.id == id) {
+      ObjectPlacement p;
+      p.base_N = o.base_N;
+      p.heading_rad = o.yaw;
+      return p;
+    }
+  throw std::invalid_argument("no object " + std::to_string(id));
+}
+
 const std::vector<Obstacle>& Scene::obstacles() const { return impl_->obstacles; }
 const std::vector<Cable>& Scene::cables() const { return impl_->cables; }
 const std::vector<Chessboard>& Scene::chessboards() const { return impl_->boards; }
 const std::optional<CameraSetup>& Scene::downward_camera() const { return impl_->downward; }
 const std::optional<StereoSetup>& Scene::stereo_camera() const { return impl_->stereo; }
+const std::optional<CameraSetup>& Scene::gimbal_camera() const { return impl_->gimbal; }
+void Scene::SetGimbalCamera(const CameraSetup& c) {
+  ValidateIntrinsics(c.intrinsics);
+  impl_->gimbal = c;
+}
 void Scene::SetDownwardCamera(const CameraSetup& c) {
   ValidateIntrinsics(c.intrinsics);
   impl_->downward = c;
@@ -560,13 +663,14 @@ void Scene::SetStereoCamera(const StereoSetup& st) {
 }
 
 std::optional<RayHit> Scene::Intersect(const Eigen::Vector3d& origin_N, const Eigen::Vector3d& direction_N,
-                                       double t_min, double t_max) const {
+                                       double t_min, double t_max, double t_s) const {
   const Impl& s = *impl_;
+  const PrimitiveMotions motions = s.MotionsAt(t_s);
   SurfaceHit hit;
   hit.t = t_max;
   s.IntersectGround(origin_N, direction_N, t_min, &hit);
   for (size_t i = 0; i < s.prims.size(); ++i)
-    if (IntersectPrimitive(s.prims[i], origin_N, direction_N, t_min, 0.0, &hit)) hit.prim = static_cast<int>(i);
+    if (s.IntersectMoved(static_cast<int>(i), motions, origin_N, direction_N, t_min, 0.0, &hit)) hit.prim = static_cast<int>(i);
   if (hit.object_id == kNoObject) return std::nullopt;
   RayHit out;
   out.t = hit.t;

@@ -254,11 +254,12 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
         const json& j = list[i];
         const std::string p = "$.objects[" + std::to_string(i) + "]";
         const std::string type = rd.String(j, p, "type");
+        int id = -1;  // objects that may move
         if (type == "box") {
           const Eigen::Vector3d c = rd.Vec3(j, p, "center_ned", -kBig, kBig);
           const Eigen::Vector3d size = rd.Vec3(j, p, "size", 0.001, 1000);
-          scene.AddBox(rd.String(j, p, "kind", "box"), c, size, rd.Number(j, p, "yaw_deg", -360, 360, 0) * M_PI / 180,
-                       rd.Material(j, p, "material", "concrete"), rd.Material(j, p, "top_material", ""));
+          id = scene.AddBox(rd.String(j, p, "kind", "box"), c, size, rd.Number(j, p, "yaw_deg", -360, 360, 0) * M_PI / 180,
+                            rd.Material(j, p, "material", "concrete"), rd.Material(j, p, "top_material", ""));
           taken.push_back({c.head<2>(), size.head<2>().norm() / 2});
         } else if (type == "building") {
           const Eigen::Vector2d at = rd.Vec2(j, p, "at_ne", -kBig, kBig);
@@ -271,12 +272,12 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
         } else if (type == "cylinder") {
           const Eigen::Vector3d b = rd.Vec3(j, p, "base_ned", -kBig, kBig);
           const double r = rd.Number(j, p, "radius_m", 0.001, 100);
-          scene.AddCylinder(rd.String(j, p, "kind", "cylinder"), b, r, rd.Number(j, p, "height_m", 0.001, 1000),
-                            rd.Material(j, p, "material", "concrete"));
+          id = scene.AddCylinder(rd.String(j, p, "kind", "cylinder"), b, r, rd.Number(j, p, "height_m", 0.001, 1000),
+                                 rd.Material(j, p, "material", "concrete"));
           taken.push_back({b.head<2>(), r});
         } else if (type == "sphere") {
-          scene.AddSphere(rd.String(j, p, "kind", "sphere"), rd.Vec3(j, p, "center_ned", -kBig, kBig),
-                          rd.Number(j, p, "radius_m", 0.001, 100), rd.Material(j, p, "material", "concrete"));
+          id = scene.AddSphere(rd.String(j, p, "kind", "sphere"), rd.Vec3(j, p, "center_ned", -kBig, kBig),
+                               rd.Number(j, p, "radius_m", 0.001, 100), rd.Material(j, p, "material", "concrete"));
         } else if (type == "tree") {
           const Eigen::Vector2d at = rd.Vec2(j, p, "at_ne", -kBig, kBig);
           const double h = rd.Number(j, p, "height_m", 1, 60);
@@ -286,7 +287,8 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
           taken.push_back({at, cr});
         } else if (type == "person") {
           const Eigen::Vector2d at = rd.Vec2(j, p, "at_ne", -kBig, kBig);
-          scene.AddPerson(Eigen::Vector3d(at.x(), at.y(), 0), rd.Number(j, p, "height_m", 1.0, 2.3, 1.75));
+          id = scene.AddPerson(Eigen::Vector3d(at.x(), at.y(), 0), rd.Number(j, p, "height_m", 1.0, 2.3, 1.75),
+                               rd.Material(j, p, "clothing", "concrete"));
           taken.push_back({at, 0.3});
         } else if (type == "room") {
           scene.AddRoom(rd.Vec3(j, p, "center_ned", -kBig, kBig), rd.Vec3(j, p, "size", 0.5, 1000),
@@ -340,6 +342,26 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
                               PoseFromRpy(rd.Vec3(j, p, "origin_ned", -kBig, kBig), rd.Vec3(j, p, "rpy_deg", -360, 360)));
         } else {
           rd.Fail(p + ".type", "unknown object type '" + type + "'");
+        }
+        if (j.contains("path")) {
+          const json& path = j["path"];
+          const std::string pp = p + ".path";
+          if (id < 0) rd.Fail(pp, "only boxes, cylinders, spheres and people can move");
+          const json& points = rd.Field(path, pp, "waypoints_ne");
+          if (!points.is_array() || points.size() < 2) rd.Fail(pp + ".waypoints_ne", "must list at least two [n, e] points");
+          ObjectPath route;
+          for (size_t k = 0; k < points.size(); ++k) {
+            json wrapper = {{"v", points[k]}};
+            route.waypoints_NE.push_back(rd.Vec2(wrapper, pp + ".waypoints_ne[" + std::to_string(k) + "]", "v", -kBig, kBig));
+          }
+          route.speed_mps = rd.Number(path, pp, "speed_mps", 0.01, 50);
+          route.start_s = rd.Number(path, pp, "start_s", 0, 1e9, 0);
+          route.loop = rd.Bool(path, pp, "loop", true);
+          try {
+            scene.SetPath(id, route);
+          } catch (const std::invalid_argument& e) {
+            rd.Fail(pp, e.what());
+          }
         }
       }
     }
@@ -406,6 +428,15 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
         c.T_BC.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * RotationBCDownward();
         c.T_BC.translation() = mount;
         scene.SetDownwardCamera(c);
+      }
+      if (cams.contains("gimbal")) {
+        const json& j = cams["gimbal"];
+        const std::string p = "$.cameras.gimbal";
+        CameraSetup c = ReadCamera(rd, j, p, camera_dir, "gimbal", "sim_downward_640x480.camera", 10.0, 5.0);
+        c.T_BC = Eigen::Isometry3d::Identity();
+        c.T_BC.linear() = RotationBCForward();
+        c.T_BC.translation() = j.contains("mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0.1, 0, 0.15);
+        scene.SetGimbalCamera(c);
       }
       if (cams.contains("stereo")) {
         const json& j = cams["stereo"];

@@ -140,6 +140,7 @@ struct Primitive {
   double cos_yaw = 1.0, sin_yaw = 0.0;
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // board: columns x, y, normal in N
   int board = -1;        // index into chessboards
+  int mover = -1;        // index into Scene::Impl::movers when the object moves
   Eigen::Vector3d box_lo = Eigen::Vector3d::Zero();  // axis-aligned bounds in N
   Eigen::Vector3d box_hi = Eigen::Vector3d::Zero();
 };
@@ -162,6 +163,25 @@ struct SurfaceHit {
 bool IntersectPrimitive(const Primitive& p, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
                         double t_min, double pixel_angle, SurfaceHit* hit);
 
+// A moving object's path, prepared: cumulative leg lengths.
+struct Mover {
+  int object_id = 0;
+  ObjectPath path;
+  std::vector<Eigen::Vector2d> points;  // waypoints, closed (first repeated) when looping
+  std::vector<double> cumulative;       // [m] distance to each point
+  Eigen::Vector3d base_N = Eigen::Vector3d::Zero();  // as declared
+  // Placement at t_s, and the rigid motion taking the declared object to it (x = R x0 + t).
+  ObjectPlacement At(double t_s) const;
+  Eigen::Isometry3d Motion(double t_s) const;
+};
+
+// Per primitive, the motion of its object at one instant (identity for static ones); the
+// renderer intersects a moving primitive with the ray taken back into its declared pose.
+struct PrimitiveMotions {
+  std::vector<Eigen::Isometry3d> T_N_declared;  // indexed by primitive; empty when nothing moves
+  std::vector<Eigen::Isometry3d> T_declared_N;
+};
+
 struct Scene::Impl {
   uint64_t seed = 0;
   std::string name = "unnamed";
@@ -181,6 +201,8 @@ struct Scene::Impl {
   std::vector<Chessboard> boards;
   std::optional<CameraSetup> downward;
   std::optional<StereoSetup> stereo;
+  std::optional<CameraSetup> gimbal;
+  std::vector<Mover> movers;
   int next_id = 2;
   double cloud_threshold = 2.0;
   double grid_cos = 1.0, grid_sin = 0.0;  // ground parcel grid orientation
@@ -192,6 +214,17 @@ struct Scene::Impl {
   }
 
   int Material(const std::string& name);  // builds the texture on first use
+  PrimitiveMotions MotionsAt(double t_s) const;
+  // Ray against primitive i, moved as `motions` says; the hit's normal comes back in N.
+  inline bool IntersectMoved(int i, const PrimitiveMotions& motions, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                             double t_min, double pixel_angle, SurfaceHit* hit) const {
+    const Primitive& p = prims[static_cast<size_t>(i)];
+    if (p.mover < 0 || motions.T_N_declared.empty()) return IntersectPrimitive(p, o, d, t_min, pixel_angle, hit);
+    const Eigen::Isometry3d& T = motions.T_declared_N[static_cast<size_t>(i)];
+    if (!IntersectPrimitive(p, T * o, T.linear() * d, t_min, pixel_angle, hit)) return false;
+    hit->normal = motions.T_N_declared[static_cast<size_t>(i)].linear() * hit->normal;
+    return true;
+  }
   void AddPrimitive(Primitive p);
   void AddCylinderPrimitive(int id, const Eigen::Vector3d& base_N, double radius, double height, const std::string& material);
   void AddSpherePrimitive(int id, const Eigen::Vector3d& center_N, double radius, const std::string& material);

@@ -45,9 +45,14 @@ struct StereoFrame {
   cv::Mat disparity;  // CV_32F, left image: fx * baseline / depth [px]; 0 where depth is 0
 };
 
-// Casts the emitter's beams (thesis 4.2) into the scene from the emitter pose T_NE.
+// Casts the emitter's beams (thesis 4.2) into the scene from the emitter pose T_NE, with moving
+// objects where they are at t_s.
 std::vector<LaserDot> CastLaser(const Scene& scene, const LaserEmitter& laser,
-                                const Eigen::Isometry3d& T_NE);
+                                const Eigen::Isometry3d& T_NE, double t_s);
+
+// The exact image box of an object in a rendered frame: the bounding rectangle of its visible
+// pixels (empty when none shows). Tracking's ground truth (thesis 3.7).
+cv::Rect ObjectBox(const Frame& frame, int object_id);
 
 class Renderer {
  public:

@@ -87,6 +87,24 @@ struct GroundSpec {
   double road_width_m = 5.0;
 };
 
+// A path a moving object follows on the ground (tracking targets, thesis 3.7): it starts at the
+// first waypoint at start_s and moves at a constant speed along straight legs; with `loop` it
+// goes round the closed polygon, otherwise back and forth. The object turns to face its leg
+// (its declared orientation faces the first leg).
+struct ObjectPath {
+  std::vector<Eigen::Vector2d> waypoints_NE;  // [m] at least two, consecutive ones distinct
+  double speed_mps = 1.4;
+  double start_s = 0.0;  // [s] on the scene clock (the vehicle's, in the simulator)
+  bool loop = true;
+};
+
+// Where a moving object is at a time: its footprint centre and heading (yaw about d, from N).
+struct ObjectPlacement {
+  Eigen::Vector3d base_N = Eigen::Vector3d::Zero();
+  double heading_rad = 0.0;
+  Eigen::Vector2d velocity_NE = Eigen::Vector2d::Zero();  // [m/s]
+};
+
 struct RayHit {
   double t = 0.0;                 // ray parameter: point = origin + t * direction
   Eigen::Vector3d p_N = Eigen::Vector3d::Zero();
@@ -127,28 +145,41 @@ class Scene {
                 const std::string& material);
   // Tree: bark trunk and a foliage crown sphere whose top is at `height`.
   int AddTree(const Eigen::Vector3d& base_N, double height, double crown_radius);
-  // Person: 1.45 m body cylinder and a head, `height` tall in total.
-  int AddPerson(const Eigen::Vector3d& base_N, double height);
+  // Person: a body cylinder dressed in `clothing` and a head, `height` tall in total.
+  int AddPerson(const Eigen::Vector3d& base_N, double height, const std::string& clothing = "concrete");
   // Room seen from inside: floor, walls and ceiling of a box (featureless by default).
   int AddRoom(const Eigen::Vector3d& center_N, const Eigen::Vector3d& size, const std::string& material);
   // Cable between a_N and b_N sagging sag_m at mid-span (catenary).
   int AddCable(const Eigen::Vector3d& a_N, const Eigen::Vector3d& b_N, double sag_m, double radius_m);
   int AddChessboard(int cols, int rows, double square_m, const Eigen::Isometry3d& T_N_board);
+  // Makes object `id` (a box, cylinder, sphere or person) move along `path`; from then on its
+  // declared position is where it stands before start_s. Throws std::invalid_argument for an
+  // unknown id, a cable or board, or a path with fewer than two distinct waypoints, a
+  // non-finite value or a speed outside (0, 50] m/s.
+  void SetPath(int id, const ObjectPath& path);
 
   // ---- Ground truth -----------------------------------------------------------------------
+  // Obstacles as declared; moving ones are where they stand before their path starts.
   const std::vector<Obstacle>& obstacles() const;
+  // Ids of the objects that move, and where each is at time t_s (static objects: as declared).
+  std::vector<int> MovingObjects() const;
+  ObjectPlacement PlacementAt(int id, double t_s) const;
   const std::vector<Cable>& cables() const;
   const std::vector<Chessboard>& chessboards() const;
   // Cameras declared by the scene file (defaults when the file has none).
   const std::optional<CameraSetup>& downward_camera() const;
   const std::optional<StereoSetup>& stereo_camera() const;
+  // The gimballed camera: T_BC is its mount at zero pitch (looking along the body's x axis); the
+  // gimbal keeps it level in roll and pitches it between straight ahead and straight down.
+  const std::optional<CameraSetup>& gimbal_camera() const;
   void SetDownwardCamera(const CameraSetup& c);
+  void SetGimbalCamera(const CameraSetup& c);
   void SetStereoCamera(const StereoSetup& s);
 
-  // Nearest surface along origin + t * direction for t in (t_min, t_max); cables at their true
-  // radius. Thread-safe.
+  // Nearest surface along origin + t * direction for t in (t_min, t_max), with moving objects
+  // where they are at t_s; cables at their true radius. Thread-safe.
   std::optional<RayHit> Intersect(const Eigen::Vector3d& origin_N, const Eigen::Vector3d& direction_N,
-                                  double t_min = 1e-6, double t_max = 1e9) const;
+                                  double t_min = 1e-6, double t_max = 1e9, double t_s = 0.0) const;
 
   // The renderer's view of the scene (implementation detail).
   struct Impl;
@@ -159,7 +190,8 @@ class Scene {
 };
 
 // Known material names: grass, grass_low, field, soil, gravel, asphalt, roof_tiles, roof_metal,
-// brick, plaster, concrete, bark, foliage, plain, dark.
+// brick, plaster, concrete, bark, foliage, plain, dark, and saturated paints and cloth for
+// tracking targets: red, blue, yellow, orange.
 const std::vector<std::string>& MaterialNames();
 
 }  // namespace uav::world
