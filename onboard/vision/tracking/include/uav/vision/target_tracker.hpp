@@ -1,0 +1,81 @@
+#pragma once
+// Tracking the operator's target in a camera's images (thesis 3.7). CamShift on a hue histogram
+// of the selected box (Eq. 3.41-3.53), with a confidence from the back-projection mass, loss
+// detection and re-acquisition by a whole-image search; OpenCV's KCF and CSRT (opencv-contrib)
+// selectable for comparison. Plain class: frames in, boxes out, no threads or messages.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core/types.hpp>
+
+namespace cv {
+class Mat;
+}
+
+namespace uav::vision {
+
+enum class TrackerKind { kCamShift, kKcf, kCsrt };
+// CamShift's search window: adaptive follows the target's size and orientation from its moments
+// (thesis 3.7.1); static keeps the selection's size and only moves (thesis 3.7.3 compares both).
+enum class SearchWindowMode { kAdaptive, kStatic };
+
+// Names as on the command line and in parameters; Parse* throw std::invalid_argument naming
+// the accepted values.
+TrackerKind ParseTrackerKind(const std::string& name);
+SearchWindowMode ParseSearchWindowMode(const std::string& name);
+const char* Name(TrackerKind kind);
+const char* Name(SearchWindowMode mode);
+
+struct TrackerParams {
+  TrackerKind kind = TrackerKind::kCamShift;
+  SearchWindowMode window = SearchWindowMode::kAdaptive;
+  int hue_bins = 30;              // histogram bins over OpenCV's hue range 0..180
+  int min_saturation = 60;        // pixels greyer than this carry no reliable hue: masked out
+  int min_value = 40;             // nor do pixels darker than this
+  int max_value = 255;
+  int max_iterations = 10;        // mean-shift iterations per frame
+  double epsilon_px = 0.5;        // stop when the window moves less than this
+  double lost_confidence = 0.3;   // below this the frame counts towards losing the target
+  int lost_frames = 3;            // consecutive low-confidence frames before LOST
+  double reacquire_confidence = 0.5;  // a whole-image candidate must reach this to lock again
+  double min_side_px = 4.0;       // a selection or box smaller than this each way is rejected/lost
+  // Throws std::invalid_argument naming the first value out of range.
+  void Validate() const;
+};
+
+enum class TrackState { kIdle, kTracking, kLost };
+
+struct TrackResult {
+  TrackState state = TrackState::kIdle;
+  // The target: rotated box in pixels (centre, size, angle in degrees clockwise from the image's
+  // x axis, as cv::RotatedRect); the search window the next frame starts from.
+  cv::RotatedRect box;
+  cv::Rect search_window;
+  double confidence = 0.0;  // 0..1: back-projection density in the box against the selection's
+};
+
+class TargetTracker {
+ public:
+  explicit TargetTracker(const TrackerParams& params);
+  ~TargetTracker();
+  TargetTracker(TargetTracker&&) noexcept;
+  TargetTracker& operator=(TargetTracker&&) noexcept;
+
+  // Learns the target from `box` (pixels) in `bgr` (CV_8UC3). With `polygon` (the operator's
+  // four clicks, thesis 3.7.3) only pixels inside it train the histogram. Throws
+  // std::invalid_argument naming what is wrong: an empty or non-BGR image, a non-finite box, one
+  // outside the image or smaller than min_side_px, a target with no usable hue (grey or dark).
+  void Start(const cv::Mat& bgr, const cv::Rect2d& box, const std::vector<cv::Point2f>& polygon = {});
+  // Tracks into the next frame (same size as the first). Idle until started.
+  TrackResult Update(const cv::Mat& bgr);
+  void Stop();
+  TrackState state() const;
+  const TrackerParams& params() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace uav::vision
