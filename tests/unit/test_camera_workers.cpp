@@ -10,6 +10,8 @@
 #include "uav/sim/sim_cameras.hpp"
 #include "uav/app/camera_worker.hpp"
 #include "uav/app/stereo_worker.hpp"
+#include "uav/app/track_worker.hpp"
+#include "uav/world/renderer.hpp"
 
 namespace uav::app {
 namespace {
@@ -47,7 +49,7 @@ TEST(CameraWorker, PreviewRateIsIndependentOfFrameAndCaptureRates) {
   int previews_taken = 0;
   for (int i = 0; i < 50; ++i) {  // 5 s at 10 Hz
     worker.Tick(1'000'000 + i * 100'000);
-    if (board.TakePreview()) ++previews_taken;
+    previews_taken += static_cast<int>(board.TakePreviews().size());
   }
   EXPECT_EQ(worker.previews(), 20);  // 4 Hz for 5 s
   EXPECT_EQ(previews_taken, 20);
@@ -66,7 +68,7 @@ TEST(CameraWorker, ZeroPreviewRateSendsNoPreview) {
   CameraWorker worker(sim_camera, board, CameraWorker::Options());
   for (int i = 0; i < 5; ++i) worker.Tick(1'000'000 + i * 200'000);
   EXPECT_EQ(worker.previews(), 0);
-  EXPECT_FALSE(board.TakePreview());
+  EXPECT_TRUE(board.TakePreviews().empty());
 }
 
 TEST(StereoWorker, PostsTheObstacleRangeAhead) {
@@ -218,6 +220,109 @@ TEST(StereoWorker, BlankCameraReportsUnhealthyAndNoObstacles) {
   worker.Tick(1'133'333);
   EXPECT_TRUE(board.TakeObstacles()->healthy);
   EXPECT_EQ(worker.frames(), 2);
+}
+
+// TRK: a target picked on an older frame is tracked from that frame on; the status goes out
+// every frame with the box on the target's exact image position; the gimbal pitches to centre
+// it; the target is placed on the ground where it truly is; refusals name why and cancel stops.
+TEST(TrackWorker, TracksThePickedTargetCentresItAndPlacesItOnTheGround) {
+  const world::Scene scene = LoadScene("tracking");
+  const world::CameraSetup cam = *scene.gimbal_camera();
+  int tent = -1;
+  for (const auto& o : scene.obstacles())
+    if (o.kind == "tent") tent = o.id;
+  ASSERT_GE(tent, 0);
+  Blackboard board;
+  const Eigen::Isometry3d T_NB = Pose(0, 0, -6);
+  board.Update([&](BlackboardData& d) {
+    d.estimate.p_N = T_NB.translation();
+    d.estimate.q_NB = Eigen::Quaterniond::Identity();
+  });
+  sim::SimGimbalCamera camera(scene, cam, [&] { return T_NB; }, -15 * M_PI / 180);
+  TrackWorkerParams params;
+  params.gimbal_pitch_rad = -15 * M_PI / 180;
+  TrackWorker worker(camera, board, params);
+  EXPECT_EQ(board.Snapshot().tracking_camera, "gimbal");
+  const world::Renderer truth_renderer(scene, cam);
+  auto truth_box = [&](int64_t utime) {
+    return world::ObjectBox(truth_renderer.Render(hal::GimbalCameraPose(T_NB, cam.T_BC, camera.pitch_rad()), utime), tent);
+  };
+  // Frames at 10 Hz; the operator picks on the frame of 1.0 s, which reaches the vehicle at 1.3 s.
+  const cv::Rect picked = truth_box(1'000'000);
+  ASSERT_GT(picked.area(), 100);
+  for (int64_t t = 500'000; t <= 1'300'000; t += 100'000) worker.Tick(t);
+  EXPECT_TRUE(board.TakeTrackReports().empty());  // nothing until a target is set
+  TrackRequest r;
+  r.vehicle_id = "UAV1";
+  r.target_seq = 7;
+  r.frame_utime = 1'000'000;
+  r.camera = "gimbal";
+  r.x = picked.x / 640.0 - 0.01, r.y = picked.y / 480.0 - 0.01;
+  r.width = picked.width / 640.0 + 0.02, r.height = picked.height / 480.0 + 0.02;
+  board.PushTrackRequest(r);
+  const double pitch0 = camera.pitch_rad();
+  std::vector<TrackReport> reports;
+  for (int64_t t = 1'400'000; t <= 3'400'000; t += 100'000) {
+    worker.Tick(t);
+    for (const TrackReport& rep : board.TakeTrackReports()) reports.push_back(rep);
+  }
+  ASSERT_EQ(reports.size(), 21u);
+  for (const TrackReport& rep : reports) {
+    EXPECT_EQ(rep.state, TrackReport::State::kTracking);
+    EXPECT_EQ(rep.target_seq, 7);
+    EXPECT_GT(rep.confidence, 0.5);
+  }
+  // The last frame's box on the tent (the gimbal moved meanwhile: truth at the same pitch).
+  const cv::Rect last = truth_box(3'400'000);
+  EXPECT_NEAR(reports.back().center_x * 640, last.x + 0.5 * last.width, 3.0);
+  EXPECT_NEAR(reports.back().center_y * 480, last.y + 0.5 * last.height, 3.0);
+  // The tent's middle (1.25 m up, 30 m ahead, 6 m below the camera) lies 9 deg below the
+  // horizon, above the image centre at -15 deg: the gimbal tilted up to it.
+  EXPECT_GT(camera.pitch_rad(), pitch0 + 4.0 * M_PI / 180);
+  EXPECT_NEAR(camera.pitch_rad(), -std::atan2(4.75, 30.0), 1.5 * M_PI / 180);
+  EXPECT_NEAR(reports.back().center_y, 0.5, 0.02);
+  // On the ground: the box centre's ray meets d = 0 behind the tent's middle (it is 2.5 m tall),
+  // straight ahead.
+  const TrackedTarget target = board.Snapshot().target;
+  EXPECT_TRUE(target.locked && target.on_ground);
+  EXPECT_NEAR(target.p_N.y(), 0.0, 0.3);
+  EXPECT_GT(target.p_N.x(), 28.5);
+  EXPECT_LT(target.p_N.x(), 40.0);
+  EXPECT_NEAR(target.bearing_rad, 0.0, 0.02);
+
+  // Refusals: another camera, a frame no longer buffered, a tiny box. The target carries on.
+  TrackRequest other = r;
+  other.target_seq = 8;
+  other.camera = "downward";
+  TrackRequest old = r;
+  old.target_seq = 9;
+  old.frame_utime = 100'000;
+  TrackRequest tiny = r;
+  tiny.target_seq = 10;
+  tiny.frame_utime = 3'400'000;
+  tiny.width = 2.0 / 640;
+  for (const TrackRequest& bad : {other, old, tiny}) board.PushTrackRequest(bad);
+  worker.Tick(3'500'000);
+  reports = board.TakeTrackReports();
+  ASSERT_EQ(reports.size(), 4u);
+  EXPECT_EQ(reports[0].state, TrackReport::State::kRejected);
+  EXPECT_NE(reports[0].reason.find("camera 'downward'"), std::string::npos);
+  EXPECT_NE(reports[1].reason.find("not in the buffer"), std::string::npos);
+  EXPECT_NE(reports[2].reason.find("smaller than"), std::string::npos);
+  EXPECT_EQ(reports[3].state, TrackReport::State::kTracking);
+  EXPECT_EQ(reports[3].target_seq, 7);
+
+  TrackRequest cancel;
+  cancel.method = TrackRequest::Method::kCancel;
+  cancel.target_seq = 11;
+  board.PushTrackRequest(cancel);
+  worker.Tick(3'600'000);
+  reports = board.TakeTrackReports();
+  ASSERT_EQ(reports.size(), 1u);
+  EXPECT_EQ(reports[0].state, TrackReport::State::kIdle);
+  worker.Tick(3'700'000);
+  EXPECT_TRUE(board.TakeTrackReports().empty());
+  EXPECT_FALSE(board.Snapshot().target.locked);
 }
 
 }  // namespace

@@ -124,6 +124,14 @@ const std::map<Topic, Decoder>& Decoders() {
          st.width = m.width;
          st.height = m.height;
          st.angle_rad = m.angle_rad;
+         st.camera = m.camera;
+         st.tracker = m.tracker;
+         st.window_x = m.window_x;
+         st.window_y = m.window_y;
+         st.window_width = m.window_width;
+         st.window_height = m.window_height;
+         st.confidence = m.confidence;
+         st.reason = m.reason;
          model.OnTrackStatus(id, st, now);
        }},
       {Topic::kPowerLines,

@@ -89,7 +89,11 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
     }
     if (!v || !v->track) return *str = "none", true;
     const auto k = v->track->state;
-    return *str = k == TrackStatus::kTracking ? "tracking" : k == TrackStatus::kLost ? "lost" : "idle", true;
+    return *str = k == TrackStatus::kTracking   ? "tracking"
+                  : k == TrackStatus::kLost     ? "lost"
+                  : k == TrackStatus::kRejected ? "rejected"
+                                                : "idle",
+           true;
   }
   if (name == "log") {
     str->clear();

@@ -60,9 +60,11 @@ void VideoTracking::OnVideoFrame(VehicleVideo& v, const std::string& vehicle_id,
 bool VideoTracking::OnTrackStatus(VehicleVideo& v, const std::string& vehicle_id, const TrackStatus& st, double now,
                                   MessageLog& log) {
   const bool finite = std::isfinite(st.center_x) && std::isfinite(st.center_y) && std::isfinite(st.width) &&
-                      std::isfinite(st.height) && std::isfinite(st.angle_rad);
-  const bool known_state =
-      st.state == TrackStatus::kIdle || st.state == TrackStatus::kTracking || st.state == TrackStatus::kLost;
+                      std::isfinite(st.height) && std::isfinite(st.angle_rad) && std::isfinite(st.window_x) &&
+                      std::isfinite(st.window_y) && std::isfinite(st.window_width) && std::isfinite(st.window_height) &&
+                      std::isfinite(st.confidence);
+  const bool known_state = st.state == TrackStatus::kIdle || st.state == TrackStatus::kTracking ||
+                           st.state == TrackStatus::kLost || st.state == TrackStatus::kRejected;
   // A box may reach past the edge, but a centre far outside the image is a broken message.
   const bool plausible = finite && std::abs(st.center_x - 0.5) <= 1.0 && std::abs(st.center_y - 0.5) <= 1.0 &&
                          st.width >= 0 && st.height >= 0 && st.width <= 2 && st.height <= 2;
@@ -70,6 +72,13 @@ bool VideoTracking::OnTrackStatus(VehicleVideo& v, const std::string& vehicle_id
     log.Add(now, vehicle_id, "track status refused: not finite, unknown state or outside the image", Severity::kWarning);
     return false;
   }
+  // Rejections and losses are worth a line in the log, once per change.
+  const bool changed = !v.track || v.track->state != st.state || v.track->target_seq != st.target_seq;
+  if (changed && st.state == TrackStatus::kRejected)
+    log.Add(now, vehicle_id, "target " + std::to_string(st.target_seq) + " rejected: " + st.reason, Severity::kWarning);
+  else if (changed && st.state == TrackStatus::kLost)
+    log.Add(now, vehicle_id, "target " + std::to_string(st.target_seq) + " lost" + (st.reason.empty() ? "" : ": " + st.reason),
+            Severity::kWarning);
   v.track = st;
   v.track->received = now;
   return true;

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include <imgui.h>
@@ -127,8 +128,15 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
     }
   } else {
     // The tracker's report over the live picture.
-    if (v->track && v->track->state != TrackStatus::kIdle && ctx.now - v->track->received < 2.0) {
+    if (v->track && v->track->state == TrackStatus::kRejected && ctx.now - v->track->received < 5.0) {
+      const std::string text = "TARGET REJECTED: " + v->track->reason;
+      dl->AddText(ImVec2(p0.x + 6, p0.y + 6), IM_COL32(255, 90, 90, 255), text.c_str());
+    } else if (v->track && v->track->state != TrackStatus::kIdle && ctx.now - v->track->received < 2.0 &&
+               (v->track->camera.empty() || v->track->camera == feed.camera)) {
       const TrackStatus& t = *v->track;
+      // The search window the next frame starts from (the whole picture while lost).
+      dl->AddRect(to_screen(t.window_x, t.window_y), to_screen(t.window_x + t.window_width, t.window_y + t.window_height),
+                  IM_COL32(80, 200, 255, 160), 0.0f, 0, 1.0f);
       const ImU32 colour = t.state == TrackStatus::kTracking ? IM_COL32(80, 255, 120, 255) : IM_COL32(255, 170, 60, 255);
       const double c = std::cos(t.angle_rad), s = std::sin(t.angle_rad);
       // Oriented box: normalised units scaled by the picture's aspect so the rotation is true.
@@ -143,7 +151,10 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
       const ImVec2 ctr = to_screen(t.center_x, t.center_y);
       dl->AddLine(ImVec2(ctr.x - 8, ctr.y), ImVec2(ctr.x + 8, ctr.y), colour, 2.0f);
       dl->AddLine(ImVec2(ctr.x, ctr.y - 8), ImVec2(ctr.x, ctr.y + 8), colour, 2.0f);
-      dl->AddText(ImVec2(q[0].x, q[0].y - 16), colour, t.state == TrackStatus::kTracking ? "TRACKING" : "LOST");
+      char label[96];
+      std::snprintf(label, sizeof label, "%s %s %.2f", t.state == TrackStatus::kTracking ? "TRACKING" : "LOST",
+                    t.tracker.c_str(), t.confidence);
+      dl->AddText(ImVec2(q[0].x, q[0].y - 16), colour, label);
     } else if (v->track_target && v->track_target->method != TrackTarget::kCancel) {
       // Sent, no answer yet: the selection, thin.
       const TrackTarget& t = *v->track_target;

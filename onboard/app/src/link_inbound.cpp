@@ -7,6 +7,7 @@
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
+#include "uavmsg/track_target_t.hpp"
 
 namespace uav::app {
 
@@ -73,6 +74,35 @@ void SubscribeFileRequests(LinkContext& c, FileSender& files) {
         for (int i = 0; i < m.n_ranges && i < static_cast<int>(m.first.size()) && i < static_cast<int>(m.count.size()); ++i)
           r.ranges.push_back({m.first[i], m.count[i]});
         files.OnRequest(r);
+      });
+}
+
+void SubscribeTrackTargets(LinkContext& c) {
+  c.bus.Subscribe<uavmsg::track_target_t>(
+      Channel(c.vehicle_id, Topic::kTrackTarget), [&c](const std::string&, const uavmsg::track_target_t& m) {
+        auto reject = [&](const std::string& reason) {
+          TrackReport r;
+          r.utime = m.frame_utime;
+          r.target_seq = m.target_seq;
+          r.camera = m.camera;
+          r.state = TrackReport::State::kRejected;
+          r.reason = reason;
+          c.board.PushTrackReport(r);
+          c.board.PushStatus(Severity::kWarning, "target " + std::to_string(m.target_seq) + " rejected: " + reason);
+        };
+        if (m.header.vehicle_id != c.vehicle_id) {
+          reject("the target is for vehicle '" + m.header.vehicle_id + "', this is '" + c.vehicle_id + "'");
+          return;
+        }
+        if (c.board.Snapshot().tracking_camera.empty()) {
+          reject("this vehicle has no tracking camera");
+          return;
+        }
+        try {
+          c.board.PushTrackRequest(FromMessage(m));
+        } catch (const std::invalid_argument& e) {
+          reject(e.what());
+        }
       });
 }
 

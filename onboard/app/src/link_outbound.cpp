@@ -13,6 +13,7 @@
 #include "uavmsg/point_cloud_t.hpp"
 #include "uavmsg/power_lines_t.hpp"
 #include "uavmsg/status_text_t.hpp"
+#include "uavmsg/track_status_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
 
@@ -92,18 +93,33 @@ class VideoTranslator : public Translator {
  public:
   explicit VideoTranslator(LinkContext& c) : c_(c) {}
   void Tick(int64_t) override {
-    auto preview = c_.board.TakePreview();
-    if (!preview || preview->jpeg.size() > static_cast<size_t>(uavmsg::video_frame_t::MAX_JPEG_BYTES)) return;
-    uavmsg::video_frame_t v;
-    v.utime = preview->utime;
-    v.camera = preview->camera;
-    v.width = static_cast<int16_t>(preview->width);
-    v.height = static_cast<int16_t>(preview->height);
-    v.source_width = static_cast<int16_t>(preview->source_width);
-    v.source_height = static_cast<int16_t>(preview->source_height);
-    v.size = static_cast<int32_t>(preview->jpeg.size());
-    v.jpeg = std::move(preview->jpeg);
-    c_.Publish(Topic::kVideo, v);
+    for (PreviewFrame& preview : c_.board.TakePreviews()) {
+      if (preview.jpeg.size() > static_cast<size_t>(uavmsg::video_frame_t::MAX_JPEG_BYTES)) continue;
+      uavmsg::video_frame_t v;
+      v.utime = preview.utime;
+      v.camera = preview.camera;
+      v.width = static_cast<int16_t>(preview.width);
+      v.height = static_cast<int16_t>(preview.height);
+      v.source_width = static_cast<int16_t>(preview.source_width);
+      v.source_height = static_cast<int16_t>(preview.source_height);
+      v.size = static_cast<int32_t>(preview.jpeg.size());
+      v.jpeg = std::move(preview.jpeg);
+      c_.Publish(Topic::kVideo, v);
+    }
+  }
+
+ private:
+  LinkContext& c_;
+};
+
+class TrackStatusTranslator : public Translator {
+ public:
+  explicit TrackStatusTranslator(LinkContext& c) : c_(c) {}
+  void Tick(int64_t) override {
+    for (const TrackReport& r : c_.board.TakeTrackReports()) {
+      uavmsg::track_status_t m = ToMessage(r);
+      c_.Publish(Topic::kTrackStatus, m);
+    }
   }
 
  private:
@@ -212,6 +228,7 @@ std::unique_ptr<Translator> MakeStatusTextTranslator(LinkContext& c) { return st
 std::unique_ptr<Translator> MakeStateTranslator(LinkContext& c) { return std::make_unique<StateTranslator>(c); }
 std::unique_ptr<Translator> MakeHeartbeatTranslator(LinkContext& c) { return std::make_unique<HeartbeatTranslator>(c); }
 std::unique_ptr<Translator> MakeVideoTranslator(LinkContext& c) { return std::make_unique<VideoTranslator>(c); }
+std::unique_ptr<Translator> MakeTrackStatusTranslator(LinkContext& c) { return std::make_unique<TrackStatusTranslator>(c); }
 std::unique_ptr<Translator> MakePowerLinesTranslator(LinkContext& c) { return std::make_unique<PowerLinesTranslator>(c); }
 std::unique_ptr<Translator> MakeObstaclesTranslator(LinkContext& c) { return std::make_unique<ObstaclesTranslator>(c); }
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c) { return std::make_unique<MapTileTranslator>(c); }

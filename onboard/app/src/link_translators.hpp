@@ -49,6 +49,8 @@ class Translator {
 void SubscribeCommands(LinkContext& c);
 void SubscribeMissionUploads(LinkContext& c);
 void SubscribeFileRequests(LinkContext& c, FileSender& files);
+// Targets for the tracker; a malformed one, or one for another vehicle, is answered as rejected.
+void SubscribeTrackTargets(LinkContext& c);
 // GCS heartbeats: posts the age of the newest to the blackboard every tick (link-loss input).
 std::unique_ptr<Translator> MakeGcsHeartbeatTranslator(LinkContext& c);
 
@@ -63,6 +65,7 @@ std::unique_ptr<Translator> MakeHeartbeatTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeVideoTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakePowerLinesTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeObstaclesTranslator(LinkContext& c);
+std::unique_ptr<Translator> MakeTrackStatusTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files);
 

@@ -40,6 +40,7 @@ LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url
   SubscribeMissionUploads(c);
   SubscribeCommands(c);
   SubscribeFileRequests(c, im.files);
+  SubscribeTrackTargets(c);
   im.translators.push_back(MakeGcsHeartbeatTranslator(c));
   im.translators.push_back(MakeAckTranslator(c));
   im.translators.push_back(MakeStatusTextTranslator(c));
@@ -48,6 +49,7 @@ LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url
   im.translators.push_back(MakeVideoTranslator(c));
   im.translators.push_back(MakePowerLinesTranslator(c));
   im.translators.push_back(MakeObstaclesTranslator(c));
+  im.translators.push_back(MakeTrackStatusTranslator(c));
   im.translators.push_back(MakeMapTileTranslator(c));
   im.translators.push_back(MakeFileTransferTranslator(c, im.files));
 }

@@ -14,6 +14,7 @@
 #include "uav/app/mission_store.hpp"
 #include "uav/app/stereo_worker.hpp"
 #include "uav/app/stitch_worker.hpp"
+#include "uav/app/track_worker.hpp"
 #include "uav/waypoints/stored_paths.hpp"
 #include "uav/app/lockstep_scheduler.hpp"
 #include "uav/app/workers.hpp"
@@ -127,9 +128,11 @@ int main(int argc, char** argv) {
     std::unique_ptr<uav::app::CameraWorker> cam;
     std::unique_ptr<uav::app::StereoWorker> stereo;
     std::unique_ptr<uav::app::StitchWorker> stitch;
+    std::unique_ptr<uav::sim::SimGimbalCamera> gimbal_camera;
+    std::unique_ptr<uav::app::TrackWorker> trk;
     if (!scene_path.empty()) {
       scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(scene_path));
-      if (!scene->downward_camera() && !scene->stereo_camera())
+      if (!scene->downward_camera() && !scene->stereo_camera() && !scene->gimbal_camera())
         throw std::invalid_argument(scene_path + ": the scene declares no camera");
       // Cameras see the world from the true pose, as real ones do.
       auto truth_T_NB = [&vehicle] {
@@ -149,6 +152,12 @@ int main(int argc, char** argv) {
           stitch = std::make_unique<uav::app::StitchWorker>(
               scene->downward_camera()->intrinsics, board,
               uav::app::StitchWorker::Options{log_dir + "/maps_" + std::to_string(start), home});
+      }
+      if (scene->gimbal_camera()) {
+        const auto trk_params = uav::app::TrackWorkerParams::FromParameters(params);
+        gimbal_camera = std::make_unique<uav::sim::SimGimbalCamera>(*scene, *scene->gimbal_camera(), truth_T_NB,
+                                                                    trk_params.gimbal_pitch_rad);
+        trk = std::make_unique<uav::app::TrackWorker>(*gimbal_camera, board, trk_params);
       }
       if (scene->stereo_camera())
       {
@@ -172,6 +181,7 @@ int main(int argc, char** argv) {
     if (cam) scheduler.AddWorker("CAM", 2, camera_period(downward_camera->info().rate_hz), [&](int64_t t) { cam->Tick(t); });
     // STITCH after CAM (stage 3): this tick's capture is stitched in the same tick.
     if (stitch) scheduler.AddWorker("STITCH", 3, kPeriodUs * 5, [&](int64_t t) { stitch->Tick(t); });
+    if (trk) scheduler.AddWorker("TRK", 2, camera_period(gimbal_camera->info().rate_hz), [&](int64_t t) { trk->Tick(t); });
     if (stereo)
       scheduler.AddWorker("STEREO", 2, camera_period(stereo_camera->left().rate_hz),
                           [&](int64_t t) { stereo->Tick(t); });
@@ -193,6 +203,7 @@ int main(int argc, char** argv) {
     if (cam) cameras += ", " + std::to_string(cam->captures()) + " survey images captured, " +
                         std::to_string(cam->previews()) + " previews";
     if (stereo) cameras += ", " + std::to_string(stereo->frames()) + " stereo pairs";
+    if (trk) cameras += ", " + std::to_string(trk->frames()) + " gimbal frames";
     if (stitch && stitch->maps_written() > 0) cameras += ", map " + stitch->last_map() + ".tif";
     std::printf("uav-onboard: stopped after %.1f s simulated%s\n", (scheduler.now() - start) * 1e-6, cameras.c_str());
     return 0;

@@ -40,12 +40,16 @@ struct HeartbeatInfo {
 
 // What the vehicle's tracker reports (track_status_t), image coordinates normalised to 0..1.
 struct TrackStatus {
-  enum State { kIdle = 0, kTracking = 1, kLost = 2 };
+  enum State { kIdle = 0, kTracking = 1, kLost = 2, kRejected = 3 };
   int64_t utime = 0;  // vehicle clock of the frame
   int64_t seq = 0;    // message counter (header.seq)
   int64_t target_seq = 0;
+  std::string camera, tracker;
   State state = kIdle;
   double center_x = 0, center_y = 0, width = 0, height = 0, angle_rad = 0;
+  double window_x = 0, window_y = 0, window_width = 0, window_height = 0;  // search window
+  double confidence = 0;
+  std::string reason;  // why rejected or lost
   double received = -1.0;  // GCS clock
 };
 

@@ -18,6 +18,7 @@
 #include "uav/hal/vehicle_backend.hpp"
 #include "uav/shared/obstacles.hpp"
 #include "uav/shared/power_lines.hpp"
+#include "uav/shared/tracking.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
 namespace uav::app {
@@ -79,6 +80,10 @@ struct BlackboardData {
   // STEREO thread: obstacle cylinders in view, nearest surface [m] horizontally; < 0: none
   int obstacle_count = 0;
   double nearest_obstacle_m = -1.0;
+  // TRK thread: the camera it tracks in ("" when the vehicle has none) and the tracked target on
+  // the ground, for follow.
+  std::string tracking_camera;
+  TrackedTarget target;
 };
 
 class Blackboard {
@@ -119,15 +124,40 @@ class Blackboard {
     std::lock_guard<std::mutex> lock(mutex_);
     status_.push_back({severity, std::move(text)});
   }
-  // CAM -> CMM: the newest preview replaces one not yet sent (video is live, not queued).
+  // Camera threads -> CMM: per camera, the newest preview replaces one not yet sent (video is
+  // live, not queued).
   void PutPreview(PreviewFrame f) {
     std::lock_guard<std::mutex> lock(mutex_);
-    preview_ = std::move(f);
+    previews_[f.camera] = std::move(f);
   }
-  std::optional<PreviewFrame> TakePreview() {
+  std::vector<PreviewFrame> TakePreviews() {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::optional<PreviewFrame> out = std::move(preview_);
-    preview_.reset();
+    std::vector<PreviewFrame> out;
+    for (auto& [camera, f] : previews_) out.push_back(std::move(f));
+    previews_.clear();
+    return out;
+  }
+  // CMM -> TRK: targets the operator picked (or cancelled), in order.
+  void PushTrackRequest(TrackRequest r) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    track_requests_.push_back(std::move(r));
+  }
+  std::vector<TrackRequest> TakeTrackRequests() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<TrackRequest> out(std::make_move_iterator(track_requests_.begin()), std::make_move_iterator(track_requests_.end()));
+    track_requests_.clear();
+    return out;
+  }
+  // TRK (and CMM, for targets refused at the edge) -> CMM: every report, in order (a rejection
+  // must not be overwritten by the next frame's status).
+  void PushTrackReport(TrackReport r) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    track_reports_.push_back(std::move(r));
+  }
+  std::vector<TrackReport> TakeTrackReports() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<TrackReport> out(std::make_move_iterator(track_reports_.begin()), std::make_move_iterator(track_reports_.end()));
+    track_reports_.clear();
     return out;
   }
   // STEREO -> CMM: the newest pair's power lines replace ones not yet sent.
@@ -216,7 +246,9 @@ class Blackboard {
   std::deque<control::CommandRequest> commands_;
   std::deque<control::TaskReport> reports_;
   std::deque<StatusText> status_;
-  std::optional<PreviewFrame> preview_;
+  std::map<std::string, PreviewFrame> previews_;
+  std::deque<TrackRequest> track_requests_;
+  std::deque<TrackReport> track_reports_;
   std::optional<PowerLines> power_lines_;
   std::optional<Obstacles> obstacles_;
   std::optional<PointCloud> point_cloud_;

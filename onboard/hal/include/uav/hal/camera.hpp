@@ -4,6 +4,7 @@
 // renders behind this interface (sim/sim_cameras.hpp), as the vehicle model sits behind
 // VehicleBackend; hardware drivers come later behind the same one. Included only by the camera
 // workers, so OpenCV stays out of the widely included headers.
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -36,6 +37,30 @@ class Camera {
   // The image exposed at `utime`.
   virtual CameraFrame Capture(int64_t utime) = 0;
 };
+
+// A camera on a two-axis stabilised gimbal: the gimbal holds it level in roll and sets its pitch;
+// it turns with the body's heading. At pitch 0 it looks along the heading, at -pi/2 straight
+// down. info().T_BC is the mount at pitch 0 with the body level.
+class GimbalCamera : public Camera {
+ public:
+  static constexpr double kMinPitchRad = -1.5707963267948966;  // straight down
+  static constexpr double kMaxPitchRad = 0.3490658503988659;   // 20 degrees up
+  // Sets the pitch, clamped to [kMinPitchRad, kMaxPitchRad]; a non-finite value is ignored.
+  virtual void SetPitch(double pitch_rad) = 0;
+  virtual double pitch_rad() const = 0;
+};
+
+// The gimballed camera's pose in N for a body pose T_NB, its level mount T_BC_level (pitch 0)
+// and pitch: R_NC = R_z(heading) R_y(pitch) R_BC_level, at the mount point carried by the body.
+inline Eigen::Isometry3d GimbalCameraPose(const Eigen::Isometry3d& T_NB, const Eigen::Isometry3d& T_BC_level, double pitch_rad) {
+  const Eigen::Matrix3d R_NB = T_NB.linear();
+  const double heading = std::atan2(R_NB(1, 0), R_NB(0, 0));
+  Eigen::Isometry3d T_NC = Eigen::Isometry3d::Identity();
+  T_NC.linear() = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+                  Eigen::AngleAxisd(pitch_rad, Eigen::Vector3d::UnitY()).toRotationMatrix() * T_BC_level.linear();
+  T_NC.translation() = T_NB * T_BC_level.translation();
+  return T_NC;
+}
 
 struct StereoImages {
   cv::Mat left, right;  // CV_8UC3, BGR, same size

@@ -25,6 +25,23 @@ class SimCamera : public hal::Camera {
   TruthPose truth_T_NB_;
 };
 
+// The gimballed camera: rendered from the true position and heading with the gimbal's pitch.
+class SimGimbalCamera : public hal::GimbalCamera {
+ public:
+  SimGimbalCamera(const world::Scene& scene, const world::CameraSetup& setup, TruthPose truth_T_NB,
+                  double initial_pitch_rad);
+  const hal::CameraInfo& info() const override { return info_; }
+  hal::CameraFrame Capture(int64_t utime) override;
+  void SetPitch(double pitch_rad) override;
+  double pitch_rad() const override { return pitch_rad_; }
+
+ private:
+  world::Renderer renderer_;
+  hal::CameraInfo info_;
+  TruthPose truth_T_NB_;
+  double pitch_rad_ = 0.0;
+};
+
 class SimStereoCamera : public hal::StereoCamera {
  public:
   SimStereoCamera(const world::Scene& scene, const world::StereoSetup& setup, TruthPose truth_T_NB);

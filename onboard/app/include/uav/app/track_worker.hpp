@@ -1,0 +1,60 @@
+#pragma once
+// TRK: the gimballed camera on the vehicle clock and the operator's target (thesis 3.7). A thin
+// shell around hal::GimbalCamera and vision::TargetTracker: takes a frame at the camera rate,
+// keeps the last seconds of frames keyed by time (a target is picked on a frozen frame the GCS
+// saw a moment ago), starts the tracker on the frame the target was picked in and catches up to
+// now, then tracks every frame. It reports track_status_t every frame while a target is set,
+// answers each selection (a refusal names why), pitches the gimbal to keep the target centred
+// while it tracks, and posts the target's place on the ground (navigation estimate, never the
+// truth) for follow. Streams the camera's preview to the GCS.
+#include <deque>
+#include <string>
+
+#include <opencv2/core/mat.hpp>
+
+#include "uav/app/blackboard.hpp"
+#include "uav/app/preview_stream.hpp"
+#include "uav/hal/camera.hpp"
+#include "uav/shared/parameters.hpp"
+#include "uav/vision/target_tracker.hpp"
+
+namespace uav::app {
+
+struct TrackWorkerParams {
+  vision::TrackerParams tracker;  // trk_tracker, trk_window
+  double gimbal_pitch_rad = -0.35;  // gimbal_pitch: where the gimbal points before a target is locked
+  double gimbal_gain = 0.5;         // trk_gimbal_gain: fraction of the vertical offset corrected per frame (0: fixed)
+  double buffer_s = 3.0;            // frames kept for selections picked on older frames
+  static TrackWorkerParams FromParameters(const ParameterSet& p);
+};
+
+class TrackWorker {
+ public:
+  TrackWorker(hal::GimbalCamera& camera, Blackboard& board, const TrackWorkerParams& params);
+  void Tick(int64_t utime);
+  int frames() const { return frames_; }
+
+ private:
+  struct Buffered {
+    int64_t utime;
+    cv::Mat image;
+  };
+  // Returns true when a new target was started (and caught up to the newest frame).
+  bool Handle(const TrackRequest& request);
+  void Reject(const TrackRequest& request, const std::string& reason);
+  void Report(int64_t utime, const vision::TrackResult& r, const std::string& reason = "");
+  void PlaceOnGround(int64_t utime, const vision::TrackResult& r, const hal::VehicleEstimate& estimate);
+
+  hal::GimbalCamera& camera_;
+  Blackboard& board_;
+  TrackWorkerParams params_;
+  PreviewStream preview_;
+  vision::TargetTracker tracker_;
+  vision::TrackResult last_result_;  // of the newest frame tracked
+  std::deque<Buffered> buffer_;
+  int64_t target_seq_ = 0;
+  int64_t last_seen_utime_ = -1;
+  int frames_ = 0;
+};
+
+}  // namespace uav::app

@@ -1,0 +1,189 @@
+#include "uav/app/track_worker.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "uav/shared/frames.hpp"
+
+namespace uav::app {
+
+TrackWorkerParams TrackWorkerParams::FromParameters(const ParameterSet& p) {
+  TrackWorkerParams t;
+  const int kind = static_cast<int>(p.Get("trk_tracker"));
+  t.tracker.kind = kind == 0 ? vision::TrackerKind::kCamShift : kind == 1 ? vision::TrackerKind::kKcf : vision::TrackerKind::kCsrt;
+  t.tracker.window = p.Get("trk_window") != 0.0 ? vision::SearchWindowMode::kStatic : vision::SearchWindowMode::kAdaptive;
+  t.tracker.Validate();
+  t.gimbal_pitch_rad = p.Get("gimbal_pitch") * M_PI / 180.0;
+  t.gimbal_gain = p.Get("trk_gimbal_gain");
+  return t;
+}
+
+TrackWorker::TrackWorker(hal::GimbalCamera& camera, Blackboard& board, const TrackWorkerParams& params)
+    : camera_(camera),
+      board_(board),
+      params_(params),
+      preview_(camera.info().name, camera.info().preview_rate_hz),
+      tracker_(params.tracker) {
+  camera_.SetPitch(params.gimbal_pitch_rad);
+  board_.Update([&](BlackboardData& b) { b.tracking_camera = camera_.info().name; });
+}
+
+void TrackWorker::Tick(int64_t utime) {
+  const BlackboardData d = board_.Snapshot();
+  hal::CameraFrame frame = camera_.Capture(utime);
+  ++frames_;
+  if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, frame.image));
+  buffer_.push_back({utime, frame.image});
+  while (!buffer_.empty() && buffer_.front().utime < utime - static_cast<int64_t>(params_.buffer_s * 1e6)) buffer_.pop_front();
+
+  bool started_now = false;
+  for (const TrackRequest& r : board_.TakeTrackRequests()) started_now = Handle(r) || (started_now && tracker_.state() != vision::TrackState::kIdle);
+  if (tracker_.state() == vision::TrackState::kIdle) {
+    board_.Update([](BlackboardData& b) { b.target = TrackedTarget{}; });
+    return;
+  }
+  vision::TrackResult r;
+  if (started_now) {
+    r = last_result_;
+  } else {
+    r = tracker_.Update(frame.image);
+    last_result_ = r;
+  }
+  Report(utime, r);
+  PlaceOnGround(utime, r, d.estimate);
+}
+
+void TrackWorker::Reject(const TrackRequest& request, const std::string& reason) {
+  TrackReport rep;
+  rep.utime = request.frame_utime;
+  rep.target_seq = request.target_seq;
+  rep.camera = camera_.info().name;
+  rep.tracker = vision::Name(params_.tracker.kind);
+  rep.state = TrackReport::State::kRejected;
+  rep.reason = reason;
+  board_.PushTrackReport(rep);
+  board_.PushStatus(Severity::kWarning, "target " + std::to_string(request.target_seq) + " rejected: " + reason);
+}
+
+bool TrackWorker::Handle(const TrackRequest& request) {
+  if (request.method == TrackRequest::Method::kCancel) {
+    tracker_.Stop();
+    target_seq_ = request.target_seq;
+    TrackReport rep;
+    rep.utime = buffer_.back().utime;
+    rep.target_seq = request.target_seq;
+    rep.camera = camera_.info().name;
+    rep.tracker = vision::Name(params_.tracker.kind);
+    board_.PushTrackReport(rep);
+    board_.PushStatus(Severity::kInfo, "tracking stopped");
+    return false;
+  }
+  if (request.camera != camera_.info().name) {
+    Reject(request, "picked in camera '" + request.camera + "', the tracker runs on '" + camera_.info().name + "'");
+    return false;
+  }
+  // The frame it was picked in: the buffered one nearest its time, within half a frame period.
+  const int64_t half_period = static_cast<int64_t>(0.5e6 / camera_.info().rate_hz);
+  std::size_t k = buffer_.size();
+  for (std::size_t i = 0; i < buffer_.size(); ++i)
+    if (std::llabs(buffer_[i].utime - request.frame_utime) <= half_period) {
+      k = i;
+      break;
+    }
+  if (k == buffer_.size()) {
+    Reject(request, "frame at " + std::to_string(request.frame_utime * 1e-6) + " s is not in the buffer (" +
+                        std::to_string(buffer_.front().utime * 1e-6) + " to " + std::to_string(buffer_.back().utime * 1e-6) + " s)");
+    return false;
+  }
+  const cv::Mat& image = buffer_[k].image;
+  const double W = image.cols, H = image.rows;
+  const cv::Rect2d box(request.x * W, request.y * H, request.width * W, request.height * H);
+  std::vector<cv::Point2f> polygon;
+  if (request.method == TrackRequest::Method::kFourClicks)
+    for (const Eigen::Vector2d& c : request.corners) polygon.emplace_back(static_cast<float>(c.x() * W), static_cast<float>(c.y() * H));
+  vision::TargetTracker fresh(params_.tracker);
+  try {
+    fresh.Start(image, box, polygon);
+  } catch (const std::invalid_argument& e) {
+    Reject(request, e.what());  // the target tracked before (if any) carries on
+    return false;
+  }
+  // Catch up from the picked frame to now.
+  vision::TrackResult r;
+  r.state = vision::TrackState::kTracking;
+  r.confidence = 1.0;
+  r.box = cv::RotatedRect(cv::Point2f(static_cast<float>(box.x + 0.5 * box.width), static_cast<float>(box.y + 0.5 * box.height)),
+                          cv::Size2f(static_cast<float>(box.width), static_cast<float>(box.height)), 0.0f);
+  r.search_window = box;
+  for (std::size_t i = k + 1; i < buffer_.size(); ++i) r = fresh.Update(buffer_[i].image);
+  tracker_ = std::move(fresh);
+  last_result_ = r;
+  target_seq_ = request.target_seq;
+  board_.PushStatus(Severity::kInfo, "tracking target " + std::to_string(request.target_seq) + " (" +
+                                         vision::Name(params_.tracker.kind) + ")");
+  return true;
+}
+
+void TrackWorker::Report(int64_t utime, const vision::TrackResult& r, const std::string& reason) {
+  const double W = camera_.info().intrinsics.width, H = camera_.info().intrinsics.height;
+  TrackReport rep;
+  rep.utime = utime;
+  rep.target_seq = target_seq_;
+  rep.camera = camera_.info().name;
+  rep.tracker = vision::Name(params_.tracker.kind);
+  rep.state = r.state == vision::TrackState::kTracking ? TrackReport::State::kTracking
+              : r.state == vision::TrackState::kLost   ? TrackReport::State::kLost
+                                                       : TrackReport::State::kIdle;
+  rep.center_x = r.box.center.x / W;
+  rep.center_y = r.box.center.y / H;
+  rep.width = r.box.size.width / W;
+  rep.height = r.box.size.height / H;
+  rep.angle_rad = r.box.angle * M_PI / 180.0;
+  rep.window_x = r.search_window.x / W;
+  rep.window_y = r.search_window.y / H;
+  rep.window_width = r.search_window.width / W;
+  rep.window_height = r.search_window.height / H;
+  rep.confidence = r.confidence;
+  rep.reason = r.state == vision::TrackState::kLost && reason.empty() ? "the target's colour is not in view" : reason;
+  board_.PushTrackReport(rep);
+}
+
+void TrackWorker::PlaceOnGround(int64_t utime, const vision::TrackResult& r, const hal::VehicleEstimate& estimate) {
+  TrackedTarget t;
+  t.locked = r.state == vision::TrackState::kTracking;
+  t.utime = utime;
+  const CameraIntrinsics& k = camera_.info().intrinsics;
+  t.image_x = r.box.center.x / k.width;
+  t.image_y = r.box.center.y / k.height;
+  t.gimbal_pitch_rad = camera_.pitch_rad();
+  if (t.locked) last_seen_utime_ = utime;
+  t.last_seen_utime = last_seen_utime_;
+  if (t.locked) {
+    Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
+    T_NB.linear() = estimate.q_NB.toRotationMatrix();
+    T_NB.translation() = estimate.p_N;
+    const Eigen::Isometry3d T_NC = hal::GimbalCameraPose(T_NB, camera_.info().T_BC, camera_.pitch_rad());
+    const Eigen::Vector3d ray_N = T_NC.linear() * Unproject(k, Eigen::Vector2d(r.box.center.x, r.box.center.y)).homogeneous();
+    t.bearing_rad = std::atan2(ray_N.y(), ray_N.x());
+    // The ground is d = 0 in the home frame (flat ground assumed).
+    if (ray_N.z() > 1e-3) {
+      const double s = -T_NC.translation().z() / ray_N.z();
+      t.p_N = T_NC.translation() + s * ray_N;
+      t.on_ground = s > 0;
+    }
+    // Gimbal: turn part of the way to the box centre's elevation each frame, so the target
+    // sits mid-image (a target below the centre needs the camera pitched further down).
+    if (params_.gimbal_gain > 0) {
+      const double offset = std::atan2(r.box.center.y - k.cy, k.fy);
+      camera_.SetPitch(camera_.pitch_rad() - params_.gimbal_gain * offset);
+    }
+  } else {
+    const TrackedTarget previous = board_.Snapshot().target;
+    t.p_N = previous.p_N;
+    t.on_ground = previous.on_ground;
+    t.bearing_rad = previous.bearing_rad;
+  }
+  board_.Update([&](BlackboardData& b) { b.target = t; });
+}
+
+}  // namespace uav::app
