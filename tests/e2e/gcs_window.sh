@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # End-to-end: the real GCS window (GLFW + OpenGL 3.3 on Mesa llvmpipe) under Xvfb, talking to a
-# simulated vehicle and a stand-in tracker. The script takes off, ticks signals into two plots,
+# simulated vehicle with its onboard tracker. The script takes off, ticks signals into two plots,
 # draws a survey, picks a target on the video and saves two screenshots seconds apart;
 # check_screenshot verifies they show every panel with live data and writes one picture per
 # panel (panel_*.png) for the README.
@@ -11,8 +11,7 @@ mkdir -p "$out"
 rm -f "$out"/gcs_*.png "$out/layout.ini"
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
 "$bin/uav-onboard" --sim --speed 2 --lcm-url "$url" \
-  --scene "$(dirname "$0")/../../resources/scenes/survey_village.scene.json" > "$out/onboard.log" 2>&1 &
-"$bin/track_echo" "$url" UAV1 600 > "$out/tracker.log" 2>&1 &
+  --scene "$(dirname "$0")/../../resources/scenes/tracking.scene.json" > "$out/onboard.log" 2>&1 &
 trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 cd "$out"
 status=0
