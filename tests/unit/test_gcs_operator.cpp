@@ -154,6 +154,35 @@ TEST(GcsVideo, FreezeHoldsTheFrameAndSwitchingVehicleDropsIt) {
   EXPECT_FALSE(m.video().frozen());  // nothing of UAV1 on UAV2's panels
 }
 
+// Two cameras streaming: the panel shows the first seen until the operator picks the other;
+// frames of the camera not shown are not decoded into the picture.
+TEST(GcsVideo, OneOfSeveralCamerasIsChosen) {
+  GcsModel m("gcs", 1);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
+  cv::Mat img(48, 64, CV_8UC3, cv::Scalar(10, 20, 30));
+  VideoFrameIn f;
+  f.width = 64, f.height = 48, f.source_width = 640, f.source_height = 480;
+  cv::imencode(".jpg", img, f.jpeg);
+  for (int k = 0; k < 4; ++k) {
+    f.utime = k;
+    f.camera = k % 2 ? "gimbal" : "downward";
+    m.OnVideoFrame("UAV1", f, 0.1 * k);
+  }
+  const VehicleModel& v = *m.selected();
+  EXPECT_EQ(v.cameras, (std::vector<std::string>{"downward", "gimbal"}));
+  EXPECT_EQ(v.camera, "downward");
+  EXPECT_EQ(v.video.frames, 2);
+  EXPECT_EQ(v.video.camera, "downward");
+  EXPECT_FALSE(m.ChooseVideoCamera("forward"));  // never streamed
+  ASSERT_TRUE(m.ChooseVideoCamera("gimbal"));
+  f.camera = "gimbal";
+  f.utime = 9;
+  m.OnVideoFrame("UAV1", f, 0.5);
+  EXPECT_EQ(m.selected()->video.frames, 1);
+  EXPECT_EQ(m.selected()->video.camera, "gimbal");
+  EXPECT_EQ(m.selected()->video.utime, 9);
+}
+
 // ---- The panels headless, driven like a person: a fake vehicle fed into the model.
 
 class Panels : public ::testing::Test {

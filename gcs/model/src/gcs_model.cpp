@@ -107,6 +107,13 @@ bool GcsModel::SubmitCommand(const std::string& text, double now) {
 
 bool GcsModel::FreezeVideo(bool freeze) { return video_.Freeze(Selected(), selected_, freeze); }
 
+bool GcsModel::ChooseVideoCamera(const std::string& camera) {
+  VehicleModel* v = Selected();
+  if (!v || !VideoTracking::ChooseCamera(*v, camera)) return false;
+  video_.Unfreeze();
+  return true;
+}
+
 bool GcsModel::SelectTarget(const TrackTarget& target, double now) {
   return video_.SelectTarget(Selected(), selected_, target, now, log_);
 }

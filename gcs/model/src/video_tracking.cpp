@@ -1,5 +1,7 @@
 #include "uav/gcs/video_tracking.hpp"
 
+#include <algorithm>
+
 #include <stb_image.h>
 
 #include <cmath>
@@ -30,6 +32,15 @@ bool DecodeJpeg(const std::vector<uint8_t>& jpeg, int width, int height, std::ve
   return true;
 }
 
+bool VideoTracking::ChooseCamera(VehicleVideo& v, const std::string& camera) {
+  if (std::find(v.cameras.begin(), v.cameras.end(), camera) == v.cameras.end()) return false;
+  if (camera != v.camera) {
+    v.camera = camera;
+    v.video = VideoFeed{};  // the other camera's picture is not this one's
+  }
+  return true;
+}
+
 double VideoFeed::Rate(double now) const {
   int n = 0;
   for (double t : recent) n += now - t <= 1.0;
@@ -38,6 +49,9 @@ double VideoFeed::Rate(double now) const {
 
 void VideoTracking::OnVideoFrame(VehicleVideo& v, const std::string& vehicle_id, const VideoFrameIn& f, double now,
                                  MessageLog& log) {
+  if (std::find(v.cameras.begin(), v.cameras.end(), f.camera) == v.cameras.end()) v.cameras.push_back(f.camera);
+  if (v.camera.empty()) v.camera = f.camera;
+  if (f.camera != v.camera) return;
   VideoFeed& feed = v.video;
   std::string problem;
   std::vector<uint8_t> rgba;

@@ -58,6 +58,16 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
     st.video_clicks.clear();
   }
   RegisterLastItem(ctx, "video:freeze");
+  if (v->cameras.size() > 1) {
+    // Which of the vehicle's cameras to watch (and pick targets on).
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(110);
+    if (ImGui::BeginCombo("##camera", v->camera.c_str())) {
+      for (const std::string& name : v->cameras)
+        if (ImGui::Selectable(name.c_str(), name == v->camera)) model.ChooseVideoCamera(name);
+      ImGui::EndCombo();
+    }
+  }
   ImGui::SameLine();
   if (ImGui::Button("Stop tracking")) {
     TrackTarget cancel;

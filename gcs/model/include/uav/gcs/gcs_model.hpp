@@ -47,6 +47,8 @@ class GcsModel {
   void SelectVehicle(const std::string& id);
   bool SubmitCommand(const std::string& text, double now);
   bool FreezeVideo(bool freeze);
+  // The selected vehicle's video shows `camera` (one it streams); false otherwise.
+  bool ChooseVideoCamera(const std::string& camera);
   bool SelectTarget(const TrackTarget& target, double now);
   bool UploadSurvey(double now);
   bool ExportSurvey(const std::string& path, double now);

@@ -56,9 +56,12 @@ struct OutgoingTrackTarget {
   TrackTarget target;
 };
 
-// Per vehicle.
+// Per vehicle. A vehicle may stream several cameras; the panel shows one (the first seen until
+// the operator picks another).
 struct VehicleVideo {
-  VideoFeed video;
+  VideoFeed video;                   // of the chosen camera
+  std::string camera;                // chosen camera; "" until the first frame
+  std::vector<std::string> cameras;  // every camera seen streaming
   std::optional<TrackTarget> track_target;  // the last selection sent
   int64_t track_targets_sent = 0;
   std::optional<TrackStatus> track;         // what its tracker reports
@@ -68,7 +71,10 @@ class VideoTracking {
  public:
   static constexpr double kMinTargetSide = 0.005;  // of the image side, each way
 
-  // Decodes the JPEG; a frame that does not decode to its stated size is counted as rejected
+  // Shows `camera` from now on (frames of the others are not decoded). Returns false when the
+  // vehicle has not streamed it.
+  static bool ChooseCamera(VehicleVideo& v, const std::string& camera);
+  // Decodes the JPEG (frames of the chosen camera only); a frame that does not decode to its stated size is counted as rejected
   // (the first one is logged with the reason) and the previous frame stays on screen.
   static void OnVideoFrame(VehicleVideo& v, const std::string& vehicle_id, const VideoFrameIn& frame, double now,
                            MessageLog& log);
