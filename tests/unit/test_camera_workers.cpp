@@ -257,8 +257,10 @@ TEST(TrackWorker, TracksThePickedTargetCentresItAndPlacesItOnTheGround) {
   r.target_seq = 7;
   r.frame_utime = 1'000'000;
   r.camera = "gimbal";
-  r.x = picked.x / 640.0 - 0.01, r.y = picked.y / 480.0 - 0.01;
-  r.width = picked.width / 640.0 + 0.02, r.height = picked.height / 480.0 + 0.02;
+  // A loose selection, as an operator drags it: 5 % of the image around the tent on each side.
+  const double pad = 0.05;
+  r.x = picked.x / 640.0 - pad, r.y = picked.y / 480.0 - pad;
+  r.width = picked.width / 640.0 + 2 * pad, r.height = picked.height / 480.0 + 2 * pad;
   board.PushTrackRequest(r);
   const double pitch0 = camera.pitch_rad();
   std::vector<TrackReport> reports;
@@ -276,6 +278,9 @@ TEST(TrackWorker, TracksThePickedTargetCentresItAndPlacesItOnTheGround) {
   const cv::Rect last = truth_box(3'400'000);
   EXPECT_NEAR(reports.back().center_x * 640, last.x + 0.5 * last.width, 3.0);
   EXPECT_NEAR(reports.back().center_y * 480, last.y + 0.5 * last.height, 3.0);
+  // The box shrank from the loose selection to the tent.
+  EXPECT_NEAR(reports.back().width * 640, last.width, 0.2 * last.width);
+  EXPECT_NEAR(reports.back().height * 480, last.height, 0.2 * last.height);
   // The tent's middle (1.25 m up, 30 m ahead, 6 m below the camera) lies 9 deg below the
   // horizon, above the image centre at -15 deg: the gimbal tilted up to it.
   EXPECT_GT(camera.pitch_rad(), pitch0 + 4.0 * M_PI / 180);

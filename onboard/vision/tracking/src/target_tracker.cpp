@@ -26,6 +26,11 @@ constexpr double kSideOverSigma = 3.4641016151377544;  // sqrt(12)
 // next frame's motion stays inside it (thesis 3.7.1, step 3: "slightly larger").
 constexpr double kWindowMargin = 0.25;
 
+// Back-projection values below this (of 255) are set to zero: colours the histogram gives little
+// weight (the surroundings' hues left after background weighting, sensor noise) would otherwise
+// add up over a large window and let the moments' box grow into the background.
+constexpr double kMinProbability = 32.0;
+
 struct Moments {
   double m00 = 0.0;
   cv::RotatedRect box;
@@ -118,6 +123,7 @@ struct TargetTracker::Impl {
     const float* ranges[] = {hue_range};
     cv::calcBackProject(&hsv, 1, channels, histogram, probability, ranges);
     probability &= mask;
+    cv::threshold(probability, probability, kMinProbability - 1, 0, cv::THRESH_TOZERO);
   }
 
   // Mean shift from `start`, then the moments where it settled; the confidence is the density
@@ -262,9 +268,16 @@ void TargetTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box, const std::
   Require(cv::norm(s.histogram, cv::NORM_INF) > 0, "the target's colours are those of its surroundings");
   cv::normalize(s.histogram, s.histogram, 0, 255, cv::NORM_MINMAX);
   s.Probability(bgr);
-  s.reference_density = std::max(1.0, cv::mean(s.probability(roi))[0]);
-  s.reference_size = cv::Size2f(static_cast<float>(roi.width), static_cast<float>(roi.height));
-  s.window = roi;
+  // The target inside the selection: the moments' box there (a loose selection shrinks to the
+  // coloured object), and its density, which later frames' confidence is measured against.
+  const Moments m = WindowMoments(s.probability, roi);
+  const double area = static_cast<double>(m.box.size.width) * m.box.size.height;
+  Require(m.m00 > 0 && area >= 1.0, "the selection holds none of the colours that tell the target from its surroundings");
+  s.reference_density = m.m00 / area;
+  const cv::Rect target = Clip(m.box.boundingRect(), s.image_size);
+  s.reference_size = cv::Size2f(static_cast<float>(std::max(target.width, 1)), static_cast<float>(std::max(target.height, 1)));
+  s.window = Clip(Centred(m.box.center, cv::Size2f(target.width * (1 + 2 * kWindowMargin), target.height * (1 + 2 * kWindowMargin))),
+                  s.image_size);
   s.state = TrackState::kTracking;
 }
 
