@@ -41,6 +41,16 @@ Eigen::Isometry3d ForwardCameraPose(const Eigen::Vector3d& p_N, double yaw, doub
   return T;
 }
 
+// What Scene::Parse says about a scene text: its error, or "accepted".
+std::string ParseError(const std::string& text) {
+  try {
+    Scene::Parse(text, "bad.scene.json");
+  } catch (const std::exception& e) {
+    return std::string(e.what());
+  }
+  return std::string("accepted");
+}
+
 Eigen::Vector3d PixelRay(const CameraIntrinsics& k, int u, int v) {
   return Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
 }
@@ -198,21 +208,13 @@ TEST(WorldMovingObjects, BadPathsAreRejected) {
   nan_speed.speed_mps = std::nan("");
   EXPECT_THROW(scene.SetPath(pole, nan_speed), std::invalid_argument);
   EXPECT_THROW(scene.SetPath(999, nan_speed), std::invalid_argument);
-  auto message = [](const std::string& text) {
-    try {
-      Scene::Parse(text, "bad.scene.json");
-    } catch (const std::exception& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
-  EXPECT_NE(message(R"({"objects": [{"type": "person", "at_ne": [0, 0], "path": {"waypoints_ne": [[0, 0]], "speed_mps": 1}}]})")
+  EXPECT_NE(ParseError(R"({"objects": [{"type": "person", "at_ne": [0, 0], "path": {"waypoints_ne": [[0, 0]], "speed_mps": 1}}]})")
                 .find("$.objects[0].path.waypoints_ne"), std::string::npos);
-  EXPECT_NE(message(R"({"objects": [{"type": "tree", "at_ne": [0, 0], "height_m": 5, "crown_radius_m": 1,
+  EXPECT_NE(ParseError(R"({"objects": [{"type": "tree", "at_ne": [0, 0], "height_m": 5, "crown_radius_m": 1,
       "path": {"waypoints_ne": [[0, 0], [1, 1]], "speed_mps": 1}}]})").find("$.objects[0].path: only"), std::string::npos);
-  EXPECT_NE(message(R"({"objects": [{"type": "person", "at_ne": [0, 0], "path": {"waypoints_ne": [[0, 0], [1, 1]], "speed_mps": 0}}]})")
+  EXPECT_NE(ParseError(R"({"objects": [{"type": "person", "at_ne": [0, 0], "path": {"waypoints_ne": [[0, 0], [1, 1]], "speed_mps": 0}}]})")
                 .find("$.objects[0].path.speed_mps"), std::string::npos);
-  EXPECT_EQ(message(R"({"objects": [{"type": "person", "at_ne": [0, 0], "clothing": "red",
+  EXPECT_EQ(ParseError(R"({"objects": [{"type": "person", "at_ne": [0, 0], "clothing": "red",
       "path": {"waypoints_ne": [[0, 0], [1, 1]], "speed_mps": 1.2}}]})"), "accepted");
 }
 
@@ -474,29 +476,21 @@ TEST(WorldScene, NamedScenesLoadAndRender) {
 }
 
 TEST(WorldScene, BadScenesAreRejectedNamingTheEntry) {
-  auto message = [](const std::string& text) {
-    try {
-      Scene::Parse(text, "bad.scene.json");
-    } catch (const std::exception& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
-  EXPECT_NE(message("{").find("not valid JSON"), std::string::npos);
-  EXPECT_NE(message(R"({"seed": 1, "objects": [{"type": "box", "center_ned": [0, 0, -1], "size": [1, 1, 1],
+  EXPECT_NE(ParseError("{").find("not valid JSON"), std::string::npos);
+  EXPECT_NE(ParseError(R"({"seed": 1, "objects": [{"type": "box", "center_ned": [0, 0, -1], "size": [1, 1, 1],
       "material": "cheese"}]})").find("$.objects[0].material: unknown material 'cheese'"), std::string::npos);
-  EXPECT_NE(message(R"({"objects": [{"type": "tree", "at_ne": [0, 0], "height_m": 5}]})")
+  EXPECT_NE(ParseError(R"({"objects": [{"type": "tree", "at_ne": [0, 0], "height_m": 5}]})")
                 .find("$.objects[0]: missing 'crown_radius_m'"), std::string::npos);
-  EXPECT_NE(message(R"({"objects": [{"type": "cylinder", "base_ned": [0, 0, 0], "radius_m": -1, "height_m": 2}]})")
+  EXPECT_NE(ParseError(R"({"objects": [{"type": "cylinder", "base_ned": [0, 0, 0], "radius_m": -1, "height_m": 2}]})")
                 .find("$.objects[0].radius_m: must be in"), std::string::npos);
-  EXPECT_NE(message(R"({"objects": [{"type": "ufo"}]})").find("unknown object type 'ufo'"), std::string::npos);
-  EXPECT_NE(message(R"({"ground": {"layout": "fields", "parcel_m": 10, "road_width_m": 12}})")
+  EXPECT_NE(ParseError(R"({"objects": [{"type": "ufo"}]})").find("unknown object type 'ufo'"), std::string::npos);
+  EXPECT_NE(ParseError(R"({"ground": {"layout": "fields", "parcel_m": 10, "road_width_m": 12}})")
                 .find("$.ground.road_width_m"), std::string::npos);
-  EXPECT_NE(message(R"({"objects": [{"type": "box", "center_ned": [0, 0, NaN], "size": [1, 1, 1]}]})")
+  EXPECT_NE(ParseError(R"({"objects": [{"type": "box", "center_ned": [0, 0, NaN], "size": [1, 1, 1]}]})")
                 .find("not valid JSON"), std::string::npos);
-  EXPECT_NE(message(R"({"cameras": {"downward": {"file": "/nonexistent.camera"}}})")
+  EXPECT_NE(ParseError(R"({"cameras": {"downward": {"file": "/nonexistent.camera"}}})")
                 .find("$.cameras.downward.file"), std::string::npos);
-  EXPECT_NE(message(R"({"objects": [{"type": "power_line", "poles_ne": [[0, 0], [3, 0]], "pole_height_m": 8,
+  EXPECT_NE(ParseError(R"({"objects": [{"type": "power_line", "poles_ne": [[0, 0], [3, 0]], "pole_height_m": 8,
       "sag_m": 2}]})").find("sag_m"), std::string::npos);
 }
 
