@@ -39,6 +39,7 @@ void TrackWorker::Tick(int64_t utime) {
   bool started_now = false;
   for (const TrackRequest& r : board_.TakeTrackRequests()) started_now = Handle(r) || (started_now && tracker_.state() != vision::TrackState::kIdle);
   if (tracker_.state() == vision::TrackState::kIdle) {
+    target_ = TrackedTarget{};
     board_.Update([](BlackboardData& b) { b.target = TrackedTarget{}; });
     return;
   }
@@ -53,13 +54,18 @@ void TrackWorker::Tick(int64_t utime) {
   PlaceOnGround(utime, r, d.estimate);
 }
 
-void TrackWorker::Reject(const TrackRequest& request, const std::string& reason) {
+TrackReport TrackWorker::NewReport(int64_t utime, int64_t target_seq, TrackReport::State state) const {
   TrackReport rep;
-  rep.utime = request.frame_utime;
-  rep.target_seq = request.target_seq;
+  rep.utime = utime;
+  rep.target_seq = target_seq;
   rep.camera = camera_.info().name;
   rep.tracker = vision::Name(params_.tracker.kind);
-  rep.state = TrackReport::State::kRejected;
+  rep.state = state;
+  return rep;
+}
+
+void TrackWorker::Reject(const TrackRequest& request, const std::string& reason) {
+  TrackReport rep = NewReport(request.frame_utime, request.target_seq, TrackReport::State::kRejected);
   rep.reason = reason;
   board_.PushTrackReport(rep);
   board_.PushStatus(Severity::kWarning, "target " + std::to_string(request.target_seq) + " rejected: " + reason);
@@ -69,12 +75,7 @@ bool TrackWorker::Handle(const TrackRequest& request) {
   if (request.method == TrackRequest::Method::kCancel) {
     tracker_.Stop();
     target_seq_ = request.target_seq;
-    TrackReport rep;
-    rep.utime = buffer_.back().utime;
-    rep.target_seq = request.target_seq;
-    rep.camera = camera_.info().name;
-    rep.tracker = vision::Name(params_.tracker.kind);
-    board_.PushTrackReport(rep);
+    board_.PushTrackReport(NewReport(buffer_.back().utime, request.target_seq, TrackReport::State::kIdle));
     board_.PushStatus(Severity::kInfo, "tracking stopped");
     return false;
   }
@@ -124,16 +125,12 @@ bool TrackWorker::Handle(const TrackRequest& request) {
   return true;
 }
 
-void TrackWorker::Report(int64_t utime, const vision::TrackResult& r, const std::string& reason) {
+void TrackWorker::Report(int64_t utime, const vision::TrackResult& r) {
   const double W = camera_.info().intrinsics.width, H = camera_.info().intrinsics.height;
-  TrackReport rep;
-  rep.utime = utime;
-  rep.target_seq = target_seq_;
-  rep.camera = camera_.info().name;
-  rep.tracker = vision::Name(params_.tracker.kind);
-  rep.state = r.state == vision::TrackState::kTracking ? TrackReport::State::kTracking
-              : r.state == vision::TrackState::kLost   ? TrackReport::State::kLost
-                                                       : TrackReport::State::kIdle;
+  TrackReport rep = NewReport(utime, target_seq_,
+                              r.state == vision::TrackState::kTracking ? TrackReport::State::kTracking
+                              : r.state == vision::TrackState::kLost   ? TrackReport::State::kLost
+                                                                       : TrackReport::State::kIdle);
   rep.center_x = r.box.center.x / W;
   rep.center_y = r.box.center.y / H;
   rep.width = r.box.size.width / W;
@@ -144,21 +141,21 @@ void TrackWorker::Report(int64_t utime, const vision::TrackResult& r, const std:
   rep.window_width = r.search_window.width / W;
   rep.window_height = r.search_window.height / H;
   rep.confidence = r.confidence;
-  rep.reason = r.state == vision::TrackState::kLost && reason.empty() ? "the target's colour is not in view" : reason;
+  if (r.state == vision::TrackState::kLost) rep.reason = "the target's colour is not in view";
   board_.PushTrackReport(rep);
 }
 
 void TrackWorker::PlaceOnGround(int64_t utime, const vision::TrackResult& r, const hal::VehicleEstimate& estimate) {
-  TrackedTarget t;
+  // Lost: where it was last seen stays (follow holds on it).
+  TrackedTarget t = target_;
   t.locked = r.state == vision::TrackState::kTracking;
   t.utime = utime;
   const CameraIntrinsics& k = camera_.info().intrinsics;
   t.image_x = r.box.center.x / k.width;
   t.image_y = r.box.center.y / k.height;
   t.gimbal_pitch_rad = camera_.pitch_rad();
-  if (t.locked) last_seen_utime_ = utime;
-  t.last_seen_utime = last_seen_utime_;
   if (t.locked) {
+    t.last_seen_utime = utime;
     Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
     T_NB.linear() = estimate.q_NB.toRotationMatrix();
     T_NB.translation() = estimate.p_N;
@@ -166,23 +163,17 @@ void TrackWorker::PlaceOnGround(int64_t utime, const vision::TrackResult& r, con
     const Eigen::Vector3d ray_N = T_NC.linear() * Unproject(k, Eigen::Vector2d(r.box.center.x, r.box.center.y)).homogeneous();
     t.bearing_rad = std::atan2(ray_N.y(), ray_N.x());
     // The ground is d = 0 in the home frame (flat ground assumed).
-    if (ray_N.z() > 1e-3) {
-      const double s = -T_NC.translation().z() / ray_N.z();
-      t.p_N = T_NC.translation() + s * ray_N;
-      t.on_ground = s > 0;
-    }
+    const double s = ray_N.z() > 1e-3 ? -T_NC.translation().z() / ray_N.z() : -1.0;
+    t.on_ground = s > 0;
+    if (t.on_ground) t.p_N = T_NC.translation() + s * ray_N;
     // Gimbal: turn part of the way to the box centre's elevation each frame, so the target
     // sits mid-image (a target below the centre needs the camera pitched further down).
     if (params_.gimbal_gain > 0) {
       const double offset = std::atan2(r.box.center.y - k.cy, k.fy);
       camera_.SetPitch(camera_.pitch_rad() - params_.gimbal_gain * offset);
     }
-  } else {
-    const TrackedTarget previous = board_.Snapshot().target;
-    t.p_N = previous.p_N;
-    t.on_ground = previous.on_ground;
-    t.bearing_rad = previous.bearing_rad;
   }
+  target_ = t;
   board_.Update([&](BlackboardData& b) { b.target = t; });
 }
 

@@ -42,7 +42,8 @@ class TrackWorker {
   // Returns true when a new target was started (and caught up to the newest frame).
   bool Handle(const TrackRequest& request);
   void Reject(const TrackRequest& request, const std::string& reason);
-  void Report(int64_t utime, const vision::TrackResult& r, const std::string& reason = "");
+  TrackReport NewReport(int64_t utime, int64_t target_seq, TrackReport::State state) const;
+  void Report(int64_t utime, const vision::TrackResult& r);
   void PlaceOnGround(int64_t utime, const vision::TrackResult& r, const hal::VehicleEstimate& estimate);
 
   hal::GimbalCamera& camera_;
@@ -53,7 +54,7 @@ class TrackWorker {
   vision::TrackResult last_result_;  // of the newest frame tracked
   std::deque<Buffered> buffer_;
   int64_t target_seq_ = 0;
-  int64_t last_seen_utime_ = -1;
+  TrackedTarget target_;  // what was last posted for follow
   int frames_ = 0;
 };
 
