@@ -60,6 +60,7 @@ const std::vector<CommandSpec>& CommandSpecs() {
        {{"N", 1.0, 99.0, "paths are numbered 1 to 99", true}}},
       {CommandId::kMission, "mission", "fly the mission uploaded from the GCS", {}},
       {CommandId::kReturn, "return", "fly home at a safe altitude and land", {}},
+      {CommandId::kFollow, "follow", "keep the tracked target centred from a set distance and height (hover stops)", {}},
       // System identification (thesis 2.4.5): a linear chirp (Eq. 2.14) added to one servo
       // channel while hovering; the flight log records it for uav-sysid.
       {CommandId::kChirp, "chirp", "while hovering, add a chirp (Eq. 2.14) to servo channel 1 aileron, 2 elevator, "

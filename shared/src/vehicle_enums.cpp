@@ -17,7 +17,7 @@ constexpr int8_t W(E v) {
 static_assert(W(Task::kIdle) == S::TASK_IDLE && W(Task::kTakeoff) == S::TASK_TAKEOFF &&
               W(Task::kHover) == S::TASK_HOVER && W(Task::kGoto) == S::TASK_GOTO && W(Task::kLand) == S::TASK_LAND &&
               W(Task::kTrack) == S::TASK_TRACK && W(Task::kMission) == S::TASK_MISSION &&
-              W(Task::kReturn) == S::TASK_RETURN);
+              W(Task::kReturn) == S::TASK_RETURN && W(Task::kFollow) == S::TASK_FOLLOW);
 static_assert(W(CommandResult::kAccepted) == A::RESULT_ACCEPTED && W(CommandResult::kRejected) == A::RESULT_REJECTED &&
               W(CommandResult::kInProgress) == A::RESULT_IN_PROGRESS &&
               W(CommandResult::kCompleted) == A::RESULT_COMPLETED && W(CommandResult::kFailed) == A::RESULT_FAILED);
@@ -38,7 +38,8 @@ struct Entry {
 };
 constexpr Entry<Task> kTasks[] = {{Task::kIdle, "idle"}, {Task::kTakeoff, "takeoff"}, {Task::kHover, "hover"},
                                   {Task::kGoto, "goto"}, {Task::kLand, "land"},       {Task::kTrack, "track"},
-                                  {Task::kMission, "mission"}, {Task::kReturn, "return"}};
+                                  {Task::kMission, "mission"}, {Task::kReturn, "return"},
+                                  {Task::kFollow, "follow"}};
 constexpr Entry<CommandResult> kResults[] = {{CommandResult::kAccepted, "accepted"},
                                              {CommandResult::kRejected, "rejected"},
                                              {CommandResult::kInProgress, "in_progress"},

@@ -6,12 +6,15 @@
 #include <functional>
 
 #include "uav/app/lockstep_scheduler.hpp"
+#include "uav/app/track_worker.hpp"
 #include "uav/app/flight_log.hpp"
 #include "uav/app/mission_store.hpp"
 #include "uav/app/workers.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/text_file.hpp"
+#include "uav/sim/sim_cameras.hpp"
 #include "uav/sim/sim_vehicle.hpp"
+#include "uav/world/renderer.hpp"
 #include "uav/sysid/system_identification.hpp"
 #include "uav/waypoints/stored_paths.hpp"
 
@@ -20,7 +23,7 @@ namespace {
 
 class ClosedLoop : public ::testing::Test {
  protected:
-  static constexpr int64_t kStep = 2000, kPeriod = 20000;
+  static constexpr int64_t kStep = 2000, kPeriod = 20000, kCameraPeriod = 100000;
   static constexpr GeodeticPoint kHome{1.2966, 103.7764, 15.0};  // the stored paths are laid out here
   static ParameterSet VehicleFile() { return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params"); }
   ClosedLoop() : ClosedLoop(VehicleFile()) {}
@@ -66,6 +69,7 @@ class ClosedLoop : public ::testing::Test {
       if (until_ && until_()) done = true;
       if (done) s.Stop();
     });
+    if (camera_tick_) s.AddWorker("CAM", 2, kCameraPeriod, camera_tick_);
     s.Run([&](int64_t dt) { vehicle_.Step(dt); });
     elapsed_s_ = (s.now() - start_utime_) * 1e-6;
     start_utime_ = s.now();
@@ -101,6 +105,7 @@ class ClosedLoop : public ::testing::Test {
   std::unique_ptr<FlightLog> log_;  // the CSV flight log, when a test wants one
   std::function<void()> on_step_;  // called every control period while flying
   std::function<bool()> until_;    // stops Fly early when it holds
+  std::function<void(int64_t)> camera_tick_;  // a camera thread at 10 Hz, when a test has one
   Blackboard board_;
   ImuWorker imu_;
   ControlWorker ctl_;
@@ -295,6 +300,123 @@ TEST_F(ClosedLoop, ManualOverrideGivesThePilotTheServosAtOnce) {
   const double alt = -EstimatedPosition().z();
   Fly("", 5);
   EXPECT_NEAR(-EstimatedPosition().z(), alt, 0.3);
+  EXPECT_EQ(board_.Snapshot().task, control::Task::kHover);
+}
+
+// Follow (thesis 3.7 tracking, issue 16): the operator drags a box around the walking person in
+// the gimbal camera's frame, the TRK thread tracks it, and "follow" keeps it in view for a minute
+// of its walk round the field (corners included). Ground truth: the person's exact image box in
+// the frame the tracker saw (same pose, time and gimbal pitch).
+class Follow : public ClosedLoop {
+ protected:
+  Follow()
+      : scene_(world::Scene::LoadFile(std::string(UAV_RESOURCE_DIR) + "/scenes/tracking.scene.json")),
+        setup_(*scene_.gimbal_camera()),
+        truth_renderer_(scene_, setup_),
+        params_trk_(TrackWorkerParams::FromParameters(params_)),
+        gimbal_(scene_, setup_, [this] { return TruthPose(); }, params_trk_.gimbal_pitch_rad),
+        trk_(gimbal_, board_, params_trk_) {
+    for (int id : scene_.MovingObjects())
+      for (const world::Obstacle& o : scene_.obstacles())
+        if (o.id == id && o.kind == "person") person_ = id;
+    camera_tick_ = [this](int64_t t) {
+      // Before the tick: the frame the tracker is about to see.
+      last_frame_utime_ = t;
+      truth_box_ = world::ObjectBox(
+          truth_renderer_.Render(hal::GimbalCameraPose(TruthPose(), setup_.T_BC, gimbal_.pitch_rad()), t), person_);
+      if (on_frame_) on_frame_();
+      trk_.Tick(t);
+    };
+  }
+  Eigen::Isometry3d TruthPose() const {
+    const auto s = vehicle_.TruthState();
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = s.q_NB.toRotationMatrix();
+    T.translation() = s.p_N;
+    return T;
+  }
+
+  world::Scene scene_;
+  world::CameraSetup setup_;
+  world::Renderer truth_renderer_;
+  TrackWorkerParams params_trk_;
+  sim::SimGimbalCamera gimbal_;
+  TrackWorker trk_;
+  int person_ = -1;
+  int64_t last_frame_utime_ = 0;
+  cv::Rect truth_box_;
+  std::function<void()> on_frame_;
+};
+
+TEST_F(Follow, KeepsTheWalkingPersonCentredForAMinute) {
+  ASSERT_GE(person_, 0);
+  EXPECT_EQ(Fly("follow", 1).result, control::AckResult::kRejected);  // not flying
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  EXPECT_EQ(Fly("takeoff 5", 40).result, control::AckResult::kCompleted);
+  EXPECT_EQ(Fly("follow", 1).reason, "no target locked: select one in the video first");
+  // The operator drags a loose box (4 px margin) around the person on the newest frame.
+  Fly("", 0.2);
+  const cv::Rect picked = truth_box_;
+  ASSERT_GT(picked.area(), 50) << "the person is not in view at " << last_frame_utime_ * 1e-6 << " s from "
+                               << TruthPosition().transpose() << ", person " << person_ << " at "
+                               << scene_.PlacementAt(person_, last_frame_utime_ * 1e-6).base_N.transpose();
+  TrackRequest r;
+  r.target_seq = 1;
+  r.frame_utime = last_frame_utime_;
+  r.camera = setup_.name;
+  const double W = setup_.intrinsics.width, H = setup_.intrinsics.height;
+  r.x = (picked.x - 4) / W, r.y = (picked.y - 4) / H;
+  r.width = (picked.width + 8) / W, r.height = (picked.height + 8) / H;
+  board_.PushTrackRequest(r);
+  Fly("", 1.0);
+  ASSERT_TRUE(board_.Snapshot().target.locked);
+
+  // Every frame of the follow: the person's offset from the image centre (fraction of the
+  // image's width and height), and the vehicle's distance and height from them.
+  std::vector<double> offsets;
+  double worst = 0, worst_distance_error = 0, worst_height_error = 0;
+  int frames = 0, lost_frames = 0;
+  const int64_t start = vehicle_.utime();
+  const double settle_s = 5.0, walk_s = 60.0;
+  const control::FollowParams fp = control::FollowParams::FromParameters(params_);
+  on_frame_ = [&] {
+    if ((last_frame_utime_ - start) * 1e-6 < settle_s) return;
+    ++frames;
+    if (!board_.Snapshot().target.locked) ++lost_frames;
+    if (truth_box_.area() == 0) {
+      offsets.push_back(1.0);  // out of view
+    } else {
+      const double cx = truth_box_.x + 0.5 * truth_box_.width, cy = truth_box_.y + 0.5 * truth_box_.height;
+      offsets.push_back(std::max(std::abs(cx - 0.5 * W) / W, std::abs(cy - 0.5 * H) / H));
+    }
+    worst = std::max(worst, offsets.back());
+    const double t_s = last_frame_utime_ * 1e-6;
+    const Eigen::Vector2d person = scene_.PlacementAt(person_, t_s).base_N.head<2>();
+    const Eigen::Vector3d p = vehicle_.TruthState().p_N;
+    worst_distance_error = std::max(worst_distance_error, std::abs((person - p.head<2>()).norm() - fp.distance_m));
+    worst_height_error = std::max(worst_height_error, std::abs(-p.z() - fp.height_m));
+  };
+  until_ = [&] { return (vehicle_.utime() - start) * 1e-6 >= settle_s + walk_s; };
+  const control::TaskReport during = Fly("follow", settle_s + walk_s + 1);
+  until_ = nullptr;
+  on_frame_ = nullptr;
+  EXPECT_EQ(during.result, control::AckResult::kAccepted) << during.reason;  // still following
+  EXPECT_EQ(board_.Snapshot().task, control::Task::kFollow);
+  std::vector<double> sorted = offsets;
+  std::sort(sorted.begin(), sorted.end());
+  ASSERT_GE(frames, 590);
+  const double median = sorted[sorted.size() / 2];
+  std::printf("follow %.0f s (%d frames): person's offset from the image centre median %.3f, worst %.3f of the image; "
+              "%d frames lost; distance error worst %.2f m, height error worst %.2f m\n",
+              walk_s, frames, median, worst, lost_frames, worst_distance_error, worst_height_error);
+  RecordProperty("offset_median", std::to_string(median));
+  RecordProperty("offset_worst", std::to_string(worst));
+  EXPECT_LT(worst, 0.10);
+  EXPECT_EQ(lost_frames, 0);
+
+  // Hover stops it as the operator meant; the vehicle holds there.
+  const control::TaskReport stopped = Fly("hover", 1);
+  EXPECT_EQ(stopped.result, control::AckResult::kCompleted);
   EXPECT_EQ(board_.Snapshot().task, control::Task::kHover);
 }
 

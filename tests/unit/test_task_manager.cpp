@@ -178,3 +178,146 @@ TEST_F(TaskManagerTest, UnreachableTargetFailsAndHolds) {
 
 }  // namespace
 }  // namespace uav::control
+
+namespace uav::control {
+namespace {
+
+// Follow on hand-made targets: the reference trails the target along the line of sight at the
+// follow distance and height, leads it by its filtered velocity, faces it, holds on a loss and
+// gives up after the timeout; hover ends it as the operator meant; the geofence wins.
+class FollowTest : public TaskManagerTest {
+ protected:
+  FollowTest() {
+    Send("arm");
+    Send("takeoff 10");
+    est_.p_N = {0, 0, -10};
+    Step();
+  }
+  // A target seen now at (n, e) on the ground, from the vehicle's position.
+  void See(double n, double e) {
+    target_.locked = true;
+    target_.on_ground = true;
+    target_.utime = target_.last_seen_utime = static_cast<int64_t>(std::llround(t_ * 1e6));
+    target_.p_N = {n, e, 0};
+    target_.bearing_rad = std::atan2(e - est_.p_N.y(), n - est_.p_N.x());
+    tm_.ObserveTarget(target_);
+  }
+  void Lose() {
+    target_.locked = false;
+    tm_.ObserveTarget(target_);
+  }
+  TrackedTarget target_;
+  const FollowParams follow_ = TaskParams::FromParameters(
+      ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params")).follow;
+};
+
+TEST_F(FollowTest, RefusedWithoutALockedTargetOnTheGround) {
+  EXPECT_EQ(Send("follow")[0].reason, "no target locked: select one in the video first");
+  See(20, 0);
+  target_.on_ground = false;
+  tm_.ObserveTarget(target_);
+  EXPECT_EQ(Send("follow")[0].result, AckResult::kRejected);
+  EXPECT_EQ(tm_.task(), Task::kHover);  // the take-off reached its height
+}
+
+TEST_F(FollowTest, TrailsAWalkingTargetAlongTheLineOfSightAndLeadsIt) {
+  See(20, 0);
+  auto r = Send("follow");
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].result, AckResult::kAccepted);
+  Step();
+  EXPECT_EQ(out_.task, Task::kFollow);
+  // Straight ahead at 20 m: the reference is the follow distance short of it, at the follow height.
+  EXPECT_NEAR(out_.setpoint.p_N.x(), 20 - follow_.distance_m, 1e-9);
+  EXPECT_NEAR(out_.setpoint.p_N.y(), 0, 1e-9);
+  EXPECT_NEAR(out_.setpoint.p_N.z(), -follow_.height_m, 1e-9);
+  EXPECT_NEAR(out_.setpoint.yaw, 0, 1e-9);
+  // The target walks east at 1.5 m/s, seen at 10 Hz: the velocity filter converges and is fed forward.
+  for (int i = 1; i <= 100; ++i) {
+    See(20, 0.15 * i);
+    Step(0.1);
+  }
+  EXPECT_NEAR(out_.setpoint.v_ff_N.y(), 1.5, 0.01);
+  EXPECT_NEAR(out_.setpoint.v_ff_N.x(), 0, 1e-9);
+  // Last seen at (20, 15) a step (0.1 s) ago: predicted on by its velocity, then the follow
+  // distance back along the line of sight.
+  const Eigen::Vector2d seen(20, 15), now = seen + Eigen::Vector2d(0, 1.5 * 0.1);
+  const Eigen::Vector2d u = seen.normalized();
+  EXPECT_LT((out_.setpoint.p_N.head<2>() - (now - follow_.distance_m * u)).norm(), 0.01);
+  // It faces the target, carried on by the line of sight's turn rate (d/dt atan2(e, 20) at
+  // 1.5 m/s east) over the frame's age; the rate is fed forward.
+  EXPECT_NEAR(out_.setpoint.yaw_rate_ff, 20 * 1.5 / (20 * 20 + 15 * 15), 0.002);
+  EXPECT_NEAR(out_.setpoint.yaw, std::atan2(15.15, 20.0), 0.001);
+  // Hover ends it as the operator meant: completed, and the vehicle holds where it is.
+  r = Send("hover");
+  ASSERT_EQ(r.size(), 3u);
+  EXPECT_EQ(r[0].command, "follow");
+  EXPECT_EQ(r[0].result, AckResult::kCompleted);
+  EXPECT_EQ(r[0].reason, "stopped by hover");
+  Step();
+  EXPECT_EQ(out_.task, Task::kHover);
+  EXPECT_EQ(out_.setpoint.p_N, est_.p_N);
+}
+
+TEST_F(FollowTest, HoldsOnALossFollowsAgainOnReacquisitionAndGivesUpAfterTheTimeout) {
+  See(20, 0);
+  Send("follow");
+  Step();
+  est_.p_N = {5, 1, -6};
+  Lose();
+  auto r = Step();
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].result, AckResult::kInProgress);
+  EXPECT_EQ(r[0].reason, "target lost; holding position");
+  EXPECT_EQ(out_.task, Task::kFollow);
+  EXPECT_EQ(out_.setpoint.p_N, Eigen::Vector3d(5, 1, -6));
+  See(20, 0);
+  r = Step();
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].reason, "following");
+  Lose();
+  const double lost_at = t_;
+  std::vector<TaskReport> all;
+  while (t_ - lost_at < follow_.lost_timeout_s + 0.5) {
+    r = Step(0.1);
+    all.insert(all.end(), r.begin(), r.end());
+    if (out_.task != Task::kFollow) break;
+  }
+  EXPECT_NEAR(t_ - lost_at, follow_.lost_timeout_s, 0.15);
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all.back().result, AckResult::kFailed);
+  EXPECT_EQ(all.back().reason, "target lost for 10 s; holding position");
+  EXPECT_EQ(out_.task, Task::kHover);
+}
+
+TEST_F(FollowTest, TrackingStoppedEndsItAndTheGeofenceWins) {
+  const double fence = TaskParams::FromParameters(
+      ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params")).fence_radius;
+  See(fence + 50, 0);  // the target walks out of the fence: watched from inside
+  Send("follow");
+  Step();
+  EXPECT_LT(out_.setpoint.p_N.head<2>().norm(), fence);
+  EXPECT_GT(out_.setpoint.p_N.x(), fence - 5);
+  tm_.ObserveTarget(TrackedTarget{});  // the operator stopped tracking
+  auto r = Step();
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].result, AckResult::kFailed);
+  EXPECT_EQ(r[0].reason, "tracking stopped; holding position");
+  EXPECT_EQ(out_.task, Task::kHover);
+}
+
+TEST_F(FollowTest, AFailsafeTakesOverAndRefusesFollow) {
+  See(20, 0);
+  Send("follow");
+  Step();
+  std::vector<TaskReport> r;
+  tm_.EnforceFailsafe(FailsafeAction::kReturn, "GCS link lost", est_, t_, &r);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].result, AckResult::kFailed);
+  Step();
+  EXPECT_EQ(out_.task, Task::kReturn);
+  EXPECT_EQ(Send("follow")[0].result, AckResult::kRejected);
+}
+
+}  // namespace
+}  // namespace uav::control

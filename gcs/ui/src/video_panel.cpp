@@ -75,6 +75,17 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
     model.SelectTarget(cancel, ctx.now);
   }
   RegisterLastItem(ctx, "video:cancel");
+  // Follow the locked target: asks for confirmation in the command bar, like its other actions.
+  ImGui::SameLine();
+  const bool locked = v->track && v->track->state == TrackStatus::kTracking;
+  if (v->task == Task::kFollow) {
+    ImGui::TextColored(ImVec4(0.4f, 1, 0.5f, 1), "FOLLOWING");
+  } else {
+    ImGui::BeginDisabled(!locked);
+    if (ImGui::Button("Follow")) st.pending_confirmation = "follow";
+    ImGui::EndDisabled();
+    RegisterLastItem(ctx, "video:follow");
+  }
   if (frozen) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "FROZEN: drag a box or click 4 corners (%zu/4), right click clears",

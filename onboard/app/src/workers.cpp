@@ -40,6 +40,7 @@ void ControlWorker::Tick(int64_t utime) {
   const control::FailsafeAction required = failsafes_.Update(fin, &events);
   for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? Severity::kWarning : Severity::kInfo, e);
   tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports);
+  tasks_.ObserveTarget(d.target);
   for (const auto& req : board_.TakeCommands()) tasks_.Submit(req, d.estimate, t, &reports);
   const control::TaskManager::Output out = tasks_.Update(d.estimate, t, &reports);
   if (out.reset_controller) controller_.Reset();

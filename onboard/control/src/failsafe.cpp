@@ -36,6 +36,7 @@ std::string CheckSetpoint(const Setpoint& sp, const FailsafeParams& p, double sp
     if (!std::isfinite(sp.v_ff_N[i])) return std::string("v_ff_N.") + axis[i] + " is not finite";
   }
   if (!std::isfinite(sp.yaw)) return "yaw is not finite";
+  if (!std::isfinite(sp.yaw_rate_ff)) return "yaw rate feed-forward is not finite";
   if (sp.descent_rate && !(std::isfinite(*sp.descent_rate) && *sp.descent_rate >= 0 && *sp.descent_rate <= 10))
     return "descent rate is outside [0, 10] m/s";
   if (sp.speed_max_xy && !(std::isfinite(*sp.speed_max_xy) && *sp.speed_max_xy > 0))

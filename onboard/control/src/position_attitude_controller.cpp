@@ -93,7 +93,7 @@ ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, cons
       // ---- Inner loop: attitude PD to angular acceleration, then torque (Eq. 2.1 rotational part).
       const Eigen::Vector3d alpha(p_.att_gain * (phi_sp - est.euler.phi) - p_.rate_gain * est.w_B.x(),
                                   p_.att_gain * (theta_sp - est.euler.theta) - p_.rate_gain * est.w_B.y(),
-                                  p_.yaw_gain * yaw_error - p_.yaw_rate_gain * est.w_B.z());
+                                  p_.yaw_gain * yaw_error + p_.yaw_rate_gain * (sp.yaw_rate_ff - est.w_B.z()));
       const Eigen::Vector3d tau =
           p_.vehicle.inertia.cwiseProduct(alpha) + est.w_B.cross(p_.vehicle.inertia.cwiseProduct(est.w_B));
       // To servo channels (inverse of the mixer's torque gains, see mixer.hpp).
@@ -108,13 +108,13 @@ ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, cons
       // The gyro holds the angle: command it through the static gain of Eq. 2.17-2.18.
       out.aileron = p_.trim.x() + phi_sp / g.roll_gain;
       out.elevator = p_.trim.y() + theta_sp / g.pitch_gain;
-      out.rudder = p_.trim.z() + p_.gyro_yaw_gain * yaw_error / g.yaw_rate_gain;  // Eq. 2.19
+      out.rudder = p_.trim.z() + (p_.gyro_yaw_gain * yaw_error + sp.yaw_rate_ff) / g.yaw_rate_gain;  // Eq. 2.19
       break;
     case hal::AttitudeMode::kGyroCruise:
       // The gyro holds the body rates: angle error to rate command through Eq. 2.20-2.22.
       out.aileron = p_.trim.x() + p_.gyro_att_gain * (phi_sp - est.euler.phi) / g.roll_rate_gain;
       out.elevator = p_.trim.y() + p_.gyro_att_gain * (theta_sp - est.euler.theta) / g.pitch_rate_gain;
-      out.rudder = p_.trim.z() + p_.gyro_yaw_gain * yaw_error / g.yaw_rate_gain;
+      out.rudder = p_.trim.z() + (p_.gyro_yaw_gain * yaw_error + sp.yaw_rate_ff) / g.yaw_rate_gain;
       break;
   }
   // Attitude integrator (anti-windup by clamping): takes up what the trims do not, so that an

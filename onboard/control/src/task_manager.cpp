@@ -10,7 +10,8 @@ TaskParams TaskParams::FromParameters(const ParameterSet& p) {
           p.Get("task_land_slow_alt"),  p.Get("task_landed_alt"),    p.Get("task_landed_time"),
           p.Get("ctl_speed_max_xy"),    p.Get("ctl_speed_max_up"),   p.Get("ctl_speed_max_down"),
           p.Get("task_path_accel"),     p.Get("task_path_leash"),    p.Get("task_return_alt"),
-          p.Get("task_stall_time"),     p.Get("fs_fence_radius"),    p.Get("fs_fence_alt")};
+          p.Get("task_stall_time"),     p.Get("fs_fence_radius"),    p.Get("fs_fence_alt"),
+          FollowParams::FromParameters(p)};
 }
 
 bool TaskManager::OutsideFence(const Eigen::Vector3d& p_N) const {
@@ -123,9 +124,18 @@ void TaskManager::Finish(AckResult result, const std::string& reason,
   active_report_ = false;
 }
 
+void TaskManager::Supersede(const std::string& by, std::vector<TaskReport>* reports) {
+  if (task_ == Task::kFollow) {
+    if (active_report_) reports->push_back({active_.source, active_.seq, active_.command.Name(), AckResult::kCompleted, 100, "stopped by " + by});
+    active_report_ = false;
+    return;
+  }
+  Finish(AckResult::kFailed, "superseded by " + by, reports);
+}
+
 void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstimate& est, double t,
                         std::vector<TaskReport>* reports) {
-  Finish(AckResult::kFailed, std::string("superseded by ") + req.command.Name(), reports);
+  Supersede(req.command.Name(), reports);
   chirp_ = Chirp{};
   carried_capture_.reset();
   if (task != Task::kTrack && task != Task::kMission && task != Task::kReturn) runner_.reset();
@@ -192,7 +202,7 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
     }
     case CommandId::kHover:
       if (!airborne_) return reject("not flying");
-      Finish(AckResult::kFailed, "superseded by hover", reports);
+      Supersede("hover", reports);
       carried_capture_.reset();
       Hold(est);  // thesis 2.3.2: the current position becomes the reference
       return instant();
@@ -225,6 +235,17 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       steps[0].kind = waypoints::MissionStep::Kind::kReturnHome;
       return BeginPath(Task::kReturn, std::move(steps), req, est, t, reports);
     }
+    case CommandId::kFollow: {
+      if (!airborne_) return reject("not flying: take off first");
+      if (!target_.locked) return reject("no target locked: select one in the video first");
+      if (!target_.on_ground) return reject("the target is not on the ground (its ray does not meet it): pitch the camera down");
+      if (p_.follow.height_m > p_.fence_alt) return reject("flw_height is above the geofence");
+      follower_ = std::make_unique<TargetFollower>(p_.follow, est);
+      follow_state_ = TargetFollower::State::kFollowing;
+      const TargetFollower::Output first = follower_->Update(target_, est, t);
+      setpoint_ = first.setpoint;
+      return Begin(Task::kFollow, req, est, t, reports);
+    }
     case CommandId::kChirp: {
       // Thesis 2.4.5: the vehicle first hovers, then one channel is excited.
       if (!airborne_ || task_ != Task::kHover) return reject("not hovering: hover first, then chirp");
@@ -235,6 +256,32 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       chirp_start_t_ = t;
       return;
     }
+  }
+}
+
+void TaskManager::UpdateFollow(const VehicleEstimate& est, double t, std::vector<TaskReport>* reports) {
+  if (!follower_) return;
+  const TargetFollower::Output o = follower_->Update(target_, est, t);
+  if (o.state == TargetFollower::State::kGaveUp) {
+    Hold(est);
+    Finish(AckResult::kFailed, o.reason + "; holding position", reports);
+    return;
+  }
+  if (o.state != follow_state_ && active_report_) {
+    // Say when it starts holding and when it follows again.
+    reports->push_back({active_.source, active_.seq, active_.command.Name(), AckResult::kInProgress, 0,
+                        o.state == TargetFollower::State::kHolding ? o.reason + "; holding position" : "following"});
+  }
+  follow_state_ = o.state;
+  setpoint_ = o.setpoint;
+  const double v_ff = setpoint_.v_ff_N.head<2>().norm();
+  if (v_ff > p_.speed_max_xy) setpoint_.v_ff_N *= p_.speed_max_xy / v_ff;  // a target faster than the vehicle
+  // The geofence wins: a target that leaves it is watched from inside (at the edge, less the
+  // acceptance radius).
+  const double r = setpoint_.p_N.head<2>().norm(), r_max = p_.fence_radius - p_.reached_radius;
+  if (r > r_max) {
+    setpoint_.p_N.head<2>() *= r_max / r;
+    setpoint_.v_ff_N.setZero();
   }
 }
 
@@ -279,6 +326,8 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
       Finish(AckResult::kFailed, "no progress along the path; holding position", reports);
     }
   }
+  if (task_ == Task::kFollow) UpdateFollow(est, t, reports);
+  if (task_ != Task::kFollow) follower_.reset();
   if (task_ == Task::kLand && setpoint_.descent_rate) {
     // Slow down for the touchdown.
     setpoint_.descent_rate =

@@ -9,7 +9,7 @@
 namespace uav {
 
 // What the task manager is doing (vehicle_state_t.TASK_*, heartbeat_t.task).
-enum class Task : int8_t { kIdle = 0, kTakeoff = 1, kHover = 2, kGoto = 3, kLand = 4, kTrack = 5, kMission = 6, kReturn = 7 };
+enum class Task : int8_t { kIdle = 0, kTakeoff = 1, kHover = 2, kGoto = 3, kLand = 4, kTrack = 5, kMission = 6, kReturn = 7, kFollow = 8 };
 // Answer to a command (command_ack_t.RESULT_*).
 enum class CommandResult : int8_t { kAccepted = 0, kRejected = 1, kInProgress = 2, kCompleted = 3, kFailed = 4 };
 // Strictest failsafe action required now (vehicle_state_t.FAILSAFE_*), ordered by strictness.

@@ -34,6 +34,9 @@ struct Setpoint {
   std::optional<double> descent_rate;
   // Velocity of a moving reference [m/s], fed forward so a path is flown without lag.
   Eigen::Vector3d v_ff_N = Eigen::Vector3d::Zero();
+  // Rate of a turning yaw reference [rad/s], fed forward so it is followed without the yaw
+  // loop's ramp lag (yaw_rate_gain / yaw_gain seconds behind otherwise).
+  double yaw_rate_ff = 0.0;
   // Horizontal speed limit below the vehicle's own (mission DO_CHANGE_SPEED) [m/s].
   std::optional<double> speed_max_xy;
 };

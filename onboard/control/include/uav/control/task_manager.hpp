@@ -13,6 +13,7 @@
 #include "uav/control/failsafe.hpp"
 #include "uav/control/mission_runner.hpp"
 #include "uav/control/position_attitude_controller.hpp"
+#include "uav/control/target_follower.hpp"
 #include "uav/shared/command_grammar.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/vehicle_enums.hpp"
@@ -44,6 +45,7 @@ struct TaskParams {
   double speed_max_xy, speed_max_up, speed_max_down;
   double path_accel, path_leash, return_alt, stall_time;
   double fence_radius, fence_alt;  // targets beyond the geofence are refused
+  FollowParams follow;
   static TaskParams FromParameters(const ParameterSet& p);
 };
 
@@ -86,6 +88,9 @@ class TaskManager {
                        double t, std::vector<TaskReport>* reports);
   FailsafeAction enforced() const { return enforced_; }
 
+  // The tracker's newest target (call before Submit and Update each step): follow flies on it.
+  void ObserveTarget(const TrackedTarget& target) { target_ = target; }
+
   // One step at the control rate: advances the active task, appends progress reports.
   Output Update(const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
 
@@ -103,6 +108,10 @@ class TaskManager {
   void StartPath(Task task, std::vector<waypoints::MissionStep> steps, const VehicleEstimate& est, double t);
   void Hold(const VehicleEstimate& est);
   bool OutsideFence(const Eigen::Vector3d& p_N) const;
+  // Ends the active command because `by` replaces it: a follow ends as the operator meant it to,
+  // anything else has failed.
+  void Supersede(const std::string& by, std::vector<TaskReport>* reports);
+  void UpdateFollow(const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
 
   TaskParams p_;
   MissionSource* missions_;
@@ -131,6 +140,9 @@ class TaskManager {
   // The chirp being flown (channel kNone: none) and when it started.
   Chirp chirp_;
   double chirp_start_t_ = 0.0;
+  TrackedTarget target_;
+  std::unique_ptr<TargetFollower> follower_;  // while following
+  TargetFollower::State follow_state_ = TargetFollower::State::kFollowing;
 };
 
 }  // namespace uav::control

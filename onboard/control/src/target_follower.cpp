@@ -1,0 +1,85 @@
+#include "uav/control/target_follower.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "uav/shared/frames.hpp"
+
+namespace uav::control {
+
+FollowParams FollowParams::FromParameters(const ParameterSet& p) {
+  FollowParams f;
+  f.distance_m = p.Get("flw_distance");
+  f.height_m = p.Get("flw_height");
+  f.lost_timeout_s = p.Get("flw_lost_timeout");
+  return f;
+}
+
+TargetFollower::TargetFollower(const FollowParams& params, const hal::VehicleEstimate& est) : p_(params) {
+  hold_.p_N = est.p_N;
+  hold_.yaw = est.euler.psi;
+}
+
+TargetFollower::Output TargetFollower::Update(const TrackedTarget& target, const hal::VehicleEstimate& est, double t) {
+  Output o;
+  if (target.last_seen_utime < 0) {
+    o.state = State::kGaveUp;
+    o.reason = "tracking stopped";
+    return o;
+  }
+  const double unseen_s = t - target.last_seen_utime * 1e-6;
+  if (!target.locked || !target.on_ground) {
+    if (!holding_) {
+      hold_ = Setpoint{};
+      hold_.p_N = est.p_N;
+      hold_.yaw = target.bearing_rad;  // facing where it was last seen, for the tracker's re-acquisition
+      holding_ = true;
+      last_utime_ = -1;  // a re-lock starts the velocity afresh
+    }
+    o.setpoint = hold_;
+    if (unseen_s > p_.lost_timeout_s) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "target lost for %.0f s", unseen_s);
+      o.state = State::kGaveUp;
+      o.reason = buf;
+    } else {
+      o.state = State::kHolding;
+      o.reason = target.locked ? "target is above the horizon" : "target lost";
+    }
+    return o;
+  }
+  holding_ = false;
+  const Eigen::Vector2d p_NE = target.p_N.head<2>();
+  if (target.utime != last_utime_) {
+    // Velocity and the line of sight's turn rate by filtered differences of the observations.
+    if (last_utime_ >= 0) {
+      const double dt = (target.utime - last_utime_) * 1e-6;
+      if (dt > 0) {
+        v_NE_ += (dt / (p_.velocity_tau_s + dt)) * ((p_NE - last_p_NE_) / dt - v_NE_);
+        bearing_rate_ += (dt / (p_.bearing_rate_tau_s + dt)) * (WrapAngle(target.bearing_rad - last_bearing_) / dt - bearing_rate_);
+      }
+    } else {
+      v_NE_.setZero();
+      bearing_rate_ = 0.0;
+    }
+    last_utime_ = target.utime;
+    last_p_NE_ = p_NE;
+    last_bearing_ = target.bearing_rad;
+  }
+  // Where the target is now, and the point the follow distance short of it along the line of sight.
+  const double age_s = std::max(0.0, t - target.utime * 1e-6);
+  const Eigen::Vector2d now_NE = p_NE + v_NE_ * age_s;
+  const Eigen::Vector2d toward(std::cos(target.bearing_rad), std::sin(target.bearing_rad));
+  const Eigen::Vector2d want_NE = now_NE - p_.distance_m * toward;
+  o.setpoint.p_N = Eigen::Vector3d(want_NE.x(), want_NE.y(), -p_.height_m);
+  o.setpoint.v_ff_N = Eigen::Vector3d(v_NE_.x(), v_NE_.y(), 0.0);
+  // The nose points along the ray the target was seen on, carried on at the ray's turn rate
+  // over the frame's age; the rate is fed forward so the nose keeps up with a target crossing
+  // the view (the yaw loop alone lags a turning reference by yaw_rate_gain / yaw_gain seconds).
+  o.setpoint.yaw_rate_ff = bearing_rate_;
+  o.setpoint.yaw = WrapAngle(target.bearing_rad + bearing_rate_ * age_s);
+  o.state = State::kFollowing;
+  return o;
+}
+
+}  // namespace uav::control
