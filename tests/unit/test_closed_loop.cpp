@@ -5,6 +5,9 @@
 #include <filesystem>
 #include <functional>
 
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include "uav/app/lockstep_scheduler.hpp"
 #include "uav/app/track_worker.hpp"
 #include "uav/app/flight_log.hpp"
@@ -307,6 +310,48 @@ TEST_F(ClosedLoop, ManualOverrideGivesThePilotTheServosAtOnce) {
 // the gimbal camera's frame, the TRK thread tracks it, and "follow" keeps it in view for a minute
 // of its walk round the field (corners included). Ground truth: the person's exact image box in
 // the frame the tracker saw (same pose, time and gimbal pitch).
+struct FollowSample {
+  double t_s, offset_x, offset_y;  // offsets: fraction of the image's width and height
+  Eigen::Vector2d person_NE, vehicle_NE;
+};
+
+// The follow in a picture: left, the person's and the vehicle's tracks seen from above (north
+// up) with the line of sight every 5 s; right, the person's offset from the image centre over
+// time against the allowed band.
+void DrawFollow(const std::vector<FollowSample>& trace, double settle_s, double band, const std::string& path) {
+  cv::Mat img(480, 1000, CV_8UC3, cv::Scalar(255, 255, 255));
+  double n0 = 1e9, n1 = -1e9, e0 = 1e9, e1 = -1e9;
+  for (const FollowSample& s : trace)
+    for (const Eigen::Vector2d& q : {s.person_NE, s.vehicle_NE})
+      n0 = std::min(n0, q.x()), n1 = std::max(n1, q.x()), e0 = std::min(e0, q.y()), e1 = std::max(e1, q.y());
+  const double scale = std::min(420.0 / (e1 - e0 + 1e-9), 420.0 / (n1 - n0 + 1e-9));
+  auto map = [&](const Eigen::Vector2d& q) { return cv::Point(30 + static_cast<int>((q.y() - e0) * scale), 450 - static_cast<int>((q.x() - n0) * scale)); };
+  for (std::size_t i = 1; i < trace.size(); ++i) {
+    cv::line(img, map(trace[i - 1].person_NE), map(trace[i].person_NE), cv::Scalar(40, 40, 220), 2, cv::LINE_AA);
+    cv::line(img, map(trace[i - 1].vehicle_NE), map(trace[i].vehicle_NE), cv::Scalar(200, 120, 30), 2, cv::LINE_AA);
+    if (i % 50 == 0) cv::line(img, map(trace[i].person_NE), map(trace[i].vehicle_NE), cv::Scalar(170, 170, 170), 1, cv::LINE_AA);
+  }
+  cv::putText(img, "person (red), vehicle (blue), north up", cv::Point(30, 22), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  // Offsets against time.
+  const cv::Rect plot(520, 40, 450, 400);
+  const double t1 = trace.empty() ? 1.0 : trace.back().t_s;
+  auto at = [&](double t, double v) {
+    return cv::Point(plot.x + static_cast<int>(t / t1 * plot.width), plot.y + plot.height / 2 - static_cast<int>(v / (2 * band) * plot.height / 2));
+  };
+  cv::rectangle(img, plot, cv::Scalar(0, 0, 0), 1);
+  for (double v : {-band, band}) cv::line(img, at(0, v), at(t1, v), cv::Scalar(0, 0, 200), 1);
+  cv::line(img, at(0, 0), at(t1, 0), cv::Scalar(180, 180, 180), 1);
+  cv::line(img, at(settle_s, -2 * band), at(settle_s, 2 * band), cv::Scalar(180, 180, 180), 1);
+  for (std::size_t i = 1; i < trace.size(); ++i) {
+    cv::line(img, at(trace[i - 1].t_s, trace[i - 1].offset_x), at(trace[i].t_s, trace[i].offset_x), cv::Scalar(30, 140, 30), 1, cv::LINE_AA);
+    cv::line(img, at(trace[i - 1].t_s, trace[i - 1].offset_y), at(trace[i].t_s, trace[i].offset_y), cv::Scalar(200, 100, 0), 1, cv::LINE_AA);
+  }
+  char title[128];
+  std::snprintf(title, sizeof title, "offset from image centre: x (green), y (blue); band +-%.2f; %.0f s", band, t1);
+  cv::putText(img, title, cv::Point(plot.x, 22), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::imwrite(path, img);
+}
+
 class Follow : public ClosedLoop {
  protected:
   Follow()
@@ -379,7 +424,13 @@ TEST_F(Follow, KeepsTheWalkingPersonCentredForAMinute) {
   const int64_t start = vehicle_.utime();
   const double settle_s = 5.0, walk_s = 60.0;
   const control::FollowParams fp = control::FollowParams::FromParameters(params_);
+  std::vector<FollowSample> trace;
   on_frame_ = [&] {
+    const double t_s = last_frame_utime_ * 1e-6;
+    const Eigen::Vector2d person = scene_.PlacementAt(person_, t_s).base_N.head<2>();
+    const Eigen::Vector3d p = vehicle_.TruthState().p_N;
+    const double cx = truth_box_.x + 0.5 * truth_box_.width, cy = truth_box_.y + 0.5 * truth_box_.height;
+    trace.push_back({(last_frame_utime_ - start) * 1e-6, (cx - 0.5 * W) / W, (cy - 0.5 * H) / H, person, p.head<2>()});
     if ((last_frame_utime_ - start) * 1e-6 < settle_s) return;
     ++frames;
     if (!board_.Snapshot().target.locked) ++lost_frames;
@@ -390,9 +441,6 @@ TEST_F(Follow, KeepsTheWalkingPersonCentredForAMinute) {
       offsets.push_back(std::max(std::abs(cx - 0.5 * W) / W, std::abs(cy - 0.5 * H) / H));
     }
     worst = std::max(worst, offsets.back());
-    const double t_s = last_frame_utime_ * 1e-6;
-    const Eigen::Vector2d person = scene_.PlacementAt(person_, t_s).base_N.head<2>();
-    const Eigen::Vector3d p = vehicle_.TruthState().p_N;
     worst_distance_error = std::max(worst_distance_error, std::abs((person - p.head<2>()).norm() - fp.distance_m));
     worst_height_error = std::max(worst_height_error, std::abs(-p.z() - fp.height_m));
   };
@@ -410,6 +458,9 @@ TEST_F(Follow, KeepsTheWalkingPersonCentredForAMinute) {
               "%d frames lost; distance error worst %.2f m, height error worst %.2f m\n",
               walk_s, frames, median, worst, lost_frames, worst_distance_error, worst_height_error);
   RecordProperty("offset_median", std::to_string(median));
+  const std::string picture = ::testing::TempDir() + "follow_walk.png";
+  DrawFollow(trace, settle_s, 0.10, picture);
+  std::printf("picture: %s\n", picture.c_str());
   RecordProperty("offset_worst", std::to_string(worst));
   EXPECT_LT(worst, 0.10);
   EXPECT_EQ(lost_frames, 0);

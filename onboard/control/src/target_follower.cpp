@@ -49,30 +49,26 @@ TargetFollower::Output TargetFollower::Update(const TrackedTarget& target, const
     return o;
   }
   holding_ = false;
-  const Eigen::Vector2d p_NE = target.p_N.head<2>();
   if (target.utime != last_utime_) {
-    // Velocity and the line of sight's turn rate by filtered differences of the observations.
+    // The line of sight's turn rate by filtered differences of the observed bearings.
     if (last_utime_ >= 0) {
       const double dt = (target.utime - last_utime_) * 1e-6;
-      if (dt > 0) {
-        v_NE_ += (dt / (p_.velocity_tau_s + dt)) * ((p_NE - last_p_NE_) / dt - v_NE_);
+      if (dt > 0)
         bearing_rate_ += (dt / (p_.bearing_rate_tau_s + dt)) * (WrapAngle(target.bearing_rad - last_bearing_) / dt - bearing_rate_);
-      }
     } else {
-      v_NE_.setZero();
       bearing_rate_ = 0.0;
     }
     last_utime_ = target.utime;
-    last_p_NE_ = p_NE;
     last_bearing_ = target.bearing_rad;
   }
-  // Where the target is now, and the point the follow distance short of it along the line of sight.
-  const double age_s = std::max(0.0, t - target.utime * 1e-6);
-  const Eigen::Vector2d now_NE = p_NE + v_NE_ * age_s;
+  // The point the follow distance short of the target along the line of sight. The target's
+  // velocity is not fed forward: differenced from a single camera's ground points it is noisy
+  // along the range, and fed forward it made the vehicle weave (README, Follow); the position
+  // loop alone trails a walker by about a metre more than the set distance.
   const Eigen::Vector2d toward(std::cos(target.bearing_rad), std::sin(target.bearing_rad));
-  const Eigen::Vector2d want_NE = now_NE - p_.distance_m * toward;
+  const Eigen::Vector2d want_NE = target.p_N.head<2>() - p_.distance_m * toward;
   o.setpoint.p_N = Eigen::Vector3d(want_NE.x(), want_NE.y(), -p_.height_m);
-  o.setpoint.v_ff_N = Eigen::Vector3d(v_NE_.x(), v_NE_.y(), 0.0);
+  const double age_s = std::max(0.0, t - target.utime * 1e-6);
   // The nose points along the ray the target was seen on, carried on at the ray's turn rate
   // over the frame's age; the rate is fed forward so the nose keeps up with a target crossing
   // the view (the yaw loop alone lags a turning reference by yaw_rate_gain / yaw_gain seconds).

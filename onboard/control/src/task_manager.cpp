@@ -274,15 +274,10 @@ void TaskManager::UpdateFollow(const VehicleEstimate& est, double t, std::vector
   }
   follow_state_ = o.state;
   setpoint_ = o.setpoint;
-  const double v_ff = setpoint_.v_ff_N.head<2>().norm();
-  if (v_ff > p_.speed_max_xy) setpoint_.v_ff_N *= p_.speed_max_xy / v_ff;  // a target faster than the vehicle
   // The geofence wins: a target that leaves it is watched from inside (at the edge, less the
   // acceptance radius).
   const double r = setpoint_.p_N.head<2>().norm(), r_max = p_.fence_radius - p_.reached_radius;
-  if (r > r_max) {
-    setpoint_.p_N.head<2>() *= r_max / r;
-    setpoint_.v_ff_N.setZero();
-  }
+  if (r > r_max) setpoint_.p_N.head<2>() *= r_max / r;
 }
 
 double TaskManager::Progress(const VehicleEstimate& est) const {

@@ -1,13 +1,12 @@
 #pragma once
 // Follow: keeps the tracked target (thesis 3.7) in view from a set distance and height, as
 // camera-tracking followers do. The vehicle trails the target along the line of sight: the
-// reference is the target's ground point, predicted to now with its filtered velocity, pulled
-// back towards the vehicle by the follow distance, at the follow height above the home ground;
-// the target's velocity is fed forward so a walking target is followed without lag; the nose
-// (and the gimbal, which looks along it) points along the camera ray to the target, so the
-// target stays centred left-right whatever the position estimate's error. When the target is
-// lost it holds where it is; when lost longer than the timeout, or when tracking stops, it gives
-// up. Plain class on the simulated clock: the task manager owns it and the geofence.
+// reference is the target's ground point pulled back towards the vehicle by the follow
+// distance, at the follow height above the home ground. The nose (and the gimbal, which looks
+// along it) points along the camera ray to the target, with the ray's turn rate fed forward, so
+// the target stays centred left-right whatever the position estimate's error. When the target
+// is lost it holds where it is; when lost longer than the timeout, or when tracking stops, it
+// gives up. Plain class on the simulated clock: the task manager owns it and the geofence.
 #include <string>
 
 #include <Eigen/Core>
@@ -23,8 +22,7 @@ struct FollowParams {
   double distance_m = 8.0;       // flw_distance: horizontal distance kept from the target
   double height_m = 5.0;         // flw_height: height above the home ground
   double lost_timeout_s = 10.0;  // flw_lost_timeout: hold this long after a loss, then give up
-  double velocity_tau_s = 0.5;   // [s] time constant of the target's velocity filter
-  double bearing_rate_tau_s = 0.2;  // [s] ... and of the line of sight's turn rate
+  double bearing_rate_tau_s = 0.2;  // [s] time constant of the line of sight's turn-rate filter
   static FollowParams FromParameters(const ParameterSet& p);
 };
 
@@ -42,15 +40,11 @@ class TargetFollower {
   // the same clock).
   Output Update(const TrackedTarget& target, const hal::VehicleEstimate& est, double t);
 
-  const Eigen::Vector2d& target_velocity_NE() const { return v_NE_; }
-
  private:
   FollowParams p_;
   Setpoint hold_;                  // where it holds while the target is lost
   bool holding_ = false;
-  int64_t last_utime_ = -1;        // newest observation used by the velocity filter
-  Eigen::Vector2d last_p_NE_ = Eigen::Vector2d::Zero();
-  Eigen::Vector2d v_NE_ = Eigen::Vector2d::Zero();  // [m/s] target's filtered ground velocity
+  int64_t last_utime_ = -1;        // newest observation used by the turn-rate filter
   double last_bearing_ = 0.0;
   double bearing_rate_ = 0.0;  // [rad/s] filtered turn rate of the line of sight
 };
