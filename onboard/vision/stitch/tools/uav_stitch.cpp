@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "uav/shared/capture_folder.hpp"
 #include "uav/shared/frames.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/map_export.hpp"
@@ -24,88 +25,7 @@ namespace {
 
 using json = nlohmann::json;
 
-struct Capture {
-  std::string file;
-  int64_t utime = 0;
-  Eigen::Vector3d p_N;
-  uav::EulerAngles euler;
-};
-
-struct Session {
-  uav::GeodeticPoint home;
-  uav::CameraIntrinsics camera;
-  Eigen::Isometry3d T_BC = Eigen::Isometry3d::Identity();
-};
-
 [[noreturn]] void Fail(const std::string& what) { throw std::invalid_argument(what); }
-
-Session ReadSession(const std::string& path) {
-  json j;
-  try {
-    j = json::parse(uav::ReadTextFile(path, "session file"));
-    Session s;
-    s.home.latitude_deg = j.at("home").at("latitude_deg");
-    s.home.longitude_deg = j.at("home").at("longitude_deg");
-    s.home.altitude_m = j.at("home").at("altitude_m");
-    const json& c = j.at("camera");
-    s.camera.width = c.at("width");
-    s.camera.height = c.at("height");
-    s.camera.fx = c.at("fx");
-    s.camera.fy = c.at("fy");
-    s.camera.cx = c.at("cx");
-    s.camera.cy = c.at("cy");
-    for (int i = 0; i < 5; ++i) s.camera.distortion[i] = c.at("distortion").at(i);
-    for (int i = 0; i < 9; ++i) s.T_BC.linear()(i / 3, i % 3) = c.at("R_BC").at(i);
-    for (int i = 0; i < 3; ++i) s.T_BC.translation()(i) = c.at("p_B").at(i);
-    uav::ValidateGeodetic(s.home);
-    uav::ValidateIntrinsics(s.camera);
-    return s;
-  } catch (const json::exception& e) {
-    Fail(path + ": " + e.what());
-  }
-}
-
-// captures.csv: the estimate columns are what the vehicle knew (the truth columns are for tests).
-std::vector<Capture> ReadPoses(const std::string& path) {
-  std::istringstream in(uav::ReadTextFile(path, "poses file"));
-  std::string line;
-  if (!std::getline(in, line)) Fail(path + ": empty");
-  std::map<std::string, int> col;
-  {
-    std::istringstream h(line);
-    std::string name;
-    for (int i = 0; std::getline(h, name, ','); ++i) col[name] = i;
-  }
-  for (const char* need : {"utime", "file", "est_north_m", "est_east_m", "est_down_m", "est_roll_rad", "est_pitch_rad", "est_yaw_rad"})
-    if (!col.count(need)) Fail(path + ": no column '" + std::string(need) + "'");
-  std::vector<Capture> out;
-  for (int row = 2; std::getline(in, line); ++row) {
-    if (line.empty()) continue;
-    std::vector<std::string> f;
-    std::istringstream r(line);
-    for (std::string v; std::getline(r, v, ',');) f.push_back(v);
-    if (f.size() < col.size()) Fail(path + ":" + std::to_string(row) + ": " + std::to_string(f.size()) + " fields, the header has " + std::to_string(col.size()));
-    auto num = [&](const char* name) {
-      try {
-        size_t used = 0;
-        const double v = std::stod(f[col[name]], &used);
-        if (!std::isfinite(v) || used != f[col[name]].size()) throw std::invalid_argument("");
-        return v;
-      } catch (const std::exception&) {
-        Fail(path + ":" + std::to_string(row) + ": " + name + " is not a finite number: '" + f[col[name]] + "'");
-      }
-    };
-    Capture c;
-    c.file = f[col["file"]];
-    c.utime = static_cast<int64_t>(num("utime"));
-    c.p_N = Eigen::Vector3d(num("est_north_m"), num("est_east_m"), num("est_down_m"));
-    c.euler.phi = num("est_roll_rad");
-    c.euler.theta = num("est_pitch_rad");
-    c.euler.psi = num("est_yaw_rad");
-    out.push_back(c);
-  }
-  return out;
-}
 
 void Progress(size_t done, size_t total) {
   const int width = 40;
@@ -129,9 +49,11 @@ int main(int argc, char** argv) {
   CLI11_PARSE(cli, argc, argv);
   try {
     if (poses_path.empty()) poses_path = dir + "/captures.csv";
-    const Session session = ReadSession(dir + "/session.json");
-    const std::vector<Capture> captures = ReadPoses(poses_path);
+    const uav::CaptureSession session = uav::ReadCaptureSession(dir + "/session.json");
+    const std::vector<uav::CaptureRow> captures = uav::ReadCaptureRows(poses_path);
     if (captures.empty()) Fail(poses_path + ": no captures");
+    for (const uav::CaptureRow& c : captures)
+      if (!c.T_NB_estimate) Fail(c.problem);
     uav::vision::StitcherParams params;
     params.registration.detector = uav::vision::ParseDetector(detector);
     uav::vision::MapStitcher stitcher(session.camera, params);
@@ -139,12 +61,10 @@ int main(int argc, char** argv) {
     std::map<std::string, int> failures;
     int registered = 0, placed = 0;
     for (size_t i = 0; i < captures.size(); ++i) {
-      const Capture& c = captures[i];
+      const uav::CaptureRow& c = captures[i];
       const cv::Mat image = cv::imread(dir + "/" + c.file, cv::IMREAD_COLOR);
       if (image.empty()) Fail(dir + "/" + c.file + ": missing or not an image");
-      Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
-      T_NB.linear() = uav::RotationNBFromEuler(c.euler);
-      T_NB.translation() = c.p_N;
+      const Eigen::Isometry3d& T_NB = *c.T_NB_estimate;
       const uav::vision::StitchStep step = stitcher.Add({image, c.utime, T_NB * session.T_BC});
       placed += step.placed;
       registered += step.registered;
