@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "uav/vision/mono_depth.hpp"
 #include "uav/world/renderer.hpp"
@@ -97,6 +98,61 @@ TEST(MonoDepthAccuracy, LevelFlightAtTwentyMetres) {
   ASSERT_GE(e.converged_frame, 0);
   EXPECT_LT(e.mean_rel, 0.05);
   EXPECT_LT(e.max_rel, 0.10);
+}
+
+TEST(MonoDepthAccuracy, DescentToLanding) {
+  // Scenario 2: constant attitude and velocity (2 m/s forward, 1 m/s down) from 20 m to 4 m.
+  const CellError e = Fly([](double t) { return Eigen::Vector3d(-30 + 2.0 * t, 40, -20 + 1.0 * t); }, 16.0, Exact);
+  std::printf("descent 20 -> 4 m: converged at frame %d, worst cell mean error %.2f %%, worst single %.2f %% (%d cell checks)\n",
+              e.converged_frame, 100 * e.mean_rel, 100 * e.max_rel, e.cells_checked);
+  ASSERT_GE(e.converged_frame, 0);
+  EXPECT_LT(e.mean_rel, 0.05);
+  EXPECT_LT(e.max_rel, 0.10);
+}
+
+// Frames it cannot use: cells unknown with the reason, never a made-up depth.
+TEST(MonoDepthRefuses, NoNavigationNonFinitePoseWrongSizeAndNoParallax) {
+  const world::Scene scene = Village();
+  const world::CameraSetup cam = *scene.downward_camera();
+  const world::Renderer renderer(scene, cam);
+  MonoDepthEstimator est(cam.intrinsics, MonoDepthParams{});
+  auto all_unknown = [](const DepthGrid& g) {
+    for (const DepthCell& c : g.cells)
+      if (c.state != CellState::kUnknown || c.depth_m != 0.0) return false;
+    return g.cells.size() == 12u;
+  };
+  // Hovering: the same pose frame after frame. Features are tracked but nothing is measured.
+  const Eigen::Isometry3d T = DownwardPose(cam, Eigen::Vector3d(0, 40, -20), 0.3);
+  for (int i = 0; i < 10; ++i) {
+    const int64_t utime = 1'000'000 + i * 200'000;
+    const DepthGrid g = est.Update(renderer.Render(T, utime).image, utime, T);
+    EXPECT_TRUE(g.healthy);
+    EXPECT_TRUE(all_unknown(g));
+    if (i > 0) {
+      EXPECT_GT(g.tracked, 100);
+      EXPECT_EQ(g.measured, 0);
+      EXPECT_NE(g.cells[5].reason.find("no parallax"), std::string::npos) << g.cells[5].reason;
+    }
+  }
+  const cv::Mat image = renderer.Render(T, 3'000'000).image;
+  DepthGrid g = est.Update(image, 3'000'000, std::nullopt);
+  EXPECT_FALSE(g.healthy);
+  EXPECT_EQ(g.reason, "no navigation sample for this frame");
+  EXPECT_TRUE(all_unknown(g));
+  Eigen::Isometry3d nan_pose = T;
+  nan_pose.translation().x() = NAN;
+  g = est.Update(image, 3'200'000, nan_pose);
+  EXPECT_EQ(g.reason, "the navigation pose is not finite");
+  EXPECT_TRUE(all_unknown(g));
+  cv::Mat small;
+  cv::resize(image, small, cv::Size(320, 240));
+  g = est.Update(small, 3'400'000, T);
+  EXPECT_EQ(g.reason, "the image is 320x240, the calibration 640x480");
+  g = est.Update(image, 3'400'000, T);
+  EXPECT_TRUE(g.healthy);
+  g = est.Update(image, 3'400'000, T);
+  EXPECT_EQ(g.reason, "frame time is not after the previous frame's");
+  EXPECT_THROW(MonoDepthEstimator(cam.intrinsics, [] { MonoDepthParams p; p.grid_cols = 0; return p; }()), std::invalid_argument);
 }
 
 }  // namespace

@@ -268,6 +268,14 @@ DepthGrid MonoDepthEstimator::Update(const cv::Mat& image, int64_t utime, const 
       // No depth from this frame when the translation moves the feature too little to see, or
       // the inverse depth is not clearly positive (far away, or noise).
       if (std::sqrt(aa) * inv_z * dt * f_px < p.min_parallax_px || inv_z < p.gate_sigma * sigma_inv_z) continue;
+      // Eq. 3.24 has two rows for one unknown: the flow across the direction the translation
+      // moves the feature must be noise. More is a point that does not exist in the world (a
+      // T-junction where an edge crosses an occluded one slides along it) or that moves: no
+      // measurement, and a feature that keeps doing it is renewed.
+      if ((b - a * inv_z).norm() > p.gate_sigma * sigma_b) {
+        if (++f.outliers >= p.max_outliers) f = Impl::Feature{f.px};
+        continue;
+      }
       // Z at mid-interval, carried to this frame by Eq. 3.26 over the half step.
       double z_meas = 1.0 / inv_z;
       z_meas += 0.5 * dt * (rot * z_meas - v_C.z());
