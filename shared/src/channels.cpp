@@ -24,6 +24,7 @@ const char* TopicName(Topic t) {
     case Topic::kPowerLines: return "POWER_LINES";
     case Topic::kObstacles: return "OBSTACLES";
     case Topic::kPointCloud: return "POINT_CLOUD";
+    case Topic::kMonoDepth: return "MONO_DEPTH";
   }
   return "UNKNOWN";
 }

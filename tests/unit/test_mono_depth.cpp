@@ -142,7 +142,7 @@ TEST(MonoDepthRefuses, NoNavigationNonFinitePoseWrongSizeAndNoParallax) {
   Eigen::Isometry3d nan_pose = T;
   nan_pose.translation().x() = NAN;
   g = est.Update(image, 3'200'000, nan_pose);
-  EXPECT_EQ(g.reason, "the navigation pose is not finite");
+  EXPECT_EQ(g.reason, "the navigation pose or velocity is not finite");
   EXPECT_TRUE(all_unknown(g));
   cv::Mat small;
   cv::resize(image, small, cv::Size(320, 240));

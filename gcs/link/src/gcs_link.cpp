@@ -10,6 +10,7 @@
 #include "uav/shared/power_lines.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/waypoints/mission_messages.hpp"
+#include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/file_chunk_t.hpp"
@@ -141,6 +142,10 @@ const std::map<Topic, Decoder>& Decoders() {
       {Topic::kObstacles,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
          model.OnObstacles(id, FromMessage(Decode<uavmsg::obstacles_t>(d, n, id)), now);
+       }},
+      {Topic::kMonoDepth,
+       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
+         model.OnDepthGrid(id, FromMessage(Decode<uavmsg::mono_depth_t>(d, n, id)), now);
        }},
       {Topic::kPointCloud,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {

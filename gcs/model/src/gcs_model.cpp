@@ -89,6 +89,12 @@ void GcsModel::OnObstacles(const std::string& vehicle_id, Obstacles obstacles, d
   obstacles_.OnObstacles(Vehicle(vehicle_id), vehicle_id, std::move(obstacles), now, log_);
 }
 
+void GcsModel::OnDepthGrid(const std::string& vehicle_id, DepthGrid grid, double now) {
+  VehicleModel& v = Vehicle(vehicle_id);
+  OnDepthTelemetry(v, grid, now);
+  obstacles_.OnDepthGrid(v, vehicle_id, std::move(grid), now, log_);
+}
+
 void GcsModel::OnPointCloud(const std::string& vehicle_id, PointCloud cloud, double now) {
   obstacles_.OnPointCloud(Vehicle(vehicle_id), std::move(cloud), now);
 }

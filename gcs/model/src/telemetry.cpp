@@ -23,6 +23,35 @@ const std::vector<Signal<TrackStatus>>& TrackSignals() {
   return k;
 }
 
+// Depth from motion: every cell of the thesis's 4x3 grid (Fig. 3.11) by row and column from the
+// top-left, 0 while unknown, and the feature counts.
+template <int kCell>
+double CellDepth(const DepthGrid& g) {
+  const int r = kCell / 4, c = kCell % 4;
+  return r < g.rows && c < g.cols ? g.at(r, c).depth_m : 0.0;
+}
+
+const std::vector<Signal<DepthGrid>>& DepthSignals() {
+  using F = SignalFormat;
+  static const std::vector<Signal<DepthGrid>> k = {
+      {{"r0c0", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<0>},
+      {{"r0c1", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<1>},
+      {{"r0c2", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<2>},
+      {{"r0c3", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<3>},
+      {{"r1c0", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<4>},
+      {{"r1c1", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<5>},
+      {{"r1c2", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<6>},
+      {{"r1c3", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<7>},
+      {{"r2c0", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<8>},
+      {{"r2c1", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<9>},
+      {{"r2c2", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<10>},
+      {{"r2c3", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<11>},
+      {{"tracked", "tracked", "1", "", F::kInteger}, [](const DepthGrid& g) { return double(g.tracked); }},
+      {{"measured", "measured", "1", "", F::kInteger}, [](const DepthGrid& g) { return double(g.measured); }},
+  };
+  return k;
+}
+
 template <class T>
 std::vector<SignalDef> Defs(const std::vector<Signal<T>>& table) {
   std::vector<SignalDef> out;
@@ -61,6 +90,7 @@ std::string_view GroupName(SignalGroupId g) {
     case SignalGroupId::kState: return "STATE";
     case SignalGroupId::kHeartbeat: return "HEARTBEAT";
     case SignalGroupId::kTrack: return "TRACK";
+    case SignalGroupId::kDepth: return "DEPTH";
   }
   return "?";
 }
@@ -69,7 +99,14 @@ const std::vector<SignalDef>& GroupSignals(SignalGroupId g) {
   static const std::vector<SignalDef> kState = Defs(VehicleStateSignals());
   static const std::vector<SignalDef> kHeartbeat = Defs(HeartbeatSignals());
   static const std::vector<SignalDef> kTrack = Defs(TrackSignals());
-  return g == SignalGroupId::kState ? kState : g == SignalGroupId::kHeartbeat ? kHeartbeat : kTrack;
+  static const std::vector<SignalDef> kDepth = Defs(DepthSignals());
+  switch (g) {
+    case SignalGroupId::kState: return kState;
+    case SignalGroupId::kHeartbeat: return kHeartbeat;
+    case SignalGroupId::kTrack: return kTrack;
+    case SignalGroupId::kDepth: return kDepth;
+  }
+  return kState;
 }
 
 const SignalDef& Def(SignalRef s) { return GroupSignals(s.group).at(s.index); }
@@ -147,6 +184,12 @@ void OnTrackTelemetry(VehicleTelemetry& v, const TrackStatus& st, double now) {
   SignalGroup& g = v.groups[static_cast<int>(SignalGroupId::kTrack)];
   Receipt(v, g, st.seq, now);
   Store(v, g, TrackSignals(), st, st.utime * 1e-6);
+}
+
+void OnDepthTelemetry(VehicleTelemetry& v, const DepthGrid& g, double now) {
+  SignalGroup& group = v.groups[static_cast<int>(SignalGroupId::kDepth)];
+  Receipt(v, group, group.last_seq + 1, now);  // mono_depth_t's own sequence is not kept
+  Store(v, group, DepthSignals(), g, g.utime * 1e-6);
 }
 
 }  // namespace uav::gcs

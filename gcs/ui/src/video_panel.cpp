@@ -201,6 +201,28 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
       }
     }
   }
+  // Depth from motion (thesis 3.4, Fig. 3.11): the grid over the picture, each cell's depth and
+  // state (red obstacle, green free, grey unknown with its reason on hover).
+  if (const DepthGrid* grid = v->FreshDepthGrid(ctx.now, model.obstacles().params()); grid && grid->camera == feed.camera) {
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    for (int r = 0; r < grid->rows; ++r)
+      for (int c = 0; c < grid->cols; ++c) {
+        const DepthCell& cell = grid->at(r, c);
+        const ImU32 colour = cell.state == CellState::kObstacle ? IM_COL32(255, 70, 70, 220)
+                             : cell.state == CellState::kFree   ? IM_COL32(90, 230, 110, 200)
+                                                                : IM_COL32(170, 170, 170, 150);
+        const ImVec2 a = to_screen(static_cast<double>(c) / grid->cols, static_cast<double>(r) / grid->rows);
+        const ImVec2 b = to_screen(static_cast<double>(c + 1) / grid->cols, static_cast<double>(r + 1) / grid->rows);
+        dl->AddRect(a, b, colour, 0, 0, 1.0f);
+        char label[48];
+        if (cell.state == CellState::kUnknown) std::snprintf(label, sizeof label, "?");
+        else std::snprintf(label, sizeof label, "%.1f m %s", cell.depth_m, cell.state == CellState::kObstacle ? "OBST" : "");
+        dl->AddText(ImVec2(a.x + 4, a.y + 3), colour, label);
+        if (cell.state == CellState::kUnknown && mouse.x >= a.x && mouse.x < b.x && mouse.y >= a.y && mouse.y < b.y &&
+            ImGui::IsWindowHovered())
+          ImGui::SetTooltip("%s", grid->healthy ? cell.reason.c_str() : grid->reason.c_str());
+      }
+  }
   // Stereo obstacles (thesis 3.5) as boxes around their projected cylinders, labelled with the
   // horizontal distance to their surface.
   if (const Obstacles* obstacles = v->FreshObstacles(ctx.now, model.obstacles().params());

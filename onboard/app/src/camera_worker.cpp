@@ -1,5 +1,7 @@
 #include "uav/app/camera_worker.hpp"
 
+#include "uav/app/mono_depth_worker.hpp"
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -62,6 +64,8 @@ void CameraWorker::Tick(int64_t utime) {
   T_NB_estimate.linear() = RotationNBFromEuler(d.estimate.euler);
   T_NB_estimate.translation() = d.estimate.p_N;
 
+  ShareFrame(board_, d, camera_.info().name, utime, frame.image,
+             EstimatedCameraPose(d.estimate, utime, camera_.info().T_BC));
   if (preview_.Due(utime)) {
     board_.PutPreview(preview_.Encode(utime, frame.image));
     ++previews_;

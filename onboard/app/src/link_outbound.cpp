@@ -9,6 +9,7 @@
 #include "uavmsg/file_offer_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/map_tile_t.hpp"
+#include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/obstacles_t.hpp"
 #include "uavmsg/point_cloud_t.hpp"
 #include "uavmsg/power_lines_t.hpp"
@@ -140,6 +141,21 @@ class PowerLinesTranslator : public Translator {
   LinkContext& c_;
 };
 
+// MDEPTH's newest grid.
+class MonoDepthTranslator : public Translator {
+ public:
+  explicit MonoDepthTranslator(LinkContext& c) : c_(c) {}
+  void Tick(int64_t) override {
+    if (auto grid = c_.board.TakeDepthGrid()) {
+      uavmsg::mono_depth_t m = ToMessage(*grid);
+      c_.Publish(Topic::kMonoDepth, m);
+    }
+  }
+
+ private:
+  LinkContext& c_;
+};
+
 class ObstaclesTranslator : public Translator {
  public:
   explicit ObstaclesTranslator(LinkContext& c) : c_(c) {}
@@ -231,6 +247,7 @@ std::unique_ptr<Translator> MakeVideoTranslator(LinkContext& c) { return std::ma
 std::unique_ptr<Translator> MakeTrackStatusTranslator(LinkContext& c) { return std::make_unique<TrackStatusTranslator>(c); }
 std::unique_ptr<Translator> MakePowerLinesTranslator(LinkContext& c) { return std::make_unique<PowerLinesTranslator>(c); }
 std::unique_ptr<Translator> MakeObstaclesTranslator(LinkContext& c) { return std::make_unique<ObstaclesTranslator>(c); }
+std::unique_ptr<Translator> MakeMonoDepthTranslator(LinkContext& c) { return std::make_unique<MonoDepthTranslator>(c); }
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c) { return std::make_unique<MapTileTranslator>(c); }
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files) {
   return std::make_unique<FileTransferTranslator>(c, files);

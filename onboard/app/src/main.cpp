@@ -14,6 +14,7 @@
 #include "uav/app/mission_store.hpp"
 #include "uav/app/stereo_worker.hpp"
 #include "uav/app/stitch_worker.hpp"
+#include "uav/app/mono_depth_worker.hpp"
 #include "uav/app/track_worker.hpp"
 #include "uav/waypoints/stored_paths.hpp"
 #include "uav/app/lockstep_scheduler.hpp"
@@ -130,6 +131,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<uav::app::StitchWorker> stitch;
     std::unique_ptr<uav::sim::SimGimbalCamera> gimbal_camera;
     std::unique_ptr<uav::app::TrackWorker> trk;
+    std::unique_ptr<uav::app::MonoDepthWorker> mdepth;
     if (!scene_path.empty()) {
       scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(scene_path));
       if (!scene->downward_camera() && !scene->stereo_camera() && !scene->gimbal_camera())
@@ -159,6 +161,12 @@ int main(int argc, char** argv) {
                                                                     trk_params.gimbal_pitch_rad);
         trk = std::make_unique<uav::app::TrackWorker>(*gimbal_camera, board, trk_params);
       }
+      // Depth from motion on the chosen camera, when the scene has it.
+      const auto mdp = uav::app::MonoDepthWorkerParams::FromParameters(params);
+      if (mdp.camera == 1 && downward_camera)
+        mdepth = std::make_unique<uav::app::MonoDepthWorker>(downward_camera->info(), board, mdp.estimator);
+      if (mdp.camera == 2 && gimbal_camera)
+        mdepth = std::make_unique<uav::app::MonoDepthWorker>(gimbal_camera->info(), board, mdp.estimator);
       if (scene->stereo_camera())
       {
         stereo_camera = std::make_unique<uav::sim::SimStereoCamera>(*scene, *scene->stereo_camera(), truth_T_NB);
@@ -182,6 +190,8 @@ int main(int argc, char** argv) {
     // STITCH after CAM (stage 3): this tick's capture is stitched in the same tick.
     if (stitch) scheduler.AddWorker("STITCH", 3, kPeriodUs * 5, [&](int64_t t) { stitch->Tick(t); });
     if (trk) scheduler.AddWorker("TRK", 2, camera_period(gimbal_camera->info().rate_hz), [&](int64_t t) { trk->Tick(t); });
+    // MDEPTH after the camera's thread (stage 3): this tick's frame is processed in the same tick.
+    if (mdepth) scheduler.AddWorker("MDEPTH", 3, camera_period(mdepth->rate_hz()), [&](int64_t t) { mdepth->Tick(t); });
     if (stereo)
       scheduler.AddWorker("STEREO", 2, camera_period(stereo_camera->left().rate_hz),
                           [&](int64_t t) { stereo->Tick(t); });

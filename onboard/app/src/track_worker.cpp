@@ -1,5 +1,7 @@
 #include "uav/app/track_worker.hpp"
 
+#include "uav/app/mono_depth_worker.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -34,6 +36,10 @@ void TrackWorker::Tick(int64_t utime) {
   ++frames_;
   if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, frame.image));
   buffer_.push_back({utime, frame.image});
+  if (auto T_NB = EstimatedCameraPose(d.estimate, utime, Eigen::Isometry3d::Identity()))
+    ShareFrame(board_, d, camera_.info().name, utime, frame.image, hal::GimbalCameraPose(*T_NB, camera_.info().T_BC, camera_.pitch_rad()));
+  else
+    ShareFrame(board_, d, camera_.info().name, utime, frame.image, std::nullopt);
   while (!buffer_.empty() && buffer_.front().utime < utime - static_cast<int64_t>(params_.buffer_s * 1e6)) buffer_.pop_front();
 
   bool started_now = false;

@@ -23,15 +23,6 @@ std::string Format(const char* fmt, double a, double b = 0.0) {
 
 }  // namespace
 
-const char* Name(CellState s) {
-  switch (s) {
-    case CellState::kUnknown: return "unknown";
-    case CellState::kFree: return "free";
-    case CellState::kObstacle: return "obstacle";
-  }
-  return "unknown";
-}
-
 void MonoDepthParams::Validate() const {
   auto need = [](bool ok, const char* what) {
     if (!ok) Bad(what);
@@ -66,6 +57,7 @@ struct MonoDepthEstimator::Impl {
   cv::Mat prev_gray;
   int64_t prev_utime = -1;
   std::optional<Eigen::Isometry3d> prev_T_NC;
+  std::optional<Eigen::Vector3d> prev_v_N;
   std::vector<Feature> tracks;
   std::vector<DepthFeature> published;
 
@@ -115,6 +107,7 @@ struct MonoDepthEstimator::Impl {
     g.reason = reason;
     g.tracked = tracked;
     g.measured = measured;
+    g.obstacle_depth_m = p.obstacle_depth_m;
     g.cells.assign(p.grid_cols * p.grid_rows, DepthCell{});
     std::vector<double> sum_z(g.cells.size(), 0.0), sum_p(g.cells.size(), 0.0);
     published.clear();
@@ -179,7 +172,8 @@ MonoDepthEstimator& MonoDepthEstimator::operator=(MonoDepthEstimator&&) noexcept
 const std::vector<DepthFeature>& MonoDepthEstimator::features() const { return impl_->published; }
 const MonoDepthParams& MonoDepthEstimator::params() const { return impl_->p; }
 
-DepthGrid MonoDepthEstimator::Update(const cv::Mat& image, int64_t utime, const std::optional<Eigen::Isometry3d>& T_NC) {
+DepthGrid MonoDepthEstimator::Update(const cv::Mat& image, int64_t utime, const std::optional<Eigen::Isometry3d>& T_NC,
+                                     const std::optional<Eigen::Vector3d>& v_N) {
   Impl& m = *impl_;
   const MonoDepthParams& p = m.p;
   if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3))
@@ -192,9 +186,9 @@ DepthGrid MonoDepthEstimator::Update(const cv::Mat& image, int64_t utime, const 
     m.prev_utime = utime;
     return m.Unusable(utime, "no navigation sample for this frame");
   }
-  if (!T_NC->matrix().allFinite()) {
+  if (!T_NC->matrix().allFinite() || (v_N && !v_N->allFinite())) {
     m.prev_utime = utime;
-    return m.Unusable(utime, "the navigation pose is not finite");
+    return m.Unusable(utime, "the navigation pose or velocity is not finite");
   }
   cv::Mat gray;
   if (image.channels() == 3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
@@ -236,7 +230,9 @@ DepthGrid MonoDepthEstimator::Update(const cv::Mat& image, int64_t utime, const 
     const Eigen::AngleAxisd rel(R_prev.transpose() * R_cur);
     const Eigen::Vector3d w_C = rel.axis() * rel.angle() / dt;
     const Eigen::Matrix3d R_mid = R_prev * Eigen::AngleAxisd(0.5 * rel.angle(), rel.axis()).toRotationMatrix();
-    const Eigen::Vector3d v_C = R_mid.transpose() * (T_NC->translation() - m.prev_T_NC->translation()) / dt;
+    const Eigen::Vector3d v_mid_N = v_N && m.prev_v_N ? Eigen::Vector3d(0.5 * (*v_N + *m.prev_v_N))
+                                                      : Eigen::Vector3d((T_NC->translation() - m.prev_T_NC->translation()) / dt);
+    const Eigen::Vector3d v_C = R_mid.transpose() * v_mid_N;
     const double f_px = 0.5 * (m.k.fx + m.k.fy);
     // Flow noise in normalised units per second (two positions, each flow_noise_px).
     const double sigma_b = std::sqrt(2.0) * p.flow_noise_px / f_px / dt;
@@ -307,6 +303,7 @@ DepthGrid MonoDepthEstimator::Update(const cv::Mat& image, int64_t utime, const 
   m.prev_gray = gray.clone();
   m.prev_utime = utime;
   m.prev_T_NC = T_NC;
+  m.prev_v_N = v_N;
   return m.Grid(utime, true, reason, tracked, measured);
 }
 

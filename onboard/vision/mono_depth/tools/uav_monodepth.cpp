@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
           known += cell.state != uav::vision::CellState::kUnknown;
           char num[128];
           std::snprintf(num, sizeof num, "%.3f,%.3f,%d,%.3f", cell.depth_m, cell.sigma_m, cell.features, cell.confidence);
-          csv << i << ',' << c.utime << ',' << c.file << ',' << r << ',' << col << ',' << uav::vision::Name(cell.state) << ','
+          csv << i << ',' << c.utime << ',' << c.file << ',' << r << ',' << col << ',' << uav::Name(cell.state) << ','
               << num << ',' << Quoted(g.healthy ? cell.reason : g.reason) << '\n';
         }
       known_cells += known;

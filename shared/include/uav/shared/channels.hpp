@@ -23,7 +23,8 @@ enum class Topic {
   kTrackStatus,
   kPowerLines,
   kObstacles,
-  kPointCloud
+  kPointCloud,
+  kMonoDepth
 };
 
 const char* TopicName(Topic t);

@@ -42,6 +42,7 @@ class GcsModel {
   void OnPowerLines(const std::string& vehicle_id, PowerLines lines, double now);
   void OnObstacles(const std::string& vehicle_id, Obstacles obstacles, double now);
   void OnPointCloud(const std::string& vehicle_id, PointCloud cloud, double now);
+  void OnDepthGrid(const std::string& vehicle_id, DepthGrid grid, double now);
 
   // ---- Operator actions on the selected vehicle (false: error() of the concern says why).
   void SelectVehicle(const std::string& id);

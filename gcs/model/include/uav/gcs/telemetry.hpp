@@ -10,14 +10,15 @@
 #include <vector>
 
 #include "uav/gcs/signal_series.hpp"
+#include "uav/shared/mono_depth.hpp"
 #include "uav/shared/vehicle_state.hpp"
 
 namespace uav::gcs {
 
 // The telemetry tree's groups, one per message.
-enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2 };
-inline constexpr int kSignalGroups = 3;
-std::string_view GroupName(SignalGroupId g);  // "STATE", "HEARTBEAT", "TRACK"
+enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2, kDepth = 3 };
+inline constexpr int kSignalGroups = 4;
+std::string_view GroupName(SignalGroupId g);  // "STATE", "HEARTBEAT", "TRACK", "DEPTH"
 const std::vector<SignalDef>& GroupSignals(SignalGroupId g);
 
 struct SignalRef {
@@ -101,5 +102,6 @@ struct VehicleTelemetry {
 void OnHeartbeat(VehicleTelemetry& v, int64_t seq, const HeartbeatInfo& hb, double now);
 void OnState(VehicleTelemetry& v, int64_t seq, const VehicleState& s, double now);
 void OnTrackTelemetry(VehicleTelemetry& v, const TrackStatus& st, double now);
+void OnDepthTelemetry(VehicleTelemetry& v, const DepthGrid& g, double now);
 
 }  // namespace uav::gcs

@@ -16,6 +16,7 @@
 #include "uav/control/mixer.hpp"
 #include "uav/control/task_manager.hpp"
 #include "uav/hal/vehicle_backend.hpp"
+#include "uav/shared/mono_depth.hpp"
 #include "uav/shared/obstacles.hpp"
 #include "uav/shared/power_lines.hpp"
 #include "uav/shared/tracking.hpp"
@@ -44,6 +45,17 @@ struct SurveyCapture {
   int width = 0, height = 0;
   std::vector<uint8_t> bgr;  // width * height * 3, row-major (OpenCV stays out of this header)
   Eigen::Isometry3d T_NC_estimate = Eigen::Isometry3d::Identity();
+};
+
+// A camera's newest frame for a thread that processes another thread's camera (MDEPTH), with
+// where the estimate put the camera when it was exposed (nullopt: no navigation sample then).
+struct SharedFrame {
+  int64_t utime = 0;
+  std::string camera;
+  int width = 0, height = 0;
+  std::vector<uint8_t> bgr;  // width * height * 3, row-major
+  std::optional<Eigen::Isometry3d> T_NC_estimate;
+  std::optional<Eigen::Vector3d> v_N_estimate;  // [m/s] the vehicle's estimated velocity then
 };
 
 // A live-map tile from STITCH for CMM (JPEG, unmapped pixels black).
@@ -83,6 +95,8 @@ struct BlackboardData {
   // TRK thread: the camera it tracks in ("" when the vehicle has none) and the tracked target on
   // the ground, for follow.
   std::string tracking_camera;
+  // MDEPTH thread: the camera whose frames it wants shared ("" none).
+  std::string depth_camera;
   TrackedTarget target;
 };
 
@@ -193,6 +207,28 @@ class Blackboard {
     point_cloud_.reset();
     return out;
   }
+  // CAM or TRK -> MDEPTH: the newest frame of the camera MDEPTH wants.
+  void PutFrame(SharedFrame f) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    frame_ = std::move(f);
+  }
+  std::optional<SharedFrame> TakeFrame() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<SharedFrame> out = std::move(frame_);
+    frame_.reset();
+    return out;
+  }
+  // MDEPTH -> CMM: the newest depth grid replaces one not yet sent.
+  void PutDepthGrid(DepthGrid g) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    depth_grid_ = std::move(g);
+  }
+  std::optional<DepthGrid> TakeDepthGrid() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<DepthGrid> out = std::move(depth_grid_);
+    depth_grid_.reset();
+    return out;
+  }
   // CAM -> STITCH: every capture, in order (a survey frame is never dropped).
   void PushCapture(SurveyCapture c) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -252,6 +288,8 @@ class Blackboard {
   std::optional<PowerLines> power_lines_;
   std::optional<Obstacles> obstacles_;
   std::optional<PointCloud> point_cloud_;
+  std::optional<SharedFrame> frame_;
+  std::optional<DepthGrid> depth_grid_;
   std::deque<SurveyCapture> captures_;
   std::deque<std::pair<std::string, std::string>> downloads_;
   std::map<std::tuple<int, int, int>, LiveTile> tiles_;

@@ -15,6 +15,7 @@
 #include <opencv2/core/types.hpp>
 
 #include "uav/shared/camera_intrinsics.hpp"
+#include "uav/shared/mono_depth.hpp"
 
 namespace cv {
 class Mat;
@@ -28,8 +29,8 @@ struct MonoDepthParams {
   double min_feature_distance_px = 10;
   int border_px = 8;                  // features nearer the edge are dropped
   int lk_window_px = 21;              // pyramidal Lucas-Kanade window and levels
-  int lk_levels = 3;
-  double max_forward_backward_px = 0.5;  // a feature tracked back must land this close to where it was
+  int lk_levels = 4;
+  double max_forward_backward_px = 1.0;  // a feature tracked back must land this close to where it was
   double flow_noise_px = 0.35;        // sigma of a tracked feature's position (sets R, Eq. 3.27)
   double process_noise = 0.02;        // sigma of Z's random walk relative to Z, per sqrt(s) (eps_1, Eq. 3.26)
   double gate_sigma = 3.0;            // measurements further than this from the prediction are outliers
@@ -45,28 +46,9 @@ struct MonoDepthParams {
   void Validate() const;
 };
 
-enum class CellState { kUnknown = 0, kFree = 1, kObstacle = 2 };
-const char* Name(CellState s);
-
-struct DepthCell {
-  CellState state = CellState::kUnknown;
-  double depth_m = 0.0;     // mean depth (along the optical axis) of its converged features
-  double sigma_m = 0.0;     // standard error of that mean from the features' filters
-  int features = 0;         // converged features in the cell
-  double confidence = 0.0;  // 0..1: features against twice the minimum, less the relative error
-  std::string reason;       // why it is unknown
-};
-
-struct DepthGrid {
-  int64_t utime = 0;
-  int cols = 0, rows = 0;
-  std::vector<DepthCell> cells;  // row-major from the top-left
-  bool healthy = false;          // this frame was used; false: reason says why
-  std::string reason;
-  int tracked = 0;               // features tracked into this frame
-  int measured = 0;              // of them, with a depth measurement this frame
-  const DepthCell& at(int row, int col) const { return cells[row * cols + col]; }
-};
+using uav::CellState;
+using uav::DepthCell;
+using uav::DepthGrid;
 
 struct DepthFeature {
   cv::Point2f px;           // in the newest frame
@@ -89,7 +71,11 @@ class MonoDepthEstimator {
   // frames come from consecutive poses. A frame that cannot be used (wrong size, time not after
   // the previous, pose missing or not finite) gives an unhealthy grid with the reason, every
   // cell unknown, and restarts the flow from the next frame.
-  DepthGrid Update(const cv::Mat& image, int64_t utime, const std::optional<Eigen::Isometry3d>& T_NC);
+  // `v_N` is the navigation solution's velocity [m/s] at the frame (of the camera, NED), when it
+  // has one: its mean over the interval is used instead of the poses' difference, which carries
+  // the position fixes' steps.
+  DepthGrid Update(const cv::Mat& image, int64_t utime, const std::optional<Eigen::Isometry3d>& T_NC,
+                   const std::optional<Eigen::Vector3d>& v_N = std::nullopt);
 
   const std::vector<DepthFeature>& features() const;
   const MonoDepthParams& params() const;

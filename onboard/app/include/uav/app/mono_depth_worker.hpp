@@ -1,0 +1,46 @@
+#pragma once
+// MDEPTH: monocular depth from motion (thesis 3.4) on one of the vehicle's cameras. A thin shell
+// around vision::MonoDepthEstimator: the camera's thread (CAM or TRK) shares each frame with the
+// pose the navigation solution gave it; this thread runs the estimator on it and hands the grid
+// to CMM for the GCS, at the camera's rate.
+#include <string>
+
+#include "uav/app/blackboard.hpp"
+#include "uav/hal/camera.hpp"
+#include "uav/shared/parameters.hpp"
+#include "uav/vision/mono_depth.hpp"
+
+namespace uav::app {
+
+// The camera frame's pose from the estimate at the frame's time (nullopt when the estimate is
+// not from within a control period of it: no matching navigation sample).
+std::optional<Eigen::Isometry3d> EstimatedCameraPose(const hal::VehicleEstimate& estimate, int64_t frame_utime,
+                                                     const Eigen::Isometry3d& T_BC);
+// Shares `image` with MDEPTH when it wants this camera's frames, with the camera pose and the
+// vehicle's velocity from the estimate (when it matches the frame's time).
+void ShareFrame(Blackboard& board, const BlackboardData& d, const std::string& camera, int64_t utime, const cv::Mat& image,
+                const std::optional<Eigen::Isometry3d>& T_NC_estimate);
+
+struct MonoDepthWorkerParams {
+  int camera = 0;  // mdp_camera: 0 off, 1 the downward camera, 2 the gimbal camera
+  vision::MonoDepthParams estimator;  // mdp_obstacle_depth, mdp_max_features
+  static MonoDepthWorkerParams FromParameters(const ParameterSet& p);
+};
+
+class MonoDepthWorker {
+ public:
+  MonoDepthWorker(const hal::CameraInfo& camera, Blackboard& board, const vision::MonoDepthParams& params);
+  void Tick(int64_t utime);
+  int frames() const { return frames_; }
+  double rate_hz() const { return rate_hz_; }  // the camera's
+  const vision::MonoDepthEstimator& estimator() const { return estimator_; }
+
+ private:
+  std::string camera_;
+  double rate_hz_;
+  Blackboard& board_;
+  vision::MonoDepthEstimator estimator_;
+  int frames_ = 0;
+};
+
+}  // namespace uav::app

@@ -1,0 +1,58 @@
+#include "uav/app/mono_depth_worker.hpp"
+
+#include <cstdlib>
+
+#include <opencv2/core/mat.hpp>
+
+namespace uav::app {
+
+std::optional<Eigen::Isometry3d> EstimatedCameraPose(const hal::VehicleEstimate& estimate, int64_t frame_utime,
+                                                     const Eigen::Isometry3d& T_BC) {
+  constexpr int64_t kMatchUs = 20000;  // one control period
+  if (estimate.utime <= 0 || std::llabs(estimate.utime - frame_utime) > kMatchUs) return std::nullopt;
+  Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
+  T_NB.linear() = estimate.q_NB.toRotationMatrix();
+  T_NB.translation() = estimate.p_N;
+  return T_NB * T_BC;
+}
+
+void ShareFrame(Blackboard& board, const BlackboardData& d, const std::string& camera, int64_t utime, const cv::Mat& image,
+                const std::optional<Eigen::Isometry3d>& T_NC_estimate) {
+  if (d.depth_camera != camera || image.empty()) return;
+  SharedFrame f;
+  f.utime = utime;
+  f.camera = camera;
+  f.width = image.cols;
+  f.height = image.rows;
+  const cv::Mat bgr = image.isContinuous() ? image : image.clone();
+  f.bgr.assign(bgr.data, bgr.data + bgr.total() * bgr.elemSize());
+  f.T_NC_estimate = T_NC_estimate;
+  if (T_NC_estimate) f.v_N_estimate = d.estimate.v_N;
+  board.PutFrame(std::move(f));
+}
+
+MonoDepthWorkerParams MonoDepthWorkerParams::FromParameters(const ParameterSet& p) {
+  MonoDepthWorkerParams m;
+  m.camera = static_cast<int>(p.Get("mdp_camera"));
+  m.estimator.obstacle_depth_m = p.Get("mdp_obstacle_depth");
+  m.estimator.max_features = static_cast<int>(p.Get("mdp_max_features"));
+  m.estimator.Validate();
+  return m;
+}
+
+MonoDepthWorker::MonoDepthWorker(const hal::CameraInfo& camera, Blackboard& board, const vision::MonoDepthParams& params)
+    : camera_(camera.name), rate_hz_(camera.rate_hz), board_(board), estimator_(camera.intrinsics, params) {
+  board_.Update([&](BlackboardData& b) { b.depth_camera = camera_; });
+}
+
+void MonoDepthWorker::Tick(int64_t) {
+  const std::optional<SharedFrame> f = board_.TakeFrame();
+  if (!f || f->camera != camera_) return;
+  const cv::Mat image(f->height, f->width, CV_8UC3, const_cast<uint8_t*>(f->bgr.data()));
+  DepthGrid g = estimator_.Update(image, f->utime, f->T_NC_estimate, f->v_N_estimate);
+  g.camera = camera_;
+  ++frames_;
+  board_.PutDepthGrid(std::move(g));
+}
+
+}  // namespace uav::app

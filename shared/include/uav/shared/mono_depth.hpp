@@ -1,0 +1,45 @@
+#pragma once
+// The depth grid of monocular depth from motion (thesis 3.4, Fig. 3.11) as plain data: what the
+// estimator produces, the vehicle publishes (mono_depth_t) and the GCS draws. Decoded once, here.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace uavmsg {
+class mono_depth_t;
+}
+
+namespace uav {
+
+enum class CellState { kUnknown = 0, kFree = 1, kObstacle = 2 };
+const char* Name(CellState s);  // "unknown", "free", "obstacle"
+
+struct DepthCell {
+  CellState state = CellState::kUnknown;
+  double depth_m = 0.0;     // mean depth along the optical axis of its converged features; 0 unknown
+  double sigma_m = 0.0;     // standard error of that mean from the features' filters
+  int features = 0;         // converged features in the cell
+  double confidence = 0.0;  // 0..1: features against twice the minimum, less the relative error
+  std::string reason;       // why it is unknown
+};
+
+struct DepthGrid {
+  int64_t utime = 0;        // [us] frame time
+  std::string camera;
+  int cols = 0, rows = 0;
+  std::vector<DepthCell> cells;  // row-major from the top-left
+  bool healthy = false;          // this frame was used; false: reason says why
+  std::string reason;
+  double obstacle_depth_m = 0.0; // nearer: obstacle, beyond: free
+  int tracked = 0;               // features tracked into this frame
+  int measured = 0;              // of them, with a depth measurement this frame
+  const DepthCell& at(int row, int col) const { return cells[row * cols + col]; }
+};
+
+// Throws std::invalid_argument naming what is wrong (a grid that is not rows x cols or larger
+// than MAX_CELLS, arrays of other lengths, a state out of range, non-finite or negative
+// numbers, a known cell without a depth, an unhealthy report with known cells).
+DepthGrid FromMessage(const uavmsg::mono_depth_t& m);
+uavmsg::mono_depth_t ToMessage(const DepthGrid& g);
+
+}  // namespace uav
