@@ -37,7 +37,7 @@ struct MonoDepthParams {
   int max_outliers = 3;               // consecutive outliers before a feature is renewed
   double min_parallax_px = 0.5;       // translation-induced flow below this gives no measurement
   double converged_rel_sigma = 0.05;  // a feature counts in the grid once sigma_Z / Z is below this ...
-  int converged_updates = 3;          // ... after at least this many measurements
+  int converged_updates = 5;          // ... after at least this many measurements
   double max_measurement_age_s = 1.0; // ... and with a measurement this recent
   int grid_cols = 4, grid_rows = 3;   // Fig. 3.11
   int min_cell_features = 3;          // fewer converged features: the cell is unknown
