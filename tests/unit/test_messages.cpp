@@ -1,10 +1,14 @@
 // LCM message round trips: encode/decode, and through the Bus on the in-process memq:// URL.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <functional>
 #include <vector>
 
 #include "uav/shared/bus.hpp"
 #include "uav/shared/channels.hpp"
+#include "uav/shared/mono_depth.hpp"
+#include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
@@ -81,6 +85,49 @@ TEST(Messages, TruncatedBufferIsRejected) {
   EXPECT_LT(out.decode(buf.data(), 0, static_cast<int>(buf.size()) - 3), 0);
   buf[0] ^= 0xFF;  // corrupt the type fingerprint
   EXPECT_LT(out.decode(buf.data(), 0, static_cast<int>(buf.size())), 0);
+}
+
+TEST(Messages, MonoDepthRoundTripsThroughBytesAndBadGridsAreRefusedByName) {
+  DepthGrid g;
+  g.utime = 1234567;
+  g.camera = "downward";
+  g.rows = 3;
+  g.cols = 4;
+  g.healthy = true;
+  g.obstacle_depth_m = 10;
+  g.tracked = 200;
+  g.measured = 180;
+  g.cells.resize(12);
+  g.cells[0] = {CellState::kObstacle, 7.5, 0.1, 12, 0.9, ""};
+  g.cells[1] = {CellState::kFree, 19.8, 0.3, 20, 1.0, ""};
+  g.cells[2].reason = "2 converged features (3 needed)";
+  uavmsg::mono_depth_t m = ToMessage(g);
+  std::vector<uint8_t> bytes(m.getEncodedSize());
+  ASSERT_EQ(m.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  uavmsg::mono_depth_t back;
+  ASSERT_EQ(back.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  const DepthGrid d = FromMessage(back);
+  EXPECT_EQ(d.camera, "downward");
+  EXPECT_EQ(d.at(0, 0).state, CellState::kObstacle);
+  EXPECT_FLOAT_EQ(d.at(0, 1).depth_m, 19.8f);
+  EXPECT_EQ(d.at(0, 2).reason, "2 converged features (3 needed)");
+  EXPECT_EQ(d.tracked, 200);
+  auto refused = [&](const std::function<void(uavmsg::mono_depth_t&)>& spoil, const std::string& why) {
+    uavmsg::mono_depth_t bad = ToMessage(g);
+    spoil(bad);
+    try {
+      FromMessage(bad);
+      ADD_FAILURE() << "accepted: " << why;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  };
+  refused([](auto& b) { b.rows = 2; }, "grid 2x4 with num_cells 12");
+  refused([](auto& b) { b.depth_m.pop_back(); }, "cell arrays do not have num_cells entries");
+  refused([](auto& b) { b.depth_m[1] = NAN; }, "cell 1: depth or sigma is not a finite non-negative number");
+  refused([](auto& b) { b.state[3] = 7; }, "cell 3: state 7 is not 0..2");
+  refused([](auto& b) { b.depth_m[0] = 0; }, "cell 0: known without a depth");
+  refused([](auto& b) { b.healthy = false; }, "cell 0: known in an unhealthy report");
 }
 
 TEST(Bus, MemqDeliversByChannelPatternAndCountsBadMessages) {
