@@ -480,6 +480,40 @@ TEST_F(Follow, KeepsTheWalkingPersonCentredForAMinute) {
 // exact depth at the same features, in the thesis's two scenarios.
 class MonoDepthFlight : public ClosedLoop {
  protected:
+  struct Sample {
+    double t_s;  // vehicle clock
+    int cell;
+    double estimate_m, exact_m;
+  };
+  // Estimated (red) against exact (black) depth of each cell of the 4x3 grid over the flight,
+  // one panel per cell laid out as the grid is over the image.
+  static void DrawCells(const std::vector<Sample>& trace, const std::string& path) {
+    const int pw = 300, ph = 170, W = 4 * pw, H = 3 * ph + 30;
+    cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
+    double t0 = 1e18, t1 = -1e18, z1 = 0;
+    for (const Sample& s : trace) t0 = std::min(t0, s.t_s), t1 = std::max(t1, s.t_s), z1 = std::max({z1, s.exact_m, s.estimate_m});
+    z1 = std::ceil(z1 / 5) * 5;
+    for (int c = 0; c < 12; ++c) {
+      const cv::Rect box((c % 4) * pw + 30, 30 + (c / 4) * ph + 5, pw - 40, ph - 30);
+      cv::rectangle(img, box, cv::Scalar(0, 0, 0), 1);
+      auto at = [&](double t, double z) {
+        return cv::Point(box.x + static_cast<int>((t - t0) / (t1 - t0) * box.width), box.y + box.height - static_cast<int>(z / z1 * box.height));
+      };
+      for (double z = 5; z < z1; z += 5) cv::line(img, at(t0, z), at(t1, z), cv::Scalar(225, 225, 225), 1);
+      for (const Sample& s : trace) {
+        if (s.cell != c) continue;
+        cv::circle(img, at(s.t_s, s.exact_m), 1, cv::Scalar(0, 0, 0), cv::FILLED);
+        cv::circle(img, at(s.t_s, s.estimate_m), 1, cv::Scalar(40, 40, 220), cv::FILLED);
+      }
+      char label[32];
+      std::snprintf(label, sizeof label, "row %d col %d", c / 4, c % 4);
+      cv::putText(img, label, cv::Point(box.x + 4, box.y + 14), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(80, 80, 80), 1, cv::LINE_AA);
+    }
+    char title[160];
+    std::snprintf(title, sizeof title, "depth per cell: estimated (red) vs exact (black), 0-%.0f m (lines every 5 m), %.0f s: level, glide, climb back, vertical landing", z1, t1 - t0);
+    cv::putText(img, title, cv::Point(30, 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    cv::imwrite(path, img);
+  }
   // The survey scene's downward camera at 10 Hz: at 5 Hz the ground moves over 50 px a frame
   // below 7 m at cruise speed, beyond what pyramidal Lucas-Kanade follows.
   static world::CameraSetup TenHertz(world::CameraSetup c) {
@@ -547,7 +581,7 @@ class MonoDepthFlight : public ClosedLoop {
       cell_sum_[c] += rel;
       ++cell_n_[c];
       worst_ = std::max(worst_, rel);
-      if (trace_) trace_->push_back({(t - start_) * 1e-6, c, cell.depth_m, exact_m});
+      if (trace_) trace_->push_back({t * 1e-6, c, cell.depth_m, exact_m});
     }
     if (known == cells && converged_s_ < 0) converged_s_ = (t - start_) * 1e-6;
     known_cells_ += known;
@@ -567,11 +601,6 @@ class MonoDepthFlight : public ClosedLoop {
     return w;
   }
 
-  struct Sample {
-    double t_s;
-    int cell;
-    double estimate_m, exact_m;
-  };
   world::Scene scene_;
   world::CameraSetup setup_;
   world::Renderer truth_renderer_;
@@ -634,6 +663,9 @@ TEST_F(MonoDepthFlight, LevelFlightAtTwentyMetresAndADescentToLanding) {
   Fly("", 60);
   until_ = nullptr;
   trace_ = nullptr;
+  const std::string picture = ::testing::TempDir() + "mono_depth_cells.png";
+  DrawCells(trace, picture);
+  std::printf("picture: %s\n", picture.c_str());
   std::printf("vertical landing 20 -> 2 m: %d frames, %d known cells, worst cell mean error %.2f %%, worst %.2f %%\n",
               frames_, known_cells_, 100 * WorstCellMean(), 100 * worst_);
   RecordProperty("vertical_landing_worst_cell_mean", std::to_string(WorstCellMean()));
