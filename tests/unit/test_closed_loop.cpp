@@ -82,6 +82,13 @@ class ClosedLoop : public ::testing::Test {
   }
 
   Eigen::Vector3d TruthPosition() const { return vehicle_.TruthState().p_N; }
+  Eigen::Isometry3d TruthPose() const {  // what the simulated cameras see from
+    const auto s = vehicle_.TruthState();
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = s.q_NB.toRotationMatrix();
+    T.translation() = s.p_N;
+    return T;
+  }
 
   // Plans a 40 m x 30 m field next to home, surveyed at 10 m with the simulator's camera, and
   // uploads it to the mission store.
@@ -376,13 +383,6 @@ class Follow : public ClosedLoop {
       trk_.Tick(t);
     };
   }
-  Eigen::Isometry3d TruthPose() const {
-    const auto s = vehicle_.TruthState();
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = s.q_NB.toRotationMatrix();
-    T.translation() = s.p_N;
-    return T;
-  }
 
   world::Scene scene_;
   world::CameraSetup setup_;
@@ -533,13 +533,6 @@ class MonoDepthFlight : public ClosedLoop {
       mdepth_.Tick(t);
       if (measuring_) Measure(t);
     };
-  }
-  Eigen::Isometry3d TruthPose() const {
-    const auto s = vehicle_.TruthState();
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = s.q_NB.toRotationMatrix();
-    T.translation() = s.p_N;
-    return T;
   }
   // Every known cell of this frame's grid against the exact depth at its converged features.
   // Features on a depth edge (the exact depth within 2 px of them spans more than 5 %) are left

@@ -1,21 +1,28 @@
 #include "uav/gcs/obstacle_reports.hpp"
 
 namespace uav::gcs {
+namespace {
+
+// Logs a sensing channel turning unavailable, and its recovery, once each.
+void LogAvailability(bool healthy, bool* was_unhealthy, const std::string& what, const std::string& reason,
+                     const std::string& vehicle_id, double now, MessageLog& log) {
+  if (!healthy && !*was_unhealthy) log.Add(now, vehicle_id, what + " unavailable: " + reason, Severity::kWarning);
+  if (healthy && *was_unhealthy) log.Add(now, vehicle_id, what + " available again", Severity::kInfo);
+  *was_unhealthy = !healthy;
+}
+
+}  // namespace
 
 void ObstacleReports::OnObstacles(VehicleObstacles& v, const std::string& vehicle_id, Obstacles o, double now,
                                   MessageLog& log) const {
-  if (!o.healthy && !v.stereo_unhealthy) log.Add(now, vehicle_id, "stereo obstacles unavailable: " + o.reason, Severity::kWarning);
-  if (o.healthy && v.stereo_unhealthy) log.Add(now, vehicle_id, "stereo obstacles available again", Severity::kInfo);
-  v.stereo_unhealthy = !o.healthy;
+  LogAvailability(o.healthy, &v.stereo_unhealthy, "stereo obstacles", o.reason, vehicle_id, now, log);
   v.obstacles = std::move(o);
   v.obstacles_at = now;
 }
 
 void ObstacleReports::OnDepthGrid(VehicleObstacles& v, const std::string& vehicle_id, DepthGrid g, double now,
                                   MessageLog& log) const {
-  if (!g.healthy && !v.depth_unhealthy) log.Add(now, vehicle_id, "depth from motion unavailable: " + g.reason, Severity::kWarning);
-  if (g.healthy && v.depth_unhealthy) log.Add(now, vehicle_id, "depth from motion available again", Severity::kInfo);
-  v.depth_unhealthy = !g.healthy;
+  LogAvailability(g.healthy, &v.depth_unhealthy, "depth from motion", g.reason, vehicle_id, now, log);
   v.depth_grid = std::move(g);
   v.depth_grid_at = now;
 }

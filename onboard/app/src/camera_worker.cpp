@@ -64,8 +64,10 @@ void CameraWorker::Tick(int64_t utime) {
   T_NB_estimate.linear() = RotationNBFromEuler(d.estimate.euler);
   T_NB_estimate.translation() = d.estimate.p_N;
 
-  ShareFrame(board_, d, camera_.info().name, utime, frame.image,
-             EstimatedCameraPose(d.estimate, utime, camera_.info().T_BC));
+  if (EstimateMatchesFrame(d.estimate, utime))
+    ShareFrame(board_, d, camera_.info().name, utime, frame.image, d.estimate.T_NB() * camera_.info().T_BC);
+  else
+    ShareFrame(board_, d, camera_.info().name, utime, frame.image, std::nullopt);
   if (preview_.Due(utime)) {
     board_.PutPreview(preview_.Encode(utime, frame.image));
     ++previews_;

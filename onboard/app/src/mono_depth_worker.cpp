@@ -6,14 +6,9 @@
 
 namespace uav::app {
 
-std::optional<Eigen::Isometry3d> EstimatedCameraPose(const hal::VehicleEstimate& estimate, int64_t frame_utime,
-                                                     const Eigen::Isometry3d& T_BC) {
+bool EstimateMatchesFrame(const hal::VehicleEstimate& estimate, int64_t frame_utime) {
   constexpr int64_t kMatchUs = 20000;  // one control period
-  if (estimate.utime <= 0 || std::llabs(estimate.utime - frame_utime) > kMatchUs) return std::nullopt;
-  Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
-  T_NB.linear() = estimate.q_NB.toRotationMatrix();
-  T_NB.translation() = estimate.p_N;
-  return T_NB * T_BC;
+  return estimate.utime > 0 && std::llabs(estimate.utime - frame_utime) <= kMatchUs;
 }
 
 void ShareFrame(Blackboard& board, const BlackboardData& d, const std::string& camera, int64_t utime, const cv::Mat& image,

@@ -36,8 +36,9 @@ void TrackWorker::Tick(int64_t utime) {
   ++frames_;
   if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, frame.image));
   buffer_.push_back({utime, frame.image});
-  if (auto T_NB = EstimatedCameraPose(d.estimate, utime, Eigen::Isometry3d::Identity()))
-    ShareFrame(board_, d, camera_.info().name, utime, frame.image, hal::GimbalCameraPose(*T_NB, camera_.info().T_BC, camera_.pitch_rad()));
+  if (EstimateMatchesFrame(d.estimate, utime))
+    ShareFrame(board_, d, camera_.info().name, utime, frame.image,
+               hal::GimbalCameraPose(d.estimate.T_NB(), camera_.info().T_BC, camera_.pitch_rad()));
   else
     ShareFrame(board_, d, camera_.info().name, utime, frame.image, std::nullopt);
   while (!buffer_.empty() && buffer_.front().utime < utime - static_cast<int64_t>(params_.buffer_s * 1e6)) buffer_.pop_front();
@@ -162,10 +163,7 @@ void TrackWorker::PlaceOnGround(int64_t utime, const vision::TrackResult& r, con
   t.gimbal_pitch_rad = camera_.pitch_rad();
   if (t.locked) {
     t.last_seen_utime = utime;
-    Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
-    T_NB.linear() = estimate.q_NB.toRotationMatrix();
-    T_NB.translation() = estimate.p_N;
-    const Eigen::Isometry3d T_NC = hal::GimbalCameraPose(T_NB, camera_.info().T_BC, camera_.pitch_rad());
+    const Eigen::Isometry3d T_NC = hal::GimbalCameraPose(estimate.T_NB(), camera_.info().T_BC, camera_.pitch_rad());
     const Eigen::Vector3d ray_N = T_NC.linear() * Unproject(k, Eigen::Vector2d(r.box.center.x, r.box.center.y)).homogeneous();
     t.bearing_rad = std::atan2(ray_N.y(), ray_N.x());
     // The ground is d = 0 in the home frame (flat ground assumed).

@@ -12,10 +12,9 @@
 
 namespace uav::app {
 
-// The camera frame's pose from the estimate at the frame's time (nullopt when the estimate is
-// not from within a control period of it: no matching navigation sample).
-std::optional<Eigen::Isometry3d> EstimatedCameraPose(const hal::VehicleEstimate& estimate, int64_t frame_utime,
-                                                     const Eigen::Isometry3d& T_BC);
+// The estimate is from within a control period of the frame (else there is no navigation sample
+// matching it).
+bool EstimateMatchesFrame(const hal::VehicleEstimate& estimate, int64_t frame_utime);
 // Shares `image` with MDEPTH when it wants this camera's frames, with the camera pose and the
 // vehicle's velocity from the estimate (when it matches the frame's time).
 void ShareFrame(Blackboard& board, const BlackboardData& d, const std::string& camera, int64_t utime, const cv::Mat& image,

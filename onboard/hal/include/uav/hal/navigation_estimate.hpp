@@ -20,6 +20,12 @@ struct VehicleEstimate {
   Eigen::Vector3d w_B = Eigen::Vector3d::Zero();  // [rad/s]
   Eigen::Vector3d f_B = Eigen::Vector3d::Zero();  // [m/s^2] specific force
   double altitude() const { return -p_N.z(); }    // [m] above home
+  Eigen::Isometry3d T_NB() const {                // body pose in local NED
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = q_NB.toRotationMatrix();
+    T.translation() = p_N;
+    return T;
+  }
 };
 
 }  // namespace uav::hal
