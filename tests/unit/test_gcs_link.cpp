@@ -10,6 +10,7 @@
 
 #include "uav/gcs/gcs_link.hpp"
 #include "uav/gcs/log_replay.hpp"
+#include "uav/gcs/script.hpp"
 #include "uav/shared/bus.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/sha256.hpp"
@@ -21,6 +22,7 @@
 #include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/map_tile_t.hpp"
+#include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/obstacles_t.hpp"
 #include "uavmsg/point_cloud_t.hpp"
 #include "uavmsg/power_lines_t.hpp"
@@ -412,6 +414,76 @@ TEST_F(LinkTest, ObstaclesAndPointCloudReachTheModelAndStaleOnesAreNotDrawn) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("point arrays do not match"), std::string::npos) << e.what();
   }
+}
+
+uavmsg::mono_depth_t DepthMsg(int64_t seq, const std::string& camera, bool healthy) {
+  DepthGrid g;
+  g.utime = seq * 100000;
+  g.camera = camera;
+  g.rows = 3;
+  g.cols = 4;
+  g.obstacle_depth_m = 10;
+  g.healthy = healthy;
+  g.reason = healthy ? "" : "no navigation sample for this frame";
+  g.cells.resize(12);
+  if (healthy) {
+    for (int c = 0; c < 12; ++c) g.cells[c] = {CellState::kFree, 20.0 + c, 0.3, 10, 0.9, ""};
+    g.cells[5] = {CellState::kObstacle, 7.5, 0.1, 12, 0.9, ""};
+    g.cells[11] = {CellState::kUnknown, 0, 0, 1, 0, "1 converged features (3 needed)"};
+  } else {
+    for (auto& c : g.cells) c.reason = g.reason;
+  }
+  uavmsg::mono_depth_t m = ToMessage(g);
+  m.header = {"UAV1", seq};
+  return m;
+}
+
+// Depth from motion: the grid reaches the model, every cell is a plottable DEPTH signal (0 while
+// unknown), the grid is offered for drawing only over the video of its own camera and while
+// fresh, and the channel turning unavailable and back is said once each.
+TEST_F(LinkTest, DepthGridReachesTheModelThePlotsAndTheVideoOfItsCamera) {
+  uavmsg::video_frame_t vf{};
+  vf.header = {"UAV1", 1};
+  vf.camera = "downward";
+  vf.width = 32, vf.height = 24, vf.source_width = 640, vf.source_height = 480;
+  vf.jpeg = Jpeg(32, 24);
+  vf.size = static_cast<int32_t>(vf.jpeg.size());
+  bus_.Publish("UAV1/VIDEO", vf);
+  bus_.Publish("UAV1/MONO_DEPTH", DepthMsg(1, "downward", true));
+  Poll();
+  const VehicleModel& v = model_.vehicles().at("UAV1");
+  const DepthGrid* g = v.DepthGridOver(v.video, now_, model_.obstacles().params());
+  ASSERT_NE(g, nullptr) << link_.last_drop_reason();
+  EXPECT_EQ(g->at(1, 1).state, CellState::kObstacle);
+  EXPECT_EQ(g->at(2, 3).reason, "1 converged features (3 needed)");
+  EXPECT_NEAR(*v.Latest(*FindSignal("DEPTH.r1c1")), 7.5, 1e-6);
+  EXPECT_NEAR(*v.Latest(*FindSignal("DEPTH.r0c2")), 22.0, 1e-6);
+  EXPECT_EQ(*v.Latest(*FindSignal("DEPTH.r2c3")), 0.0);  // unknown
+  const std::vector<std::string> known = {"depth.known", ">=", "11"}, obstacles = {"depth.obstacles", "==", "1"};
+  EXPECT_TRUE(EvaluateCondition(known, model_, now_).holds);
+  EXPECT_TRUE(EvaluateCondition(obstacles, model_, now_).holds);
+  EXPECT_EQ(v.DepthGridOver(v.video, now_ + 3.0, model_.obstacles().params()), nullptr);  // stale
+  // A grid from another camera is not drawn over this one's video.
+  bus_.Publish("UAV1/MONO_DEPTH", DepthMsg(2, "gimbal", true));
+  Poll();
+  EXPECT_EQ(v.DepthGridOver(v.video, now_, model_.obstacles().params()), nullptr);
+  EXPECT_FALSE(EvaluateCondition(obstacles, model_, now_).holds);
+  bus_.Publish("UAV1/MONO_DEPTH", DepthMsg(3, "downward", false));
+  bus_.Publish("UAV1/MONO_DEPTH", DepthMsg(4, "downward", false));
+  Poll();
+  int said = 0;
+  for (const auto& l : model_.log().lines()) said += l.text == "depth from motion unavailable: no navigation sample for this frame";
+  EXPECT_EQ(said, 1);
+  EXPECT_EQ(v.DepthGridOver(v.video, now_, model_.obstacles().params())->at(0, 0).state, CellState::kUnknown);
+  bus_.Publish("UAV1/MONO_DEPTH", DepthMsg(5, "downward", true));
+  Poll();
+  EXPECT_EQ(model_.log().lines().back().text, "depth from motion available again");
+  // A malformed grid is dropped naming the cell.
+  auto bad = DepthMsg(6, "downward", true);
+  bad.depth_m[4] = NAN;
+  bus_.Publish("UAV1/MONO_DEPTH", bad);
+  Poll();
+  EXPECT_NE(link_.last_drop_reason().find("cell 4: depth or sigma is not a finite"), std::string::npos) << link_.last_drop_reason();
 }
 
 TEST_F(LinkTest, MismatchedVehicleIdsAndGarbageAreDroppedAndCounted) {

@@ -136,6 +136,15 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
     if (what != "signals" && what != "right") return false;
     return *num = n, true;
   }
+  // Depth from motion over the live video: its cells known, and those that are obstacles.
+  if (name == "depth.known" || name == "depth.obstacles") {
+    const DepthGrid* g = v ? v->DepthGridOver(v->video, now, m.obstacles().params()) : nullptr;
+    int n = 0;
+    if (g)
+      for (const DepthCell& c : g->cells)
+        n += name == "depth.known" ? c.state != CellState::kUnknown : c.state == CellState::kObstacle;
+    return *num = n, true;
+  }
   if (name == "video.frozen") return *num = m.video().frozen() ? 1.0 : 0.0, true;
   if (name == "track.sent") return *num = v ? static_cast<double>(v->track_targets_sent) : 0.0, true;
   if (name.rfind("track.", 0) == 0) {

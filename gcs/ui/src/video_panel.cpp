@@ -203,7 +203,7 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
   }
   // Depth from motion (thesis 3.4, Fig. 3.11): the grid over the picture, each cell's depth and
   // state (red obstacle, green free, grey unknown with its reason on hover).
-  if (const DepthGrid* grid = v->FreshDepthGrid(ctx.now, model.obstacles().params()); grid && grid->camera == feed.camera) {
+  if (const DepthGrid* grid = v->DepthGridOver(feed, ctx.now, model.obstacles().params())) {
     const ImVec2 mouse = ImGui::GetIO().MousePos;
     for (int r = 0; r < grid->rows; ++r)
       for (int c = 0; c < grid->cols; ++c) {

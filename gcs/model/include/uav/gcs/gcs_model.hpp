@@ -21,6 +21,12 @@ namespace uav::gcs {
 // One vehicle as the GCS knows it: each concern's per-vehicle part.
 struct VehicleModel : VehicleTelemetry, VehicleVideo, VehicleMaps, VehicleMission, VehiclePowerLines, VehicleObstacles {
   std::string id;
+  // The depth-from-motion grid drawn over `feed` (the live video or a frozen frame): fresh, and
+  // computed on that feed's camera.
+  const DepthGrid* DepthGridOver(const VideoFeed& feed, double now, const ObstacleReportParams& p) const {
+    const DepthGrid* g = FreshDepthGrid(now, p);
+    return g && g->camera == feed.camera ? g : nullptr;
+  }
 };
 
 class GcsModel {
