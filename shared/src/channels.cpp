@@ -25,6 +25,7 @@ const char* TopicName(Topic t) {
     case Topic::kObstacles: return "OBSTACLES";
     case Topic::kPointCloud: return "POINT_CLOUD";
     case Topic::kMonoDepth: return "MONO_DEPTH";
+    case Topic::kActiveStereo: return "ACTIVE_STEREO";
   }
   return "UNKNOWN";
 }

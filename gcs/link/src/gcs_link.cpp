@@ -10,6 +10,7 @@
 #include "uav/shared/power_lines.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/waypoints/mission_messages.hpp"
+#include "uavmsg/active_stereo_t.hpp"
 #include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
@@ -146,6 +147,10 @@ const std::map<Topic, Decoder>& Decoders() {
       {Topic::kMonoDepth,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
          model.OnDepthGrid(id, FromMessage(Decode<uavmsg::mono_depth_t>(d, n, id)), now);
+       }},
+      {Topic::kActiveStereo,
+       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
+         model.OnActiveStereo(id, FromMessage(Decode<uavmsg::active_stereo_t>(d, n, id)), now);
        }},
       {Topic::kPointCloud,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {

@@ -95,6 +95,12 @@ void GcsModel::OnDepthGrid(const std::string& vehicle_id, DepthGrid grid, double
   obstacles_.OnDepthGrid(v, vehicle_id, std::move(grid), now, log_);
 }
 
+void GcsModel::OnActiveStereo(const std::string& vehicle_id, ActiveStereoReport report, double now) {
+  VehicleModel& v = Vehicle(vehicle_id);
+  OnActiveStereoTelemetry(v, report, now);
+  obstacles_.OnActiveStereo(v, vehicle_id, std::move(report), now, log_);
+}
+
 void GcsModel::OnPointCloud(const std::string& vehicle_id, PointCloud cloud, double now) {
   obstacles_.OnPointCloud(Vehicle(vehicle_id), std::move(cloud), now);
 }

@@ -27,6 +27,13 @@ void ObstacleReports::OnDepthGrid(VehicleObstacles& v, const std::string& vehicl
   v.depth_grid_at = now;
 }
 
+void ObstacleReports::OnActiveStereo(VehicleObstacles& v, const std::string& vehicle_id, ActiveStereoReport r, double now,
+                                     MessageLog& log) const {
+  LogAvailability(r.healthy, &v.active_stereo_unhealthy, "active stereo height", r.reason, vehicle_id, now, log);
+  v.active_stereo = std::move(r);
+  v.active_stereo_at = now;
+}
+
 void ObstacleReports::OnPointCloud(VehicleObstacles& v, PointCloud c, double now) const {
   v.cloud = std::move(c);
   v.cloud_at = now;

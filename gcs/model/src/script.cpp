@@ -145,6 +145,11 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
         n += name == "depth.known" ? c.state != CellState::kUnknown : c.state == CellState::kObstacle;
     return *num = n, true;
   }
+  // Active stereo over the live video: its dots and clusters (0 when none is drawn).
+  if (name == "asv.points" || name == "asv.clusters") {
+    const ActiveStereoReport* r = v ? v->ActiveStereoOver(v->video, now, m.obstacles().params()) : nullptr;
+    return *num = !r ? 0.0 : name == "asv.points" ? static_cast<double>(r->dots.size()) : static_cast<double>(r->clusters.size()), true;
+  }
   if (name == "video.frozen") return *num = m.video().frozen() ? 1.0 : 0.0, true;
   if (name == "track.sent") return *num = v ? static_cast<double>(v->track_targets_sent) : 0.0, true;
   if (name.rfind("track.", 0) == 0) {

@@ -52,6 +52,23 @@ const std::vector<Signal<DepthGrid>>& DepthSignals() {
   return k;
 }
 
+// Active stereo: the height over the ground cluster (0 while there is none), its standard
+// error, and the dot counts behind it.
+const std::vector<Signal<ActiveStereoReport>>& ActiveStereoSignals() {
+  using F = SignalFormat;
+  using R = ActiveStereoReport;
+  static const std::vector<Signal<R>> k = {
+      {{"height", "height_m", "m", "over the ground, 0 none", F::kMetres}, [](const R& r) { return r.height_m; }},
+      {{"height_sigma", "height_sigma_m", "m", "", F::kMetres}, [](const R& r) { return r.height_sigma_m; }},
+      {{"points", "points", "1", "", F::kInteger}, [](const R& r) { return double(r.dots.size()); }},
+      {{"left_dots", "left_dots", "1", "", F::kInteger}, [](const R& r) { return double(r.left_dots); }},
+      {{"right_dots", "right_dots", "1", "", F::kInteger}, [](const R& r) { return double(r.right_dots); }},
+      {{"ambiguous", "ambiguous", "1", "", F::kInteger}, [](const R& r) { return double(r.ambiguous); }},
+      {{"clusters", "clusters", "1", "", F::kInteger}, [](const R& r) { return double(r.clusters.size()); }},
+  };
+  return k;
+}
+
 template <class T>
 std::vector<SignalDef> Defs(const std::vector<Signal<T>>& table) {
   std::vector<SignalDef> out;
@@ -91,6 +108,7 @@ std::string_view GroupName(SignalGroupId g) {
     case SignalGroupId::kHeartbeat: return "HEARTBEAT";
     case SignalGroupId::kTrack: return "TRACK";
     case SignalGroupId::kDepth: return "DEPTH";
+    case SignalGroupId::kActiveStereo: return "ASTEREO";
   }
   return "?";
 }
@@ -100,11 +118,13 @@ const std::vector<SignalDef>& GroupSignals(SignalGroupId g) {
   static const std::vector<SignalDef> kHeartbeat = Defs(HeartbeatSignals());
   static const std::vector<SignalDef> kTrack = Defs(TrackSignals());
   static const std::vector<SignalDef> kDepth = Defs(DepthSignals());
+  static const std::vector<SignalDef> kActiveStereo = Defs(ActiveStereoSignals());
   switch (g) {
     case SignalGroupId::kState: return kState;
     case SignalGroupId::kHeartbeat: return kHeartbeat;
     case SignalGroupId::kTrack: return kTrack;
     case SignalGroupId::kDepth: return kDepth;
+    case SignalGroupId::kActiveStereo: return kActiveStereo;
   }
   return kState;
 }
@@ -190,6 +210,12 @@ void OnDepthTelemetry(VehicleTelemetry& v, const DepthGrid& g, double now) {
   SignalGroup& group = v.groups[static_cast<int>(SignalGroupId::kDepth)];
   Receipt(v, group, group.last_seq + 1, now);  // mono_depth_t's own sequence is not kept
   Store(v, group, DepthSignals(), g, g.utime * 1e-6);
+}
+
+void OnActiveStereoTelemetry(VehicleTelemetry& v, const ActiveStereoReport& r, double now) {
+  SignalGroup& group = v.groups[static_cast<int>(SignalGroupId::kActiveStereo)];
+  Receipt(v, group, group.last_seq + 1, now);  // active_stereo_t's own sequence is not kept
+  Store(v, group, ActiveStereoSignals(), r, r.utime * 1e-6);
 }
 
 }  // namespace uav::gcs

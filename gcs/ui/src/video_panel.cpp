@@ -223,6 +223,19 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
           ImGui::SetTooltip("%s", grid->healthy ? cell.reason.c_str() : grid->reason.c_str());
       }
   }
+  // Active stereo (thesis ch. 4): each triangulated laser dot, green on the ground cluster the
+  // height is measured to, orange on a nearer cluster (a table, a wall, a ledge), and the height.
+  if (const ActiveStereoReport* as = v->ActiveStereoOver(feed, ctx.now, model.obstacles().params())) {
+    for (const LaserDotReport& d : as->dots) {
+      const bool ground = d.cluster < static_cast<int>(as->clusters.size()) && as->clusters[d.cluster].ground;
+      dl->AddCircle(to_screen(d.u, d.v), 4.0f, ground ? IM_COL32(90, 230, 110, 230) : IM_COL32(255, 160, 40, 230), 0, 1.5f);
+    }
+    char label[96];
+    if (as->healthy) std::snprintf(label, sizeof label, "height %.2f m (%zu dots, %zu clusters)", as->height_m, as->dots.size(), as->clusters.size());
+    else std::snprintf(label, sizeof label, "no height: %s", as->reason.c_str());
+    const ImVec2 at = to_screen(0.02, 0.02);
+    dl->AddText(at, as->healthy ? IM_COL32(90, 230, 110, 255) : IM_COL32(255, 90, 90, 255), label);
+  }
   // Stereo obstacles (thesis 3.5) as boxes around their projected cylinders, labelled with the
   // horizontal distance to their surface.
   if (const Obstacles* obstacles = v->FreshObstacles(ctx.now, model.obstacles().params());

@@ -9,6 +9,7 @@
 #include "uavmsg/file_offer_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/map_tile_t.hpp"
+#include "uavmsg/active_stereo_t.hpp"
 #include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/obstacles_t.hpp"
 #include "uavmsg/point_cloud_t.hpp"
@@ -156,6 +157,21 @@ class MonoDepthTranslator : public Translator {
   LinkContext& c_;
 };
 
+// ASTEREO's newest report.
+class ActiveStereoTranslator : public Translator {
+ public:
+  explicit ActiveStereoTranslator(LinkContext& c) : c_(c) {}
+  void Tick(int64_t) override {
+    if (auto report = c_.board.TakeActiveStereo()) {
+      uavmsg::active_stereo_t m = ToMessage(*report);
+      c_.Publish(Topic::kActiveStereo, m);
+    }
+  }
+
+ private:
+  LinkContext& c_;
+};
+
 class ObstaclesTranslator : public Translator {
  public:
   explicit ObstaclesTranslator(LinkContext& c) : c_(c) {}
@@ -248,6 +264,7 @@ std::unique_ptr<Translator> MakeTrackStatusTranslator(LinkContext& c) { return s
 std::unique_ptr<Translator> MakePowerLinesTranslator(LinkContext& c) { return std::make_unique<PowerLinesTranslator>(c); }
 std::unique_ptr<Translator> MakeObstaclesTranslator(LinkContext& c) { return std::make_unique<ObstaclesTranslator>(c); }
 std::unique_ptr<Translator> MakeMonoDepthTranslator(LinkContext& c) { return std::make_unique<MonoDepthTranslator>(c); }
+std::unique_ptr<Translator> MakeActiveStereoTranslator(LinkContext& c) { return std::make_unique<ActiveStereoTranslator>(c); }
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c) { return std::make_unique<MapTileTranslator>(c); }
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files) {
   return std::make_unique<FileTransferTranslator>(c, files);

@@ -66,6 +66,7 @@ std::unique_ptr<Translator> MakeVideoTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakePowerLinesTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeObstaclesTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeMonoDepthTranslator(LinkContext& c);
+std::unique_ptr<Translator> MakeActiveStereoTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeTrackStatusTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files);

@@ -12,6 +12,7 @@
 #include "uav/app/camera_worker.hpp"
 #include "uav/app/link_worker.hpp"
 #include "uav/app/mission_store.hpp"
+#include "uav/app/active_stereo_worker.hpp"
 #include "uav/app/stereo_worker.hpp"
 #include "uav/app/stitch_worker.hpp"
 #include "uav/app/mono_depth_worker.hpp"
@@ -128,6 +129,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<uav::sim::SimStereoCamera> stereo_camera;
     std::unique_ptr<uav::app::CameraWorker> cam;
     std::unique_ptr<uav::app::StereoWorker> stereo;
+    std::unique_ptr<uav::app::ActiveStereoWorker> active_stereo;
     std::unique_ptr<uav::app::StitchWorker> stitch;
     std::unique_ptr<uav::sim::SimGimbalCamera> gimbal_camera;
     std::unique_ptr<uav::app::TrackWorker> trk;
@@ -167,11 +169,15 @@ int main(int argc, char** argv) {
         mdepth = std::make_unique<uav::app::MonoDepthWorker>(downward_camera->info(), board, mdp.estimator);
       if (mdp.camera == 2 && gimbal_camera)
         mdepth = std::make_unique<uav::app::MonoDepthWorker>(gimbal_camera->info(), board, mdp.estimator);
-      if (scene->stereo_camera())
-      {
+      // The stereo pair: passive (obstacles and wires ahead) or, with asv_enable, the downward
+      // active rig whose laser dots give the height.
+      if (scene->stereo_camera()) {
         stereo_camera = std::make_unique<uav::sim::SimStereoCamera>(*scene, *scene->stereo_camera(), truth_T_NB);
-        stereo = std::make_unique<uav::app::StereoWorker>(*stereo_camera, board,
-                                                          uav::app::StereoWorkerParams::FromParameters(params));
+        const auto asv = uav::app::ActiveStereoWorkerParams::FromParameters(params);
+        if (asv.enabled) active_stereo = std::make_unique<uav::app::ActiveStereoWorker>(*stereo_camera, board, asv);
+        else
+          stereo = std::make_unique<uav::app::StereoWorker>(*stereo_camera, board,
+                                                            uav::app::StereoWorkerParams::FromParameters(params));
       }
     }
 
@@ -195,6 +201,9 @@ int main(int argc, char** argv) {
     if (stereo)
       scheduler.AddWorker("STEREO", 2, camera_period(stereo_camera->left().rate_hz),
                           [&](int64_t t) { stereo->Tick(t); });
+    if (active_stereo)
+      scheduler.AddWorker("ASTEREO", 2, camera_period(stereo_camera->left().rate_hz),
+                          [&](int64_t t) { active_stereo->Tick(t); });
 
     std::thread signal_waiter([&] {
       int sig = 0;
@@ -213,6 +222,9 @@ int main(int argc, char** argv) {
     if (cam) cameras += ", " + std::to_string(cam->captures()) + " survey images captured, " +
                         std::to_string(cam->previews()) + " previews";
     if (stereo) cameras += ", " + std::to_string(stereo->frames()) + " stereo pairs";
+    if (active_stereo)
+      cameras += ", " + std::to_string(active_stereo->frames()) + " active stereo pairs (" +
+                 std::to_string(active_stereo->unhealthy()) + " without a height)";
     if (trk) cameras += ", " + std::to_string(trk->frames()) + " gimbal frames";
     if (stitch && stitch->maps_written() > 0) cameras += ", map " + stitch->last_map() + ".tif";
     std::printf("uav-onboard: stopped after %.1f s simulated%s\n", (scheduler.now() - start) * 1e-6, cameras.c_str());

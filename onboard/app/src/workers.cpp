@@ -8,8 +8,13 @@ namespace uav::app {
 
 void ImuWorker::Tick(int64_t utime) {
   const hal::SensorSample s = backend_.ReadSensors();
+  const BlackboardData before = board_.Snapshot();
+  if (before.vision_height && before.vision_height->utime > vision_height_utime_) {
+    vision_height_utime_ = before.vision_height->utime;
+    ins_.QueueHeight(before.vision_height->height_m, before.vision_height->sigma_m);
+  }
   // Standing on the ground (not yet taken off, or landed) is a measurement too.
-  ins_.Update(s, !board_.Snapshot().airborne);
+  ins_.Update(s, !before.airborne);
   const hal::VehicleEstimate e = ins_.estimate();
   board_.Update([&](BlackboardData& d) {
     d.sample = s;

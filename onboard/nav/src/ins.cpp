@@ -204,6 +204,12 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
     if (!Correct(height - (-p_N_.z()), -unit(kP + 2), p_.sonar_noise * p_.sonar_noise + 0.01 * 0.01, 5.0))
       ++health_.sonar_rejected;
   }
+  if (queued_height_) {
+    const auto [height, sigma] = *queued_height_;
+    queued_height_.reset();
+    if (Correct(height - (-p_N_.z()), -unit(kP + 2), sigma * sigma + 0.01 * 0.01, 5.0)) ++health_.vision_height_used;
+    else ++health_.vision_height_rejected;
+  }
   // Magnetic heading.
   if (mag_ok) {
     const EulerAngles e = EulerFromRotationNB(q_NB_.toRotationMatrix());
@@ -236,6 +242,14 @@ void Ins::Publish(const hal::SensorSample& s) {
   estimate_.euler = EulerFromRotationNB(q_NB_.toRotationMatrix());
   estimate_.w_B = s.gyro_B - bg_;
   estimate_.f_B = s.accel_B - ba_;
+}
+
+void Ins::QueueHeight(double height_m, double sigma_m) {
+  if (!std::isfinite(height_m) || !std::isfinite(sigma_m) || height_m <= 0 || sigma_m < 0) {
+    ++health_.vision_height_rejected;
+    return;
+  }
+  queued_height_ = std::make_pair(height_m, sigma_m);
 }
 
 }  // namespace uav::nav

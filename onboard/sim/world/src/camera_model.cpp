@@ -29,7 +29,9 @@ Eigen::Vector3d LaserEmitter::BeamDirection(int i) const {
   const double ax = (c - (cols - 1) / 2.0) * pitch_rad;
   const double ay = (r - (rows - 1) / 2.0) * pitch_rad;
   // A diffraction grating spreads the orders evenly in the tangent of the angle.
-  return Eigen::Vector3d(std::tan(ax), std::tan(ay), 1.0).normalized();
+  const double cr = std::cos(roll_rad), sr = std::sin(roll_rad);
+  const double tx = std::tan(ax), ty = std::tan(ay);
+  return Eigen::Vector3d(cr * tx - sr * ty, sr * tx + cr * ty, 1.0).normalized();
 }
 
 StereoSetup MakeStereoSetup(const CameraSetup& camera, const Eigen::Isometry3d& T_B_rig,

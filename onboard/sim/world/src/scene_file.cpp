@@ -462,6 +462,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
           laser.cols = rd.Integer(l, lp, "cols", 1, 100, laser.cols);
           laser.pitch_rad = rd.Number(l, lp, "pitch_deg", 0.01, 10, laser.pitch_rad * 180 / M_PI) * M_PI / 180;
           laser.intensity = rd.Number(l, lp, "intensity", 1, 1000, laser.intensity);
+          laser.roll_rad = rd.Number(l, lp, "roll_deg", -90, 90, 0) * M_PI / 180;
         }
         scene.SetStereoCamera(MakeStereoSetup(c, T_B_rig, rd.Number(j, p, "baseline_m", 0.01, 2, 0.12), laser));
       }

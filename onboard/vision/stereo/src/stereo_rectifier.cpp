@@ -66,6 +66,7 @@ RectifiedGeometry RectifiedGeometry::OfRectifiedPair(int width, int height, doub
 struct StereoRectifier::Impl {
   RectifiedGeometry geometry;
   cv::Mat map_lx, map_ly, map_rx, map_ry;
+  cv::Mat K1, D1, R1, P1, K2, D2, R2, P2;
 };
 
 StereoRectifier::StereoRectifier(const StereoRig& rig) : impl_(std::make_unique<Impl>()) {
@@ -89,6 +90,7 @@ StereoRectifier::StereoRectifier(const StereoRig& rig) : impl_(std::make_unique<
   Require(std::abs(P2.at<double>(1, 3)) < 1e-9,
           "the baseline is vertical in the image; mount the pair side by side along the image x axis");
   Impl& m = *impl_;
+  m.K1 = K1, m.D1 = D1, m.R1 = R1, m.P1 = P1, m.K2 = K2, m.D2 = D2, m.R2 = R2, m.P2 = P2;
   cv::initUndistortRectifyMap(K1, D1, R1, P1, size, CV_32FC1, m.map_lx, m.map_ly);
   cv::initUndistortRectifyMap(K2, D2, R2, P2, size, CV_32FC1, m.map_rx, m.map_ry);
   RectifiedGeometry& g = m.geometry;
@@ -108,6 +110,15 @@ StereoRectifier::~StereoRectifier() = default;
 StereoRectifier::StereoRectifier(StereoRectifier&&) noexcept = default;
 
 const RectifiedGeometry& StereoRectifier::geometry() const { return impl_->geometry; }
+
+std::vector<cv::Point2f> StereoRectifier::RectifyPoints(const std::vector<cv::Point2f>& raw_px, Side side) const {
+  std::vector<cv::Point2f> out;
+  if (raw_px.empty()) return out;
+  const Impl& m = *impl_;
+  if (side == Side::kLeft) cv::undistortPoints(raw_px, out, m.K1, m.D1, m.R1, m.P1);
+  else cv::undistortPoints(raw_px, out, m.K2, m.D2, m.R2, m.P2);
+  return out;
+}
 
 void StereoRectifier::CheckPair(const cv::Mat& left, const cv::Mat& right) const {
   const RectifiedGeometry& g = impl_->geometry;

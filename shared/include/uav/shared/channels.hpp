@@ -24,7 +24,8 @@ enum class Topic {
   kPowerLines,
   kObstacles,
   kPointCloud,
-  kMonoDepth
+  kMonoDepth,
+  kActiveStereo
 };
 
 const char* TopicName(Topic t);

@@ -27,6 +27,11 @@ struct VehicleModel : VehicleTelemetry, VehicleVideo, VehicleMaps, VehicleMissio
     const DepthGrid* g = FreshDepthGrid(now, p);
     return g && g->camera == feed.camera ? g : nullptr;
   }
+  // The active stereo dots drawn over `feed`: fresh, and found in that feed's camera.
+  const ActiveStereoReport* ActiveStereoOver(const VideoFeed& feed, double now, const ObstacleReportParams& p) const {
+    const ActiveStereoReport* r = FreshActiveStereo(now, p);
+    return r && r->camera == feed.camera ? r : nullptr;
+  }
 };
 
 class GcsModel {
@@ -49,6 +54,7 @@ class GcsModel {
   void OnObstacles(const std::string& vehicle_id, Obstacles obstacles, double now);
   void OnPointCloud(const std::string& vehicle_id, PointCloud cloud, double now);
   void OnDepthGrid(const std::string& vehicle_id, DepthGrid grid, double now);
+  void OnActiveStereo(const std::string& vehicle_id, ActiveStereoReport report, double now);
 
   // ---- Operator actions on the selected vehicle (false: error() of the concern says why).
   void SelectVehicle(const std::string& id);

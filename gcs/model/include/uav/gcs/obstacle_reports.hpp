@@ -7,6 +7,7 @@
 #include <string>
 
 #include "uav/gcs/message_log.hpp"
+#include "uav/shared/active_stereo.hpp"
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/obstacles.hpp"
 
@@ -27,11 +28,17 @@ struct VehicleObstacles {
   std::optional<DepthGrid> depth_grid;  // depth from motion (thesis 3.4): newest grid
   double depth_grid_at = -1.0;
   bool depth_unhealthy = false;
+  std::optional<ActiveStereoReport> active_stereo;  // laser dots and height (thesis ch. 4): newest
+  double active_stereo_at = -1.0;
+  bool active_stereo_unhealthy = false;
   const Obstacles* FreshObstacles(double now, const ObstacleReportParams& p) const {
     return obstacles && now - obstacles_at <= p.stale_after_s ? &*obstacles : nullptr;
   }
   const DepthGrid* FreshDepthGrid(double now, const ObstacleReportParams& p) const {
     return depth_grid && now - depth_grid_at <= p.stale_after_s ? &*depth_grid : nullptr;
+  }
+  const ActiveStereoReport* FreshActiveStereo(double now, const ObstacleReportParams& p) const {
+    return active_stereo && now - active_stereo_at <= p.stale_after_s ? &*active_stereo : nullptr;
   }
   const PointCloud* FreshCloud(double now, const ObstacleReportParams& p) const {
     return cloud && now - cloud_at <= p.cloud_stale_after_s ? &*cloud : nullptr;
@@ -43,6 +50,7 @@ class ObstacleReports {
   const ObstacleReportParams& params() const { return params_; }
   void OnObstacles(VehicleObstacles& v, const std::string& vehicle_id, Obstacles o, double now, MessageLog& log) const;
   void OnPointCloud(VehicleObstacles& v, PointCloud c, double now) const;
+  void OnActiveStereo(VehicleObstacles& v, const std::string& vehicle_id, ActiveStereoReport r, double now, MessageLog& log) const;
   void OnDepthGrid(VehicleObstacles& v, const std::string& vehicle_id, DepthGrid g, double now, MessageLog& log) const;
 
  private:

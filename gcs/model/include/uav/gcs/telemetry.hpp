@@ -10,14 +10,15 @@
 #include <vector>
 
 #include "uav/gcs/signal_series.hpp"
+#include "uav/shared/active_stereo.hpp"
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/vehicle_state.hpp"
 
 namespace uav::gcs {
 
 // The telemetry tree's groups, one per message.
-enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2, kDepth = 3 };
-inline constexpr int kSignalGroups = 4;
+enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2, kDepth = 3, kActiveStereo = 4 };
+inline constexpr int kSignalGroups = 5;
 std::string_view GroupName(SignalGroupId g);  // "STATE", "HEARTBEAT", "TRACK", "DEPTH"
 const std::vector<SignalDef>& GroupSignals(SignalGroupId g);
 
@@ -103,5 +104,6 @@ void OnHeartbeat(VehicleTelemetry& v, int64_t seq, const HeartbeatInfo& hb, doub
 void OnState(VehicleTelemetry& v, int64_t seq, const VehicleState& s, double now);
 void OnTrackTelemetry(VehicleTelemetry& v, const TrackStatus& st, double now);
 void OnDepthTelemetry(VehicleTelemetry& v, const DepthGrid& g, double now);
+void OnActiveStereoTelemetry(VehicleTelemetry& v, const ActiveStereoReport& r, double now);
 
 }  // namespace uav::gcs

@@ -16,6 +16,7 @@
 #include "uav/control/mixer.hpp"
 #include "uav/control/task_manager.hpp"
 #include "uav/hal/vehicle_backend.hpp"
+#include "uav/shared/active_stereo.hpp"
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/obstacles.hpp"
 #include "uav/shared/power_lines.hpp"
@@ -97,6 +98,13 @@ struct BlackboardData {
   std::string tracking_camera;
   // MDEPTH thread: the camera whose frames it wants shared ("" none).
   std::string depth_camera;
+  // ASTEREO (the STEREO thread with the dot projector): the newest height over the ground for
+  // the INS, when active stereo feeds it; the IMU thread applies each one once (by utime).
+  struct VisionHeight {
+    int64_t utime = 0;
+    double height_m = 0.0, sigma_m = 0.0;
+  };
+  std::optional<VisionHeight> vision_height;
   TrackedTarget target;
 };
 
@@ -229,6 +237,17 @@ class Blackboard {
     depth_grid_.reset();
     return out;
   }
+  // ASTEREO -> CMM: the newest active stereo report replaces one not yet sent.
+  void PutActiveStereo(ActiveStereoReport r) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    active_stereo_ = std::move(r);
+  }
+  std::optional<ActiveStereoReport> TakeActiveStereo() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<ActiveStereoReport> out = std::move(active_stereo_);
+    active_stereo_.reset();
+    return out;
+  }
   // CAM -> STITCH: every capture, in order (a survey frame is never dropped).
   void PushCapture(SurveyCapture c) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -290,6 +309,7 @@ class Blackboard {
   std::optional<PointCloud> point_cloud_;
   std::optional<SharedFrame> frame_;
   std::optional<DepthGrid> depth_grid_;
+  std::optional<ActiveStereoReport> active_stereo_;
   std::deque<SurveyCapture> captures_;
   std::deque<std::pair<std::string, std::string>> downloads_;
   std::map<std::tuple<int, int, int>, LiveTile> tiles_;

@@ -27,6 +27,7 @@ class ImuWorker {
   hal::VehicleBackend& backend_;
   Blackboard& board_;
   nav::Ins ins_;
+  int64_t vision_height_utime_ = 0;  // the last vision height handed to the INS
 };
 
 // CTL: task manager and position/attitude controller.

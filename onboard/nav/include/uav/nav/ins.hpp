@@ -5,6 +5,8 @@
 // height and magnetic heading correct them and estimate the gyro, accelerometer and barometer
 // biases. Plain class, fed plain samples; control reads its estimate, never the truth.
 #include <cstdint>
+#include <optional>
+#include <utility>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -34,6 +36,7 @@ struct InsHealth {
   int sonar_rejected = 0;  // sonar readings refused (an object under the vehicle)
   int imu_rejected = 0;    // IMU samples refused: not finite or beyond the sensor's range
   int other_rejected = 0;  // GPS, barometer, sonar or magnetometer readings that were not finite
+  int vision_height_used = 0, vision_height_rejected = 0;  // QueueHeight's, applied and refused
 };
 
 class Ins {
@@ -45,6 +48,10 @@ class Ins {
   // A sample whose gyro or accelerometer is not finite or beyond the sensor's range (35 rad/s,
   // 16 g) is refused whole; a non-finite slow reading is skipped. The estimate stays finite.
   void Update(const hal::SensorSample& sample, bool at_rest);
+  // A height of the body origin over the ground from vision (active stereo, thesis ch. 4) [m]
+  // with its 1 sigma, applied at the next Update like the sonar's (gated at 5 sigma: a reading off
+  // a table is refused). A non-finite or non-positive one is counted and dropped.
+  void QueueHeight(double height_m, double sigma_m);
 
   hal::VehicleEstimate estimate() const { return estimate_; }
   const InsHealth& health() const { return health_; }
@@ -76,6 +83,7 @@ class Ins {
  public:
   const Matrix& covariance() const { return P_; }
   int64_t last_utime_ = -1, last_gps_utime_ = 0, last_sonar_utime_ = 0;
+  std::optional<std::pair<double, double>> queued_height_;  // height, sigma [m]
   bool has_flown_ = false;  // false until the first sample not at rest
   hal::VehicleEstimate estimate_;
   InsHealth health_;

@@ -28,6 +28,9 @@ struct LaserEmitter {
   double spot_radius_m = 0.002;    // beam radius at the emitter
   double divergence_rad = 0.0008;  // growth of the spot radius per metre of range
   double intensity = 255.0;        // peak added brightness [DN]
+  // The grating turned about the beam axis: a grid square to the image rows puts whole rows of
+  // dots on one epipolar line, where a stereo search cannot tell them apart (thesis 4.3.2).
+  double roll_rad = 0.0;
   int beam_count() const { return enabled ? rows * cols : 0; }
   // Unit direction of beam i (row-major) in the emitter frame (z forward like a camera).
   Eigen::Vector3d BeamDirection(int i) const;

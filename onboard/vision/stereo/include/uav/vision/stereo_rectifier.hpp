@@ -5,9 +5,11 @@
 // algorithm (forward clearance, power lines), so that each one rectifies the same way.
 #include <array>
 #include <memory>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <opencv2/core/mat.hpp>
+#include <opencv2/core/types.hpp>
 
 #include "uav/shared/camera_intrinsics.hpp"
 #include "uav/vision/stereo_error_model.hpp"
@@ -60,6 +62,10 @@ class StereoRectifier {
   // The same checks alone, for algorithms handed an already rectified pair.
   void CheckPair(const cv::Mat& left, const cv::Mat& right) const;
   const RectifiedGeometry& geometry() const;
+  // Raw pixel positions of one camera's image to the rectified image (for sparse features, where
+  // warping the whole image is waste).
+  enum class Side { kLeft, kRight };
+  std::vector<cv::Point2f> RectifyPoints(const std::vector<cv::Point2f>& raw_px, Side side) const;
 
  private:
   struct Impl;

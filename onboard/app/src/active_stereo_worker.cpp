@@ -1,0 +1,57 @@
+#include "uav/app/active_stereo_worker.hpp"
+
+#include <algorithm>
+
+#include "uav/shared/frames.hpp"
+
+namespace uav::app {
+
+ActiveStereoWorkerParams ActiveStereoWorkerParams::FromParameters(const ParameterSet& p) {
+  ActiveStereoWorkerParams a;
+  a.enabled = p.Get("asv_enable") != 0.0;
+  a.to_ins = p.Get("asv_to_ins") != 0.0;
+  a.height_noise_m = p.Get("asv_height_noise");
+  a.stereo.threshold_dn = p.Get("asv_threshold");
+  a.stereo.min_points = static_cast<int>(p.Get("asv_min_points"));
+  a.stereo.Validate();
+  return a;
+}
+
+ActiveStereoWorker::ActiveStereoWorker(hal::StereoCamera& camera, Blackboard& board, const ActiveStereoWorkerParams& params)
+    : camera_(camera),
+      board_(board),
+      params_(params),
+      stereo_({camera.left().intrinsics, camera.right().intrinsics, camera.T_LR()}, params.stereo),
+      preview_(camera.left().name, camera.left().preview_rate_hz) {}
+
+void ActiveStereoWorker::Tick(int64_t utime) {
+  const hal::StereoImages pair = camera_.Capture(utime);
+  const BlackboardData d = board_.Snapshot();
+  const vision::ActiveStereoResult r =
+      stereo_.Process(pair.left, pair.right, camera_.left().T_BC, RotationNBFromEuler(d.estimate.euler));
+  ActiveStereoReport report;
+  report.utime = utime;
+  report.camera = camera_.left().name;
+  report.healthy = r.healthy;
+  report.reason = r.reason;
+  report.height_m = r.healthy ? r.height_m : 0.0;
+  report.height_sigma_m = r.healthy ? r.height_sigma_m : 0.0;
+  report.left_dots = r.left_dots;
+  report.right_dots = r.right_dots;
+  report.ambiguous = r.ambiguous;
+  if (r.healthy) {
+    const double w = std::max(1, pair.left.cols), h = std::max(1, pair.left.rows);
+    for (const vision::LaserPoint& p : r.points) report.dots.push_back({p.left_px.x / w, p.left_px.y / h, p.down_m, p.cluster});
+    for (const vision::PointCluster& c : r.clusters) report.clusters.push_back({c.centre_B, c.down_m, c.spread_m, c.points, c.ground});
+  }
+  board_.PutActiveStereo(report);
+  if (r.healthy && params_.to_ins)
+    board_.Update([&](BlackboardData& b) {
+      b.vision_height = BlackboardData::VisionHeight{utime, r.height_m, std::max(r.height_sigma_m, params_.height_noise_m)};
+    });
+  if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
+  ++frames_;
+  unhealthy_ += !r.healthy;
+}
+
+}  // namespace uav::app
