@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "uav/sim/sim_cameras.hpp"
+#include "uav/app/active_stereo_worker.hpp"
 #include "uav/app/camera_worker.hpp"
 #include "uav/app/stereo_worker.hpp"
 #include "uav/app/track_worker.hpp"
@@ -84,6 +85,39 @@ TEST(StereoWorker, PostsTheObstacleRangeAhead) {
   worker.Tick(1'066'667);
   EXPECT_LT(board.Snapshot().obstacle_range_m, 0.0);
   EXPECT_EQ(worker.frames(), 2);
+}
+
+// The downward active rig over the indoor scene's bare floor at 1.2 m: the height goes to the
+// report and to the INS; over the table, whose top hides the floor from every dot, neither.
+TEST(ActiveStereoWorker, PostsTheHeightForTheLinkAndTheInsAndNoneOverATable) {
+  const world::Scene scene = LoadScene("indoor_active");
+  Blackboard board;
+  Eigen::Isometry3d T_NB = Pose(0.5, -1.5, -1.2);
+  board.Update([&](BlackboardData& d) { d.estimate.p_N = T_NB.translation(); });
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return T_NB; });
+  ActiveStereoWorkerParams params;
+  params.enabled = true;
+  ActiveStereoWorker worker(sim_pair, board, params);
+  worker.Tick(1'000'000);
+  const auto report = board.TakeActiveStereo();
+  ASSERT_TRUE(report);
+  ASSERT_TRUE(report->healthy) << report->reason;
+  EXPECT_NEAR(report->height_m, 1.2, 0.01);
+  EXPECT_GE(report->dots.size(), 50u);
+  EXPECT_EQ(report->camera, "stereo_left");
+  ASSERT_TRUE(board.Snapshot().vision_height);
+  EXPECT_EQ(board.Snapshot().vision_height->utime, 1'000'000);
+  EXPECT_NEAR(board.Snapshot().vision_height->sigma_m, 0.02, 1e-9);  // at least asv_height_noise
+  // The rig over the middle of the first table (2.5, 0.2) at 1.5 m, 0.75 m above its top.
+  T_NB = Pose(2.35, 0.2, -1.5);  // the rig sits 0.15 m ahead of the body origin
+  board.Update([&](BlackboardData& d) { d.estimate.p_N = T_NB.translation(); });
+  worker.Tick(1'066'667);
+  const auto hidden = board.TakeActiveStereo();
+  ASSERT_TRUE(hidden);
+  EXPECT_FALSE(hidden->healthy);
+  EXPECT_NE(hidden->reason.find("the floor is hidden"), std::string::npos) << hidden->reason;
+  EXPECT_EQ(board.Snapshot().vision_height->utime, 1'000'000);  // nothing new for the INS
+  EXPECT_EQ(worker.unhealthy(), 1);
 }
 
 // The power-line scene's rig is rolled 45 degrees (level wires are diagonal to its baseline).

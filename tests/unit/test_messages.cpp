@@ -7,7 +7,9 @@
 
 #include "uav/shared/bus.hpp"
 #include "uav/shared/channels.hpp"
+#include "uav/shared/active_stereo.hpp"
 #include "uav/shared/mono_depth.hpp"
+#include "uavmsg/active_stereo_t.hpp"
 #include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
@@ -85,6 +87,48 @@ TEST(Messages, TruncatedBufferIsRejected) {
   EXPECT_LT(out.decode(buf.data(), 0, static_cast<int>(buf.size()) - 3), 0);
   buf[0] ^= 0xFF;  // corrupt the type fingerprint
   EXPECT_LT(out.decode(buf.data(), 0, static_cast<int>(buf.size())), 0);
+}
+
+TEST(Messages, ActiveStereoRoundTripsThroughBytesAndBadReportsAreRefusedByName) {
+  ActiveStereoReport r;
+  r.utime = 42;
+  r.camera = "stereo_left";
+  r.healthy = true;
+  r.height_m = 1.52;
+  r.height_sigma_m = 0.003;
+  r.left_dots = 220, r.right_dots = 218, r.ambiguous = 4;
+  r.clusters = {{Eigen::Vector3d(0.1, 0.0, 1.5), 1.52, 0.004, 150, true}, {Eigen::Vector3d(0.4, 0.2, 0.8), 0.77, 0.01, 40, false}};
+  r.dots = {{0.2, 0.3, 1.51, 0}, {0.7, 0.6, 0.77, 1}};
+  uavmsg::active_stereo_t m = ToMessage(r);
+  std::vector<uint8_t> bytes(m.getEncodedSize());
+  ASSERT_EQ(m.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  uavmsg::active_stereo_t back;
+  ASSERT_EQ(back.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  const ActiveStereoReport d = FromMessage(back);
+  EXPECT_NEAR(d.height_m, 1.52, 1e-6);
+  ASSERT_EQ(d.dots.size(), 2u);
+  EXPECT_EQ(d.dots[1].cluster, 1);
+  ASSERT_EQ(d.clusters.size(), 2u);
+  EXPECT_TRUE(d.clusters[0].ground);
+  EXPECT_FALSE(d.clusters[1].ground);
+  EXPECT_NEAR(d.clusters[1].centre_B.z(), 0.8, 1e-6);
+  auto refused = [&](const std::function<void(uavmsg::active_stereo_t&)>& spoil, const std::string& why) {
+    uavmsg::active_stereo_t bad = ToMessage(r);
+    spoil(bad);
+    try {
+      FromMessage(bad);
+      ADD_FAILURE() << "accepted: " << why;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  };
+  refused([](auto& b) { b.u.pop_back(); }, "point arrays do not have num_points entries");
+  refused([](auto& b) { b.cluster[0] = 5; }, "point 0: cluster 5 does not exist");
+  refused([](auto& b) { b.down_m[1] = NAN; }, "point 1: a value is not finite");
+  refused([](auto& b) { b.height_m = NAN; }, "height or its sigma is not finite");
+  refused([](auto& b) { b.healthy = false; }, "unhealthy report carries a height or points");
+  refused([](auto& b) { b.height_m = 0; }, "healthy without a positive height");
+  refused([](auto& b) { b.cluster_spread_m[0] = -1; }, "cluster 0: a value is not finite or is negative");
 }
 
 TEST(Messages, MonoDepthRoundTripsThroughBytesAndBadGridsAreRefusedByName) {

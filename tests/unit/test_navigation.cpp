@@ -147,5 +147,35 @@ TEST(Ins, NonFiniteOrOutOfRangeSamplesAreRefusedAndTheEstimateStaysFinite) {
   EXPECT_LT(ins.estimate().v_N.norm(), 0.05);
 }
 
+// Active stereo's height (thesis ch. 4) as a height sensor: used when it agrees, refused by the
+// gate when it reads a table top 0.75 m up, dropped and counted when it is not a number.
+TEST(Ins, VisionHeightIsGatedLikeTheSonar) {
+  const auto params = VehicleFile();
+  sim::SimVehicle vehicle(params, kHome, 0);
+  nav::Ins ins(nav::InsParams::FromParameters(params), kHome);
+  auto run = [&](double seconds) {
+    for (int i = 0; i < seconds * 50; ++i) {
+      for (int k = 0; k < 10; ++k) vehicle.Step(2000);
+      ins.Update(vehicle.ReadSensors(), true);
+    }
+  };
+  run(10);
+  const double truth = std::max(0.0, -vehicle.TruthState().p_N.z());
+  for (int i = 0; i < 20; ++i) {
+    ins.QueueHeight(truth, 0.02);
+    run(0.1);
+  }
+  EXPECT_EQ(ins.health().vision_height_used, 20);
+  ins.QueueHeight(truth + 0.75, 0.02);  // a table under the vehicle
+  run(0.1);
+  EXPECT_EQ(ins.health().vision_height_rejected, 1);
+  ins.QueueHeight(std::nan(""), 0.02);
+  ins.QueueHeight(-1.0, 0.02);
+  run(0.1);
+  EXPECT_EQ(ins.health().vision_height_rejected, 3);
+  EXPECT_EQ(ins.health().vision_height_used, 20);
+  EXPECT_NEAR(-ins.estimate().p_N.z(), truth, 0.05);
+}
+
 }  // namespace
 }  // namespace uav

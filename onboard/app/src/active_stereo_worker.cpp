@@ -27,8 +27,8 @@ ActiveStereoWorker::ActiveStereoWorker(hal::StereoCamera& camera, Blackboard& bo
 void ActiveStereoWorker::Tick(int64_t utime) {
   const hal::StereoImages pair = camera_.Capture(utime);
   const BlackboardData d = board_.Snapshot();
-  const vision::ActiveStereoResult r =
-      stereo_.Process(pair.left, pair.right, camera_.left().T_BC, RotationNBFromEuler(d.estimate.euler));
+  vision::ActiveStereoResult r = stereo_.Process(pair.left, pair.right, camera_.left().T_BC, RotationNBFromEuler(d.estimate.euler));
+  ground_.Apply(&r, d.estimate.p_N.z(), utime);
   ActiveStereoReport report;
   report.utime = utime;
   report.camera = camera_.left().name;

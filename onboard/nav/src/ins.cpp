@@ -245,7 +245,7 @@ void Ins::Publish(const hal::SensorSample& s) {
 }
 
 void Ins::QueueHeight(double height_m, double sigma_m) {
-  if (!std::isfinite(height_m) || !std::isfinite(sigma_m) || height_m <= 0 || sigma_m < 0) {
+  if (!std::isfinite(height_m) || !std::isfinite(sigma_m) || height_m < 0 || sigma_m < 0) {
     ++health_.vision_height_rejected;
     return;
   }

@@ -34,6 +34,7 @@ class ActiveStereoWorker {
   Blackboard& board_;
   ActiveStereoWorkerParams params_;
   vision::ActiveStereo stereo_;
+  vision::GroundTracker ground_;  // the floor's level in N, from pair to pair
   PreviewStream preview_;
   int frames_ = 0;
   int unhealthy_ = 0;

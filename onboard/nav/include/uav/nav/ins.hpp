@@ -50,7 +50,7 @@ class Ins {
   void Update(const hal::SensorSample& sample, bool at_rest);
   // A height of the body origin over the ground from vision (active stereo, thesis ch. 4) [m]
   // with its 1 sigma, applied at the next Update like the sonar's (gated at 5 sigma: a reading off
-  // a table is refused). A non-finite or non-positive one is counted and dropped.
+  // a table is refused). A non-finite or negative one is counted and dropped.
   void QueueHeight(double height_m, double sigma_m);
 
   hal::VehicleEstimate estimate() const { return estimate_; }

@@ -23,7 +23,7 @@ struct ActiveStereoParams {
   double threshold_dn = 60.0;        // a dot pixel is this much brighter than the image's median [DN]
   double min_dot_area_px = 3.0;      // circle fit's area outside these: noise or a reflection, not a dot
   double max_dot_area_px = 300.0;
-  double max_bright_fraction = 0.03; // more of the image above the threshold: too bright to see dots
+  double max_bright_fraction = 0.15; // more of the image above the threshold: glare, too bright to see dots
   double min_disparity_px = 20.0;    // thesis 4.3.2: search 20..150 px left of the left dot ...
   double max_disparity_px = 150.0;
   double row_tolerance_px = 10.0;    // ... and within 10 px of its row
