@@ -130,7 +130,7 @@ TEST_F(ActiveStereoTest, NoSpikeCrossingTablesWallsAndALedge) {
     ActiveStereoResult r = Run(T_NB, nullptr, utime);
     ASSERT_TRUE(r.healthy) << "at x " << x << ": " << r.reason;
     fewest = std::min(fewest, static_cast<int>(r.points.size()));
-    for (const PointCluster& c : r.clusters) with_obstacle_cluster += !c.ground && c.points >= 5 && c.down_m < height - 0.3 ? 1 : 0;
+    for (const DotCluster& c : r.clusters) with_obstacle_cluster += !c.ground && c.points >= 5 && c.down_m < height - 0.3 ? 1 : 0;
     ground.Apply(&r, T_NB.translation().z(), utime);
     trace.push_back({x, height, r.healthy ? r.height_m : 0.0});
     if (!r.healthy) {

@@ -89,6 +89,18 @@ TEST(Messages, TruncatedBufferIsRejected) {
   EXPECT_LT(out.decode(buf.data(), 0, static_cast<int>(buf.size())), 0);
 }
 
+// A message spoiled by `spoil` must be refused by FromMessage with `why` in the error.
+template <class Message>
+void ExpectRefused(Message bad, const std::function<void(Message&)>& spoil, const std::string& why) {
+  spoil(bad);
+  try {
+    FromMessage(bad);
+    ADD_FAILURE() << "accepted: " << why;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+  }
+}
+
 TEST(Messages, ActiveStereoRoundTripsThroughBytesAndBadReportsAreRefusedByName) {
   ActiveStereoReport r;
   r.utime = 42;
@@ -113,14 +125,7 @@ TEST(Messages, ActiveStereoRoundTripsThroughBytesAndBadReportsAreRefusedByName) 
   EXPECT_FALSE(d.clusters[1].ground);
   EXPECT_NEAR(d.clusters[1].centre_B.z(), 0.8, 1e-6);
   auto refused = [&](const std::function<void(uavmsg::active_stereo_t&)>& spoil, const std::string& why) {
-    uavmsg::active_stereo_t bad = ToMessage(r);
-    spoil(bad);
-    try {
-      FromMessage(bad);
-      ADD_FAILURE() << "accepted: " << why;
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
-    }
+    ExpectRefused(ToMessage(r), spoil, why);
   };
   refused([](auto& b) { b.u.pop_back(); }, "point arrays do not have num_points entries");
   refused([](auto& b) { b.cluster[0] = 5; }, "point 0: cluster 5 does not exist");
@@ -157,14 +162,7 @@ TEST(Messages, MonoDepthRoundTripsThroughBytesAndBadGridsAreRefusedByName) {
   EXPECT_EQ(d.at(0, 2).reason, "2 converged features (3 needed)");
   EXPECT_EQ(d.tracked, 200);
   auto refused = [&](const std::function<void(uavmsg::mono_depth_t&)>& spoil, const std::string& why) {
-    uavmsg::mono_depth_t bad = ToMessage(g);
-    spoil(bad);
-    try {
-      FromMessage(bad);
-      ADD_FAILURE() << "accepted: " << why;
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
-    }
+    ExpectRefused(ToMessage(g), spoil, why);
   };
   refused([](auto& b) { b.rows = 2; }, "grid 2x4 with num_cells 12");
   refused([](auto& b) { b.depth_m.pop_back(); }, "cell arrays do not have num_cells entries");

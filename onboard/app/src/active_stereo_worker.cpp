@@ -42,7 +42,7 @@ void ActiveStereoWorker::Tick(int64_t utime) {
   if (r.healthy) {
     const double w = std::max(1, pair.left.cols), h = std::max(1, pair.left.rows);
     for (const vision::LaserPoint& p : r.points) report.dots.push_back({p.left_px.x / w, p.left_px.y / h, p.down_m, p.cluster});
-    for (const vision::PointCluster& c : r.clusters) report.clusters.push_back({c.centre_B, c.down_m, c.spread_m, c.points, c.ground});
+    report.clusters = r.clusters;
   }
   board_.PutActiveStereo(report);
   if (r.healthy && params_.to_ins)

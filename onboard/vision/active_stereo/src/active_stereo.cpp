@@ -70,7 +70,7 @@ void GroundTracker::Apply(ActiveStereoResult* r, double z_N, int64_t utime) {
   // dots beside a table), else the floor is hidden under a surface (a table wider than the dot
   // pattern, a ledge) and there is no height this pair, not a spike.
   bool found = false;
-  for (PointCluster& c : r->clusters) {
+  for (DotCluster& c : r->clusters) {
     c.ground = c.points >= 3 && std::abs(z_N + c.down_m - *floor_N_) <= max_step_m_;
     found |= c.ground;
   }
@@ -86,7 +86,7 @@ void GroundTracker::Apply(ActiveStereoResult* r, double z_N, int64_t utime) {
   if ((utime - candidate_since_) * 1e-6 >= relock_s_) {
     floor_N_ = level;
     candidate_N_.reset();
-    for (PointCluster& c : r->clusters) c.ground = c.points > 0 && std::abs(z_N + c.down_m - level) <= max_step_m_;
+    for (DotCluster& c : r->clusters) c.ground = c.points > 0 && std::abs(z_N + c.down_m - level) <= max_step_m_;
     MeasureGround(r);
     return;
   }
@@ -96,7 +96,7 @@ void GroundTracker::Apply(ActiveStereoResult* r, double z_N, int64_t utime) {
   r->healthy = false;
   r->reason = why;
   r->height_m = r->height_sigma_m = 0.0;
-  for (PointCluster& c : r->clusters) c.ground = false;
+  for (DotCluster& c : r->clusters) c.ground = false;
 }
 
 void ActiveStereoParams::Validate() const {
@@ -248,7 +248,6 @@ ActiveStereoResult ActiveStereo::Process(const cv::Mat& left, const cv::Mat& rig
     out.ambiguous += ambiguous;
     if (j >= 0 && choose(r[j], l, -1.0, &back_ambiguous) == static_cast<int>(i)) match[i] = j;
   }
-  const Eigen::Isometry3d T_LB = T_BL;  // for clarity below: p_B = T_BL p_L
   const Eigen::Matrix3d R_L_rect = m.rectifier.geometry().R_L_rect;
   for (std::size_t i = 0; i < l.size(); ++i) {
     if (match[i] < 0) continue;
@@ -259,7 +258,7 @@ ActiveStereoResult ActiveStereo::Process(const cv::Mat& left, const cv::Mat& rig
     pt.disparity_px = a.x - b.x;
     const Eigen::Vector3d X_rect = TriangulateLinear(m.P_left, m.P_right, {a.x, a.y}, {b.x, b.y});
     pt.p_C = R_L_rect * X_rect;
-    pt.down_m = (R_NB * (T_LB * pt.p_C)).z();
+    pt.down_m = (R_NB * (T_BL * pt.p_C)).z();
     out.points.push_back(pt);
   }
   const int n = static_cast<int>(out.points.size());
@@ -273,7 +272,7 @@ ActiveStereoResult ActiveStereo::Process(const cv::Mat& left, const cv::Mat& rig
   // or a ledge and the floor below, come apart.
   cv::Mat samples(n, 3, CV_32F);
   for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d q = R_NB * (T_LB * out.points[i].p_C);
+    const Eigen::Vector3d q = R_NB * (T_BL * out.points[i].p_C);
     for (int k = 0; k < 3; ++k) samples.at<float>(i, k) = static_cast<float>(q(k));
   }
   std::vector<int> labels;
@@ -297,21 +296,21 @@ ActiveStereoResult ActiveStereo::Process(const cv::Mat& left, const cv::Mat& rig
       if (c[j] > 1 && std::sqrt(std::max(0.0, s2[j] / c[j] - (s[j] / c[j]) * (s[j] / c[j]))) > p.cluster_spread_m) flat = false;
     if (flat || k == p.max_clusters) break;
   }
-  out.clusters.assign(k, PointCluster{});
+  out.clusters.assign(k, DotCluster{});
   for (int i = 0; i < n; ++i) {
-    PointCluster& c = out.clusters[labels[i]];
+    DotCluster& c = out.clusters[labels[i]];
     out.points[i].cluster = labels[i];
-    c.centre_B += T_LB * out.points[i].p_C;
+    c.centre_B += T_BL * out.points[i].p_C;
     c.down_m += out.points[i].down_m;
     ++c.points;
   }
-  for (PointCluster& c : out.clusters)
+  for (DotCluster& c : out.clusters)
     if (c.points) c.centre_B /= c.points, c.down_m /= c.points;
   for (int i = 0; i < n; ++i) {
-    PointCluster& c = out.clusters[labels[i]];
+    DotCluster& c = out.clusters[labels[i]];
     c.spread_m += std::pow(out.points[i].down_m - c.down_m, 2);
   }
-  for (PointCluster& c : out.clusters)
+  for (DotCluster& c : out.clusters)
     if (c.points) c.spread_m = std::sqrt(c.spread_m / c.points);
 
   // The ground: the farthest cluster below with enough points, with any other flat cluster at
@@ -326,7 +325,7 @@ ActiveStereoResult ActiveStereo::Process(const cv::Mat& left, const cv::Mat& rig
     return out;
   }
   const double level = out.clusters[ground].down_m;
-  for (PointCluster& c : out.clusters) c.ground = c.points > 0 && std::abs(c.down_m - level) <= 2 * p.cluster_spread_m;
+  for (DotCluster& c : out.clusters) c.ground = c.points > 0 && std::abs(c.down_m - level) <= 2 * p.cluster_spread_m;
   MeasureGround(&out);
   out.healthy = true;
   return out;

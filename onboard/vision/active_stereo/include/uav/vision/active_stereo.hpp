@@ -15,6 +15,7 @@
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
 
+#include "uav/shared/active_stereo.hpp"
 #include "uav/vision/stereo_rectifier.hpp"
 
 namespace uav::vision {
@@ -47,13 +48,6 @@ struct LaserPoint {
   int cluster = -1;
 };
 
-struct PointCluster {
-  Eigen::Vector3d centre_B = Eigen::Vector3d::Zero();  // [m] body frame (FRD)
-  double down_m = 0.0;               // [m] mean depth below the body origin along gravity
-  double spread_m = 0.0;             // [m] vertical standard deviation
-  int points = 0;
-  bool ground = false;
-};
 
 struct ActiveStereoResult {
   bool healthy = false;              // false: no height, `reason` says why
@@ -61,7 +55,7 @@ struct ActiveStereoResult {
   int left_dots = 0, right_dots = 0; // dots found in each image
   int ambiguous = 0;                 // left dots with more than one candidate (rejected)
   std::vector<LaserPoint> points;    // triangulated
-  std::vector<PointCluster> clusters;
+  std::vector<DotCluster> clusters;  // K-means clusters (shared with the report the vehicle sends)
   double height_m = 0.0;             // [m] of the body origin over the ground cluster, along gravity
   double height_sigma_m = 0.0;       // [m] standard error of that mean
 };
