@@ -1,0 +1,617 @@
+#include "uav/vision/stereo_vo.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include <Eigen/SVD>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+namespace uav::vision {
+namespace {
+
+std::string Format(const char* fmt, double a, double b = 0, double c = 0) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c);
+  return buf;
+}
+
+// Euler angles of the thesis (Eq. 5.30-5.31, z-y-x) and back: the LM's rotation parameters (5.5).
+Eigen::Matrix3d RotationFromEuler(double phi, double theta, double psi) {
+  return (Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+Eigen::Vector3d EulerFromRotation(const Eigen::Matrix3d& r) {
+  return {std::atan2(r(2, 1), r(2, 2)), std::atan2(-r(2, 0), std::hypot(r(2, 1), r(2, 2))), std::atan2(r(1, 0), r(0, 0))};
+}
+
+// One correspondence from the keyframe to the current frame.
+struct Match {
+  int keyframe_index;
+  Eigen::Vector3d p_K;           // triangulated in the keyframe
+  cv::Point2f px_C;              // tracked into the current left image
+  std::optional<Eigen::Vector3d> p_C;  // triangulated in the current frame
+  std::optional<float> u_R;            // the current right image's column on the same row
+};
+
+// Eq. 5.21 for the rigid method: the 3-D residuals, each weighted by its depth's sigma, over the
+// Euler angles and translation (thesis 5.5), with a forward-difference Jacobian.
+class RigidResiduals : public cv::LMSolver::Callback {
+ public:
+  RigidResiduals(const std::vector<Eigen::Vector3d>& P, const std::vector<Eigen::Vector3d>& Q,
+                 const std::vector<double>& inv_sigma)
+      : P_(P), Q_(Q), inv_sigma_(inv_sigma) {}
+  bool compute(cv::InputArray param, cv::OutputArray err, cv::OutputArray J) const override {
+    const cv::Mat x = param.getMat();
+    std::vector<double> e0 = Errors(x);
+    cv::Mat(e0).copyTo(err);
+    if (J.needed()) {
+      J.create(static_cast<int>(e0.size()), 6, CV_64F);
+      cv::Mat Jm = J.getMat();
+      for (int j = 0; j < 6; ++j) {
+        cv::Mat xh = x.clone();
+        const double h = 1e-6;
+        xh.at<double>(j) += h;
+        const std::vector<double> e1 = Errors(xh);
+        for (size_t i = 0; i < e0.size(); ++i) Jm.at<double>(static_cast<int>(i), j) = (e1[i] - e0[i]) / h;
+      }
+    }
+    return true;
+  }
+
+ private:
+  std::vector<double> Errors(const cv::Mat& x) const {
+    const Eigen::Matrix3d R = RotationFromEuler(x.at<double>(0), x.at<double>(1), x.at<double>(2));
+    const Eigen::Vector3d t(x.at<double>(3), x.at<double>(4), x.at<double>(5));
+    std::vector<double> e;
+    e.reserve(3 * P_.size());
+    for (size_t i = 0; i < P_.size(); ++i) {
+      const Eigen::Vector3d r = (R * P_[i] + t - Q_[i]) * inv_sigma_[i];
+      e.insert(e.end(), {r.x(), r.y(), r.z()});
+    }
+    return e;
+  }
+  const std::vector<Eigen::Vector3d>& P_;
+  const std::vector<Eigen::Vector3d>& Q_;
+  const std::vector<double>& inv_sigma_;
+};
+
+// Eq. 5.21 for PnP, in both cameras of the pair: the keyframe's points reprojected into the
+// current left image (u, v) and, where the current pair matched them, into the right one (u; the
+// row is the same after rectification). The right camera's column pins the depth along the motion
+// that a single image leaves free to trade against a rotation. Forward-difference Jacobian (5.5).
+class StereoReprojection : public cv::LMSolver::Callback {
+ public:
+  StereoReprojection(const std::vector<Match>& m, const std::vector<int>& in, double f, double cx, double cy, double b)
+      : m_(m), in_(in), f_(f), cx_(cx), cy_(cy), b_(b) {}
+  bool compute(cv::InputArray param, cv::OutputArray err, cv::OutputArray J) const override {
+    const cv::Mat x = param.getMat();
+    const std::vector<double> e0 = Errors(x);
+    cv::Mat(e0).copyTo(err);
+    if (J.needed()) {
+      J.create(static_cast<int>(e0.size()), 6, CV_64F);
+      cv::Mat Jm = J.getMat();
+      for (int j = 0; j < 6; ++j) {
+        cv::Mat xh = x.clone();
+        const double h = j < 3 ? 1e-7 : 1e-6;
+        xh.at<double>(j) += h;
+        const std::vector<double> e1 = Errors(xh);
+        for (size_t i = 0; i < e0.size(); ++i) Jm.at<double>(static_cast<int>(i), j) = (e1[i] - e0[i]) / h;
+      }
+    }
+    return true;
+  }
+
+ private:
+  std::vector<double> Errors(const cv::Mat& x) const {
+    const Eigen::Matrix3d R = RotationFromEuler(x.at<double>(0), x.at<double>(1), x.at<double>(2));
+    const Eigen::Vector3d t(x.at<double>(3), x.at<double>(4), x.at<double>(5));
+    std::vector<double> e;
+    e.reserve(3 * in_.size());
+    for (int i : in_) {
+      const Match& m = m_[i];
+      const Eigen::Vector3d c = R * m.p_K + t;
+      const double z = std::max(c.z(), 1e-3);
+      e.push_back(f_ * c.x() / z + cx_ - m.px_C.x);
+      e.push_back(f_ * c.y() / z + cy_ - m.px_C.y);
+      if (m.u_R) e.push_back(f_ * (c.x() - b_) / z + cx_ - *m.u_R);
+    }
+    return e;
+  }
+  const std::vector<Match>& m_;
+  const std::vector<int>& in_;
+  double f_, cx_, cy_, b_;
+};
+
+}  // namespace
+
+const char* Name(VoMethod m) {
+  switch (m) {
+    case VoMethod::kPnp: return "pnp";
+    case VoMethod::kEpnp: return "epnp";
+    case VoMethod::kRigid: return "rigid";
+  }
+  return "?";
+}
+
+std::optional<VoMethod> ParseVoMethod(std::string_view name) {
+  for (VoMethod m : {VoMethod::kPnp, VoMethod::kEpnp, VoMethod::kRigid})
+    if (name == Name(m)) return m;
+  return std::nullopt;
+}
+
+void VoParams::Validate() const {
+  auto require = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(std::string("visual odometry parameter ") + what);
+  };
+  require(max_features >= 20 && max_features <= 5000, "max_features must be 20..5000");
+  require(min_distance_px >= 1 && min_distance_px <= 100, "min_distance_px must be 1..100");
+  require(border_px >= 0 && border_px <= 200, "border_px must be 0..200");
+  require(corner_quality > 0 && corner_quality < 1, "corner_quality must be in (0, 1)");
+  require(lk_window_px >= 5 && lk_window_px <= 61 && lk_levels >= 0 && lk_levels <= 6, "LK window 5..61 px, levels 0..6");
+  require(lk_fb_tol_px > 0 && epipolar_tol_px > 0, "tolerances must be positive");
+  require(disparity_sigma_px > 0 && max_depth_error > 0 && max_depth_error < 1, "depth error model out of range");
+  require(min_depth_m > 0, "min_depth_m must be positive");
+  require(ransac_p > 0 && ransac_p < 1 && ransac_initial_outliers >= 0 && ransac_initial_outliers < 1,
+          "RANSAC probabilities must be in (0, 1)");
+  require(ransac_max_iterations >= 1 && ransac_max_iterations <= 100000, "ransac_max_iterations must be 1..100000");
+  require(consensus > 0 && consensus <= 1, "consensus must be in (0, 1]");
+  require(reprojection_tol_px > 0 && rigid_tol_sigma > 0, "inlier tolerances must be positive");
+  require(min_inliers >= 6 && keyframe_min_inliers >= min_inliers, "min_inliers >= 6 and keyframe_min_inliers >= it");
+  require(keyframe_min_fraction > 0 && keyframe_min_fraction < 1, "keyframe_min_fraction must be in (0, 1)");
+  require(max_sync_skew_s >= 0 && max_gap_s > 0 && min_contrast_dn >= 0, "timing and contrast limits");
+}
+
+int RansacIterations(double p, double outliers, int s) {
+  const double inlier_sample = std::pow(1.0 - std::clamp(outliers, 0.0, 1.0), s);
+  if (inlier_sample >= 1.0) return 1;
+  if (inlier_sample <= 0.0) return std::numeric_limits<int>::max();
+  const double n = std::ceil(std::log(1.0 - p) / std::log(1.0 - inlier_sample));  // Eq. 5.20
+  return n > 1e9 ? std::numeric_limits<int>::max() : std::max(1, static_cast<int>(n));
+}
+
+bool RigidMotion(const Eigen::Matrix3Xd& P, const Eigen::Matrix3Xd& Q, const Eigen::VectorXd& w,
+                 Eigen::Isometry3d* T_QP) {
+  const double wsum = w.sum();
+  if (P.cols() < 3 || P.cols() != Q.cols() || w.size() != P.cols() || !(wsum > 0)) return false;
+  // Eq. 5.2-5.4: weighted centroids and centred points; Eq. 5.5-5.6: S = X W Y^T = U Sigma V^T.
+  const Eigen::Vector3d p_bar = P * w / wsum, q_bar = Q * w / wsum;
+  const Eigen::Matrix3Xd X = P.colwise() - p_bar, Y = Q.colwise() - q_bar;
+  const Eigen::Matrix3d S = X * w.asDiagonal() * Y.transpose();
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  // Three points on a line leave two singular values at zero: the rotation about it is free.
+  if (!(svd.singularValues()(1) > 1e-9 * std::max(1.0, svd.singularValues()(0)))) return false;
+  // Eq. 5.7: R = V diag(1, 1, det(V U^T)) U^T (a reflection is not a rotation); Eq. 5.8: t.
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1 : 1;
+  T_QP->setIdentity();
+  T_QP->linear() = svd.matrixV() * D * svd.matrixU().transpose();
+  T_QP->translation() = q_bar - T_QP->linear() * p_bar;
+  return true;
+}
+
+struct StereoVo::Impl {
+  RectifiedGeometry g;
+  VoParams p;
+  cv::Mat K;
+  double max_depth_m = 0;
+  std::mt19937 rng{12345};
+
+  struct Keyframe {
+    cv::Mat last_left;                 // the previous frame's left image, where tracking starts
+    std::vector<cv::Point2f> px;       // left pixels of the points with depth
+    std::vector<Eigen::Vector3d> p_K;  // their positions in the keyframe [m]
+    std::vector<cv::Point2f> last_px;  // where each was last seen (the next frame's LK guess)
+    std::vector<char> alive;
+    Eigen::Isometry3d T_WK = Eigen::Isometry3d::Identity();
+  };
+  std::optional<Keyframe> keyframe;
+  Eigen::Isometry3d T_WC = Eigen::Isometry3d::Identity();
+  int segment = 0;
+  int64_t last_utime = -1;
+
+  double DepthSigma(double z) const { return z * z * p.disparity_sigma_px / (g.f_px * g.baseline_m); }
+
+  cv::Mat Grey(const cv::Mat& m) const {
+    if (m.channels() == 1) return m;
+    cv::Mat g1;
+    cv::cvtColor(m, g1, cv::COLOR_BGR2GRAY);
+    return g1;
+  }
+
+  // Stereo correspondence (thesis 5.2): LK from left to right with a back check, kept on the
+  // rectified row within the epipolar tolerance and in the working range, then triangulated
+  // (Eq. 3.11, the linear triangulation of 4.3.3 for a rectified pair).
+  std::vector<std::optional<Eigen::Vector3d>> Triangulate(const cv::Mat& left, const cv::Mat& right,
+                                                          const std::vector<cv::Point2f>& px_l, int* row_misses,
+                                                          std::vector<float>* u_r = nullptr) const {
+    std::vector<std::optional<Eigen::Vector3d>> out(px_l.size());
+    if (u_r) u_r->assign(px_l.size(), 0.0f);
+    if (px_l.empty()) return out;
+    std::vector<cv::Point2f> px_r = px_l, back;
+    std::vector<uchar> st1, st2;
+    std::vector<float> err;
+    const cv::Size win(p.lk_window_px, p.lk_window_px);
+    // One more pyramid level than frame-to-frame: disparities reach a fifth of the width.
+    // Iterated to a thousandth of a pixel: at the edge of the working range a tenth of a pixel of
+    // disparity is 1 % of the depth.
+    const cv::TermCriteria term(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 50, 0.001);
+    cv::calcOpticalFlowPyrLK(left, right, px_l, px_r, st1, err, win, p.lk_levels + 1, term);
+    back = px_l;
+    cv::calcOpticalFlowPyrLK(right, left, px_r, back, st2, err, win, p.lk_levels + 1, term, cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (size_t i = 0; i < px_l.size(); ++i) {
+      if (!st1[i] || !st2[i] || cv::norm(back[i] - px_l[i]) > p.lk_fb_tol_px) continue;
+      if (std::abs(px_r[i].y - px_l[i].y) > p.epipolar_tol_px) {
+        ++*row_misses;
+        continue;
+      }
+      const double d = px_l[i].x - px_r[i].x;
+      if (!(d > 0)) continue;
+      const double z = g.f_px * g.baseline_m / d;
+      if (z < p.min_depth_m || z > max_depth_m) continue;
+      const double v = 0.5 * (px_l[i].y + px_r[i].y);
+      out[i] = Eigen::Vector3d((px_l[i].x - g.cx) * z / g.f_px, (v - g.cy) * z / g.f_px, z);
+      if (u_r) (*u_r)[i] = px_r[i].x;
+    }
+    return out;
+  }
+
+  // Detects and triangulates a new keyframe; the reason when it has too few points.
+  std::string MakeKeyframe(const cv::Mat& left, const cv::Mat& right, const Eigen::Isometry3d& T_WK) {
+    cv::Mat mask = cv::Mat::zeros(left.size(), CV_8U);
+    const int b = p.border_px;
+    if (left.cols > 2 * b && left.rows > 2 * b) mask(cv::Rect(b, b, left.cols - 2 * b, left.rows - 2 * b)) = 255;
+    std::vector<cv::Point2f> corners;
+    cv::goodFeaturesToTrack(left, corners, p.max_features, p.corner_quality, p.min_distance_px, mask);
+    int row_misses = 0;
+    const auto points = Triangulate(left, right, corners, &row_misses);
+    Keyframe k;
+    k.last_left = left.clone();
+    k.T_WK = T_WK;
+    for (size_t i = 0; i < corners.size(); ++i)
+      if (points[i]) k.px.push_back(corners[i]), k.p_K.push_back(*points[i]);
+    k.last_px = k.px;
+    k.alive.assign(k.px.size(), 1);
+    if (static_cast<int>(k.px.size()) < p.min_inliers) {
+      if (row_misses > static_cast<int>(corners.size()) / 2)
+        return Format("%.0f of %.0f stereo matches leave the epipolar line: a mismatched pair or a calibration that does "
+                      "not fit", row_misses, static_cast<double>(corners.size()));
+      return Format("only %.0f of %.0f features have a depth in the working range (%.1f m)", static_cast<double>(k.px.size()),
+                    static_cast<double>(corners.size()), max_depth_m);
+    }
+    keyframe = std::move(k);
+    return "";
+  }
+
+  Eigen::Vector2d Project(const Eigen::Isometry3d& T_CK, const Eigen::Vector3d& p_K) const {
+    const Eigen::Vector3d c = T_CK * p_K;
+    return {g.f_px * c.x() / c.z() + g.cx, g.f_px * c.y() / c.z() + g.cy};
+  }
+  bool PnpInlier(const Eigen::Isometry3d& T_CK, const Match& m) const {
+    const Eigen::Vector3d c = T_CK * m.p_K;
+    if (!(c.z() > 0)) return false;
+    return (Project(T_CK, m.p_K) - Eigen::Vector2d(m.px_C.x, m.px_C.y)).norm() < p.reprojection_tol_px;
+  }
+  double RigidSigma(const Match& m) const {
+    return std::hypot(DepthSigma(m.p_K.z()), DepthSigma(m.p_C->z())) + 0.005;
+  }
+  bool RigidInlier(const Eigen::Isometry3d& T_CK, const Match& m) const {
+    return (T_CK * m.p_K - *m.p_C).norm() < p.rigid_tol_sigma * RigidSigma(m);
+  }
+  bool Inlier(const Eigen::Isometry3d& T_CK, const Match& m) const {
+    return p.method == VoMethod::kRigid ? RigidInlier(T_CK, m) : PnpInlier(T_CK, m);
+  }
+
+  static Eigen::Isometry3d FromRvecTvec(const cv::Mat& rvec, const cv::Mat& tvec) {
+    cv::Mat R;
+    cv::Rodrigues(rvec, R);
+    Eigen::Matrix3d Re;
+    cv::cv2eigen(R, Re);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Re;
+    T.translation() = Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+    return T;
+  }
+  static void ToRvecTvec(const Eigen::Isometry3d& T, cv::Mat* rvec, cv::Mat* tvec) {
+    cv::Mat R;
+    cv::eigen2cv(Eigen::Matrix3d(T.linear()), R);
+    cv::Rodrigues(R, *rvec);
+    *tvec = (cv::Mat_<double>(3, 1) << T.translation().x(), T.translation().y(), T.translation().z());
+  }
+
+  // The minimal solvers inside RANSAC: 3 points for the rigid method, 4 for P3P (the fourth
+  // picks among its solutions) and for EPnP.
+  int SampleSize() const { return p.method == VoMethod::kRigid ? 3 : 4; }
+  bool SolveSample(const std::vector<Match>& m, const std::vector<int>& idx, Eigen::Isometry3d* T_CK) const {
+    if (p.method == VoMethod::kRigid) {
+      Eigen::Matrix3Xd P(3, idx.size()), Q(3, idx.size());
+      for (size_t i = 0; i < idx.size(); ++i) P.col(i) = m[idx[i]].p_K, Q.col(i) = *m[idx[i]].p_C;
+      return RigidMotion(P, Q, Eigen::VectorXd::Ones(idx.size()), T_CK);
+    }
+    std::vector<cv::Point3d> obj;
+    std::vector<cv::Point2d> img;
+    for (int i : idx) obj.emplace_back(m[i].p_K.x(), m[i].p_K.y(), m[i].p_K.z()), img.emplace_back(m[i].px_C.x, m[i].px_C.y);
+    cv::Mat rvec, tvec;
+    bool ok = false;
+    try {
+      ok = cv::solvePnP(obj, img, K, cv::noArray(), rvec, tvec, false,
+                        p.method == VoMethod::kPnp ? cv::SOLVEPNP_AP3P : cv::SOLVEPNP_EPNP);
+    } catch (const cv::Exception&) {
+      return false;  // a degenerate sample
+    }
+    if (!ok || !cv::checkRange(rvec) || !cv::checkRange(tvec)) return false;
+    *T_CK = FromRvecTvec(rvec, tvec);
+    return true;
+  }
+
+  // Re-estimates on the consensus set (RANSAC step 4/6) and refines it by LM (Eq. 5.21).
+  Eigen::Isometry3d Refine(const std::vector<Match>& m, const std::vector<int>& in, const Eigen::Isometry3d& T0) const {
+    if (p.method == VoMethod::kRigid) {
+      std::vector<Eigen::Vector3d> P, Q;
+      std::vector<double> inv_sigma;
+      Eigen::Matrix3Xd Pm(3, in.size()), Qm(3, in.size());
+      Eigen::VectorXd w(in.size());
+      for (size_t i = 0; i < in.size(); ++i) {
+        const Match& x = m[in[i]];
+        P.push_back(x.p_K), Q.push_back(*x.p_C);
+        const double s = RigidSigma(x);
+        inv_sigma.push_back(1.0 / s);
+        Pm.col(i) = x.p_K, Qm.col(i) = *x.p_C, w(i) = 1.0 / (s * s);  // Eq. 5.1's weights
+      }
+      Eigen::Isometry3d T = T0;
+      if (!RigidMotion(Pm, Qm, w, &T)) T = T0;
+      const Eigen::Vector3d e = EulerFromRotation(T.linear());
+      cv::Mat x = (cv::Mat_<double>(6, 1) << e.x(), e.y(), e.z(), T.translation().x(), T.translation().y(), T.translation().z());
+      cv::LMSolver::create(cv::makePtr<RigidResiduals>(P, Q, inv_sigma), 20)->run(x);
+      if (!cv::checkRange(x)) return T;
+      Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+      out.linear() = RotationFromEuler(x.at<double>(0), x.at<double>(1), x.at<double>(2));
+      out.translation() = Eigen::Vector3d(x.at<double>(3), x.at<double>(4), x.at<double>(5));
+      return out;
+    }
+    std::vector<cv::Point3d> obj;
+    std::vector<cv::Point2d> img;
+    for (int i : in) obj.emplace_back(m[i].p_K.x(), m[i].p_K.y(), m[i].p_K.z()), img.emplace_back(m[i].px_C.x, m[i].px_C.y);
+    cv::Mat rvec, tvec;
+    ToRvecTvec(T0, &rvec, &tvec);
+    try {
+      if (p.method == VoMethod::kEpnp) {
+        cv::Mat r2, t2;
+        if (cv::solvePnP(obj, img, K, cv::noArray(), r2, t2, false, cv::SOLVEPNP_EPNP) && cv::checkRange(r2) &&
+            cv::checkRange(t2))
+          rvec = r2, tvec = t2;
+      }
+      cv::solvePnPRefineLM(obj, img, K, cv::noArray(), rvec, tvec);  // Eq. 5.21 in the left image
+    } catch (const cv::Exception&) {
+      return T0;
+    }
+    if (!cv::checkRange(rvec) || !cv::checkRange(tvec)) return T0;
+    // Then Eq. 5.21 in both images of the current pair.
+    const Eigen::Isometry3d T1 = FromRvecTvec(rvec, tvec);
+    const Eigen::Vector3d e = EulerFromRotation(T1.linear());
+    cv::Mat x = (cv::Mat_<double>(6, 1) << e.x(), e.y(), e.z(), T1.translation().x(), T1.translation().y(), T1.translation().z());
+    cv::LMSolver::create(cv::makePtr<StereoReprojection>(m, in, g.f_px, g.cx, g.cy, g.baseline_m), 20)->run(x);
+    if (!cv::checkRange(x)) return T1;
+    Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+    out.linear() = RotationFromEuler(x.at<double>(0), x.at<double>(1), x.at<double>(2));
+    out.translation() = Eigen::Vector3d(x.at<double>(3), x.at<double>(4), x.at<double>(5));
+    return out;
+  }
+
+  // RANSAC (thesis 5.4) then refinement; the consensus indices in `inliers`.
+  std::optional<Eigen::Isometry3d> Estimate(const std::vector<Match>& m, std::vector<int>* inliers, int* iterations) {
+    const int n = static_cast<int>(m.size()), s = SampleSize();
+    if (n < std::max(s, p.min_inliers)) return std::nullopt;
+    int needed = std::min(p.ransac_max_iterations, RansacIterations(p.ransac_p, p.ransac_initial_outliers, s));
+    std::vector<int> best, idx(s), cur;
+    Eigen::Isometry3d best_T = Eigen::Isometry3d::Identity();
+    std::uniform_int_distribution<int> pick(0, n - 1);
+    int it = 0;
+    for (; it < needed; ++it) {
+      for (int j = 0; j < s; ++j) {
+        int k;
+        do k = pick(rng); while (std::find(idx.begin(), idx.begin() + j, k) != idx.begin() + j);
+        idx[j] = k;
+      }
+      Eigen::Isometry3d T;
+      if (!SolveSample(m, idx, &T)) continue;
+      cur.clear();
+      for (int i = 0; i < n; ++i)
+        if (Inlier(T, m[i])) cur.push_back(i);
+      if (cur.size() > best.size()) {
+        best.swap(cur), best_T = T;
+        // Eq. 5.20 with the outlier share this consensus implies.
+        needed = std::min(p.ransac_max_iterations, RansacIterations(p.ransac_p, 1.0 - double(best.size()) / n, s));
+      }
+      if (best.size() >= p.consensus * n) {  // step 4: a large enough consensus ends the search
+        ++it;
+        break;
+      }
+    }
+    *iterations = it;
+    if (static_cast<int>(best.size()) < p.min_inliers) return std::nullopt;
+    Eigen::Isometry3d T = Refine(m, best, best_T);
+    // The refined motion decides the final consensus; one more refinement on it.
+    for (int pass = 0; pass < 2; ++pass) {
+      inliers->clear();
+      for (int i = 0; i < n; ++i)
+        if (Inlier(T, m[i])) inliers->push_back(i);
+      if (static_cast<int>(inliers->size()) < p.min_inliers) return std::nullopt;
+      if (pass == 0) T = Refine(m, *inliers, T);
+    }
+    return T;
+  }
+
+  VoResult Unhealthy(std::string reason) const {
+    VoResult r;
+    r.healthy = false;
+    r.reason = std::move(reason);
+    r.T_WC = T_WC;
+    r.segment = segment;
+    return r;
+  }
+
+  std::string CheckPair(const RectifiedPair& pair, cv::Mat* left, cv::Mat* right) const {
+    for (const auto& [img, side] : {std::pair{&pair.left, "left"}, std::pair{&pair.right, "right"}}) {
+      if (img->empty()) return std::string(side) + " image is empty";
+      if (img->depth() != CV_8U || (img->channels() != 1 && img->channels() != 3))
+        return std::string(side) + " image must be 8-bit grey or BGR";
+      if (img->cols != g.width || img->rows != g.height)
+        return std::string(side) + Format(" image is %.0fx%.0f but the calibration is for %.0fx", img->cols, img->rows, g.width) +
+               std::to_string(g.height);
+    }
+    const double skew = std::abs(pair.right_utime - pair.left_utime) * 1e-6;
+    if (skew > p.max_sync_skew_s)
+      return Format("unsynchronised pair: the right image was exposed %.1f ms from the left (limit %.1f ms)", skew * 1e3,
+                    p.max_sync_skew_s * 1e3);
+    *left = Grey(pair.left);
+    *right = Grey(pair.right);
+    for (const auto& [img, side] : {std::pair{left, "left"}, std::pair{right, "right"}}) {
+      cv::Scalar mean, sd;
+      cv::meanStdDev(*img, mean, sd);
+      if (sd[0] < p.min_contrast_dn)
+        return std::string(side) + Format(" image is blank or dark (mean %.1f DN, spread %.2f DN)", mean[0], sd[0]);
+    }
+    return "";
+  }
+
+  VoResult Process(const RectifiedPair& pair) {
+    cv::Mat left, right;
+    if (std::string bad = CheckPair(pair, &left, &right); !bad.empty()) return Unhealthy(bad);
+    const int64_t utime = pair.left_utime;
+    if (last_utime >= 0 && utime <= last_utime) return Unhealthy("frame time does not increase: " + std::to_string(utime));
+    const bool gap = last_utime >= 0 && (utime - last_utime) * 1e-6 > p.max_gap_s;
+    const double gap_s = (utime - last_utime) * 1e-6;
+    last_utime = utime;
+    if (gap && keyframe) {
+      keyframe.reset();
+      ++segment;
+      if (std::string why = MakeKeyframe(left, right, T_WC); !why.empty()) return Unhealthy(why);
+      VoResult r = Unhealthy(Format("a gap of %.2f s between frames: the track restarts here", gap_s));
+      r.segment = segment;
+      return r;
+    }
+    if (!keyframe) {
+      // A new segment begins at this frame, from the last pose known (the motion since is lost).
+      if (std::string why = MakeKeyframe(left, right, T_WC); !why.empty()) return Unhealthy(why);
+      VoResult r;
+      r.healthy = true;
+      r.T_WC = T_WC;
+      r.segment = segment;
+      r.new_keyframe = true;
+      r.keyframe_points = r.tracked = r.inliers = static_cast<int>(keyframe->px.size());
+      return r;
+    }
+    Keyframe& k = *keyframe;
+    // Frame to frame (thesis 5.2: "KLT is further applied to each subsequent left image frame"):
+    // each keyframe point from where it was in the previous frame, with a backward check. From
+    // frame to frame the view changes little (exposure, cloud shadows, perspective), which a
+    // keyframe-to-frame LK would have to bridge at once; the pose is still computed against the
+    // keyframe's 3-D points, so a hovering camera does not integrate anything.
+    std::vector<int> ids;
+    std::vector<cv::Point2f> from;
+    for (size_t i = 0; i < k.px.size(); ++i)
+      if (k.alive[i]) ids.push_back(static_cast<int>(i)), from.push_back(k.last_px[i]);
+    std::vector<cv::Point2f> to = from, back = from;
+    std::vector<uchar> st1, st2;
+    std::vector<float> err;
+    const cv::Size win(p.lk_window_px, p.lk_window_px);
+    const auto term = cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 50, 0.001);
+    if (!from.empty()) {
+      cv::calcOpticalFlowPyrLK(k.last_left, left, from, to, st1, err, win, p.lk_levels, term);
+      cv::calcOpticalFlowPyrLK(left, k.last_left, to, back, st2, err, win, p.lk_levels, term, cv::OPTFLOW_USE_INITIAL_FLOW);
+    }
+    std::vector<Match> matches;
+    std::vector<cv::Point2f> tracked_px;
+    for (size_t j = 0; j < ids.size(); ++j) {
+      if (!st1[j] || !st2[j] || cv::norm(back[j] - from[j]) > p.lk_fb_tol_px) continue;
+      if (to[j].x < 0 || to[j].y < 0 || to[j].x > left.cols - 1 || to[j].y > left.rows - 1) continue;
+      matches.push_back({ids[j], k.p_K[ids[j]], to[j], std::nullopt});
+      tracked_px.push_back(to[j]);
+    }
+    const int tracked = static_cast<int>(matches.size());
+    {
+      // The tracked points in this pair too: the 3D-3D method needs them in 3-D, PnP's
+      // refinement in the right image.
+      int row_misses = 0;
+      std::vector<float> u_r;
+      const auto now = Triangulate(left, right, tracked_px, &row_misses, &u_r);
+      std::vector<Match> kept;
+      for (size_t j = 0; j < matches.size(); ++j) {
+        if (now[j]) matches[j].p_C = now[j], matches[j].u_R = u_r[j];
+        if (now[j] || p.method != VoMethod::kRigid) kept.push_back(matches[j]);
+      }
+      matches.swap(kept);
+    }
+    std::vector<int> inliers;
+    int iterations = 0;
+    const auto T_CK = Estimate(matches, &inliers, &iterations);
+    if (!T_CK) {
+      // Lost: the next frame starts a new segment from its own keyframe.
+      VoResult r = Unhealthy(Format("RANSAC found no motion that %.0f of %.0f tracked points agree on", p.min_inliers,
+                                    static_cast<double>(matches.size())) +
+                             Format(" (%.0f of the keyframe's %.0f points tracked)", tracked, static_cast<double>(k.px.size())));
+      r.tracked = tracked;
+      r.keyframe_points = static_cast<int>(k.px.size());
+      r.ransac_iterations = iterations;
+      keyframe.reset();
+      ++segment;
+      return r;
+    }
+    // The pose chain (Eq. 5.22-5.28): T_WC = T_WK T_KC, with T_KC = C^-1 of this frame's motion.
+    const Eigen::Isometry3d T_KC = T_CK->inverse();
+    T_WC = k.T_WK * T_KC;
+    double sq = 0;
+    for (int i : inliers) {
+      const Match& m = matches[i];
+      sq += (Project(*T_CK, m.p_K) - Eigen::Vector2d(m.px_C.x, m.px_C.y)).squaredNorm();
+    }
+    // Only the consensus is followed into the next frame.
+    k.last_left = left;
+    std::fill(k.alive.begin(), k.alive.end(), 0);
+    for (int i : inliers) k.alive[matches[i].keyframe_index] = 1, k.last_px[matches[i].keyframe_index] = matches[i].px_C;
+
+    VoResult r;
+    r.healthy = true;
+    r.T_WC = T_WC;
+    r.T_KC = T_KC;
+    r.segment = segment;
+    r.keyframe_points = static_cast<int>(k.px.size());
+    r.tracked = tracked;
+    r.inliers = static_cast<int>(inliers.size());
+    r.ransac_iterations = iterations;
+    r.rms_px = std::sqrt(sq / std::max<size_t>(1, inliers.size()));
+    if (r.inliers < p.keyframe_min_inliers || r.inliers < p.keyframe_min_fraction * r.keyframe_points) {
+      // A new keyframe here; if this frame cannot make one, the old keyframe is kept.
+      Keyframe old = std::move(k);
+      if (MakeKeyframe(left, right, T_WC).empty()) r.new_keyframe = true;
+      else keyframe = std::move(old);
+    }
+    return r;
+  }
+};
+
+StereoVo::StereoVo(const RectifiedGeometry& geometry, const VoParams& params) : impl_(std::make_unique<Impl>()) {
+  params.Validate();
+  if (!(geometry.f_px > 0) || !(geometry.baseline_m > 0) || geometry.width < 16 || geometry.height < 16)
+    throw std::invalid_argument("visual odometry: the rectified geometry needs a positive focal length, baseline and size");
+  impl_->g = geometry;
+  impl_->p = params;
+  impl_->K = (cv::Mat_<double>(3, 3) << geometry.f_px, 0, geometry.cx, 0, geometry.f_px, geometry.cy, 0, 0, 1);
+  impl_->max_depth_m = params.max_depth_error * geometry.f_px * geometry.baseline_m / params.disparity_sigma_px;
+}
+StereoVo::~StereoVo() = default;
+StereoVo::StereoVo(StereoVo&&) noexcept = default;
+VoResult StereoVo::Process(const RectifiedPair& pair) { return impl_->Process(pair); }
+const RectifiedGeometry& StereoVo::geometry() const { return impl_->g; }
+const VoParams& StereoVo::params() const { return impl_->p; }
+
+}  // namespace uav::vision
