@@ -26,6 +26,7 @@ const char* TopicName(Topic t) {
     case Topic::kPointCloud: return "POINT_CLOUD";
     case Topic::kMonoDepth: return "MONO_DEPTH";
     case Topic::kActiveStereo: return "ACTIVE_STEREO";
+    case Topic::kVisualOdometry: return "VISUAL_ODOMETRY";
   }
   return "UNKNOWN";
 }

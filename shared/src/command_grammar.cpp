@@ -70,6 +70,10 @@ const std::vector<CommandSpec>& CommandSpecs() {
         {"f0_hz", 0.05, 5.0, "start: the thesis begins with long-period swings"},
         {"f1_hz", 0.1, 10.0, "end: above 10 Hz the servos and the 50 Hz loop cannot follow"},
         {"duration_s", 5.0, 120.0, "long enough for the lowest frequency, short enough to stay in view"}}},
+      // A simulator fault (a real receiver cannot be switched off from the ground): flying where
+      // GPS fails is what visual odometry is for (thesis ch. 5).
+      {CommandId::kGps, "gps", "simulator fault: 0 takes the GPS fix away, 1 gives it back",
+       {{"on", 0.0, 1.0, "0 no fix (jammed, indoors), 1 fix", true}}},
   };
   return kSpecs;
 }

@@ -11,6 +11,7 @@
 #include "uav/shared/time.hpp"
 #include "uav/waypoints/mission_messages.hpp"
 #include "uavmsg/active_stereo_t.hpp"
+#include "uavmsg/visual_odometry_t.hpp"
 #include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
@@ -151,6 +152,10 @@ const std::map<Topic, Decoder>& Decoders() {
       {Topic::kActiveStereo,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
          model.OnActiveStereo(id, FromMessage(Decode<uavmsg::active_stereo_t>(d, n, id)), now);
+       }},
+      {Topic::kVisualOdometry,
+       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
+         model.OnVisualOdometry(id, FromMessage(Decode<uavmsg::visual_odometry_t>(d, n, id)), now);
        }},
       {Topic::kPointCloud,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {

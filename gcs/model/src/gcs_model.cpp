@@ -101,6 +101,17 @@ void GcsModel::OnActiveStereo(const std::string& vehicle_id, ActiveStereoReport 
   obstacles_.OnActiveStereo(v, vehicle_id, std::move(report), now, log_);
 }
 
+void GcsModel::OnVisualOdometry(const std::string& vehicle_id, VisualOdometryReport report, double now) {
+  VehicleModel& v = Vehicle(vehicle_id);
+  const std::optional<PositionSource> before = v.position_source;
+  OnVisualOdometryTelemetry(v, report, now);
+  if (before && *before != report.source)
+    log_.Add(now, vehicle_id,
+             std::string("position from ") + Name(report.source) +
+                 (report.healthy ? std::string() : " (visual odometry: " + report.reason + ")"),
+             report.source == PositionSource::kGps ? Severity::kInfo : Severity::kWarning);
+}
+
 void GcsModel::OnPointCloud(const std::string& vehicle_id, PointCloud cloud, double now) {
   obstacles_.OnPointCloud(Vehicle(vehicle_id), std::move(cloud), now);
 }

@@ -1,5 +1,7 @@
 #include "uav/gcs/telemetry.hpp"
 
+#include "uav/shared/geodesy.hpp"
+
 namespace uav::gcs {
 namespace {
 
@@ -54,6 +56,29 @@ const std::vector<Signal<DepthGrid>>& DepthSignals() {
 
 // Active stereo: the height over the ground cluster (0 while there is none), its standard
 // error, and the dot counts behind it.
+// Visual odometry: health, counts, where the INS's position comes from, and the VO+IMU track's
+// horizontal distance from the truth (simulation; 0 without one).
+const std::vector<Signal<VisualOdometryReport>>& VisualOdometrySignals() {
+  using F = SignalFormat;
+  using R = VisualOdometryReport;
+  static const std::vector<Signal<R>> k = {
+      {{"healthy", "healthy", "1", "1 a motion, 0 none", F::kBool}, [](const R& r) { return double(r.healthy); }},
+      {{"source", "source", "1", "0 GPS, 1 vision, 2 inertial", F::kInteger}, [](const R& r) { return double(r.source); }},
+      {{"inliers", "inliers", "1", "", F::kInteger}, [](const R& r) { return double(r.inliers); }},
+      {{"tracked", "tracked", "1", "", F::kInteger}, [](const R& r) { return double(r.tracked); }},
+      {{"segment", "segment", "1", "", F::kInteger}, [](const R& r) { return double(r.segment); }},
+      {{"rms", "rms_px", "px", "", F::kMetres}, [](const R& r) { return r.rms_px; }},
+      {{"track_n", "track_n_m", "m", "VO+IMU north", F::kMetres}, [](const R& r) { return r.track_N ? r.track_N->x() : 0.0; }},
+      {{"track_e", "track_e_m", "m", "VO+IMU east", F::kMetres}, [](const R& r) { return r.track_N ? r.track_N->y() : 0.0; }},
+      {{"truth_n", "truth_n_m", "m", "simulation", F::kMetres}, [](const R& r) { return r.truth_N ? r.truth_N->x() : 0.0; }},
+      {{"truth_e", "truth_e_m", "m", "simulation", F::kMetres}, [](const R& r) { return r.truth_N ? r.truth_N->y() : 0.0; }},
+      {{"error", "error_m", "m", "VO+IMU from truth, horizontal", F::kMetres}, [](const R& r) {
+         return r.track_N && r.truth_N ? (r.track_N->head<2>() - r.truth_N->head<2>()).norm() : 0.0;
+       }},
+  };
+  return k;
+}
+
 const std::vector<Signal<ActiveStereoReport>>& ActiveStereoSignals() {
   using F = SignalFormat;
   using R = ActiveStereoReport;
@@ -109,6 +134,7 @@ std::string_view GroupName(SignalGroupId g) {
     case SignalGroupId::kTrack: return "TRACK";
     case SignalGroupId::kDepth: return "DEPTH";
     case SignalGroupId::kActiveStereo: return "ASTEREO";
+    case SignalGroupId::kVisualOdometry: return "VO";
   }
   return "?";
 }
@@ -119,12 +145,14 @@ const std::vector<SignalDef>& GroupSignals(SignalGroupId g) {
   static const std::vector<SignalDef> kTrack = Defs(TrackSignals());
   static const std::vector<SignalDef> kDepth = Defs(DepthSignals());
   static const std::vector<SignalDef> kActiveStereo = Defs(ActiveStereoSignals());
+  static const std::vector<SignalDef> kVisualOdometry = Defs(VisualOdometrySignals());
   switch (g) {
     case SignalGroupId::kState: return kState;
     case SignalGroupId::kHeartbeat: return kHeartbeat;
     case SignalGroupId::kTrack: return kTrack;
     case SignalGroupId::kDepth: return kDepth;
     case SignalGroupId::kActiveStereo: return kActiveStereo;
+    case SignalGroupId::kVisualOdometry: return kVisualOdometry;
   }
   return kState;
 }
@@ -197,6 +225,14 @@ void OnState(VehicleTelemetry& v, int64_t seq, const VehicleState& s, double now
   if ((g.received - 1) % VehicleTelemetry::kTrailDecimation == 0) {
     v.trail.push_back(s.p_N.head<2>());
     while (v.trail.size() > VehicleTelemetry::kTrailPoints) v.trail.pop_front();
+    if (v.home && s.gps_fix >= 3) {
+      try {
+        v.gps_trail.push_back(LocalNedFrame(*v.home).ToNed(s.gps).head<2>());
+        while (v.gps_trail.size() > VehicleTelemetry::kTrailPoints) v.gps_trail.pop_front();
+      } catch (const std::exception&) {
+        // a fix that is not a place on Earth: not drawn
+      }
+    }
   }
 }
 
@@ -216,6 +252,20 @@ void OnActiveStereoTelemetry(VehicleTelemetry& v, const ActiveStereoReport& r, d
   SignalGroup& group = v.groups[static_cast<int>(SignalGroupId::kActiveStereo)];
   Receipt(v, group, group.last_seq + 1, now);  // active_stereo_t's own sequence is not kept
   Store(v, group, ActiveStereoSignals(), r, r.utime * 1e-6);
+}
+
+void OnVisualOdometryTelemetry(VehicleTelemetry& v, const VisualOdometryReport& r, double now) {
+  SignalGroup& group = v.groups[static_cast<int>(SignalGroupId::kVisualOdometry)];
+  Receipt(v, group, group.last_seq + 1, now);  // visual_odometry_t's own sequence is not kept
+  Store(v, group, VisualOdometrySignals(), r, r.utime * 1e-6);
+  v.position_source = r.source;
+  auto push = [](std::deque<Eigen::Vector2d>& trail, const std::optional<Eigen::Vector3d>& p_N) {
+    if (!p_N) return;
+    trail.push_back(p_N->head<2>());
+    while (trail.size() > VehicleTelemetry::kTrailPoints) trail.pop_front();
+  };
+  push(v.vo_trail, r.track_N);
+  push(v.truth_trail, r.truth_N);
 }
 
 }  // namespace uav::gcs

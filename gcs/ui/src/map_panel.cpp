@@ -21,7 +21,10 @@ constexpr ImU32 kCoverage = IM_COL32(90, 150, 230, 60);
 constexpr ImU32 kPath = IM_COL32(120, 180, 255, 255);
 constexpr ImU32 kMission = IM_COL32(255, 170, 60, 255);
 constexpr ImU32 kVehicle = IM_COL32(255, 255, 255, 255);
-constexpr ImU32 kTrail = IM_COL32(255, 80, 80, 200);
+constexpr ImU32 kTrail = IM_COL32(255, 80, 80, 200);       // the flown estimate
+constexpr ImU32 kGpsTrail = IM_COL32(255, 230, 80, 180);   // GPS fixes
+constexpr ImU32 kVoTrail = IM_COL32(80, 220, 255, 220);    // the VO+IMU filter
+constexpr ImU32 kTruthTrail = IM_COL32(255, 255, 255, 160);  // simulation's truth
 constexpr float kVertexPickPx = 9.0f;
 
 // Largest 1-2-5 step whose pixel size is at least `min_px`.
@@ -218,11 +221,17 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
         dl->AddCircleFilled(c, r, IM_COL32(200, 80, 255, 150), 32);
         dl->AddCircle(c, static_cast<float>(o.safety_radius_m * st.map_px_per_m), IM_COL32(200, 80, 255, 230), 48, 1.5f);
       }
-    {
-      std::vector<ImVec2> trail;
-      for (const auto& p_N : v->trail) trail.push_back(to_screen(p_N.x(), p_N.y()));
-      if (trail.size() > 1) dl->AddPolyline(trail.data(), static_cast<int>(trail.size()), kTrail, 0, 1.5f);
-    }
+    // The estimate's trail, and beside it (thesis ch. 5) the GPS fixes, the VO+IMU track and,
+    // in simulation, the truth.
+    auto polyline = [&](const std::deque<Eigen::Vector2d>& points, ImU32 colour, float width) {
+      std::vector<ImVec2> line;
+      for (const auto& p_N : points) line.push_back(to_screen(p_N.x(), p_N.y()));
+      if (line.size() > 1) dl->AddPolyline(line.data(), static_cast<int>(line.size()), colour, 0, width);
+    };
+    polyline(v->truth_trail, kTruthTrail, 1.0f);
+    polyline(v->gps_trail, kGpsTrail, 1.0f);
+    polyline(v->vo_trail, kVoTrail, 1.5f);
+    polyline(v->trail, kTrail, 1.5f);
     if (v->state) {
       const double h = v->state->euler.psi;
       const ImVec2 s = to_screen(v->state->p_N.x(), v->state->p_N.y());

@@ -10,6 +10,7 @@
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/map_tile_t.hpp"
 #include "uavmsg/active_stereo_t.hpp"
+#include "uavmsg/visual_odometry_t.hpp"
 #include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/obstacles_t.hpp"
 #include "uavmsg/point_cloud_t.hpp"
@@ -172,6 +173,24 @@ class ActiveStereoTranslator : public Translator {
   LinkContext& c_;
 };
 
+// VO's newest report, with the VO+IMU filter's track and the INS's position source.
+class VisualOdometryTranslator : public Translator {
+ public:
+  explicit VisualOdometryTranslator(LinkContext& c) : c_(c) {}
+  void Tick(int64_t) override {
+    if (auto report = c_.board.TakeVisualOdometry()) {
+      const BlackboardData d = c_.board.Snapshot();
+      report->track_N = d.vo_track_N;
+      report->source = d.position_source;
+      uavmsg::visual_odometry_t m = ToMessage(*report);
+      c_.Publish(Topic::kVisualOdometry, m);
+    }
+  }
+
+ private:
+  LinkContext& c_;
+};
+
 class ObstaclesTranslator : public Translator {
  public:
   explicit ObstaclesTranslator(LinkContext& c) : c_(c) {}
@@ -265,6 +284,7 @@ std::unique_ptr<Translator> MakePowerLinesTranslator(LinkContext& c) { return st
 std::unique_ptr<Translator> MakeObstaclesTranslator(LinkContext& c) { return std::make_unique<ObstaclesTranslator>(c); }
 std::unique_ptr<Translator> MakeMonoDepthTranslator(LinkContext& c) { return std::make_unique<MonoDepthTranslator>(c); }
 std::unique_ptr<Translator> MakeActiveStereoTranslator(LinkContext& c) { return std::make_unique<ActiveStereoTranslator>(c); }
+std::unique_ptr<Translator> MakeVisualOdometryTranslator(LinkContext& c) { return std::make_unique<VisualOdometryTranslator>(c); }
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c) { return std::make_unique<MapTileTranslator>(c); }
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files) {
   return std::make_unique<FileTransferTranslator>(c, files);

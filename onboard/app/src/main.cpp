@@ -13,6 +13,7 @@
 #include "uav/app/link_worker.hpp"
 #include "uav/app/mission_store.hpp"
 #include "uav/app/active_stereo_worker.hpp"
+#include "uav/app/vo_worker.hpp"
 #include "uav/app/stereo_worker.hpp"
 #include "uav/app/stitch_worker.hpp"
 #include "uav/app/mono_depth_worker.hpp"
@@ -130,6 +131,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<uav::app::CameraWorker> cam;
     std::unique_ptr<uav::app::StereoWorker> stereo;
     std::unique_ptr<uav::app::ActiveStereoWorker> active_stereo;
+    std::unique_ptr<uav::app::VoWorker> vo;
     std::unique_ptr<uav::app::StitchWorker> stitch;
     std::unique_ptr<uav::sim::SimGimbalCamera> gimbal_camera;
     std::unique_ptr<uav::app::TrackWorker> trk;
@@ -174,7 +176,11 @@ int main(int argc, char** argv) {
       if (scene->stereo_camera()) {
         stereo_camera = std::make_unique<uav::sim::SimStereoCamera>(*scene, *scene->stereo_camera(), truth_T_NB);
         const auto asv = uav::app::ActiveStereoWorkerParams::FromParameters(params);
+        const auto vop = uav::app::VoWorkerParams::FromParameters(params);
+        if (asv.enabled && vop.enabled)
+          throw std::invalid_argument("asv_enable and vo_enable both ask for the one stereo pair: choose one");
         if (asv.enabled) active_stereo = std::make_unique<uav::app::ActiveStereoWorker>(*stereo_camera, board, asv);
+        else if (vop.enabled) vo = std::make_unique<uav::app::VoWorker>(*stereo_camera, board, vop);
         else
           stereo = std::make_unique<uav::app::StereoWorker>(*stereo_camera, board,
                                                             uav::app::StereoWorkerParams::FromParameters(params));
@@ -201,6 +207,7 @@ int main(int argc, char** argv) {
     if (stereo)
       scheduler.AddWorker("STEREO", 2, camera_period(stereo_camera->left().rate_hz),
                           [&](int64_t t) { stereo->Tick(t); });
+    if (vo) scheduler.AddWorker("VO", 2, camera_period(stereo_camera->left().rate_hz), [&](int64_t t) { vo->Tick(t); });
     if (active_stereo)
       scheduler.AddWorker("ASTEREO", 2, camera_period(stereo_camera->left().rate_hz),
                           [&](int64_t t) { active_stereo->Tick(t); });
@@ -217,7 +224,17 @@ int main(int argc, char** argv) {
                 log_path.empty() ? "" : ", log ", log_path.c_str(),
                 events_path.empty() ? "" : ", events ", events_path.c_str());
     std::fflush(stdout);
-    scheduler.Run([&](int64_t dt) { vehicle.Step(dt); });
+    bool gps_enabled = true;
+    scheduler.Run([&](int64_t dt) {
+      // The simulator's faults, commanded like everything else ("gps 0").
+      if (const bool want = board.Snapshot().sim_gps_enabled; want != gps_enabled) {
+        vehicle.SetGpsEnabled(want);
+        gps_enabled = want;
+        board.PushStatus(want ? uav::Severity::kInfo : uav::Severity::kWarning,
+                         want ? "simulator: GPS fix restored" : "simulator: GPS fix lost");
+      }
+      vehicle.Step(dt);
+    });
     std::string cameras;
     if (cam) cameras += ", " + std::to_string(cam->captures()) + " survey images captured, " +
                         std::to_string(cam->previews()) + " previews";
@@ -225,6 +242,9 @@ int main(int argc, char** argv) {
     if (active_stereo)
       cameras += ", " + std::to_string(active_stereo->frames()) + " active stereo pairs (" +
                  std::to_string(active_stereo->unhealthy()) + " without a height)";
+    if (vo)
+      cameras += ", " + std::to_string(vo->frames()) + " visual odometry pairs (" + std::to_string(vo->unhealthy()) +
+                 " unhealthy)";
     if (trk) cameras += ", " + std::to_string(trk->frames()) + " gimbal frames";
     if (stitch && stitch->maps_written() > 0) cameras += ", map " + stitch->last_map() + ".tif";
     std::printf("uav-onboard: stopped after %.1f s simulated%s\n", (scheduler.now() - start) * 1e-6, cameras.c_str());

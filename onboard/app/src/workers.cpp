@@ -13,12 +13,34 @@ void ImuWorker::Tick(int64_t utime) {
     vision_height_utime_ = before.vision_height->utime;
     ins_.QueueHeight(before.vision_height->height_m, before.vision_height->sigma_m);
   }
+  std::optional<BlackboardData::VisionPosition> vo;
+  if (before.vision_position && before.vision_position->utime > vision_position_utime_) {
+    vo = before.vision_position;
+    vision_position_utime_ = vo->utime;
+    ins_.QueueVisualPosition(vo->p_N, vo->sigma_m, vo->segment);
+  }
   // Standing on the ground (not yet taken off, or landed) is a measurement too.
   ins_.Update(s, !before.airborne);
   const hal::VehicleEstimate e = ins_.estimate();
+  // The 9-state VO+IMU filter (thesis 5.7): the IMU's acceleration in N drives it at 50 Hz, each
+  // VO position corrects it; a new odometry segment starts it again where the INS is.
+  const double dt = last_utime_ < 0 ? 0.0 : (utime - last_utime_) * 1e-6;
+  last_utime_ = utime;
+  if (vo_filter_.initialized())
+    vo_filter_.Predict(e.q_NB.toRotationMatrix() * e.f_B + Eigen::Vector3d(0, 0, ins_.gravity()), dt);
+  if (vo) {
+    if (!vo_filter_.initialized() || vo->segment != vision_segment_) {
+      vo_filter_.Reset(vo->p_N, e.v_N, vo->sigma_m, 0.1);
+      vision_segment_ = vo->segment;
+    } else {
+      vo_filter_.Correct(vo->p_N, vo->sigma_m);
+    }
+  }
   board_.Update([&](BlackboardData& d) {
     d.sample = s;
     d.estimate = e;
+    d.position_source = ins_.position_source();
+    if (vo_filter_.initialized()) d.vo_track_N = vo_filter_.p_N();
   });
 }
 
@@ -42,6 +64,8 @@ void ControlWorker::Tick(int64_t utime) {
   fin.battery_remaining = d.sample.battery_remaining;
   fin.p_N = d.estimate.p_N;
   fin.rc_manual = d.sample.rc_manual;
+  fin.position_lost = d.position_source == PositionSource::kInertial;
+  fin.position_lost_reason = d.vo_reason.empty() ? "GPS lost and no visual odometry" : "GPS lost; visual odometry: " + d.vo_reason;
   const control::FailsafeAction required = failsafes_.Update(fin, &events);
   for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? Severity::kWarning : Severity::kInfo, e);
   tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports);
@@ -80,6 +104,7 @@ void ControlWorker::Tick(int64_t utime) {
     b.capture_interval_s = out.capture_interval_s;
     b.capture_distance_m = out.capture_distance_m;
     b.chirp_channel = static_cast<int>(out.chirp_channel);
+    b.sim_gps_enabled = out.sim_gps_enabled;
     b.fence_radius_m = failsafe_params_.fence_radius_m;
     b.fence_alt_m = failsafe_params_.fence_alt_m;
   });

@@ -22,6 +22,7 @@ FailsafeParams FailsafeParams::FromParameters(const ParameterSet& ps) {
   const double action = ps.Get("fs_fence_action");
   if (action != 1.0 && action != 2.0) throw std::invalid_argument(ps.source() + ": fs_fence_action must be 1 (hold) or 2 (return)");
   p.fence_action = action == 1.0 ? FailsafeAction::kHold : FailsafeAction::kReturn;
+  p.nav_land_s = ps.Get("fs_nav_land_s");
   if (p.link_return_s <= p.link_hold_s)
     throw std::invalid_argument(ps.source() + ": fs_link_return_time must be longer than fs_link_hold_time");
   if (p.battery_land >= p.battery_return)
@@ -91,16 +92,32 @@ FailsafeAction FailsafeMonitor::Update(const FailsafeInputs& in, std::vector<std
   if (fence == FailsafeAction::kNone && fence_ != FailsafeAction::kNone) events->push_back("back inside the geofence");
   fence_ = fence;
 
+  // Position: hold at once, land after nav_land_s; the landing is latched.
+  FailsafeAction position = position_ == FailsafeAction::kLand ? FailsafeAction::kLand : FailsafeAction::kNone;
+  if (in.airborne && in.position_lost) {
+    if (position_lost_since_ < 0) position_lost_since_ = in.t;
+    const double lost_s = in.t - position_lost_since_;
+    position = std::max(position, lost_s >= p_.nav_land_s ? FailsafeAction::kLand : FailsafeAction::kHold);
+    position_reason_ = Format("no position for %.1f s (landing after %.0f s): ", lost_s, p_.nav_land_s) + in.position_lost_reason;
+  } else {
+    position_lost_since_ = -1;
+  }
+  if (!in.airborne) position = FailsafeAction::kNone;
+  if (position > position_) events->push_back("failsafe: " + position_reason_ + ": " + std::string(Name(position)));
+  if (position == FailsafeAction::kNone && position_ == FailsafeAction::kHold) events->push_back("position source regained");
+  position_ = position;
+
   // Manual override: immediate, level.
   const FailsafeAction manual = in.rc_manual ? FailsafeAction::kManual : FailsafeAction::kNone;
   if (manual != manual_)
     events->push_back(in.rc_manual ? "RC fail-safe switch: pilot has control" : "RC fail-safe switch: autopilot has control");
   manual_ = manual;
 
-  required_ = std::max({link_, battery_, fence_, manual_});
+  required_ = std::max({link_, battery_, fence_, manual_, position_});
   reason_ = required_ == manual_ && manual_ != FailsafeAction::kNone ? "RC fail-safe switch"
             : required_ == battery_ && battery_ != FailsafeAction::kNone ? battery_reason_
             : required_ == link_ && link_ != FailsafeAction::kNone     ? link_reason_
+            : required_ == position_ && position_ != FailsafeAction::kNone ? position_reason_
             : required_ == fence_ && fence_ != FailsafeAction::kNone   ? fence_reason_
                                                                        : std::string();
   return required_;

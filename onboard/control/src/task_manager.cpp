@@ -165,6 +165,11 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
     reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kCompleted, 100, ""});
   };
   const Command& c = req.command;
+  // A simulator fault changes the world, not what the vehicle does: no failsafe refuses it.
+  if (c.id == CommandId::kGps) {
+    sim_gps_enabled_ = c.args[0] != 0;
+    return instant();
+  }
   // Failsafes first: nothing less strict than what they require is accepted.
   if (required_ == FailsafeAction::kManual && c.id != CommandId::kDisarm)
     return reject("pilot has control (RC fail-safe switch)");
@@ -329,6 +334,7 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
         est.altitude() < p_.land_slow_alt ? p_.land_speed / 3.0 : p_.land_speed;
   }
   Output o;
+  o.sim_gps_enabled = sim_gps_enabled_;
   if (chirp_.channel != ServoChannel::kNone) {
     const double elapsed = t - chirp_start_t_;
     if (task_ != Task::kHover || !airborne_) {

@@ -169,6 +169,7 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
   };
   if (s.gps_utime != last_gps_utime_ && s.gps_fix >= 3 && gps_ok) {
     last_gps_utime_ = s.gps_utime;
+    last_gps_fix_utime_ = s.utime;
     const Eigen::Vector3d z = frame_.ToNed(s.gps);
     // Most of GPS's error wanders slowly: successive fixes are far from independent, so each
     // counts as a tenth of an independent one (else the estimate chases the fix-to-fix noise).
@@ -210,6 +211,30 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
     if (Correct(height - (-p_N_.z()), -unit(kP + 2), sigma * sigma + 0.01 * 0.01, 5.0)) ++health_.vision_height_used;
     else ++health_.vision_height_rejected;
   }
+  // Visual odometry while GPS is lost (no 3-D fix for 1 s).
+  const bool gps_lost = last_gps_fix_utime_ < 0 || s.utime - last_gps_fix_utime_ > 1'000'000;
+  if (!gps_lost) visual_anchor_.reset();
+  if (queued_visual_ && gps_lost) {
+    const VisualPosition v = *queued_visual_;
+    if (!visual_anchor_ || visual_anchor_->second != v.segment) {
+      visual_anchor_ = std::make_pair(Eigen::Vector3d(p_N_ - v.p_N), v.segment);
+    } else {
+      const Eigen::Vector3d z = v.p_N + visual_anchor_->first;
+      const double r = v.sigma_m * v.sigma_m + 0.01 * 0.01;
+      bool accepted = true;
+      for (int i = 0; i < 3; ++i) accepted &= Correct(z[i] - p_N_[i], unit(kP + i), r, 5.0);
+      if (accepted) {
+        ++health_.vision_position_used;
+        last_visual_utime_ = s.utime;
+      } else {
+        ++health_.vision_position_rejected;
+      }
+    }
+  }
+  queued_visual_.reset();
+  position_source_ = !gps_lost ? PositionSource::kGps
+                     : (last_visual_utime_ >= 0 && s.utime - last_visual_utime_ <= 1'000'000) ? PositionSource::kVision
+                                                                                              : PositionSource::kInertial;
   // Magnetic heading.
   if (mag_ok) {
     const EulerAngles e = EulerFromRotationNB(q_NB_.toRotationMatrix());
@@ -250,6 +275,14 @@ void Ins::QueueHeight(double height_m, double sigma_m) {
     return;
   }
   queued_height_ = std::make_pair(height_m, sigma_m);
+}
+
+void Ins::QueueVisualPosition(const Eigen::Vector3d& p_N, double sigma_m, int segment) {
+  if (!p_N.allFinite() || !std::isfinite(sigma_m) || sigma_m <= 0) {
+    ++health_.vision_position_rejected;
+    return;
+  }
+  queued_visual_ = VisualPosition{p_N, sigma_m, segment};
 }
 
 }  // namespace uav::nav

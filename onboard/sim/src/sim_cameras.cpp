@@ -39,8 +39,9 @@ SimStereoCamera::SimStereoCamera(const world::Scene& scene, const world::StereoS
       truth_T_NB_(std::move(truth_T_NB)) {}
 
 hal::StereoImages SimStereoCamera::Capture(int64_t utime) {
-  world::StereoFrame pair = renderer_.Render(truth_T_NB_(), utime);
-  return {pair.left.image, pair.right.image};
+  const Eigen::Isometry3d T_NB = truth_T_NB_();
+  world::StereoFrame pair = renderer_.Render(T_NB, utime);
+  return {pair.left.image, pair.right.image, utime, utime, T_NB};
 }
 
 }  // namespace uav::sim

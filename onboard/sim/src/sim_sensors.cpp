@@ -53,7 +53,7 @@ void SimSensors::Sample(int64_t utime, const QuadrotorState& truth, const Eigen:
   baro_drift_ = GaussMarkov(baro_drift_, p_.baro_drift, p_.baro_drift_time, dt, normal_(rng_));
   out->baro_alt_m = -truth.p_N.z() + baro_drift_ + p_.baro_noise * normal_(rng_);
 
-  if (utime >= next_gps_utime_) {
+  if (utime >= next_gps_utime_ && gps_enabled_) {
     const double gps_dt = 1.0 / p_.gps_rate;
     for (int i = 0; i < 3; ++i)
       gps_drift_N_[i] = GaussMarkov(gps_drift_N_[i], i < 2 ? p_.gps_drift_h : p_.gps_drift_v, p_.gps_drift_time,
@@ -85,8 +85,8 @@ void SimSensors::Sample(int64_t utime, const QuadrotorState& truth, const Eigen:
   out->gps_utime = gps_utime_;
   out->gps = gps_;
   out->gps_v_N = gps_v_N_;
-  out->gps_fix = 3;
-  out->gps_satellites = 9;
+  out->gps_fix = gps_enabled_ ? 3 : 0;
+  out->gps_satellites = gps_enabled_ ? 9 : 0;
   out->sonar_utime = sonar_utime_;
   out->sonar_range_m = sonar_range_;
   out->sonar_valid = sonar_valid_;

@@ -25,7 +25,8 @@ enum class Topic {
   kObstacles,
   kPointCloud,
   kMonoDepth,
-  kActiveStereo
+  kActiveStereo,
+  kVisualOdometry
 };
 
 const char* TopicName(Topic t);

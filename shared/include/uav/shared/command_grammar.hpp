@@ -9,7 +9,7 @@
 
 namespace uav {
 
-enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto, kTrack, kMission, kReturn, kChirp, kFollow };
+enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto, kTrack, kMission, kReturn, kChirp, kFollow, kGps };
 
 struct ArgumentSpec {
   const char* name;   // e.g. "alt_m"

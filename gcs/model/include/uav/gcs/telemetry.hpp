@@ -13,12 +13,13 @@
 #include "uav/shared/active_stereo.hpp"
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/vehicle_state.hpp"
+#include "uav/shared/visual_odometry.hpp"
 
 namespace uav::gcs {
 
 // The telemetry tree's groups, one per message.
-enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2, kDepth = 3, kActiveStereo = 4 };
-inline constexpr int kSignalGroups = 5;
+enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2, kDepth = 3, kActiveStereo = 4, kVisualOdometry = 5 };
+inline constexpr int kSignalGroups = 6;
 std::string_view GroupName(SignalGroupId g);  // "STATE", "HEARTBEAT", "TRACK", "DEPTH"
 const std::vector<SignalDef>& GroupSignals(SignalGroupId g);
 
@@ -89,6 +90,10 @@ struct VehicleTelemetry {
   static constexpr int kTrailDecimation = 5;        // 50 Hz state -> 10 Hz trail
   static constexpr std::size_t kTrailPoints = 3000;  // 5 minutes
   std::deque<Eigen::Vector2d> trail;
+  // Beside it (thesis ch. 5): the GPS fixes, the VO+IMU filter's track and, in simulation, the
+  // truth, north and east [m] from home, at most kTrailPoints each.
+  std::deque<Eigen::Vector2d> gps_trail, vo_trail, truth_trail;
+  std::optional<PositionSource> position_source;  // where the INS takes its position from
 
   const SignalGroup& group(SignalGroupId g) const { return groups[static_cast<int>(g)]; }
   // Newest value and history of a signal; nullopt / nullptr before its first sample.
@@ -105,5 +110,6 @@ void OnState(VehicleTelemetry& v, int64_t seq, const VehicleState& s, double now
 void OnTrackTelemetry(VehicleTelemetry& v, const TrackStatus& st, double now);
 void OnDepthTelemetry(VehicleTelemetry& v, const DepthGrid& g, double now);
 void OnActiveStereoTelemetry(VehicleTelemetry& v, const ActiveStereoReport& r, double now);
+void OnVisualOdometryTelemetry(VehicleTelemetry& v, const VisualOdometryReport& r, double now);
 
 }  // namespace uav::gcs

@@ -21,6 +21,7 @@
 #include "uav/shared/obstacles.hpp"
 #include "uav/shared/power_lines.hpp"
 #include "uav/shared/tracking.hpp"
+#include "uav/shared/visual_odometry.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
 namespace uav::app {
@@ -80,6 +81,7 @@ struct BlackboardData {
   control::FailsafeAction failsafe = control::FailsafeAction::kNone;
   double fence_radius_m = 0.0, fence_alt_m = 0.0;  // the geofence it enforces
   int chirp_channel = 0;  // servo channel a chirp is exciting (control::ServoChannel), 0: none
+  bool sim_gps_enabled = true;  // simulator fault: the simulated GPS has a fix (main applies it)
   // CMM thread
   double gcs_link_age_s = -1.0;  // [s] wall clock since the last GCS heartbeat; < 0: none heard yet
   std::optional<double> capture_interval_s;  // survey camera on, by time ...
@@ -105,6 +107,21 @@ struct BlackboardData {
     double height_m = 0.0, sigma_m = 0.0;
   };
   std::optional<VisionHeight> vision_height;
+  // VO (the STEREO thread as visual odometry): the newest body position in its segment's frame
+  // tied to N, for the INS and the VO+IMU filter (the IMU thread applies each once, by utime),
+  // and its health.
+  struct VisionPosition {
+    int64_t utime = 0;
+    Eigen::Vector3d p_N = Eigen::Vector3d::Zero();
+    double sigma_m = 0.0;
+    int segment = 0;
+  };
+  std::optional<VisionPosition> vision_position;
+  bool vo_healthy = true;
+  std::string vo_reason;  // why the last unhealthy pair was
+  // IMU thread: where the INS takes its position from, and the VO+IMU filter's track.
+  PositionSource position_source = PositionSource::kGps;
+  std::optional<Eigen::Vector3d> vo_track_N;
   TrackedTarget target;
 };
 
@@ -248,6 +265,17 @@ class Blackboard {
     active_stereo_.reset();
     return out;
   }
+  // VO -> CMM: the newest report replaces one not yet sent.
+  void PutVisualOdometry(VisualOdometryReport r) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    visual_odometry_ = std::move(r);
+  }
+  std::optional<VisualOdometryReport> TakeVisualOdometry() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<VisualOdometryReport> out = std::move(visual_odometry_);
+    visual_odometry_.reset();
+    return out;
+  }
   // CAM -> STITCH: every capture, in order (a survey frame is never dropped).
   void PushCapture(SurveyCapture c) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -310,6 +338,7 @@ class Blackboard {
   std::optional<SharedFrame> frame_;
   std::optional<DepthGrid> depth_grid_;
   std::optional<ActiveStereoReport> active_stereo_;
+  std::optional<VisualOdometryReport> visual_odometry_;
   std::deque<SurveyCapture> captures_;
   std::deque<std::pair<std::string, std::string>> downloads_;
   std::map<std::tuple<int, int, int>, LiveTile> tiles_;

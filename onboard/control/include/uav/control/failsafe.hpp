@@ -10,6 +10,9 @@
 //              Latched: a battery does not recover in flight.
 //   geofence   farther than fence_radius_m from home or higher than fence_alt_m: hold or return
 //              (fence_action). Clears when back inside.
+//   position   no position source (GPS lost and visual odometry unhealthy or absent): hold at
+//              once on the IMU alone, land after nav_land_s (latched: a landing that began
+//              without position is finished). Clears when a source returns before that.
 //   manual     the RC fail-safe switch (thesis 2.3.2): the pilot flies, at once, whatever else.
 #include <string>
 #include <vector>
@@ -32,6 +35,7 @@ struct FailsafeParams {
   double fence_radius_m;   // [m] horizontal distance from home
   double fence_alt_m;      // [m] above home
   FailsafeAction fence_action;  // kHold or kReturn
+  double nav_land_s = 5.0;      // [s] without a position source before landing
   static FailsafeParams FromParameters(const ParameterSet& p);
 };
 
@@ -44,6 +48,9 @@ struct FailsafeInputs {
   double battery_remaining = 1;    // [0..1]
   Eigen::Vector3d p_N = Eigen::Vector3d::Zero();
   bool rc_manual = false;
+  // No position source now (GPS lost and no healthy visual odometry), and why.
+  bool position_lost = false;
+  std::string position_lost_reason;
 };
 
 // Last line of defence before the controller: "" when the setpoint is finite and within the
@@ -67,6 +74,9 @@ class FailsafeMonitor {
   FailsafeParams p_;
   FailsafeAction link_ = FailsafeAction::kNone, battery_ = FailsafeAction::kNone;
   FailsafeAction fence_ = FailsafeAction::kNone, manual_ = FailsafeAction::kNone;
+  FailsafeAction position_ = FailsafeAction::kNone;
+  double position_lost_since_ = -1;
+  std::string position_reason_;
   FailsafeAction required_ = FailsafeAction::kNone;
   std::string reason_;
   std::string link_reason_, battery_reason_, fence_reason_;

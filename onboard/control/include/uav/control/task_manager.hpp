@@ -79,6 +79,7 @@ class TaskManager {
     std::optional<double> capture_distance_m;   // ... or by distance
     ServoChannel chirp_channel = ServoChannel::kNone;  // system identification: add chirp_value
     double chirp_value = 0.0;                          // to this servo channel (Eq. 2.14)
+    bool sim_gps_enabled = true;  // simulator fault "gps 0|1": the simulated receiver has a fix
   };
   // Carries out what the failsafes require (call before Update each step): an action stricter
   // than the one being flown takes over at once (an active command fails with the reason);
@@ -143,6 +144,7 @@ class TaskManager {
   TrackedTarget target_;
   std::unique_ptr<TargetFollower> follower_;  // while following
   TargetFollower::State follow_state_ = TargetFollower::State::kFollowing;
+  bool sim_gps_enabled_ = true;
 };
 
 }  // namespace uav::control

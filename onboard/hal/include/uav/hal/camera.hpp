@@ -64,6 +64,9 @@ inline Eigen::Isometry3d GimbalCameraPose(const Eigen::Isometry3d& T_NB, const E
 
 struct StereoImages {
   cv::Mat left, right;  // CV_8UC3, BGR, same size
+  int64_t left_utime = 0, right_utime = 0;  // [us] each camera's exposure (a pair is synchronised)
+  // Where the body really was (simulation only, to measure against; hardware has none).
+  std::optional<Eigen::Isometry3d> truth_T_NB;
 };
 
 class StereoCamera {

@@ -15,6 +15,7 @@
 #include "uav/hal/vehicle_backend.hpp"
 #include "uav/shared/geodesy.hpp"
 #include "uav/shared/parameters.hpp"
+#include "uav/shared/visual_odometry.hpp"
 
 namespace uav::nav {
 
@@ -37,7 +38,9 @@ struct InsHealth {
   int imu_rejected = 0;    // IMU samples refused: not finite or beyond the sensor's range
   int other_rejected = 0;  // GPS, barometer, sonar or magnetometer readings that were not finite
   int vision_height_used = 0, vision_height_rejected = 0;  // QueueHeight's, applied and refused
+  int vision_position_used = 0, vision_position_rejected = 0;  // QueueVisualPosition's
 };
+
 
 class Ins {
  public:
@@ -52,10 +55,19 @@ class Ins {
   // with its 1 sigma, applied at the next Update like the sonar's (gated at 5 sigma: a reading off
   // a table is refused). A non-finite or negative one is counted and dropped.
   void QueueHeight(double height_m, double sigma_m);
+  // A body position from visual odometry (thesis ch. 5) in its own frame anchored in N [m], with
+  // its 1 sigma and its segment (an unbroken chain of poses). Used only while GPS is lost: the
+  // odometry is relative, so its first position after GPS stops, or after its segment changes,
+  // ties the two frames together and each next one corrects the position (gated at 5 sigma).
+  void QueueVisualPosition(const Eigen::Vector3d& p_N, double sigma_m, int segment);
+  // Where the position comes from (telemetry shows it): GPS fixes, visual odometry while GPS is
+  // lost, or the IMU alone (dead reckoning, which drifts within seconds).
+  PositionSource position_source() const { return position_source_; }
 
   hal::VehicleEstimate estimate() const { return estimate_; }
   const InsHealth& health() const { return health_; }
   Eigen::Vector3d gyro_bias() const { return bg_; }
+  double gravity() const { return p_.gravity; }
   Eigen::Vector3d accel_bias() const { return ba_; }
   // 1 sigma of the position error the filter believes [m], N.
   Eigen::Vector3d position_sigma() const;
@@ -84,6 +96,15 @@ class Ins {
   const Matrix& covariance() const { return P_; }
   int64_t last_utime_ = -1, last_gps_utime_ = 0, last_sonar_utime_ = 0;
   std::optional<std::pair<double, double>> queued_height_;  // height, sigma [m]
+  struct VisualPosition {
+    Eigen::Vector3d p_N;
+    double sigma_m;
+    int segment;
+  };
+  std::optional<VisualPosition> queued_visual_;
+  std::optional<std::pair<Eigen::Vector3d, int>> visual_anchor_;  // odometry-to-N offset, its segment
+  int64_t last_gps_fix_utime_ = -1, last_visual_utime_ = -1;       // when each last corrected
+  PositionSource position_source_ = PositionSource::kGps;
   bool has_flown_ = false;  // false until the first sample not at rest
   hal::VehicleEstimate estimate_;
   InsHealth health_;

@@ -35,6 +35,11 @@ class SimSensors {
   void Sample(int64_t utime, const QuadrotorState& truth, const Eigen::Vector3d& specific_force_B,
               hal::SensorSample* out);
 
+  // Simulator fault: without GPS the receiver reports no fix and no new readings (as under a
+  // jammer or indoors); with it back, fixes resume at the next period.
+  void SetGpsEnabled(bool enabled) { gps_enabled_ = enabled; }
+  bool gps_enabled() const { return gps_enabled_; }
+
   // The turn-on biases this run drew (for tests of the INS).
   const Eigen::Vector3d& gyro_bias() const { return gyro_bias_; }
   const Eigen::Vector3d& accel_bias() const { return accel_bias_; }
@@ -59,6 +64,7 @@ class SimSensors {
   Eigen::Vector3d gps_v_N_ = Eigen::Vector3d::Zero();
   double sonar_range_ = 0.0;
   bool sonar_valid_ = false;
+  bool gps_enabled_ = true;
 };
 
 }  // namespace uav::sim

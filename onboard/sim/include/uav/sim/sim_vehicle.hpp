@@ -42,6 +42,8 @@ class SimVehicle : public hal::VehicleBackend {
   int64_t utime() const;
   const QuadrotorModel& model() const { return model_; }
   const SimSensors& sensors() const { return sensors_; }
+  // Simulator fault: the GPS receiver loses (false) or regains (true) its fix.
+  void SetGpsEnabled(bool enabled) { sensors_.SetGpsEnabled(enabled); }
 
  private:
   mutable std::mutex mutex_;

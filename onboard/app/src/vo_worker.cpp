@@ -1,0 +1,78 @@
+#include "uav/app/vo_worker.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include "uav/shared/frames.hpp"
+
+namespace uav::app {
+
+VoWorkerParams VoWorkerParams::FromParameters(const ParameterSet& p) {
+  VoWorkerParams v;
+  v.enabled = p.Get("vo_enable") != 0.0;
+  v.position_noise_m = p.Get("vo_position_noise");
+  const int method = static_cast<int>(p.Get("vo_method"));
+  v.vo.method = method == 1 ? vision::VoMethod::kEpnp : method == 2 ? vision::VoMethod::kRigid : vision::VoMethod::kPnp;
+  v.vo.max_features = static_cast<int>(p.Get("vo_max_features"));
+  v.vo.Validate();
+  return v;
+}
+
+VoWorker::VoWorker(hal::StereoCamera& camera, Blackboard& board, const VoWorkerParams& params)
+    : camera_(camera),
+      board_(board),
+      params_(params),
+      rectifier_({camera.left().intrinsics, camera.right().intrinsics, camera.T_LR()}),
+      vo_(rectifier_.geometry(), params.vo),
+      preview_(camera.left().name, camera.left().preview_rate_hz) {
+  T_BC_ = camera.left().T_BC;
+  T_BC_.linear() = T_BC_.linear() * rectifier_.geometry().R_L_rect;
+}
+
+void VoWorker::Tick(int64_t utime) {
+  const hal::StereoImages pair = camera_.Capture(utime);
+  const BlackboardData d = board_.Snapshot();
+  vision::RectifiedPair rect;
+  rect.left_utime = pair.left_utime;
+  rect.right_utime = pair.right_utime;
+  vision::VoResult r;
+  try {
+    rectifier_.Rectify(pair.left, pair.right, &rect.left, &rect.right);
+    r = vo_.Process(rect);
+  } catch (const std::exception& e) {  // a pair of the wrong size or type
+    r.healthy = false;
+    r.reason = e.what();
+  }
+  VisualOdometryReport report;
+  report.utime = utime;
+  report.healthy = r.healthy;
+  report.reason = r.reason;
+  report.method = vision::Name(params_.vo.method);
+  report.segment = r.segment;
+  report.keyframe_points = r.keyframe_points;
+  report.tracked = r.tracked;
+  report.inliers = r.inliers;
+  report.rms_px = r.rms_px;
+  if (pair.truth_T_NB) report.truth_N = pair.truth_T_NB->translation();
+  if (r.healthy) {
+    // The segment's frame W in N: where the INS puts this camera now (Eq. 5.49-5.50 with R_NB
+    // from the INS), so that odometry and INS agree when the segment starts.
+    Eigen::Isometry3d T_NB_est = Eigen::Isometry3d::Identity();
+    T_NB_est.linear() = d.estimate.q_NB.toRotationMatrix();
+    T_NB_est.translation() = d.estimate.p_N;
+    if (!T_NW_ || T_NW_->first != r.segment) T_NW_ = std::make_pair(r.segment, T_NB_est * T_BC_ * r.T_WC.inverse());
+    const Eigen::Isometry3d T_NB_vo = T_NW_->second * r.T_WC * T_BC_.inverse();
+    board_.Update([&](BlackboardData& b) {
+      b.vision_position = BlackboardData::VisionPosition{utime, T_NB_vo.translation(), params_.position_noise_m, r.segment};
+    });
+  }
+  board_.Update([&](BlackboardData& b) {
+    b.vo_healthy = r.healthy;
+    if (!r.healthy) b.vo_reason = r.reason;
+  });
+  board_.PutVisualOdometry(std::move(report));
+  if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
+  ++frames_;
+  unhealthy_ += !r.healthy;
+}
+
+}  // namespace uav::app
