@@ -86,6 +86,7 @@ void Ins::Align(const hal::SensorSample& s) {
   P_.diagonal().segment<3>(kBa).setConstant(std::max(1e-8, p_.accel_bias * p_.accel_bias));
   P_(kBb, kBb) = 0.5 * 0.5;
   last_gps_utime_ = s.gps_utime;
+  if (s.gps_utime > 0 && s.gps_fix >= 3) last_gps_fix_utime_ = s.utime;
   last_sonar_utime_ = s.sonar_utime;
   health_.aligned = true;
 }
@@ -212,7 +213,7 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
     else ++health_.vision_height_rejected;
   }
   // Visual odometry while GPS is lost (no 3-D fix for 1 s).
-  const bool gps_lost = last_gps_fix_utime_ < 0 || s.utime - last_gps_fix_utime_ > 1'000'000;
+  const bool gps_lost = last_gps_fix_utime_ < 0 || s.utime - last_gps_fix_utime_ > 2'500'000;
   if (!gps_lost) visual_anchor_.reset();
   if (queued_visual_ && gps_lost) {
     const VisualPosition v = *queued_visual_;
