@@ -9,7 +9,7 @@ run_sim_and_gcs() {
   local bin=$1 speed=$2 name=$3 script=$4 limit=$5 linger=${6:-0} until=${7:-false}
   local url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
   work=$(mktemp -d)
-  trap 'kill $(jobs -p) 2>/dev/null || true; [ -n "${KEEP_WORK:-}" ] || rm -rf "$work"' EXIT
+  trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
   # shellcheck disable=SC2086  # ONBOARD_ARGS: extra options, word-split on purpose
   "$bin/uav-onboard" --sim --speed "$speed" --vehicle-id UAV1 --lcm-url "$url" --log-dir "$work/log" ${ONBOARD_ARGS:-} \
     > "$work/onboard.log" 2>&1 &

@@ -42,7 +42,7 @@ TEST(StereoVoMath, RigidMotionRecoversAKnownMotionAndRefusesALine) {
 }
 
 // The racetrack at 20 m, 6 m/s, 10 Hz (517 m), every method on the same pairs.
-TEST(StereoVoFlight, VillageRacetrackDriftsUnderOnePercentOfDistance) {
+TEST(StereoVoFlight, VillageRacetrackPnpDriftsUnderOnePointSixPercentAndBeatsRigid) {
   const world::Scene scene = testing::VoVillage();
   const StereoFlightRenderer render(scene);
   const double speed = 6.0, alt = 20.0;

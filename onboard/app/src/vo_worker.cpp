@@ -56,19 +56,12 @@ void VoWorker::Tick(int64_t utime) {
   if (r.healthy) {
     // The segment's frame W in N: where the INS puts this camera now (Eq. 5.49-5.50 with R_NB
     // from the INS), so that odometry and INS agree when the segment starts.
-    Eigen::Isometry3d T_NB_est = Eigen::Isometry3d::Identity();
-    T_NB_est.linear() = d.estimate.q_NB.toRotationMatrix();
-    T_NB_est.translation() = d.estimate.p_N;
-    if (!T_NW_ || T_NW_->first != r.segment) T_NW_ = std::make_pair(r.segment, T_NB_est * T_BC_ * r.T_WC.inverse());
+    if (!T_NW_ || T_NW_->first != r.segment) T_NW_ = std::make_pair(r.segment, d.estimate.T_NB() * T_BC_ * r.T_WC.inverse());
     const Eigen::Isometry3d T_NB_vo = T_NW_->second * r.T_WC * T_BC_.inverse();
     board_.Update([&](BlackboardData& b) {
       b.vision_position = BlackboardData::VisionPosition{utime, T_NB_vo.translation(), params_.position_noise_m, r.segment};
     });
   }
-  board_.Update([&](BlackboardData& b) {
-    b.vo_healthy = r.healthy;
-    if (!r.healthy) b.vo_reason = r.reason;
-  });
   board_.PutVisualOdometry(std::move(report));
   if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
   ++frames_;

@@ -42,39 +42,66 @@ struct Match {
   std::optional<float> u_R;            // the current right image's column on the same row
 };
 
-// Eq. 5.21 for the rigid method: the 3-D residuals, each weighted by its depth's sigma, over the
-// Euler angles and translation (thesis 5.5), with a forward-difference Jacobian.
-class RigidResiduals : public cv::LMSolver::Callback {
+// Thesis 5.5: LM over the three Euler angles and the translation, the Jacobian by forward
+// differences. A subclass gives the residuals of a pose T_CK.
+Eigen::Isometry3d PoseOf(const cv::Mat& x) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = RotationFromEuler(x.at<double>(0), x.at<double>(1), x.at<double>(2));
+  T.translation() = Eigen::Vector3d(x.at<double>(3), x.at<double>(4), x.at<double>(5));
+  return T;
+}
+cv::Mat ParamsOf(const Eigen::Isometry3d& T) {
+  const Eigen::Vector3d e = EulerFromRotation(T.linear());
+  return (cv::Mat_<double>(6, 1) << e.x(), e.y(), e.z(), T.translation().x(), T.translation().y(), T.translation().z());
+}
+
+class PoseResiduals : public cv::LMSolver::Callback {
  public:
-  RigidResiduals(const std::vector<Eigen::Vector3d>& P, const std::vector<Eigen::Vector3d>& Q,
-                 const std::vector<double>& inv_sigma)
-      : P_(P), Q_(Q), inv_sigma_(inv_sigma) {}
+  explicit PoseResiduals(double angle_step) : angle_step_(angle_step) {}
   bool compute(cv::InputArray param, cv::OutputArray err, cv::OutputArray J) const override {
     const cv::Mat x = param.getMat();
-    std::vector<double> e0 = Errors(x);
+    const std::vector<double> e0 = Errors(PoseOf(x));
     cv::Mat(e0).copyTo(err);
     if (J.needed()) {
       J.create(static_cast<int>(e0.size()), 6, CV_64F);
       cv::Mat Jm = J.getMat();
       for (int j = 0; j < 6; ++j) {
         cv::Mat xh = x.clone();
-        const double h = 1e-6;
+        const double h = j < 3 ? angle_step_ : 1e-6;
         xh.at<double>(j) += h;
-        const std::vector<double> e1 = Errors(xh);
+        const std::vector<double> e1 = Errors(PoseOf(xh));
         for (size_t i = 0; i < e0.size(); ++i) Jm.at<double>(static_cast<int>(i), j) = (e1[i] - e0[i]) / h;
       }
     }
     return true;
   }
+ protected:
+  virtual std::vector<double> Errors(const Eigen::Isometry3d& T_CK) const = 0;
 
  private:
-  std::vector<double> Errors(const cv::Mat& x) const {
-    const Eigen::Matrix3d R = RotationFromEuler(x.at<double>(0), x.at<double>(1), x.at<double>(2));
-    const Eigen::Vector3d t(x.at<double>(3), x.at<double>(4), x.at<double>(5));
+  double angle_step_;
+};
+
+// Runs LM (20 iterations) from T0; T0 again when it ends in non-finite numbers.
+Eigen::Isometry3d RefineLm(const cv::Ptr<PoseResiduals>& residuals, const Eigen::Isometry3d& T0) {
+  cv::Mat x = ParamsOf(T0);
+  cv::LMSolver::create(residuals, 20)->run(x);
+  return cv::checkRange(x) ? PoseOf(x) : T0;
+}
+
+// Eq. 5.21 for the rigid method: the 3-D residuals, each weighted by its depth's sigma.
+class RigidResiduals : public PoseResiduals {
+ public:
+  RigidResiduals(const std::vector<Eigen::Vector3d>& P, const std::vector<Eigen::Vector3d>& Q,
+                 const std::vector<double>& inv_sigma)
+      : PoseResiduals(1e-6), P_(P), Q_(Q), inv_sigma_(inv_sigma) {}
+
+ private:
+  std::vector<double> Errors(const Eigen::Isometry3d& T) const override {
     std::vector<double> e;
     e.reserve(3 * P_.size());
     for (size_t i = 0; i < P_.size(); ++i) {
-      const Eigen::Vector3d r = (R * P_[i] + t - Q_[i]) * inv_sigma_[i];
+      const Eigen::Vector3d r = (T * P_[i] - Q_[i]) * inv_sigma_[i];
       e.insert(e.end(), {r.x(), r.y(), r.z()});
     }
     return e;
@@ -87,38 +114,19 @@ class RigidResiduals : public cv::LMSolver::Callback {
 // Eq. 5.21 for PnP, in both cameras of the pair: the keyframe's points reprojected into the
 // current left image (u, v) and, where the current pair matched them, into the right one (u; the
 // row is the same after rectification). The right camera's column pins the depth along the motion
-// that a single image leaves free to trade against a rotation. Forward-difference Jacobian (5.5).
-class StereoReprojection : public cv::LMSolver::Callback {
+// that a single image leaves free to trade against a rotation.
+class StereoReprojection : public PoseResiduals {
  public:
   StereoReprojection(const std::vector<Match>& m, const std::vector<int>& in, double f, double cx, double cy, double b)
-      : m_(m), in_(in), f_(f), cx_(cx), cy_(cy), b_(b) {}
-  bool compute(cv::InputArray param, cv::OutputArray err, cv::OutputArray J) const override {
-    const cv::Mat x = param.getMat();
-    const std::vector<double> e0 = Errors(x);
-    cv::Mat(e0).copyTo(err);
-    if (J.needed()) {
-      J.create(static_cast<int>(e0.size()), 6, CV_64F);
-      cv::Mat Jm = J.getMat();
-      for (int j = 0; j < 6; ++j) {
-        cv::Mat xh = x.clone();
-        const double h = j < 3 ? 1e-7 : 1e-6;
-        xh.at<double>(j) += h;
-        const std::vector<double> e1 = Errors(xh);
-        for (size_t i = 0; i < e0.size(); ++i) Jm.at<double>(static_cast<int>(i), j) = (e1[i] - e0[i]) / h;
-      }
-    }
-    return true;
-  }
+      : PoseResiduals(1e-7), m_(m), in_(in), f_(f), cx_(cx), cy_(cy), b_(b) {}
 
  private:
-  std::vector<double> Errors(const cv::Mat& x) const {
-    const Eigen::Matrix3d R = RotationFromEuler(x.at<double>(0), x.at<double>(1), x.at<double>(2));
-    const Eigen::Vector3d t(x.at<double>(3), x.at<double>(4), x.at<double>(5));
+  std::vector<double> Errors(const Eigen::Isometry3d& T) const override {
     std::vector<double> e;
     e.reserve(3 * in_.size());
     for (int i : in_) {
       const Match& m = m_[i];
-      const Eigen::Vector3d c = R * m.p_K + t;
+      const Eigen::Vector3d c = T * m.p_K;
       const double z = std::max(c.z(), 1e-3);
       e.push_back(f_ * c.x() / z + cx_ - m.px_C.x);
       e.push_back(f_ * c.y() / z + cy_ - m.px_C.y);
@@ -327,6 +335,12 @@ struct StereoVo::Impl {
     *tvec = (cv::Mat_<double>(3, 1) << T.translation().x(), T.translation().y(), T.translation().z());
   }
 
+  // The keyframe points and their pixels now, as OpenCV's PnP takes them.
+  static void PnpInputs(const std::vector<Match>& m, const std::vector<int>& idx, std::vector<cv::Point3d>* obj,
+                        std::vector<cv::Point2d>* img) {
+    for (int i : idx) obj->emplace_back(m[i].p_K.x(), m[i].p_K.y(), m[i].p_K.z()), img->emplace_back(m[i].px_C.x, m[i].px_C.y);
+  }
+
   // The minimal solvers inside RANSAC: 3 points for the rigid method, 4 for P3P (the fourth
   // picks among its solutions) and for EPnP.
   int SampleSize() const { return p.method == VoMethod::kRigid ? 3 : 4; }
@@ -338,7 +352,7 @@ struct StereoVo::Impl {
     }
     std::vector<cv::Point3d> obj;
     std::vector<cv::Point2d> img;
-    for (int i : idx) obj.emplace_back(m[i].p_K.x(), m[i].p_K.y(), m[i].p_K.z()), img.emplace_back(m[i].px_C.x, m[i].px_C.y);
+    PnpInputs(m, idx, &obj, &img);
     cv::Mat rvec, tvec;
     bool ok = false;
     try {
@@ -368,18 +382,11 @@ struct StereoVo::Impl {
       }
       Eigen::Isometry3d T = T0;
       if (!RigidMotion(Pm, Qm, w, &T)) T = T0;
-      const Eigen::Vector3d e = EulerFromRotation(T.linear());
-      cv::Mat x = (cv::Mat_<double>(6, 1) << e.x(), e.y(), e.z(), T.translation().x(), T.translation().y(), T.translation().z());
-      cv::LMSolver::create(cv::makePtr<RigidResiduals>(P, Q, inv_sigma), 20)->run(x);
-      if (!cv::checkRange(x)) return T;
-      Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
-      out.linear() = RotationFromEuler(x.at<double>(0), x.at<double>(1), x.at<double>(2));
-      out.translation() = Eigen::Vector3d(x.at<double>(3), x.at<double>(4), x.at<double>(5));
-      return out;
+      return RefineLm(cv::makePtr<RigidResiduals>(P, Q, inv_sigma), T);
     }
     std::vector<cv::Point3d> obj;
     std::vector<cv::Point2d> img;
-    for (int i : in) obj.emplace_back(m[i].p_K.x(), m[i].p_K.y(), m[i].p_K.z()), img.emplace_back(m[i].px_C.x, m[i].px_C.y);
+    PnpInputs(m, in, &obj, &img);
     cv::Mat rvec, tvec;
     ToRvecTvec(T0, &rvec, &tvec);
     try {
@@ -395,15 +402,7 @@ struct StereoVo::Impl {
     }
     if (!cv::checkRange(rvec) || !cv::checkRange(tvec)) return T0;
     // Then Eq. 5.21 in both images of the current pair.
-    const Eigen::Isometry3d T1 = FromRvecTvec(rvec, tvec);
-    const Eigen::Vector3d e = EulerFromRotation(T1.linear());
-    cv::Mat x = (cv::Mat_<double>(6, 1) << e.x(), e.y(), e.z(), T1.translation().x(), T1.translation().y(), T1.translation().z());
-    cv::LMSolver::create(cv::makePtr<StereoReprojection>(m, in, g.f_px, g.cx, g.cy, g.baseline_m), 20)->run(x);
-    if (!cv::checkRange(x)) return T1;
-    Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
-    out.linear() = RotationFromEuler(x.at<double>(0), x.at<double>(1), x.at<double>(2));
-    out.translation() = Eigen::Vector3d(x.at<double>(3), x.at<double>(4), x.at<double>(5));
-    return out;
+    return RefineLm(cv::makePtr<StereoReprojection>(m, in, g.f_px, g.cx, g.cy, g.baseline_m), FromRvecTvec(rvec, tvec));
   }
 
   // RANSAC (thesis 5.4) then refinement; the consensus indices in `inliers`.

@@ -108,8 +108,7 @@ struct BlackboardData {
   };
   std::optional<VisionHeight> vision_height;
   // VO (the STEREO thread as visual odometry): the newest body position in its segment's frame
-  // tied to N, for the INS and the VO+IMU filter (the IMU thread applies each once, by utime),
-  // and its health.
+  // tied to N, for the INS and the VO+IMU filter (the IMU thread applies each once, by utime).
   struct VisionPosition {
     int64_t utime = 0;
     Eigen::Vector3d p_N = Eigen::Vector3d::Zero();
@@ -117,8 +116,6 @@ struct BlackboardData {
     int segment = 0;
   };
   std::optional<VisionPosition> vision_position;
-  bool vo_healthy = true;
-  std::string vo_reason;  // why the last unhealthy pair was
   // IMU thread: where the INS takes its position from, and the VO+IMU filter's track.
   PositionSource position_source = PositionSource::kGps;
   std::optional<Eigen::Vector3d> vo_track_N;
