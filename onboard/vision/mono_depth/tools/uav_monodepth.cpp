@@ -17,17 +17,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include "uav/shared/capture_folder.hpp"
+#include "uav/shared/progress_bar.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/mono_depth.hpp"
 
 namespace {
-
-void Progress(size_t done, size_t total) {
-  const int width = 40;
-  const int filled = static_cast<int>(width * done / std::max<size_t>(total, 1));
-  std::fprintf(stderr, "\r[%s%s] %zu/%zu", std::string(filled, '#').c_str(), std::string(width - filled, ' ').c_str(), done, total);
-  if (done == total) std::fprintf(stderr, "\n");
-}
 
 std::string Quoted(const std::string& s) {
   std::string q = "\"";
@@ -79,6 +73,7 @@ int main(int argc, char** argv) {
     csv << "frame,utime,file,row,col,state,depth_m,sigma_m,features,confidence,reason\n";
     std::vector<double> ms;
     int healthy = 0, known_cells = 0, first_all_known = -1;
+    uav::ProgressBar progress(rows.size());
     for (size_t i = 0; i < rows.size(); ++i) {
       const uav::CaptureRow& c = rows[i];
       const cv::Mat image = cv::imread(dir + "/" + c.file, cv::IMREAD_COLOR);
@@ -107,8 +102,9 @@ int main(int argc, char** argv) {
         std::snprintf(name, sizeof name, "/depth_%06zu.jpg", i);
         cv::imwrite(overlay_dir + name, Overlay(image, g, estimator.features()));
       }
-      Progress(i + 1, rows.size());
+      progress.Update(i + 1);
     }
+    progress.Finish(rows.size());
     uav::WriteFileAtomically(out, csv.str());
     std::sort(ms.begin(), ms.end());
     const int cells = estimator.params().grid_cols * estimator.params().grid_rows;

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "uav/shared/progress_bar.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/power_line_detector.hpp"
 
@@ -66,13 +67,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   int failed = 0, total_wires = 0;
+  uav::ProgressBar progress(images.size());
   for (std::size_t i = 0; i < images.size(); ++i) {
     const std::string& path = images[i];
-    // Progress: a bar on stderr, rewritten in place.
-    const int filled = static_cast<int>(30.0 * i / images.size());
-    std::fprintf(stderr, "\r[%-30s] %zu/%zu %s", std::string(filled, '#').c_str(), i, images.size(),
-                 std::filesystem::path(path).filename().c_str());
-    std::fflush(stderr);
+    progress.Update(i, std::filesystem::path(path).filename().string());
     const std::string stem = std::filesystem::path(path).stem().string();
     try {
       const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
@@ -91,7 +89,7 @@ int main(int argc, char** argv) {
       ++failed;
     }
   }
-  std::fprintf(stderr, "\r[%-30s] %zu/%zu\n", std::string(30, '#').c_str(), images.size(), images.size());
+  progress.Finish(images.size());
   std::printf("uav-powerlines: %zu image(s), %d wire(s), %d image(s) not processed, output in %s\n", images.size(),
               total_wires, failed, out_dir.c_str());
   return failed ? 1 : 0;

@@ -17,6 +17,7 @@
 
 #include "uav/shared/capture_folder.hpp"
 #include "uav/shared/frames.hpp"
+#include "uav/shared/progress_bar.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/map_export.hpp"
 #include "uav/vision/map_stitcher.hpp"
@@ -26,13 +27,6 @@ namespace {
 using json = nlohmann::json;
 
 [[noreturn]] void Fail(const std::string& what) { throw std::invalid_argument(what); }
-
-void Progress(size_t done, size_t total) {
-  const int width = 40;
-  const int filled = static_cast<int>(width * done / std::max<size_t>(total, 1));
-  std::fprintf(stderr, "\r[%s%s] %zu/%zu", std::string(filled, '#').c_str(), std::string(width - filled, ' ').c_str(), done, total);
-  if (done == total) std::fprintf(stderr, "\n");
-}
 
 }  // namespace
 
@@ -60,6 +54,7 @@ int main(int argc, char** argv) {
     std::vector<double> ms;
     std::map<std::string, int> failures;
     int registered = 0, placed = 0;
+    uav::ProgressBar progress(captures.size());
     for (size_t i = 0; i < captures.size(); ++i) {
       const uav::CaptureRow& c = captures[i];
       const cv::Mat image = cv::imread(dir + "/" + c.file, cv::IMREAD_COLOR);
@@ -70,8 +65,9 @@ int main(int argc, char** argv) {
       registered += step.registered;
       if (!step.failure.empty()) ++failures[step.failure.substr(0, step.failure.find(" ("))];
       ms.push_back(step.seconds * 1e3);
-      Progress(i + 1, captures.size());
+      progress.Update(i + 1);
     }
+    progress.Finish(captures.size());
     const uav::vision::Mosaic map = stitcher.Render();
     const std::vector<std::string> files = uav::vision::ExportMap(map, session.home, out);
     std::vector<double> sorted = ms;

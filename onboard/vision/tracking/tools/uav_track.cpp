@@ -19,6 +19,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "uav/shared/progress_bar.hpp"
 #include "uav/vision/target_tracker.hpp"
 
 namespace {
@@ -118,6 +119,7 @@ int main(int argc, char** argv) {
     uav::vision::TargetTracker tracker_(params);
     cv::Mat frame;
     int n = 0, losses = 0;
+    uav::ProgressBar progress(source.count());
     std::vector<double> ms;
     uav::vision::TrackState last = uav::vision::TrackState::kTracking;
     while (source.Next(&frame)) {
@@ -155,14 +157,9 @@ int main(int argc, char** argv) {
         cv::imwrite(overlay_dir + name, shown);
       }
       ++n;
-      if (n % 10 == 0 || n == source.count()) {
-        const int total = std::max(source.count(), n);
-        const int filled = static_cast<int>(30.0 * n / total);
-        std::fprintf(stderr, "\r[%-30s] %d/%d %s", std::string(filled, '#').c_str(), n, total, StateName(r.state));
-        std::fflush(stderr);
-      }
+      progress.Update(n, StateName(r.state));
     }
-    std::fprintf(stderr, "\n");
+    progress.Finish(n);
     if (n == 0) throw std::runtime_error(input + ": no frames");
     if (csv.is_open()) {
       csv.close();

@@ -213,12 +213,14 @@ struct StereoVo::Impl {
   double max_depth_m = 0;
   std::mt19937 rng{12345};
 
+  enum PointState : char { kGone = 0, kTracked = 1, kPredicted = 2 };
   struct Keyframe {
+    cv::Mat left;                      // the keyframe's own left image
     cv::Mat last_left;                 // the previous frame's left image, where tracking starts
     std::vector<cv::Point2f> px;       // left pixels of the points with depth
     std::vector<Eigen::Vector3d> p_K;  // their positions in the keyframe [m]
-    std::vector<cv::Point2f> last_px;  // where each was last seen (the next frame's LK guess)
-    std::vector<char> alive;
+    std::vector<cv::Point2f> last_px;  // where each was last seen or predicted (the next LK's guess)
+    std::vector<char> alive;           // kTracked, kPredicted or kGone
     Eigen::Isometry3d T_WK = Eigen::Isometry3d::Identity();
   };
   std::optional<Keyframe> keyframe;
@@ -282,12 +284,13 @@ struct StereoVo::Impl {
     int row_misses = 0;
     const auto points = Triangulate(left, right, corners, &row_misses);
     Keyframe k;
-    k.last_left = left.clone();
+    k.left = left.clone();
+    k.last_left = k.left;
     k.T_WK = T_WK;
     for (size_t i = 0; i < corners.size(); ++i)
       if (points[i]) k.px.push_back(corners[i]), k.p_K.push_back(*points[i]);
     k.last_px = k.px;
-    k.alive.assign(k.px.size(), 1);
+    k.alive.assign(k.px.size(), kTracked);
     if (static_cast<int>(k.px.size()) < p.min_inliers) {
       if (row_misses > static_cast<int>(corners.size()) / 2)
         return Format("%.0f of %.0f stereo matches leave the epipolar line: a mismatched pair or a calibration that does "
@@ -515,10 +518,13 @@ struct StereoVo::Impl {
     // frame to frame the view changes little (exposure, cloud shadows, perspective), which a
     // keyframe-to-frame LK would have to bridge at once; the pose is still computed against the
     // keyframe's 3-D points, so a hovering camera does not integrate anything.
-    std::vector<int> ids;
-    std::vector<cv::Point2f> from;
-    for (size_t i = 0; i < k.px.size(); ++i)
-      if (k.alive[i]) ids.push_back(static_cast<int>(i)), from.push_back(k.last_px[i]);
+    std::vector<int> ids, lost_ids;
+    std::vector<cv::Point2f> from, lost_from, lost_to;
+    for (size_t i = 0; i < k.px.size(); ++i) {
+      if (k.alive[i] == kTracked) ids.push_back(static_cast<int>(i)), from.push_back(k.last_px[i]);
+      if (k.alive[i] == kPredicted)
+        lost_ids.push_back(static_cast<int>(i)), lost_from.push_back(k.px[i]), lost_to.push_back(k.last_px[i]);
+    }
     std::vector<cv::Point2f> to = from, back = from;
     std::vector<uchar> st1, st2;
     std::vector<float> err;
@@ -528,13 +534,39 @@ struct StereoVo::Impl {
       cv::calcOpticalFlowPyrLK(k.last_left, left, from, to, st1, err, win, p.lk_levels, term);
       cv::calcOpticalFlowPyrLK(left, k.last_left, to, back, st2, err, win, p.lk_levels, term, cv::OPTFLOW_USE_INITIAL_FLOW);
     }
+    // Frame-to-frame positions accumulate LK's small errors as a random walk, which a hovering
+    // camera would read as drift. Each track is therefore pulled back onto the keyframe's own
+    // patch (one LK pass at full resolution from where frame-to-frame put it); where the view has
+    // changed too much for that (it moves the point further than the forward-backward tolerance)
+    // the frame-to-frame position stands.
+    std::vector<cv::Point2f> anchored = to, anchor_from;
+    std::vector<uchar> st3;
+    for (int id : ids) anchor_from.push_back(k.px[id]);
+    if (!from.empty())
+      cv::calcOpticalFlowPyrLK(k.left, left, anchor_from, anchored, st3, err, win, 0, term, cv::OPTFLOW_USE_INITIAL_FLOW);
     std::vector<Match> matches;
     std::vector<cv::Point2f> tracked_px;
     for (size_t j = 0; j < ids.size(); ++j) {
       if (!st1[j] || !st2[j] || cv::norm(back[j] - from[j]) > p.lk_fb_tol_px) continue;
+      if (st3[j] && cv::norm(anchored[j] - to[j]) < p.lk_fb_tol_px) to[j] = anchored[j];
       if (to[j].x < 0 || to[j].y < 0 || to[j].x > left.cols - 1 || to[j].y > left.rows - 1) continue;
-      matches.push_back({ids[j], k.p_K[ids[j]], to[j], std::nullopt});
+      matches.push_back({ids[j], k.p_K[ids[j]], to[j], std::nullopt, std::nullopt});
       tracked_px.push_back(to[j]);
+    }
+    // Points lost earlier are looked for again straight from the keyframe's image, starting where
+    // the last motion put them, with the same back check: a cloud shadow or one failed check
+    // does not wear the keyframe down (a hovering camera keeps its keyframe).
+    if (!lost_ids.empty()) {
+      std::vector<cv::Point2f> lost_back = lost_from;
+      cv::calcOpticalFlowPyrLK(k.left, left, lost_from, lost_to, st1, err, win, p.lk_levels, term, cv::OPTFLOW_USE_INITIAL_FLOW);
+      cv::calcOpticalFlowPyrLK(left, k.left, lost_to, lost_back, st2, err, win, p.lk_levels, term, cv::OPTFLOW_USE_INITIAL_FLOW);
+      for (size_t j = 0; j < lost_ids.size(); ++j) {
+        const cv::Point2f& q = lost_to[j];
+        if (!st1[j] || !st2[j] || cv::norm(lost_back[j] - lost_from[j]) > p.lk_fb_tol_px) continue;
+        if (q.x < 0 || q.y < 0 || q.x > left.cols - 1 || q.y > left.rows - 1) continue;
+        matches.push_back({lost_ids[j], k.p_K[lost_ids[j]], q, std::nullopt, std::nullopt});
+        tracked_px.push_back(q);
+      }
     }
     const int tracked = static_cast<int>(matches.size());
     {
@@ -543,6 +575,14 @@ struct StereoVo::Impl {
       int row_misses = 0;
       std::vector<float> u_r;
       const auto now = Triangulate(left, right, tracked_px, &row_misses, &u_r);
+      // The keyframe's points had a stereo match when it was made, and most keep one while they
+      // stay in view: a right image that does not belong to the left (or a calibration that does
+      // not fit) loses most of them. The pair is refused; the track goes on with the next one.
+      const auto found = std::count_if(now.begin(), now.end(), [](const auto& q) { return q.has_value(); });
+      if (tracked >= p.min_inliers && found < tracked / 2)
+        return Unhealthy(Format("only %.0f of %.0f tracked points are found in the right image on their rows (%.0f off "
+                                "the epipolar line): a mismatched pair or a calibration that does not fit",
+                                static_cast<double>(found), static_cast<double>(tracked), static_cast<double>(row_misses)));
       std::vector<Match> kept;
       for (size_t j = 0; j < matches.size(); ++j) {
         if (now[j]) matches[j].p_C = now[j], matches[j].u_R = u_r[j];
@@ -573,10 +613,18 @@ struct StereoVo::Impl {
       const Match& m = matches[i];
       sq += (Project(*T_CK, m.p_K) - Eigen::Vector2d(m.px_C.x, m.px_C.y)).squaredNorm();
     }
-    // Only the consensus is followed into the next frame.
+    // The consensus is followed into the next frame from where it was seen; every other keyframe
+    // point still in view is looked for again from where this motion puts it.
     k.last_left = left;
-    std::fill(k.alive.begin(), k.alive.end(), 0);
-    for (int i : inliers) k.alive[matches[i].keyframe_index] = 1, k.last_px[matches[i].keyframe_index] = matches[i].px_C;
+    for (size_t i = 0; i < k.px.size(); ++i) {
+      const Eigen::Vector2d q = Project(*T_CK, k.p_K[i]);
+      const bool in_view = q.x() >= p.border_px && q.y() >= p.border_px && q.x() < left.cols - p.border_px &&
+                           q.y() < left.rows - p.border_px;
+      k.alive[i] = in_view ? kPredicted : kGone;
+      k.last_px[i] = cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y()));
+    }
+    for (int i : inliers)
+      k.alive[matches[i].keyframe_index] = kTracked, k.last_px[matches[i].keyframe_index] = matches[i].px_C;
 
     VoResult r;
     r.healthy = true;
@@ -588,7 +636,11 @@ struct StereoVo::Impl {
     r.inliers = static_cast<int>(inliers.size());
     r.ransac_iterations = iterations;
     r.rms_px = std::sqrt(sq / std::max<size_t>(1, inliers.size()));
-    if (r.inliers < p.keyframe_min_inliers || r.inliers < p.keyframe_min_fraction * r.keyframe_points) {
+    // A keyframe that never had keyframe_min_inliers points (plain ground) is kept until it
+    // loses keyframe_min_fraction of them: replacing it every frame would chain every frame's
+    // error, which is drift.
+    const bool thinning = r.keyframe_points > p.keyframe_min_inliers && r.inliers < p.keyframe_min_inliers;
+    if (thinning || r.inliers < p.keyframe_min_fraction * r.keyframe_points) {
       // A new keyframe here; if this frame cannot make one, the old keyframe is kept.
       Keyframe old = std::move(k);
       if (MakeKeyframe(left, right, T_WC).empty()) r.new_keyframe = true;

@@ -48,7 +48,7 @@ struct VoParams {
   double rigid_tol_sigma = 3.0;      // rigid inlier test, in the pair's combined depth sigma
   // Health and keyframes.
   int min_inliers = 15;              // fewer: the motion is not trusted, the frame is unhealthy
-  int keyframe_min_inliers = 200;    // a new keyframe once fewer inliers than this remain ...
+  int keyframe_min_inliers = 200;    // a new keyframe once fewer inliers than this remain (if it had more) ...
   double keyframe_min_fraction = 0.5;  // ... or fewer than this share of the keyframe's points
   double max_sync_skew_s = 0.002;    // left and right exposed further apart: not a pair
   double max_gap_s = 1.0;            // frames further apart: the track restarts
