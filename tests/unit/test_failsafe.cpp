@@ -77,6 +77,30 @@ TEST_F(Failsafes, LowBatteryReturnsThenLandsAndStaysLatched) {
   EXPECT_NE(monitor_.reason().find("below 10 %"), std::string::npos) << monitor_.reason();
 }
 
+// Without a position source (GPS lost, no visual odometry) the vehicle holds at once and lands
+// after nav_land_s; the landing stays latched when a source comes back, and the reason says why.
+TEST_F(Failsafes, PositionLostHoldsThenLandsAfterNavLandSecondsAndStaysLatched) {
+  in_.position_lost = true;
+  in_.position_lost_reason = "GPS lost; visual odometry: too few features";
+  EXPECT_EQ(At(0), A::kHold);
+  EXPECT_NE(monitor_.reason().find("too few features"), std::string::npos) << monitor_.reason();
+  EXPECT_EQ(At(p_.nav_land_s - 0.1), A::kHold);
+  EXPECT_EQ(At(p_.nav_land_s + 0.1), A::kLand);
+  in_.position_lost = false;
+  EXPECT_EQ(At(p_.nav_land_s + 1.0), A::kLand);
+  // A short loss that ends before nav_land_s only held.
+  FailsafeMonitor fresh(p_);
+  in_.position_lost = true;
+  in_.t = 0.0;
+  EXPECT_EQ(fresh.Update(in_, &events_), A::kHold);
+  in_.position_lost = false;
+  in_.t = 1.0;
+  EXPECT_EQ(fresh.Update(in_, &events_), A::kNone);
+  in_.position_lost = true;
+  in_.t = 1.0 + p_.nav_land_s - 0.5;  // the clock restarted with the new loss
+  EXPECT_EQ(fresh.Update(in_, &events_), A::kHold);
+}
+
 TEST_F(Failsafes, GeofenceOnBothSidesOfEachLimit) {
   in_.p_N = Eigen::Vector3d(499.9, 0, -10);
   EXPECT_EQ(At(0), A::kNone);

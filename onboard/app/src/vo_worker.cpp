@@ -53,6 +53,7 @@ void VoWorker::Tick(int64_t utime) {
   report.inliers = r.inliers;
   report.rms_px = r.rms_px;
   if (pair.truth_T_NB) report.truth_N = pair.truth_T_NB->translation();
+  board_.Update([&](BlackboardData& b) { b.vision_unhealthy_reason = r.reason; });
   if (r.healthy) {
     // The segment's frame W in N: where the INS puts this camera now (Eq. 5.49-5.50 with R_NB
     // from the INS), so that odometry and INS agree when the segment starts.

@@ -64,6 +64,11 @@ void ControlWorker::Tick(int64_t utime) {
   fin.battery_remaining = d.sample.battery_remaining;
   fin.p_N = d.estimate.p_N;
   fin.rc_manual = d.sample.rc_manual;
+  // The INS on the IMU alone (no GPS fix, no visual position for a second) cannot hold a place.
+  fin.position_lost = d.position_source == PositionSource::kInertial;
+  fin.position_lost_reason = d.vision_unhealthy_reason.empty()
+                                 ? "GPS lost and no visual odometry"
+                                 : "GPS lost; visual odometry: " + d.vision_unhealthy_reason;
   const control::FailsafeAction required = failsafes_.Update(fin, &events);
   for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? Severity::kWarning : Severity::kInfo, e);
   tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports);

@@ -86,7 +86,9 @@ void Ins::Align(const hal::SensorSample& s) {
   P_.diagonal().segment<3>(kBa).setConstant(std::max(1e-8, p_.accel_bias * p_.accel_bias));
   P_(kBb, kBb) = 0.5 * 0.5;
   last_gps_utime_ = s.gps_utime;
-  if (s.gps_utime > 0 && s.gps_fix >= 3) last_gps_fix_utime_ = s.utime;
+  // Aligned at a known place (the fix, or home): that counts as a fix, so the position is not
+  // "lost" while the receiver's first fix is on its way.
+  last_gps_fix_utime_ = s.utime;
   last_sonar_utime_ = s.sonar_utime;
   health_.aligned = true;
 }
@@ -218,7 +220,10 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
   if (queued_visual_ && gps_lost) {
     const VisualPosition v = *queued_visual_;
     if (!visual_anchor_ || visual_anchor_->second != v.segment) {
+      // A new segment is tied to where the INS is now: a position source from this sample on
+      // (else the hand-over from GPS would pass through "inertial only" for a frame).
       visual_anchor_ = std::make_pair(Eigen::Vector3d(p_N_ - v.p_N), v.segment);
+      last_visual_utime_ = s.utime;
     } else {
       const Eigen::Vector3d z = v.p_N + visual_anchor_->first;
       const double r = v.sigma_m * v.sigma_m + 0.01 * 0.01;

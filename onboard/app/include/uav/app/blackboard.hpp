@@ -116,6 +116,7 @@ struct BlackboardData {
     int segment = 0;
   };
   std::optional<VisionPosition> vision_position;
+  std::string vision_unhealthy_reason;  // the odometry's last refusal ("" while it is healthy)
   // IMU thread: where the INS takes its position from, and the VO+IMU filter's track.
   PositionSource position_source = PositionSource::kGps;
   std::optional<Eigen::Vector3d> vo_track_N;
