@@ -14,32 +14,36 @@ namespace {
 
 using uav::vision::RectifiedPair;
 
-const std::vector<RectifiedPair>& RacetrackPairs() {
-  static const std::vector<RectifiedPair> pairs = [] {
+struct Flight {
+  uav::vision::RectifiedGeometry geometry;
+  std::vector<RectifiedPair> pairs;
+};
+
+const Flight& Racetrack() {
+  static const Flight flight = [] {
     const uav::world::Scene scene = uav::vision::testing::VoVillage();
     const uav::vision::testing::StereoFlightRenderer render(scene);
-    std::vector<RectifiedPair> out;
+    Flight f{render.geometry(), {}};
     for (int i = 0; i < 120; ++i)
-      out.push_back(render.Render(uav::vision::testing::RacetrackPose(i * 0.6, 20.0, 6.0), 1'000'000 + i * 100'000LL).pair);
-    return out;
+      f.pairs.push_back(render.Render(uav::vision::testing::RacetrackPose(i * 0.6, 20.0, 6.0), 1'000'000 + i * 100'000LL).pair);
+    return f;
   }();
-  return pairs;
+  return flight;
 }
 
 void BM_StereoVoPair(benchmark::State& state) {
-  const auto& pairs = RacetrackPairs();
-  const uav::world::Scene scene = uav::vision::testing::VoVillage();
-  const uav::vision::testing::StereoFlightRenderer render(scene);
+  const Flight& flight = Racetrack();
+  const auto& pairs = flight.pairs;
   uav::vision::VoParams params;
   params.method = static_cast<uav::vision::VoMethod>(state.range(0));
   state.SetLabel(uav::vision::Name(params.method));
-  auto vo = std::make_unique<uav::vision::StereoVo>(render.geometry(), params);
+  auto vo = std::make_unique<uav::vision::StereoVo>(flight.geometry, params);
   std::size_t i = 0;
   int64_t utime = 0;
   for (auto _ : state) {
     if (i == pairs.size()) {  // the flight is replayed from a fresh odometry
       state.PauseTiming();
-      vo = std::make_unique<uav::vision::StereoVo>(render.geometry(), params);
+      vo = std::make_unique<uav::vision::StereoVo>(flight.geometry, params);
       i = 0;
       state.ResumeTiming();
     }

@@ -53,16 +53,18 @@ void VoWorker::Tick(int64_t utime) {
   report.inliers = r.inliers;
   report.rms_px = r.rms_px;
   if (pair.truth_T_NB) report.truth_N = pair.truth_T_NB->translation();
-  board_.Update([&](BlackboardData& b) { b.vision_unhealthy_reason = r.reason; });
+  std::optional<BlackboardData::VisionPosition> position;
   if (r.healthy) {
     // The segment's frame W in N: where the INS puts this camera now (Eq. 5.49-5.50 with R_NB
     // from the INS), so that odometry and INS agree when the segment starts.
     if (!T_NW_ || T_NW_->first != r.segment) T_NW_ = std::make_pair(r.segment, d.estimate.T_NB() * T_BC_ * r.T_WC.inverse());
     const Eigen::Isometry3d T_NB_vo = T_NW_->second * r.T_WC * T_BC_.inverse();
-    board_.Update([&](BlackboardData& b) {
-      b.vision_position = BlackboardData::VisionPosition{utime, T_NB_vo.translation(), params_.position_noise_m, r.segment};
-    });
+    position = BlackboardData::VisionPosition{utime, T_NB_vo.translation(), params_.position_noise_m, r.segment};
   }
+  board_.Update([&](BlackboardData& b) {
+    b.vision_unhealthy_reason = r.reason;
+    if (position) b.vision_position = position;
+  });
   board_.PutVisualOdometry(std::move(report));
   if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
   ++frames_;

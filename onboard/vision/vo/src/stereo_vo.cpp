@@ -17,6 +17,11 @@
 namespace uav::vision {
 namespace {
 
+// Whether a tracked pixel q lies in an image of `size`.
+bool Inside(const cv::Point2f& q, const cv::Size& size) {
+  return q.x >= 0 && q.y >= 0 && q.x <= size.width - 1 && q.y <= size.height - 1;
+}
+
 std::string Format(const char* fmt, double a, double b = 0, double c = 0) {
   char buf[200];
   std::snprintf(buf, sizeof buf, fmt, a, b, c);
@@ -549,7 +554,7 @@ struct StereoVo::Impl {
     for (size_t j = 0; j < ids.size(); ++j) {
       if (!st1[j] || !st2[j] || cv::norm(back[j] - from[j]) > p.lk_fb_tol_px) continue;
       if (st3[j] && cv::norm(anchored[j] - to[j]) < p.lk_fb_tol_px) to[j] = anchored[j];
-      if (to[j].x < 0 || to[j].y < 0 || to[j].x > left.cols - 1 || to[j].y > left.rows - 1) continue;
+      if (!Inside(to[j], left.size())) continue;
       matches.push_back({ids[j], k.p_K[ids[j]], to[j], std::nullopt, std::nullopt});
       tracked_px.push_back(to[j]);
     }
@@ -563,7 +568,7 @@ struct StereoVo::Impl {
       for (size_t j = 0; j < lost_ids.size(); ++j) {
         const cv::Point2f& q = lost_to[j];
         if (!st1[j] || !st2[j] || cv::norm(lost_back[j] - lost_from[j]) > p.lk_fb_tol_px) continue;
-        if (q.x < 0 || q.y < 0 || q.x > left.cols - 1 || q.y > left.rows - 1) continue;
+        if (!Inside(q, left.size())) continue;
         matches.push_back({lost_ids[j], k.p_K[lost_ids[j]], q, std::nullopt, std::nullopt});
         tracked_px.push_back(q);
       }
@@ -618,10 +623,10 @@ struct StereoVo::Impl {
     k.last_left = left;
     for (size_t i = 0; i < k.px.size(); ++i) {
       const Eigen::Vector2d q = Project(*T_CK, k.p_K[i]);
+      k.last_px[i] = cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y()));
       const bool in_view = q.x() >= p.border_px && q.y() >= p.border_px && q.x() < left.cols - p.border_px &&
                            q.y() < left.rows - p.border_px;
       k.alive[i] = in_view ? kPredicted : kGone;
-      k.last_px[i] = cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y()));
     }
     for (int i : inliers)
       k.alive[matches[i].keyframe_index] = kTracked, k.last_px[matches[i].keyframe_index] = matches[i].px_C;
