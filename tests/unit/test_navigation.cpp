@@ -177,5 +177,37 @@ TEST(Ins, VisionHeightIsGatedLikeTheSonar) {
   EXPECT_NEAR(-ins.estimate().p_N.z(), truth, 0.05);
 }
 
+// Visual odometry as the position source once GPS is gone (thesis 5.7): its positions are used;
+// when its chain jumps 2 m (a bad keyframe hand-over) the jump is refused, and after half a
+// second of refusals the odometry is tied to the INS again, so the source never falls back to
+// the IMU alone and the estimate never takes the jump.
+TEST(Ins, AJumpOfTheOdometryIsRefusedThenTheOdometryIsTiedAgain) {
+  const auto params = VehicleFile();
+  sim::SimVehicle vehicle(params, kHome, 0);
+  nav::Ins ins(nav::InsParams::FromParameters(params), kHome);
+  auto run = [&](double seconds, const Eigen::Vector3d& vo_offset_N) {
+    for (int i = 0; i < seconds * 50; ++i) {
+      for (int k = 0; k < 10; ++k) vehicle.Step(2000);
+      if (i % 5 == 0) ins.QueueVisualPosition(vehicle.TruthState().p_N + vo_offset_N, 0.05, 0);
+      ins.Update(vehicle.ReadSensors(), true);
+      ASSERT_NE(ins.position_source(), PositionSource::kInertial) << "at " << vehicle.utime() * 1e-6 << " s";
+    }
+  };
+  run(10, Eigen::Vector3d::Zero());
+  EXPECT_EQ(ins.position_source(), PositionSource::kGps);
+  vehicle.SetGpsEnabled(false);
+  run(5, Eigen::Vector3d::Zero());
+  EXPECT_EQ(ins.position_source(), PositionSource::kVision);
+  // The odometry is tied where the INS was when GPS went (with the receiver's error then).
+  const Eigen::Vector3d error_before_N = ins.estimate().p_N - vehicle.TruthState().p_N;
+  const int used = ins.health().vision_position_used;
+  EXPECT_GT(used, 15);
+  run(2, Eigen::Vector3d(2, 0, 0));
+  EXPECT_EQ(ins.health().vision_reanchors, 1);
+  EXPECT_GE(ins.health().vision_position_rejected, 5);
+  EXPECT_GT(ins.health().vision_position_used, used + 10);
+  EXPECT_LT((ins.estimate().p_N - vehicle.TruthState().p_N - error_before_N).head<2>().norm(), 0.2);
+}
+
 }  // namespace
 }  // namespace uav

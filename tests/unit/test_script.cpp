@@ -60,6 +60,8 @@ TEST(Script, ConditionsOnTelemetryAndAcks) {
   m.SubmitCommand("arm", 0.0);
   m.OnAck("UAV1", "gcs", {1, "arm", CommandResult::kRejected, 0, "already armed"}, 0.1);
   EXPECT_TRUE(eval("ack == rejected and ack.reason contains already armed").holds);
+  EXPECT_FALSE(eval("ack.reason lacks already armed").holds);
+  EXPECT_TRUE(eval("ack.reason lacks failsafe and ack == rejected").holds);
 }
 
 // A fake vehicle fed straight into the model, the real panels on the null platform, and the

@@ -162,6 +162,65 @@ TEST_F(TaskManagerTest, LandCompletesAfterStillOnGroundAndDisarms) {
   EXPECT_LT(t_, 0.77);
 }
 
+// A hold required while landing (the cameras lose the ground near it) does not stop the landing;
+// the same hold during a goto stops the goto with the reason.
+TEST_F(TaskManagerTest, AHoldFailsafeStopsAGotoButNotALanding) {
+  Send("arm");
+  Send("takeoff 5");
+  est_.p_N.z() = -5;
+  Step();
+  ASSERT_EQ(Send("goto 20 0 5")[0].result, AckResult::kAccepted);
+  Step();
+  std::vector<TaskReport> r;
+  tm_.EnforceFailsafe(FailsafeAction::kHold, "no position", est_, t_, &r);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].result, AckResult::kFailed);
+  EXPECT_EQ(r[0].reason, "failsafe hold: no position");
+  Step();
+  EXPECT_EQ(out_.task, Task::kHover);
+  EXPECT_EQ(out_.setpoint.p_N, est_.p_N);
+
+  tm_.EnforceFailsafe(FailsafeAction::kNone, "", est_, t_, &r);
+  ASSERT_EQ(Send("land")[0].result, AckResult::kAccepted);
+  Step();
+  est_.p_N.z() = -1.0;
+  r.clear();
+  tm_.EnforceFailsafe(FailsafeAction::kHold, "no position", est_, t_, &r);
+  EXPECT_TRUE(r.empty());
+  Step();
+  EXPECT_EQ(out_.task, Task::kLand);
+  ASSERT_TRUE(out_.setpoint.descent_rate.has_value());
+  EXPECT_GT(*out_.setpoint.descent_rate, 0.0);
+  // A command that would do less than the hold is still refused.
+  EXPECT_EQ(Send("goto 20 0 5")[0].result, AckResult::kRejected);
+}
+
+// On the barometer alone the height estimate can sit 0.6 m above the ground after touchdown:
+// the landing ends when the descent has stopped for 2 s, and never turns into a hover however
+// long it takes.
+TEST_F(TaskManagerTest, ALandingEndsWhenTheGroundStopsTheDescentWhateverTheHeightEstimate) {
+  Send("arm");
+  Send("takeoff 5");
+  est_.p_N.z() = -5;
+  Step();
+  Send("land");
+  est_.v_N.z() = 0.7;
+  for (int i = 0; i < 100 * 50; ++i) {  // 100 s descending: longer than any deadline
+    Step();
+    ASSERT_EQ(out_.task, Task::kLand);
+  }
+  est_.p_N.z() = -0.6;
+  est_.v_N.z() = 0.0;
+  std::vector<TaskReport> done;
+  while (done.empty() && t_ < 110)
+    for (const auto& x : Step(0.1))
+      if (x.result != AckResult::kInProgress) done.push_back(x);
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_EQ(done[0].result, AckResult::kCompleted);
+  EXPECT_FALSE(out_.armed);
+  EXPECT_NEAR(t_, 100.12 + 2.0, 0.11);  // still from the first step at 100.12 s
+}
+
 TEST_F(TaskManagerTest, UnreachableTargetFailsAndHolds) {
   Send("arm");
   Send("takeoff 10");  // vehicle never climbs

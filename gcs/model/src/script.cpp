@@ -20,7 +20,7 @@ std::string TickLabel(const std::string& signal) {
   return "tick:" + (s ? Key(*s) : signal);
 }
 
-const std::set<std::string> kOps = {"==", "!=", "<", "<=", ">", ">=", "~", "contains"};
+const std::set<std::string> kOps = {"==", "!=", "<", "<=", ">", ">=", "~", "contains", "lacks"};
 
 bool ToNumber(const std::string& s, double* v) {
   char* end = nullptr;
@@ -48,7 +48,7 @@ std::vector<std::vector<std::string>> Clauses(const std::vector<std::string>& to
     if (c.size() < 3) throw std::runtime_error("condition needs LHS OP RHS");
     if (!kOps.count(c[1])) throw std::runtime_error("unknown operator '" + c[1] + "'");
     const std::size_t want = c[1] == "~" ? 4 : 3;
-    if (c[1] != "contains" && c.size() != want)
+    if (c[1] != "contains" && c[1] != "lacks" && c.size() != want)
       throw std::runtime_error(c[1] == "~" ? "'~' needs VALUE TOLERANCE" : "too many words in clause");
     double d;
     if (c[1] == "~" && (!ToNumber(c[2], &d) || !ToNumber(c[3], &d)))
@@ -218,11 +218,11 @@ ConditionResult EvaluateCondition(const std::vector<std::string>& tokens, const 
       continue;
     }
     std::string rhs = c[2];
-    for (std::size_t i = 3; c[1] == "contains" && i < c.size(); ++i) rhs += " " + c[i];
+    for (std::size_t i = 3; (c[1] == "contains" || c[1] == "lacks") && i < c.size(); ++i) rhs += " " + c[i];
     double rv = 0;
     bool holds = false;
-    if (c[1] == "contains") {
-      holds = (lnum ? Format(lv) : ls).find(rhs) != std::string::npos;
+    if (c[1] == "contains" || c[1] == "lacks") {
+      holds = ((lnum ? Format(lv) : ls).find(rhs) != std::string::npos) == (c[1] == "contains");
     } else if (lnum && ToNumber(rhs, &rv)) {
       const std::string& op = c[1];
       double tol = 0;

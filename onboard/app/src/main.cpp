@@ -244,7 +244,7 @@ int main(int argc, char** argv) {
                  std::to_string(active_stereo->unhealthy()) + " without a height)";
     if (vo)
       cameras += ", " + std::to_string(vo->frames()) + " visual odometry pairs (" + std::to_string(vo->unhealthy()) +
-                 " unhealthy)";
+                 " unhealthy" + (vo->unhealthy() ? ": " + vo->UnhealthySummary(3) : "") + ")";
     if (trk) cameras += ", " + std::to_string(trk->frames()) + " gimbal frames";
     if (stitch && stitch->maps_written() > 0) cameras += ", map " + stitch->last_map() + ".tif";
     std::printf("uav-onboard: stopped after %.1f s simulated%s\n", (scheduler.now() - start) * 1e-6, cameras.c_str());

@@ -1,5 +1,9 @@
 #include "uav/app/vo_worker.hpp"
 
+#include <algorithm>
+#include <regex>
+#include <vector>
+
 #include <opencv2/imgproc.hpp>
 
 #include "uav/shared/frames.hpp"
@@ -69,6 +73,17 @@ void VoWorker::Tick(int64_t utime) {
   if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
   ++frames_;
   unhealthy_ += !r.healthy;
+  if (!r.healthy) ++reasons_[std::regex_replace(r.reason, std::regex("[0-9]+(\\.[0-9]+)?"), "#")];
+}
+
+std::string VoWorker::UnhealthySummary(int top) const {
+  std::vector<std::pair<int, std::string>> by_count;
+  for (const auto& [reason, n] : reasons_) by_count.emplace_back(n, reason);
+  std::sort(by_count.rbegin(), by_count.rend());
+  std::string out;
+  for (int i = 0; i < top && i < static_cast<int>(by_count.size()); ++i)
+    out += (i ? "; " : "") + std::to_string(by_count[i].first) + " x " + by_count[i].second;
+  return out;
 }
 
 }  // namespace uav::app

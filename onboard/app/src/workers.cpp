@@ -65,7 +65,9 @@ void ControlWorker::Tick(int64_t utime) {
   fin.p_N = d.estimate.p_N;
   fin.rc_manual = d.sample.rc_manual;
   // The INS on the IMU alone (no GPS fix, no visual position for a second) cannot hold a place.
-  fin.position_lost = d.position_source == PositionSource::kInertial;
+  // A landing needs only the height (as PX4's Land mode): the cameras lose the ground in the last
+  // metres, and holding there would only keep the vehicle in the air.
+  fin.position_lost = d.position_source == PositionSource::kInertial && d.task != control::Task::kLand;
   fin.position_lost_reason = d.vision_unhealthy_reason.empty()
                                  ? "GPS lost and no visual odometry"
                                  : "GPS lost; visual odometry: " + d.vision_unhealthy_reason;

@@ -41,6 +41,9 @@ void TaskManager::EnforceFailsafe(FailsafeAction required, const std::string& re
   }
   if (required <= enforced_ || !airborne_) return;
   enforced_ = required;
+  // A landing under way already does more than a hold: stopping it to hover (low, over the
+  // ground where the cameras see least) would only add time in the air.
+  if (required == FailsafeAction::kHold && task_ == Task::kLand) return;
   // Onboard work goes on through a failsafe: a survey camera that was on stays on (at the same
   // rate) while the vehicle holds or flies home, until it lands or the operator commands again.
   if (path_.capture_interval_s || path_.capture_distance_m)
@@ -363,10 +366,17 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
                           AckResult::kInProgress, percent, ""});
     }
     if (task_ == Task::kLand) {
-      const bool still = est.altitude() < p_.landed_alt && std::abs(est.v_N.z()) < 0.2;
-      if (!still) still_since_ = -1.0;
+      // Down when still at the ground's height, or when, low and descending, the vertical speed
+      // has stayed under a third of the slow descent rate for four times as long: the ground has
+      // stopped the descent, whatever the height estimate says (on the barometer alone, with no
+      // GPS or vision near the ground, it can be off by a metre).
+      const double slow_rate = p_.land_speed / 3.0;
+      const bool at_ground = est.altitude() < p_.landed_alt && std::abs(est.v_N.z()) < 0.2;
+      const bool stopped = est.altitude() < p_.land_slow_alt && std::abs(est.v_N.z()) < slow_rate / 3.0;
+      if (!at_ground && !stopped) still_since_ = -1.0;
       else if (still_since_ < 0.0) still_since_ = t;
-      if (still_since_ >= 0.0 && t - still_since_ >= p_.landed_time) {
+      const double needed = at_ground ? p_.landed_time : 4.0 * p_.landed_time;
+      if (still_since_ >= 0.0 && t - still_since_ >= needed) {
         // Touchdown: stop the rotors (PX4 auto-disarm) and report.
         airborne_ = false;
         enforced_ = FailsafeAction::kNone;
@@ -384,7 +394,8 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
         Finish(AckResult::kCompleted, "", reports);
       }
     }
-    if (long_task && active_report_ && t > deadline_) {
+    // A landing never gives up: holding instead would keep the vehicle in the air.
+    if (long_task && task_ != Task::kLand && active_report_ && t > deadline_) {
       // Give up safely: hold where we are and say so.
       setpoint_.p_N = est.p_N;
       setpoint_.descent_rate.reset();

@@ -9,6 +9,8 @@ namespace {
 
 // Error-state layout.
 constexpr int kP = 0, kV = 3, kTh = 6, kBg = 9, kBa = 12, kBb = 15;
+// A run of refused visual positions this long ties the odometry to the INS again [us].
+constexpr int64_t kVisualReanchorUs = 500'000;
 
 Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
@@ -223,6 +225,7 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
       // A new segment is tied to where the INS is now: a position source from this sample on
       // (else the hand-over from GPS would pass through "inertial only" for a frame).
       visual_anchor_ = std::make_pair(Eigen::Vector3d(p_N_ - v.p_N), v.segment);
+      visual_refused_since_utime_ = -1;
       last_visual_utime_ = s.utime;
     } else {
       const Eigen::Vector3d z = v.p_N + visual_anchor_->first;
@@ -232,8 +235,16 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
       if (accepted) {
         ++health_.vision_position_used;
         last_visual_utime_ = s.utime;
+        visual_refused_since_utime_ = -1;
       } else {
         ++health_.vision_position_rejected;
+        if (visual_refused_since_utime_ < 0) visual_refused_since_utime_ = s.utime;
+        if (s.utime - visual_refused_since_utime_ >= kVisualReanchorUs) {
+          visual_anchor_->first = p_N_ - v.p_N;
+          last_visual_utime_ = s.utime;
+          visual_refused_since_utime_ = -1;
+          ++health_.vision_reanchors;
+        }
       }
     }
   }

@@ -227,6 +227,7 @@ struct StereoVo::Impl {
     std::vector<cv::Point2f> last_px;  // where each was last seen or predicted (the next LK's guess)
     std::vector<char> alive;           // kTracked, kPredicted or kGone
     Eigen::Isometry3d T_WK = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_CK = Eigen::Isometry3d::Identity();  // the last frame's motion from it
   };
   std::optional<Keyframe> keyframe;
   Eigen::Isometry3d T_WC = Eigen::Isometry3d::Identity();
@@ -244,14 +245,18 @@ struct StereoVo::Impl {
 
   // Stereo correspondence (thesis 5.2): LK from left to right with a back check, kept on the
   // rectified row within the epipolar tolerance and in the working range, then triangulated
-  // (Eq. 3.11, the linear triangulation of 4.3.3 for a rectified pair).
+  // (Eq. 3.11, the linear triangulation of 4.3.3 for a rectified pair). `disparity_guess` (one per
+  // point, or empty: none) starts the search where the point is expected: close to the ground
+  // disparities outgrow what the pyramid finds from zero.
   std::vector<std::optional<Eigen::Vector3d>> Triangulate(const cv::Mat& left, const cv::Mat& right,
                                                           const std::vector<cv::Point2f>& px_l, int* row_misses,
-                                                          std::vector<float>* u_r = nullptr) const {
+                                                          std::vector<float>* u_r = nullptr,
+                                                          const std::vector<float>& disparity_guess = {}) const {
     std::vector<std::optional<Eigen::Vector3d>> out(px_l.size());
     if (u_r) u_r->assign(px_l.size(), 0.0f);
     if (px_l.empty()) return out;
     std::vector<cv::Point2f> px_r = px_l, back;
+    for (size_t i = 0; i < disparity_guess.size(); ++i) px_r[i].x -= disparity_guess[i];
     std::vector<uchar> st1, st2;
     std::vector<float> err;
     const cv::Size win(p.lk_window_px, p.lk_window_px);
@@ -259,7 +264,8 @@ struct StereoVo::Impl {
     // Iterated to a thousandth of a pixel: at the edge of the working range a tenth of a pixel of
     // disparity is 1 % of the depth.
     const cv::TermCriteria term(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 50, 0.001);
-    cv::calcOpticalFlowPyrLK(left, right, px_l, px_r, st1, err, win, p.lk_levels + 1, term);
+    cv::calcOpticalFlowPyrLK(left, right, px_l, px_r, st1, err, win, p.lk_levels + 1, term,
+                             disparity_guess.empty() ? 0 : cv::OPTFLOW_USE_INITIAL_FLOW);
     back = px_l;
     cv::calcOpticalFlowPyrLK(right, left, px_r, back, st2, err, win, p.lk_levels + 1, term, cv::OPTFLOW_USE_INITIAL_FLOW);
     for (size_t i = 0; i < px_l.size(); ++i) {
@@ -577,17 +583,28 @@ struct StereoVo::Impl {
     {
       // The tracked points in this pair too: the 3D-3D method needs them in 3-D, PnP's
       // refinement in the right image.
+      // Each point's disparity as the last motion predicts it; the points it puts inside the
+      // working range are the ones expected in the right image.
+      std::vector<float> disparity_guess;
+      int expected = 0;
+      for (const Match& m : matches) {
+        const double z = (k.T_CK * m.p_K).z();
+        const bool in_range = z >= p.min_depth_m && z <= max_depth_m;
+        expected += in_range;
+        disparity_guess.push_back(in_range ? static_cast<float>(g.f_px * g.baseline_m / z) : 0.0f);
+      }
       int row_misses = 0;
       std::vector<float> u_r;
-      const auto now = Triangulate(left, right, tracked_px, &row_misses, &u_r);
+      const auto now = Triangulate(left, right, tracked_px, &row_misses, &u_r, disparity_guess);
       // The keyframe's points had a stereo match when it was made, and most keep one while they
-      // stay in view: a right image that does not belong to the left (or a calibration that does
-      // not fit) loses most of them. The pair is refused; the track goes on with the next one.
+      // stay in view and in range: a right image that does not belong to the left (or a
+      // calibration that does not fit) loses most of them. The pair is refused; the track goes on
+      // with the next one.
       const auto found = std::count_if(now.begin(), now.end(), [](const auto& q) { return q.has_value(); });
-      if (tracked >= p.min_inliers && found < tracked / 2)
-        return Unhealthy(Format("only %.0f of %.0f tracked points are found in the right image on their rows (%.0f off "
-                                "the epipolar line): a mismatched pair or a calibration that does not fit",
-                                static_cast<double>(found), static_cast<double>(tracked), static_cast<double>(row_misses)));
+      if (expected >= p.min_inliers && found < expected / 2)
+        return Unhealthy(Format("only %.0f of %.0f tracked points expected in range are found in the right image on "
+                                "their rows (%.0f off the epipolar line): a mismatched pair or a calibration that does not fit",
+                                static_cast<double>(found), static_cast<double>(expected), static_cast<double>(row_misses)));
       std::vector<Match> kept;
       for (size_t j = 0; j < matches.size(); ++j) {
         if (now[j]) matches[j].p_C = now[j], matches[j].u_R = u_r[j];
@@ -621,6 +638,7 @@ struct StereoVo::Impl {
     // The consensus is followed into the next frame from where it was seen; every other keyframe
     // point still in view is looked for again from where this motion puts it.
     k.last_left = left;
+    k.T_CK = *T_CK;
     for (size_t i = 0; i < k.px.size(); ++i) {
       const Eigen::Vector2d q = Project(*T_CK, k.p_K[i]);
       k.last_px[i] = cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y()));

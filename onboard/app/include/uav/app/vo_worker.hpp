@@ -4,7 +4,9 @@
 // INS's estimate when a segment starts (camera to body from the mount, Eq. 5.48), hands the body
 // position to the IMU thread (the INS uses it while GPS is lost; the 9-state VO+IMU filter always)
 // and reports health, counts and the truth (simulation) for the GCS.
+#include <map>
 #include <optional>
+#include <string>
 
 #include "uav/app/blackboard.hpp"
 #include "uav/app/preview_stream.hpp"
@@ -28,6 +30,9 @@ class VoWorker {
   void Tick(int64_t utime);
   int frames() const { return frames_; }
   int unhealthy() const { return unhealthy_; }
+  // The commonest reasons for unhealthy pairs, numbers blanked ("left image is blank ... (#)"),
+  // most frequent first, each with its count: "N x reason; ...".
+  std::string UnhealthySummary(int top) const;
 
  private:
   hal::StereoCamera& camera_;
@@ -39,6 +44,7 @@ class VoWorker {
   std::optional<std::pair<int, Eigen::Isometry3d>> T_NW_;  // odometry frame in N, per segment
   PreviewStream preview_;
   int frames_ = 0, unhealthy_ = 0;
+  std::map<std::string, int> reasons_;
 };
 
 }  // namespace uav::app

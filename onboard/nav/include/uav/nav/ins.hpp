@@ -39,6 +39,7 @@ struct InsHealth {
   int other_rejected = 0;  // GPS, barometer, sonar or magnetometer readings that were not finite
   int vision_height_used = 0, vision_height_rejected = 0;  // QueueHeight's, applied and refused
   int vision_position_used = 0, vision_position_rejected = 0;  // QueueVisualPosition's
+  int vision_reanchors = 0;  // times the odometry was tied to the INS again after a run of refusals
 };
 
 
@@ -59,6 +60,9 @@ class Ins {
   // its 1 sigma and its segment (an unbroken chain of poses). Used only while GPS is lost: the
   // odometry is relative, so its first position after GPS stops, or after its segment changes,
   // ties the two frames together and each next one corrects the position (gated at 5 sigma).
+  // Refused for half a second in a row (a jump of the odometry's chain, or an INS that has become
+  // too sure of itself), the odometry is tied again where the INS is, as at a new segment: the
+  // INS never flies on the IMU alone while the odometry still sees.
   void QueueVisualPosition(const Eigen::Vector3d& p_N, double sigma_m, int segment);
   // Where the position comes from (telemetry shows it): GPS fixes, visual odometry while GPS is
   // lost, or the IMU alone (dead reckoning, which drifts within seconds).
@@ -104,6 +108,7 @@ class Ins {
   std::optional<VisualPosition> queued_visual_;
   std::optional<std::pair<Eigen::Vector3d, int>> visual_anchor_;  // odometry-to-N offset, its segment
   int64_t last_gps_fix_utime_ = -1, last_visual_utime_ = -1;       // when each last corrected
+  int64_t visual_refused_since_utime_ = -1;  // the first of the current run of refused positions
   PositionSource position_source_ = PositionSource::kGps;
   bool has_flown_ = false;  // false until the first sample not at rest
   hal::VehicleEstimate estimate_;
