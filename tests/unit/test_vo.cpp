@@ -79,7 +79,10 @@ TEST(StereoVoFlight, VillageRacetrackPnpDriftsUnderOnePointTwoFivePercentAndBeat
     }
   }
   std::vector<double> errors;
+  // The poses as KITTI files, for uav-vo-eval's plot (the README's figure).
+  WriteKittiPoses(::testing::TempDir() + "vo_racetrack_truth.txt", gt);
   for (size_t m = 0; m < methods.size(); ++m) {
+    WriteKittiPoses(::testing::TempDir() + "vo_racetrack_" + Name(methods[m]) + ".txt", est[m]);
     const KittiErrors e = EvaluateKittiOdometry(gt, est[m]);
     const double end_error = (gt.back().translation() - est[m].back().translation()).norm();
     std::printf("%-5s: KITTI translation %.2f %% rotation %.4f deg/m over %d segments; end error %.2f m after 517 m; "

@@ -11,6 +11,8 @@ namespace {
 constexpr int kP = 0, kV = 3, kTh = 6, kBg = 9, kBa = 12, kBb = 15;
 // A run of refused visual positions this long ties the odometry to the INS again [us].
 constexpr int64_t kVisualReanchorUs = 500'000;
+// A GPS fix this recent is fresh: the next one of a 5 Hz receiver is not yet overdue [us].
+constexpr int64_t kGpsFreshUs = 300'000;
 
 Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
@@ -216,14 +218,17 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
     if (Correct(height - (-p_N_.z()), -unit(kP + 2), sigma * sigma + 0.01 * 0.01, 5.0)) ++health_.vision_height_used;
     else ++health_.vision_height_rejected;
   }
-  // Visual odometry while GPS is lost (no 3-D fix for 1 s).
-  const bool gps_lost = last_gps_fix_utime_ < 0 || s.utime - last_gps_fix_utime_ > 2'500'000;
-  if (!gps_lost) visual_anchor_.reset();
-  if (queued_visual_ && gps_lost) {
+  // Visual odometry (thesis 5.7). While GPS fixes are fresh, each VO position ties the
+  // odometry's frame to the INS (a new segment is tied wherever it starts); from the first missed
+  // fix on, VO positions correct the INS against that tie, so the motion since the last fix is
+  // measured, not integrated from the IMU, and the hand-over never passes through "inertial
+  // only". GPS stays the position source until no fix has come for 2.5 s.
+  const int64_t since_fix_us = s.utime - last_gps_fix_utime_;
+  const bool gps_fresh = last_gps_fix_utime_ >= 0 && since_fix_us <= kGpsFreshUs;
+  const bool gps_lost = last_gps_fix_utime_ < 0 || since_fix_us > 2'500'000;
+  if (queued_visual_) {
     const VisualPosition v = *queued_visual_;
-    if (!visual_anchor_ || visual_anchor_->second != v.segment) {
-      // A new segment is tied to where the INS is now: a position source from this sample on
-      // (else the hand-over from GPS would pass through "inertial only" for a frame).
+    if (gps_fresh || !visual_anchor_ || visual_anchor_->second != v.segment) {
       visual_anchor_ = std::make_pair(Eigen::Vector3d(p_N_ - v.p_N), v.segment);
       visual_refused_since_utime_ = -1;
       last_visual_utime_ = s.utime;

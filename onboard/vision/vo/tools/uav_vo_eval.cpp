@@ -22,21 +22,31 @@ namespace {
 
 using Poses = std::vector<Eigen::Isometry3d>;
 
-// Bird's-eye view: x right, z forward (up in the picture), one scale for both axes.
+// Bird's-eye view, one scale for both axes. The plane is the one the truth moves in: the first
+// camera's axis along which it moves least is dropped. A forward camera (KITTI) keeps x right and
+// z forward (up in the picture); a downward camera keeps x and y as its own image shows them.
 cv::Mat PlotTopView(const Poses& gt, const Poses& est, const uav::vision::KittiErrors& e) {
   constexpr int kSize = 800, kMargin = 50;
+  Eigen::Vector3d gt_lo = Eigen::Vector3d::Constant(1e300), gt_hi = -gt_lo;
+  for (const auto& T : gt) gt_lo = gt_lo.cwiseMin(T.translation()), gt_hi = gt_hi.cwiseMax(T.translation());
+  int dropped = 0;
+  (gt_hi - gt_lo).minCoeff(&dropped);
+  const int a = dropped == 0 ? 1 : 0, b = dropped == 2 ? 1 : 2;
+  const double up = b == 2 ? 1.0 : -1.0;  // z forward is up in the picture; y (down in the image) is down
+  auto plane = [&](const Eigen::Isometry3d& T) { return Eigen::Vector2d(T.translation()[a], up * T.translation()[b]); };
   Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
   for (const Poses* p : {&gt, &est})
     for (const auto& T : *p) {
-      const Eigen::Vector2d q(T.translation().x(), T.translation().z());
+      const Eigen::Vector2d q = plane(T);
       lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
     }
   const double span = std::max({hi.x() - lo.x(), hi.y() - lo.y(), 1e-3});
   const double scale = (kSize - 2 * kMargin) / span;
   const Eigen::Vector2d mid = 0.5 * (lo + hi);
   auto pixel = [&](const Eigen::Isometry3d& T) {
-    return cv::Point(static_cast<int>(kSize / 2 + scale * (T.translation().x() - mid.x())),
-                     static_cast<int>(kSize / 2 - scale * (T.translation().z() - mid.y())));
+    const Eigen::Vector2d q = plane(T);
+    return cv::Point(static_cast<int>(kSize / 2 + scale * (q.x() - mid.x())),
+                     static_cast<int>(kSize / 2 - scale * (q.y() - mid.y())));
   };
   cv::Mat img(kSize, kSize, CV_8UC3, cv::Scalar(255, 255, 255));
   // A grid at a round spacing, labelled.

@@ -57,12 +57,12 @@ class Ins {
   // a table is refused). A non-finite or negative one is counted and dropped.
   void QueueHeight(double height_m, double sigma_m);
   // A body position from visual odometry (thesis ch. 5) in its own frame anchored in N [m], with
-  // its 1 sigma and its segment (an unbroken chain of poses). Used only while GPS is lost: the
-  // odometry is relative, so its first position after GPS stops, or after its segment changes,
-  // ties the two frames together and each next one corrects the position (gated at 5 sigma).
-  // Refused for half a second in a row (a jump of the odometry's chain, or an INS that has become
-  // too sure of itself), the odometry is tied again where the INS is, as at a new segment: the
-  // INS never flies on the IMU alone while the odometry still sees.
+  // its 1 sigma and its segment (an unbroken chain of poses). The odometry is relative: while GPS
+  // fixes are fresh (one in the last 0.3 s) each position ties the two frames together; once a
+  // fix is missed, each next one corrects the position against that tie (gated at 5 sigma), and
+  // a new segment is tied where it starts. Refused for half a second in a row (a jump of the
+  // odometry's chain, or an INS that has become too sure of itself), the odometry is tied again
+  // where the INS is: the INS never flies on the IMU alone while the odometry still sees.
   void QueueVisualPosition(const Eigen::Vector3d& p_N, double sigma_m, int segment);
   // Where the position comes from (telemetry shows it): GPS fixes, visual odometry while GPS is
   // lost, or the IMU alone (dead reckoning, which drifts within seconds).
