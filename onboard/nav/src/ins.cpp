@@ -245,7 +245,15 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
         ++health_.vision_position_rejected;
         if (visual_refused_since_utime_ < 0) visual_refused_since_utime_ = s.utime;
         if (s.utime - visual_refused_since_utime_ >= kVisualReanchorUs) {
+          // Tied again, the INS also lets go of what it was sure of: a wrong velocity would
+          // carry it off the odometry again and again. Position to the odometry's sigma,
+          // velocity to 0.5 m/s, their correlations dropped (as the GPS reset above).
           visual_anchor_->first = p_N_ - v.p_N;
+          for (const int block : {kP, kV}) {
+            P_.block<3, kStates>(block, 0).setZero();
+            P_.block<kStates, 3>(0, block).setZero();
+          }
+          for (int i = 0; i < 3; ++i) P_(kP + i, kP + i) = r, P_(kV + i, kV + i) = 0.5 * 0.5;
           last_visual_utime_ = s.utime;
           visual_refused_since_utime_ = -1;
           ++health_.vision_reanchors;
