@@ -14,6 +14,14 @@ constexpr int64_t kVisualReanchorUs = 500'000;
 // A GPS fix this recent is fresh: the next one of a 5 Hz receiver is not yet overdue [us].
 constexpr int64_t kGpsFreshUs = 300'000;
 
+// Forgets what the filter knew of one 3-state block (position, velocity, ...): its correlations
+// with every other state dropped, its variances set anew (a reset of that block's states).
+void ResetBlock(Ins::Matrix* P, int block, const Eigen::Vector3d& variance) {
+  P->block<3, Ins::kStates>(block, 0).setZero();
+  P->block<Ins::kStates, 3>(0, block).setZero();
+  P->block<3, 3>(block, block) = variance.asDiagonal();
+}
+
 Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
   m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
@@ -191,9 +199,7 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
     // A filter that refuses GPS for 5 s has diverged (or GPS jumped): start again from GPS.
     if (health_.gps_rejected >= 25) {
       p_N_.head<2>() = z.head<2>();
-      P_.block<3, kStates>(kP, 0).setZero();
-      P_.block<kStates, 3>(0, kP).setZero();
-      for (int i = 0; i < 3; ++i) P_(kP + i, kP + i) = r_pos[i];
+      ResetBlock(&P_, kP, Eigen::Vector3d(r_pos[0], r_pos[1], r_pos[2]));
       health_.gps_rejected = 0;
       ++health_.gps_resets;
     }
@@ -249,11 +255,8 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
           // carry it off the odometry again and again. Position to the odometry's sigma,
           // velocity to 0.5 m/s, their correlations dropped (as the GPS reset above).
           visual_anchor_->first = p_N_ - v.p_N;
-          for (const int block : {kP, kV}) {
-            P_.block<3, kStates>(block, 0).setZero();
-            P_.block<kStates, 3>(0, block).setZero();
-          }
-          for (int i = 0; i < 3; ++i) P_(kP + i, kP + i) = r, P_(kV + i, kV + i) = 0.5 * 0.5;
+          ResetBlock(&P_, kP, Eigen::Vector3d::Constant(r));
+          ResetBlock(&P_, kV, Eigen::Vector3d::Constant(0.5 * 0.5));
           last_visual_utime_ = s.utime;
           visual_refused_since_utime_ = -1;
           ++health_.vision_reanchors;
