@@ -227,8 +227,8 @@ TEST(StereoWorker, BlankCameraReportsUnhealthyAndNoObstacles) {
     explicit Failing(hal::StereoCamera& c) : inner(c) {}
     const hal::CameraInfo& left() const override { return inner.left(); }
     const hal::CameraInfo& right() const override { return inner.right(); }
-    hal::StereoImages Capture(int64_t utime) override {
-      hal::StereoImages images = inner.Capture(utime);
+    hal::StereoImages Capture(int64_t utime, hal::Emitter emitter) override {
+      hal::StereoImages images = inner.Capture(utime, emitter);
       if (blank) images.right = cv::Mat();
       return images;
     }

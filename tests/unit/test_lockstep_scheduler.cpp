@@ -34,6 +34,19 @@ TEST(LockstepScheduler, StagesRunInOrderAtTheirPeriods) {
   EXPECT_EQ(trace, expected);
 }
 
+// Two users of one camera on alternate frames: the second starts one frame later.
+TEST(LockstepScheduler, APhaseDelaysAWorkerWithinItsPeriod) {
+  LockstepScheduler s({0, 1000, 0.0, 80000});
+  std::vector<int64_t> lit, dark;
+  s.AddWorker("LIT", 2, 40000, [&](int64_t t) { lit.push_back(t); });
+  s.AddWorker("DARK", 2, 40000, [&](int64_t t) { dark.push_back(t); }, 20000);
+  s.Run([](int64_t) {});
+  EXPECT_EQ(lit, (std::vector<int64_t>{0, 40000}));
+  EXPECT_EQ(dark, (std::vector<int64_t>{20000, 60000}));
+  EXPECT_THROW(s.AddWorker("W", 0, 40000, [](int64_t) {}, 40000), std::invalid_argument);
+  EXPECT_THROW(s.AddWorker("W", 0, 40000, [](int64_t) {}, 500), std::invalid_argument);
+}
+
 TEST(LockstepScheduler, PacesToWallClockTimesSpeed) {
   LockstepScheduler s({0, 2000, 4.0, 400000});  // 0.4 s simulated at 4x: 0.1 s wall
   s.AddWorker("W", 0, 20000, [](int64_t) {});

@@ -25,7 +25,7 @@ ActiveStereoWorker::ActiveStereoWorker(hal::StereoCamera& camera, Blackboard& bo
       preview_(camera.left().name, camera.left().preview_rate_hz) {}
 
 void ActiveStereoWorker::Tick(int64_t utime) {
-  const hal::StereoImages pair = camera_.Capture(utime);
+  const hal::StereoImages pair = camera_.Capture(utime, hal::Emitter::kOn);
   const BlackboardData d = board_.Snapshot();
   vision::ActiveStereoResult r = stereo_.Process(pair.left, pair.right, camera_.left().T_BC, RotationNBFromEuler(d.estimate.euler));
   ground_.Apply(&r, d.estimate.p_N.z(), utime);

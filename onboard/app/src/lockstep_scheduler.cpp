@@ -13,6 +13,7 @@ struct LockstepScheduler::Worker {
   std::string name;
   int stage;
   int64_t period_us;
+  int64_t phase_us;
   std::function<void(int64_t)> work;
   std::thread thread;
   uint64_t go_generation = 0;    // incremented by the driver to release the worker
@@ -39,13 +40,16 @@ LockstepScheduler::~LockstepScheduler() {
 }
 
 void LockstepScheduler::AddWorker(const std::string& name, int stage, int64_t period_us,
-                                  std::function<void(int64_t)> work) {
+                                  std::function<void(int64_t)> work, int64_t phase_us) {
   if (period_us <= 0 || period_us % options_.step_us != 0)
     throw std::invalid_argument("worker '" + name + "': period must be a positive multiple of the step");
+  if (phase_us < 0 || phase_us >= period_us || phase_us % options_.step_us != 0)
+    throw std::invalid_argument("worker '" + name + "': phase must be a multiple of the step below the period");
   auto w = std::make_unique<Worker>();
   w->name = name;
   w->stage = stage;
   w->period_us = period_us;
+  w->phase_us = phase_us;
   w->work = std::move(work);
   Worker* raw = w.get();
   w->thread = std::thread([this, raw] {
@@ -110,7 +114,7 @@ void LockstepScheduler::Run(const std::function<void(int64_t)>& physics) {
     for (auto& [stage, members] : stages) {
       due.clear();
       for (Worker* w : members)
-        if ((t - t0) % w->period_us == 0) due.push_back(w);
+        if ((t - t0) % w->period_us == w->phase_us) due.push_back(w);
       if (!due.empty()) RunStage(due, t);
     }
     physics(options_.step_us);

@@ -171,17 +171,18 @@ int main(int argc, char** argv) {
         mdepth = std::make_unique<uav::app::MonoDepthWorker>(downward_camera->info(), board, mdp.estimator);
       if (mdp.camera == 2 && gimbal_camera)
         mdepth = std::make_unique<uav::app::MonoDepthWorker>(gimbal_camera->info(), board, mdp.estimator);
-      // The stereo pair: passive (obstacles and wires ahead) or, with asv_enable, the downward
-      // active rig whose laser dots give the height.
+      // The stereo pair: passive (obstacles and wires ahead), or the downward active rig whose
+      // laser dots give the height (asv_enable), or visual odometry (vo_enable), or both of the
+      // last two on alternate exposures, the projector on for one and off for the next.
       if (scene->stereo_camera()) {
         stereo_camera = std::make_unique<uav::sim::SimStereoCamera>(*scene, *scene->stereo_camera(), truth_T_NB);
         const auto asv = uav::app::ActiveStereoWorkerParams::FromParameters(params);
-        const auto vop = uav::app::VoWorkerParams::FromParameters(params);
-        if (asv.enabled && vop.enabled)
-          throw std::invalid_argument("asv_enable and vo_enable both ask for the one stereo pair: choose one");
+        auto vop = uav::app::VoWorkerParams::FromParameters(params);
         if (asv.enabled) active_stereo = std::make_unique<uav::app::ActiveStereoWorker>(*stereo_camera, board, asv);
-        else if (vop.enabled) vo = std::make_unique<uav::app::VoWorker>(*stereo_camera, board, vop);
-        else
+        // The video shows the lit pairs, with the dots the GCS draws over them.
+        vop.stream_video = !asv.enabled;
+        if (vop.enabled) vo = std::make_unique<uav::app::VoWorker>(*stereo_camera, board, vop);
+        if (!asv.enabled && !vop.enabled)
           stereo = std::make_unique<uav::app::StereoWorker>(*stereo_camera, board,
                                                             uav::app::StereoWorkerParams::FromParameters(params));
       }
@@ -207,10 +208,14 @@ int main(int argc, char** argv) {
     if (stereo)
       scheduler.AddWorker("STEREO", 2, camera_period(stereo_camera->left().rate_hz),
                           [&](int64_t t) { stereo->Tick(t); });
-    if (vo) scheduler.AddWorker("VO", 2, camera_period(stereo_camera->left().rate_hz), [&](int64_t t) { vo->Tick(t); });
-    if (active_stereo)
-      scheduler.AddWorker("ASTEREO", 2, camera_period(stereo_camera->left().rate_hz),
-                          [&](int64_t t) { active_stereo->Tick(t); });
+    if (vo || active_stereo) {
+      // Sharing the pair, each takes every other exposure: the dots on one, dark on the next.
+      const int64_t frame = camera_period(stereo_camera->left().rate_hz);
+      const int64_t period = vo && active_stereo ? 2 * frame : frame;
+      if (active_stereo)
+        scheduler.AddWorker("ASTEREO", 2, period, [&](int64_t t) { active_stereo->Tick(t); });
+      if (vo) scheduler.AddWorker("VO", 2, period, [&](int64_t t) { vo->Tick(t); }, period - frame);
+    }
 
     std::thread signal_waiter([&] {
       int sig = 0;
@@ -224,10 +229,14 @@ int main(int argc, char** argv) {
                 log_path.empty() ? "" : ", log ", log_path.c_str(),
                 events_path.empty() ? "" : ", events ", events_path.c_str());
     std::fflush(stdout);
-    bool gps_enabled = true;
+    // Indoors (a scene without sky) the receiver never has a fix, whatever "gps 1" asks.
+    const bool sky_view = !scene || scene->sky();
+    bool gps_enabled = sky_view;
+    vehicle.SetGpsEnabled(gps_enabled);
+    if (!sky_view) board.PushStatus(uav::Severity::kWarning, "simulator: indoors, no GPS fix");
     scheduler.Run([&](int64_t dt) {
       // The simulator's faults, commanded like everything else ("gps 0").
-      if (const bool want = board.Snapshot().sim_gps_enabled; want != gps_enabled) {
+      if (const bool want = board.Snapshot().sim_gps_enabled && sky_view; want != gps_enabled) {
         vehicle.SetGpsEnabled(want);
         gps_enabled = want;
         board.PushStatus(want ? uav::Severity::kInfo : uav::Severity::kWarning,

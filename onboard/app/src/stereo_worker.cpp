@@ -50,7 +50,7 @@ StereoWorker::StereoWorker(hal::StereoCamera& camera, Blackboard& board, const S
 }
 
 void StereoWorker::Tick(int64_t utime) {
-  const hal::StereoImages pair = camera_.Capture(utime);
+  const hal::StereoImages pair = camera_.Capture(utime, hal::Emitter::kOn);
   const BlackboardData d = board_.Snapshot();
   Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
   T_NB.linear() = RotationNBFromEuler(d.estimate.euler);

@@ -33,7 +33,7 @@ VoWorker::VoWorker(hal::StereoCamera& camera, Blackboard& board, const VoWorkerP
 }
 
 void VoWorker::Tick(int64_t utime) {
-  const hal::StereoImages pair = camera_.Capture(utime);
+  const hal::StereoImages pair = camera_.Capture(utime, hal::Emitter::kOff);
   const BlackboardData d = board_.Snapshot();
   vision::RectifiedPair rect;
   rect.left_utime = pair.left_utime;
@@ -70,7 +70,7 @@ void VoWorker::Tick(int64_t utime) {
     if (position) b.vision_position = position;
   });
   board_.PutVisualOdometry(std::move(report));
-  if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
+  if (params_.stream_video && preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
   ++frames_;
   unhealthy_ += !r.healthy;
   if (!r.healthy) ++reasons_[std::regex_replace(r.reason, std::regex("[0-9]+(\\.[0-9]+)?"), "#")];

@@ -38,9 +38,9 @@ SimStereoCamera::SimStereoCamera(const world::Scene& scene, const world::StereoS
       right_(CameraInfoOf(setup.right)),
       truth_T_NB_(std::move(truth_T_NB)) {}
 
-hal::StereoImages SimStereoCamera::Capture(int64_t utime) {
+hal::StereoImages SimStereoCamera::Capture(int64_t utime, hal::Emitter emitter) {
   const Eigen::Isometry3d T_NB = truth_T_NB_();
-  world::StereoFrame pair = renderer_.Render(T_NB, utime);
+  world::StereoFrame pair = renderer_.Render(T_NB, utime, emitter == hal::Emitter::kOn);
   return {pair.left.image, pair.right.image, utime, utime, T_NB};
 }
 

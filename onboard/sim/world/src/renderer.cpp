@@ -487,8 +487,9 @@ Frame Renderer::Render(const Eigen::Isometry3d& T_NC, int64_t utime, const std::
 StereoRenderer::StereoRenderer(const Scene& scene, const StereoSetup& setup)
     : scene_(scene), setup_(setup), left_(scene, setup.left), right_(scene, setup.right) {}
 
-StereoFrame StereoRenderer::Render(const Eigen::Isometry3d& T_NB, int64_t utime) const {
-  const std::vector<LaserDot> dots = CastLaser(scene_, setup_.laser, T_NB * setup_.T_BE, utime * 1e-6);
+StereoFrame StereoRenderer::Render(const Eigen::Isometry3d& T_NB, int64_t utime, bool laser_on) const {
+  const std::vector<LaserDot> dots =
+      laser_on ? CastLaser(scene_, setup_.laser, T_NB * setup_.T_BE, utime * 1e-6) : std::vector<LaserDot>();
   StereoFrame out;
   out.left = left_.Render(T_NB * setup_.left.T_BC, utime, dots);
   out.right = right_.Render(T_NB * setup_.right.T_BC, utime, dots);

@@ -406,6 +406,7 @@ void Scene::Impl::ComputeCloudThreshold() {
 }
 
 void Scene::SetSky(bool visible) { impl_->sky = visible; }
+bool Scene::sky() const { return impl_->sky; }
 
 int Scene::AddBox(const std::string& kind, const Eigen::Vector3d& center_N, const Eigen::Vector3d& size,
                   double yaw, const std::string& material, const std::string& top_material) {
@@ -518,14 +519,16 @@ int Scene::AddPerson(const Eigen::Vector3d& base_N, double height, const std::st
   return id;
 }
 
-int Scene::AddRoom(const Eigen::Vector3d& center_N, const Eigen::Vector3d& size, const std::string& material) {
+int Scene::AddRoom(const Eigen::Vector3d& center_N, const Eigen::Vector3d& size, const std::string& material,
+                   const std::string& floor_material) {
   RequireFinite(center_N, "room centre");
   RequirePositive(size.minCoeff(), "room size");
   Impl& s = *impl_;
   Primitive p;
   p.shape = Shape::kRoom;
   p.object_id = s.next_id++;
-  p.material = p.top_material = s.Material(material);
+  p.material = s.Material(material);
+  p.top_material = s.Material(floor_material.empty() ? material : floor_material);  // seen from inside, the top face is the floor
   p.c = center_N;
   p.h = size / 2;
   s.AddPrimitive(p);

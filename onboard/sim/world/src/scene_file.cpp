@@ -292,7 +292,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
           taken.push_back({at, 0.3});
         } else if (type == "room") {
           scene.AddRoom(rd.Vec3(j, p, "center_ned", -kBig, kBig), rd.Vec3(j, p, "size", 0.5, 1000),
-                        rd.Material(j, p, "material", "plain"));
+                        rd.Material(j, p, "material", "plain"), rd.Material(j, p, "floor_material", ""));
         } else if (type == "power_line") {
           const json& poles = rd.Field(j, p, "poles_ne");
           if (!poles.is_array() || poles.size() < 2) rd.Fail(p + ".poles_ne", "must list at least two [n, e] poles");

@@ -29,10 +29,11 @@ class LockstepScheduler {
   LockstepScheduler(const LockstepScheduler&) = delete;
   LockstepScheduler& operator=(const LockstepScheduler&) = delete;
 
-  // Starts a thread named `name` that runs `work(utime)` every `period_us` of simulated time.
-  // All workers of stage s finish a tick before any worker of stage s+1 starts it.
+  // Starts a thread named `name` that runs `work(utime)` every `period_us` of simulated time,
+  // `phase_us` after the start and every period from there. All workers of stage s finish a
+  // tick before any worker of stage s+1 starts it.
   void AddWorker(const std::string& name, int stage, int64_t period_us,
-                 std::function<void(int64_t utime)> work);
+                 std::function<void(int64_t utime)> work, int64_t phase_us = 0);
 
   // Drives the clock on the calling thread: per step, due workers then `physics(dt_us)`.
   // Returns when the duration has elapsed or Stop() was called.

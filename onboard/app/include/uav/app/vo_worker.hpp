@@ -21,6 +21,7 @@ struct VoWorkerParams {
   bool enabled = false;            // vo_enable: the stereo pair runs visual odometry
   double position_noise_m = 0.05;  // vo_position_noise: 1 sigma of a VO position for the filters
   vision::VoParams vo;             // vo_method, vo_max_features
+  bool stream_video = true;        // the left images to the video panel (not when the pair is shared)
   static VoWorkerParams FromParameters(const ParameterSet& p);
 };
 

@@ -69,6 +69,12 @@ struct StereoImages {
   std::optional<Eigen::Isometry3d> truth_T_NB;
 };
 
+// A rig with a laser dot projector (thesis 4.2) exposes with the projector on or off, as the
+// emitter on/off mode of real active rigs does: the dots give features to the active stereo and
+// to block matching on plain walls, but they move with the camera, so visual odometry, which
+// must see only the world, takes its pairs dark. A rig without a projector ignores it.
+enum class Emitter { kOn, kOff };
+
 class StereoCamera {
  public:
   virtual ~StereoCamera() = default;
@@ -76,7 +82,7 @@ class StereoCamera {
   virtual const CameraInfo& right() const = 0;
   // Pose of the right camera in the left camera's frame (what a stereo matcher needs).
   Eigen::Isometry3d T_LR() const { return left().T_BC.inverse() * right().T_BC; }
-  virtual StereoImages Capture(int64_t utime) = 0;
+  virtual StereoImages Capture(int64_t utime, Emitter emitter) = 0;
 };
 
 }  // namespace uav::hal

@@ -47,7 +47,7 @@ class SimStereoCamera : public hal::StereoCamera {
   SimStereoCamera(const world::Scene& scene, const world::StereoSetup& setup, TruthPose truth_T_NB);
   const hal::CameraInfo& left() const override { return left_; }
   const hal::CameraInfo& right() const override { return right_; }
-  hal::StereoImages Capture(int64_t utime) override;
+  hal::StereoImages Capture(int64_t utime, hal::Emitter emitter) override;
 
  private:
   world::StereoRenderer renderer_;

@@ -81,7 +81,8 @@ class Renderer {
 class StereoRenderer {
  public:
   StereoRenderer(const Scene& scene, const StereoSetup& setup);
-  StereoFrame Render(const Eigen::Isometry3d& T_NB, int64_t utime) const;
+  // laser_on false: the exposure with the projector off (no dots, whatever the setup says).
+  StereoFrame Render(const Eigen::Isometry3d& T_NB, int64_t utime, bool laser_on = true) const;
   const StereoSetup& setup() const { return setup_; }
 
  private:

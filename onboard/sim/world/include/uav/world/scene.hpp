@@ -133,7 +133,10 @@ class Scene {
   void SetGround(const GroundSpec& ground);
   void SetSun(const SunLight& sun);
   void SetClouds(const CloudShadows& clouds);
-  void SetSky(bool visible);  // false: rays that hit nothing are black (indoors)
+  // false indoors: rays that hit nothing are black, and the simulated GPS receiver, which needs
+  // the sky, has no fix.
+  void SetSky(bool visible);
+  bool sky() const;
   // Box of `size` (n, e, d extents) centred at center_N, rotated by yaw about d. The top face
   // uses `top_material` (roofs) when given.
   int AddBox(const std::string& kind, const Eigen::Vector3d& center_N, const Eigen::Vector3d& size,
@@ -147,8 +150,10 @@ class Scene {
   int AddTree(const Eigen::Vector3d& base_N, double height, double crown_radius);
   // Person: a body cylinder dressed in `clothing` and a head, `height` tall in total.
   int AddPerson(const Eigen::Vector3d& base_N, double height, const std::string& clothing = "concrete");
-  // Room seen from inside: floor, walls and ceiling of a box (featureless by default).
-  int AddRoom(const Eigen::Vector3d& center_N, const Eigen::Vector3d& size, const std::string& material);
+  // Room seen from inside: walls and ceiling of a box in `material`, its floor in
+  // `floor_material` (the same when empty).
+  int AddRoom(const Eigen::Vector3d& center_N, const Eigen::Vector3d& size, const std::string& material,
+              const std::string& floor_material = "");
   // Cable between a_N and b_N sagging sag_m at mid-span (catenary).
   int AddCable(const Eigen::Vector3d& a_N, const Eigen::Vector3d& b_N, double sag_m, double radius_m);
   int AddChessboard(int cols, int rows, double square_m, const Eigen::Isometry3d& T_N_board);
