@@ -36,6 +36,14 @@ Eigen::Matrix3d EulerRateFromBodyRate(double phi, double theta) {
   return G;
 }
 
+Eigen::Matrix3d RotationBCForward() {
+  Eigen::Matrix3d R;
+  R.col(0) = Eigen::Vector3d(0, 1, 0);
+  R.col(1) = Eigen::Vector3d(0, 0, 1);
+  R.col(2) = Eigen::Vector3d(1, 0, 0);
+  return R;
+}
+
 double WrapAngle(double a) {
   a = std::remainder(a, 2.0 * M_PI);  // in [-pi, pi]
   return a <= -M_PI ? a + 2.0 * M_PI : a;

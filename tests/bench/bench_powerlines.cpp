@@ -16,7 +16,7 @@ cv::Mat VillageView() {
   const auto scene = uav::world::Scene::LoadFile(std::string(UAV_RESOURCE_DIR) + "/scenes/power_lines_village.scene.json");
   const uav::world::CameraSetup cam = scene.stereo_camera()->left;
   Eigen::Isometry3d T_NC = Eigen::Isometry3d::Identity();
-  T_NC.linear() = uav::RotationNBFromEuler({0.0, 8 * M_PI / 180, 10 * M_PI / 180}) * uav::world::RotationBCForward();
+  T_NC.linear() = uav::RotationNBFromEuler({0.0, 8 * M_PI / 180, 10 * M_PI / 180}) * uav::RotationBCForward();
   T_NC.translation() = Eigen::Vector3d(0, 15, -6);
   return uav::world::Renderer(scene, cam).Render(T_NC, 1'000'000).image;
 }

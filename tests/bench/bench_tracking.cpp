@@ -34,7 +34,7 @@ Clip RenderClip() {
   cam.intrinsics.cx = 319.5;
   cam.intrinsics.cy = 239.5;
   Eigen::Isometry3d T_NC = Eigen::Isometry3d::Identity();
-  T_NC.linear() = uav::RotationNBFromEuler({0.0, -8 * M_PI / 180, 0.0}) * uav::world::RotationBCForward();
+  T_NC.linear() = uav::RotationNBFromEuler({0.0, -8 * M_PI / 180, 0.0}) * uav::RotationBCForward();
   T_NC.translation() = Eigen::Vector3d(0, 0, -2);
   const uav::world::Renderer renderer(scene, cam);
   Clip clip;

@@ -33,7 +33,7 @@ world::StereoSetup Rig(const world::Scene& scene, double roll_deg) {
   world::CameraSetup cam = scene.stereo_camera()->left;
   cam.noise_sigma = 2.0;
   Eigen::Isometry3d T_B_rig = Eigen::Isometry3d::Identity();
-  T_B_rig.linear() = world::RotationBCForward() * Eigen::AngleAxisd(roll_deg * M_PI / 180, Eigen::Vector3d::UnitZ());
+  T_B_rig.linear() = RotationBCForward() * Eigen::AngleAxisd(roll_deg * M_PI / 180, Eigen::Vector3d::UnitZ());
   T_B_rig.translation() = Eigen::Vector3d(0.15, 0, 0);
   return world::MakeStereoSetup(cam, T_B_rig, 0.12, world::LaserEmitter{});
 }

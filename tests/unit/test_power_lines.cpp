@@ -25,7 +25,7 @@ Eigen::Isometry3d CameraPose(const Eigen::Vector3d& p_N, double yaw, double pitc
   T_NB.linear() = RotationNBFromEuler({0.0, pitch_up, yaw});
   T_NB.translation() = p_N;
   Eigen::Isometry3d T_BC = Eigen::Isometry3d::Identity();
-  T_BC.linear() = world::RotationBCForward();
+  T_BC.linear() = RotationBCForward();
   return T_NB * T_BC;
 }
 

@@ -37,7 +37,7 @@ Eigen::Isometry3d CameraPose() {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   EulerAngles e;
   e.theta = -8.0 * M_PI / 180.0;
-  T.linear() = RotationNBFromEuler(e) * world::RotationBCForward();
+  T.linear() = RotationNBFromEuler(e) * RotationBCForward();
   T.translation() = Eigen::Vector3d(0, 0, -2);
   return T;
 }

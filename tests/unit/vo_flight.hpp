@@ -70,7 +70,7 @@ class StereoFlightRenderer {
       : setup_(*scene.stereo_camera()), renderer_(scene, setup_),
         rectifier_(StereoRig{setup_.left.intrinsics, setup_.right.intrinsics, setup_.T_LR()}) {}
   RenderedPair Render(const Eigen::Isometry3d& T_NB, int64_t utime) const {
-    const world::StereoFrame f = renderer_.Render(T_NB, utime);
+    const world::StereoFrame f = renderer_.Render(T_NB, utime, false);  // dark, as the VO thread takes its pairs
     RenderedPair out;
     cv::Mat l, r;
     cv::cvtColor(f.left.image, l, cv::COLOR_BGR2GRAY);

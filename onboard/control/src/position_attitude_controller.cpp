@@ -60,7 +60,12 @@ ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, cons
 
   // ---- Velocity -> acceleration setpoint, PI with clamped integrators (anti-windup).
   const Eigen::Vector3d e_v = v_sp - est.v_N;
-  int_xy_ = ClampNorm(int_xy_ + p_.vel_int_xy * e_v.head<2>() * dt, p_.vel_int_limit);
+  // Horizontally the integrator only learns while the acceleration asked for is within the
+  // limit: while it is saturated (accelerating to or braking from cruise speed) the error is the
+  // manoeuvre, not a steady push such as wind, and learning it would carry the vehicle past the
+  // target (conditional integration, the usual anti-windup).
+  const Eigen::Vector2d a_xy = p_.vel_gain_xy * e_v.head<2>() + int_xy_;
+  if (a_xy.norm() < p_.accel_max_xy) int_xy_ = ClampNorm(int_xy_ + p_.vel_int_xy * e_v.head<2>() * dt, p_.vel_int_limit);
   int_z_ = std::clamp(int_z_ + p_.vel_int_z * e_v.z() * dt, -p_.vel_int_limit, p_.vel_int_limit);
   Eigen::Vector3d a_sp;
   a_sp.head<2>() = ClampNorm(p_.vel_gain_xy * e_v.head<2>() + int_xy_, p_.accel_max_xy);

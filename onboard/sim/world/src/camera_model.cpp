@@ -15,15 +15,6 @@ Eigen::Matrix3d RotationBCDownward() {
   return R;
 }
 
-Eigen::Matrix3d RotationBCForward() {
-  Eigen::Matrix3d R;
-  // Thesis Eq. 5.48: x_C = right (y_B), y_C = down (z_B), z_C = forward (x_B).
-  R.col(0) = Eigen::Vector3d(0, 1, 0);
-  R.col(1) = Eigen::Vector3d(0, 0, 1);
-  R.col(2) = Eigen::Vector3d(1, 0, 0);
-  return R;
-}
-
 Eigen::Vector3d LaserEmitter::BeamDirection(int i) const {
   const int r = i / cols, c = i % cols;
   const double ax = (c - (cols - 1) / 2.0) * pitch_rad;

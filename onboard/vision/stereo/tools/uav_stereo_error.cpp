@@ -40,7 +40,7 @@ Accuracy Measure(const std::string& material, const std::vector<double>& depths,
   camera.noise_sigma = 1.0;
   camera.supersample = 2;
   Eigen::Isometry3d T_B_rig = Eigen::Isometry3d::Identity();
-  T_B_rig.linear() = uav::world::RotationBCForward();
+  T_B_rig.linear() = uav::RotationBCForward();
   const uav::world::StereoSetup setup = uav::world::MakeStereoSetup(camera, T_B_rig, 0.12, {});
   uav::vision::DisparityParams params;
   params.downscale = 1;

@@ -25,6 +25,10 @@ EulerAngles EulerFromRotationNB(const Eigen::Matrix3d& R_NB);
 // theta = +-pi/2, which is why the simulator integrates a quaternion instead.
 Eigen::Matrix3d EulerRateFromBodyRate(double phi, double theta);
 
+// A forward-looking camera in the body frame (thesis Eq. 5.48): x_C = right (y_B), y_C = down
+// (z_B), z_C = forward (x_B). Mounts pitched down are Ry(pitch) times this.
+Eigen::Matrix3d RotationBCForward();
+
 // Wraps an angle to (-pi, pi].
 double WrapAngle(double a);
 

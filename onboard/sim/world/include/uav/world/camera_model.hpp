@@ -9,14 +9,14 @@
 #include <Eigen/Geometry>
 
 #include "uav/shared/camera_intrinsics.hpp"
+#include "uav/shared/frames.hpp"
 
 namespace uav::world {
 
-// Camera orientations in the body frame. A downward camera looks along body z with the top of
-// the image towards the nose (image width across the flight direction, as the survey planner
-// assumes); a forward camera looks along body x (thesis Eq. 5.48).
+// A downward camera in the body frame: it looks along body z with the top of the image towards
+// the nose (image width across the flight direction, as the survey planner assumes). A forward
+// camera is uav::RotationBCForward (shared/frames.hpp).
 Eigen::Matrix3d RotationBCDownward();
-Eigen::Matrix3d RotationBCForward();
 
 // Green laser with a diffraction grating in the middle of the stereo rig (thesis 4.2): a
 // rows x cols grid of beams about the emitter's z axis (parallel to the optical axes).
