@@ -143,12 +143,15 @@ TEST_F(TaskManagerTest, LandCompletesAfterStillOnGroundAndDisarms) {
   est_.p_N.z() = -5;
   Step();
   Send("land");
+  est_.v_N.z() = 0.7;  // descending as commanded
   Step();
   EXPECT_EQ(*out_.setpoint.descent_rate, 0.7);
   est_.p_N.z() = -1.0;
+  est_.v_N.z() = 0.7 / 3;
   Step();
   EXPECT_NEAR(*out_.setpoint.descent_rate, 0.7 / 3, 1e-12);
   est_.p_N.z() = -0.05;
+  est_.v_N.z() = 0.0;  // on the ground
   std::vector<TaskReport> done;
   for (int i = 0; i < 20 && done.empty(); ++i)  // landed_time 0.5 s
     for (const auto& x : Step(0.1))
@@ -209,7 +212,7 @@ TEST_F(TaskManagerTest, ALandingEndsWhenTheGroundStopsTheDescentWhateverTheHeigh
     Step();
     ASSERT_EQ(out_.task, Task::kLand);
   }
-  est_.p_N.z() = -0.6;
+  est_.p_N.z() = -3.0;  // the estimate 3 m up when the ground stops the vehicle
   est_.v_N.z() = 0.0;
   std::vector<TaskReport> done;
   while (done.empty() && t_ < 110)

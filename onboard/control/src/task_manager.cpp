@@ -366,13 +366,15 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
                           AckResult::kInProgress, percent, ""});
     }
     if (task_ == Task::kLand) {
-      // Down when still at the ground's height, or when, low and descending, the vertical speed
-      // has stayed under a third of the slow descent rate for four times as long: the ground has
-      // stopped the descent, whatever the height estimate says (on the barometer alone, with no
-      // GPS or vision near the ground, it can be off by a metre).
+      // Down when still at the ground's height, or when the vertical speed has stayed under a
+      // third of the slow descent rate for four times as long while a descent is commanded: the
+      // ground has stopped the descent, whatever the height estimate says. Not gated on height
+      // (as PX4's land detector is not): without GPS, after a descent on visual odometry, the
+      // estimate has been 3 m up at touchdown, and a landing waiting for "below 2 m" sat on the
+      // ground with the rotors running while the blind INS drifted away (gps_denied's outliers).
       const double slow_rate = p_.land_speed / 3.0;
       const bool at_ground = est.altitude() < p_.landed_alt && std::abs(est.v_N.z()) < 0.2;
-      const bool stopped = est.altitude() < p_.land_slow_alt && std::abs(est.v_N.z()) < slow_rate / 3.0;
+      const bool stopped = std::abs(est.v_N.z()) < slow_rate / 3.0;
       if (!at_ground && !stopped) still_since_ = -1.0;
       else if (still_since_ < 0.0) still_since_ = t;
       const double needed = at_ground ? p_.landed_time : 4.0 * p_.landed_time;
