@@ -26,6 +26,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "uav/shared/frames.hpp"
+#include "uav/shared/image_files.hpp"
 #include "uav/shared/progress_bar.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/active_stereo.hpp"
@@ -35,21 +36,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool IsImage(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".pgm" || ext == ".ppm" || ext == ".bmp" ||
-         ext == ".tif" || ext == ".tiff";
-}
-
 // One file, or a folder's images in name order.
 std::vector<std::string> ImagesOf(const std::string& path, const char* which) {
   if (fs::is_regular_file(path)) return {path};
   if (!fs::is_directory(path)) throw std::invalid_argument(std::string(which) + " " + path + ": no such file or folder");
-  std::vector<std::string> out;
-  for (const auto& e : fs::directory_iterator(path))
-    if (e.is_regular_file() && IsImage(e.path())) out.push_back(e.path().string());
-  std::sort(out.begin(), out.end());
+  std::vector<std::string> out = uav::ImageFilesIn(path);
   if (out.empty()) throw std::invalid_argument(std::string(which) + " folder " + path + " holds no images");
   return out;
 }

@@ -19,6 +19,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "uav/shared/image_files.hpp"
 #include "uav/shared/progress_bar.hpp"
 #include "uav/vision/target_tracker.hpp"
 
@@ -29,13 +30,7 @@ class FrameSource {
  public:
   explicit FrameSource(const std::string& path) {
     if (std::filesystem::is_directory(path)) {
-      for (const auto& e : std::filesystem::directory_iterator(path)) {
-        std::string ext = e.path().extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-        if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" || ext == ".tiff")
-          files_.push_back(e.path().string());
-      }
-      std::sort(files_.begin(), files_.end());
+      files_ = uav::ImageFilesIn(path);
       if (files_.empty()) throw std::runtime_error(path + ": no images (png, jpg, bmp, tif) in the folder");
       count_ = static_cast<int>(files_.size());
     } else {

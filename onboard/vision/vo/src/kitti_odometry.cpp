@@ -9,24 +9,13 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "uav/shared/image_files.hpp"
 #include "uav/shared/text_file.hpp"
 
 namespace uav::vision {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::vector<std::string> ImagesIn(const fs::path& dir) {
-  std::vector<std::string> out;
-  if (!fs::is_directory(dir)) return out;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    const std::string ext = e.path().extension().string();
-    if (e.is_regular_file() && (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".pgm"))
-      out.push_back(e.path().string());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
 
 // "P0: 12 numbers" lines of calib.txt.
 bool ReadProjection(const std::string& text, const std::string& name, double P[12]) {
@@ -49,8 +38,8 @@ KittiSequence ReadKittiSequence(const std::string& dir) {
   auto fail = [&](const std::string& what) { throw std::runtime_error("KITTI sequence '" + dir + "': " + what); };
   KittiSequence s;
   s.dir = dir;
-  s.left = ImagesIn(fs::path(dir) / "image_0");
-  s.right = ImagesIn(fs::path(dir) / "image_1");
+  s.left = uav::ImageFilesIn((fs::path(dir) / "image_0").string());
+  s.right = uav::ImageFilesIn((fs::path(dir) / "image_1").string());
   if (s.left.empty()) fail("no images in image_0/ (left camera, .png/.jpg/.pgm)");
   if (s.left.size() != s.right.size())
     fail("image_0/ has " + std::to_string(s.left.size()) + " images but image_1/ has " + std::to_string(s.right.size()));
