@@ -2,7 +2,7 @@
 # Integration test: GPS-denied flight on visual odometry. uav-onboard --sim over the village with
 # the downward stereo pair running visual odometry (vo_enable=1) and a headless uav-gcs whose
 # script flies a survey, takes the GPS away mid-mission ("gps 0") and checks that the vehicle
-# finishes, returns and lands near home (2 m; the goal is 1 m); then the vehicle's own report must show the
+# finishes, returns and lands within 1 m of home; then the vehicle's own report must show the
 # position came from vision after the fault and the failsafe never fired.
 # Usage: gps_denied.sh BIN_DIR SCRIPT SCENE
 set -euo pipefail

@@ -48,18 +48,21 @@ TEST(StereoVoMath, RigidMotionRecoversAKnownMotionAndRefusesALine) {
 }
 
 // The racetrack at 20 m, 6 m/s, 10 Hz (517 m), every method on the same pairs.
-TEST(StereoVoFlight, VillageRacetrackPnpDriftsUnderOnePointTwoFivePercentAndBeatsRigid) {
+TEST(StereoVoFlight, VillageRacetrackPnpDriftsUnderOnePercentAndBeatsRigid) {
   const world::Scene scene = testing::VoVillage();
   const StereoFlightRenderer render(scene);
   const double speed = 6.0, alt = 20.0;
   const int frames = static_cast<int>(517.0 / speed * 10);
-  std::vector<VoMethod> methods = {VoMethod::kPnp, VoMethod::kEpnp, VoMethod::kRigid};
+  // The thesis's three methods on the images alone, and PnP fed the IMU's attitude as it flies.
+  const std::vector<VoMethod> methods = {VoMethod::kPnp, VoMethod::kEpnp, VoMethod::kRigid, VoMethod::kPnp};
+  const auto label = [&](size_t m) { return m == 3 ? std::string("pnp+imu") : std::string(Name(methods[m])); };
   std::vector<StereoVo> vo;
   for (VoMethod m : methods) {
     VoParams p;
     p.method = m;
     vo.emplace_back(render.geometry(), p);
   }
+  testing::ImuAttitude imu;
   std::vector<Eigen::Isometry3d> gt;
   std::vector<std::vector<Eigen::Isometry3d>> est(methods.size());
   std::vector<int> unhealthy(methods.size(), 0), keyframes(methods.size(), 0), restarts(methods.size(), 0);
@@ -69,11 +72,13 @@ TEST(StereoVoFlight, VillageRacetrackPnpDriftsUnderOnePointTwoFivePercentAndBeat
     const auto f = render.Render(RacetrackPose(i * speed / 10.0, alt, speed), utime);
     if (i == 0) T_N0 = f.T_NC;
     gt.push_back(T_N0.inverse() * f.T_NC);
+    RectifiedPair aided = f.pair;
+    aided.R_XC = imu.R_NC(f.T_NC.linear(), 0.1 * i);
     for (size_t m = 0; m < methods.size(); ++m) {
-      const VoResult r = vo[m].Process(f.pair);
+      const VoResult r = vo[m].Process(m == 3 ? aided : f.pair);
       unhealthy[m] += !r.healthy;
       keyframes[m] += r.new_keyframe;
-      if (!r.healthy) std::printf("%s frame %d: %s\n", Name(methods[m]), i, r.reason.c_str());
+      if (!r.healthy) std::printf("%s frame %d: %s\n", label(m).c_str(), i, r.reason.c_str());
       restarts[m] = r.segment;
       est[m].push_back(r.T_WC);
     }
@@ -82,30 +87,31 @@ TEST(StereoVoFlight, VillageRacetrackPnpDriftsUnderOnePointTwoFivePercentAndBeat
   // The poses as KITTI files, for uav-vo-eval's plot (the README's figure).
   WriteKittiPoses(::testing::TempDir() + "vo_racetrack_truth.txt", gt);
   for (size_t m = 0; m < methods.size(); ++m) {
-    WriteKittiPoses(::testing::TempDir() + "vo_racetrack_" + Name(methods[m]) + ".txt", est[m]);
+    WriteKittiPoses(::testing::TempDir() + "vo_racetrack_" + label(m) + ".txt", est[m]);
     const KittiErrors e = EvaluateKittiOdometry(gt, est[m]);
     const double end_error = (gt.back().translation() - est[m].back().translation()).norm();
-    std::printf("%-5s: KITTI translation %.2f %% rotation %.4f deg/m over %d segments; end error %.2f m after 517 m; "
+    std::printf("%-7s: KITTI translation %.2f %% rotation %.4f deg/m over %d segments; end error %.2f m after 517 m; "
                 "%d keyframes, %d unhealthy\n",
-                Name(methods[m]), e.translation_pct, e.rotation_deg_per_m, e.segments, end_error, keyframes[m],
+                label(m).c_str(), e.translation_pct, e.rotation_deg_per_m, e.segments, end_error, keyframes[m],
                 unhealthy[m]);
     for (const auto& pl : e.per_length)
       std::printf("       %3.0f m: %.2f %% %.4f deg/m (%d)\n", pl.length_m, pl.translation_pct, pl.rotation_deg_per_m,
                   pl.segments);
     // A lost frame restarts the chain from the last pose (its motion is missing from the
     // estimate, which the metric then counts); at most one in this flight.
-    EXPECT_LE(unhealthy[m], 1) << Name(methods[m]);
-    EXPECT_LE(restarts[m], 1) << Name(methods[m]);
-    EXPECT_GT(e.segments, 100) << Name(methods[m]);
-    // Measured 1.09 % (PnP) and 1.00 % (EPnP): at the 1 % asked for, not under it; the README
-    // says so.
+    EXPECT_LE(unhealthy[m], 1) << label(m);
+    EXPECT_LE(restarts[m], 1) << label(m);
+    EXPECT_GT(e.segments, 100) << label(m);
+    // The 1 % asked for (measured 0.76 % PnP, 0.92 % EPnP, PnP with the IMU 0.48 %).
     if (methods[m] != VoMethod::kRigid) {
-      EXPECT_LT(e.translation_pct, 1.25) << Name(methods[m]);
+      EXPECT_LT(e.translation_pct, 1.0) << label(m);
     }
     errors.push_back(e.translation_pct);
   }
   // Thesis 5.9: PnP beats the rigid 3D-3D method, whose depth errors enter both point sets.
   EXPECT_LT(errors[0], errors[2]);
+  // The IMU's attitude removes the tilt that plain ground lets vision trade for a translation.
+  EXPECT_LT(errors[3], errors[0]);
 }
 
 // A hovering vehicle (position wobbling by centimetres, attitude by tenths of a degree) keeps
@@ -137,6 +143,58 @@ TEST(StereoVoFlight, HoveringCameraKeepsItsKeyframeAndDoesNotDrift) {
   // growing with time: 13.9 cm measured, 3 keyframes.
   EXPECT_LE(keyframes, 5);
   EXPECT_LT(worst, 0.20);
+}
+
+// A vertical climb and descent over one spot (take-off and landing), the nose 3 degrees down.
+// Over plain ground a sideways motion and a tilt move the image alike, and the camera's motion
+// along its own axis has a sideways part here (the axis is 3 degrees off the vertical): vision
+// alone reads part of it as a rotation, which then sends the rest of the climb sideways. With
+// the IMU's attitude as a prior (testing::ImuAttitude) the odometry must stay over its spot.
+struct ClimbErrors {
+  double horizontal_m = 0, vertical_m = 0;
+  int unhealthy = 0;
+};
+ClimbErrors FlyClimbAndDescent(bool imu_prior) {
+  const world::Scene scene = testing::VoVillage();
+  const StereoFlightRenderer render(scene);
+  StereoVo vo(render.geometry(), VoParams{});
+  testing::ImuAttitude imu;
+  Eigen::Isometry3d T_N0 = Eigen::Isometry3d::Identity();
+  ClimbErrors worst;
+  const double deg = M_PI / 180;
+  // 2 m up to 20 m at 1.5 m/s, then down to 2 m at 1 m/s (the landing's speed), 10 pairs/s.
+  std::vector<double> heights;
+  for (double h = 2.0; h < 20.0; h += 0.15) heights.push_back(h);
+  for (double h = 20.0; h > 2.0; h -= 0.1) heights.push_back(h);
+  for (size_t i = 0; i < heights.size(); ++i) {
+    const auto f = render.Render(testing::BodyPose({-20, 4, -heights[i]}, 0.3, -3 * deg, 0.5 * deg),
+                                 1'000'000 + int64_t(i) * 100'000LL);
+    if (i == 0) T_N0 = f.T_NC;
+    RectifiedPair pair = f.pair;
+    if (imu_prior) pair.R_XC = imu.R_NC(f.T_NC.linear(), 0.1 * double(i));
+    const VoResult r = vo.Process(pair);
+    if (!r.healthy) {
+      std::printf("height %.1f m: %s\n", heights[i], r.reason.c_str());
+      ++worst.unhealthy;
+      continue;
+    }
+    // In N (both positions from the first camera's pose).
+    const Eigen::Vector3d e = T_N0.linear() * (r.T_WC.translation() - (T_N0.inverse() * f.T_NC).translation());
+    worst.horizontal_m = std::max(worst.horizontal_m, e.head<2>().norm());
+    worst.vertical_m = std::max(worst.vertical_m, std::abs(e.z()));
+  }
+  std::printf("climb 2-20 m and back, %s: worst horizontal error %.2f m, vertical %.2f m, %d unhealthy\n",
+              imu_prior ? "IMU rotation prior" : "vision alone", worst.horizontal_m, worst.vertical_m, worst.unhealthy);
+  return worst;
+}
+
+TEST(StereoVoFlight, ClimbAndDescentStayOverTheirSpotWithTheImuRotation) {
+  const ClimbErrors alone = FlyClimbAndDescent(false);
+  const ClimbErrors aided = FlyClimbAndDescent(true);
+  EXPECT_GT(alone.horizontal_m, 0.6);  // the ambiguity the prior removes (measured 0.99 m)
+  EXPECT_LT(aided.horizontal_m, 0.35);  // measured 0.27 m
+  EXPECT_LT(aided.vertical_m, 0.3);
+  EXPECT_EQ(aided.unhealthy, 0);
 }
 
 // Pairs it must refuse, each with its reason, leaving the pose where it was.
@@ -178,6 +236,16 @@ TEST(StereoVoInput, BadPairsAreRefusedWithTheReasonAndThePoseStays) {
   p.right = cv::Mat(good.pair.left.size(), CV_8UC1, cv::Scalar(255));
   expect_refused(p, "right image is blank or dark");
   p.right = good.pair.right;
+  p.left_utime = p.right_utime = 0;
+  p.R_XC = Eigen::Matrix3d::Identity() * 1.1;
+  expect_refused(p, "the IMU attitude given with the pair is not a rotation");
+  p.R_XC = Eigen::Matrix3d::Identity();
+  p.R_XC_covariance(0, 0) = std::nan("");
+  expect_refused(p, "the IMU attitude covariance given with the pair is not a covariance");
+  p.R_XC_covariance = -Eigen::Matrix3d::Identity();
+  expect_refused(p, "the IMU attitude covariance given with the pair is not a covariance");
+  p.R_XC.reset();
+  p.R_XC_covariance.setZero();
   p.left_utime = p.right_utime = 500'000;
   expect_refused(p, "frame time does not increase");
   // A pair whose right image belongs to another place: nothing lies on the epipolar rows.

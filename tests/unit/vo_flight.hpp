@@ -3,6 +3,7 @@
 // exact pose of the rectified left camera for every pair.
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,22 @@ inline Eigen::Isometry3d RacetrackPose(double s, double alt_m, double speed) {
   const double alt = alt_m + std::sin(2 * M_PI * s / 97.0);
   return BodyPose({p.x(), p.y(), -alt}, heading, -4 * M_PI / 180, bank);
 }
+
+// The INS's attitude of a camera as the odometry is fed it in flight: the truth with a slow
+// drift (0.01 deg/s about the vertical, as a heading held by the magnetometer wanders) and
+// 0.03 deg of noise per axis.
+class ImuAttitude {
+ public:
+  Eigen::Matrix3d R_NC(const Eigen::Matrix3d& R_NC_true, double t_s) {
+    const double deg = M_PI / 180;
+    const Eigen::Vector3d error(noise_(rng_), noise_(rng_), 0.01 * deg * t_s + noise_(rng_));
+    return Eigen::AngleAxisd(error.norm(), error.normalized()).toRotationMatrix() * R_NC_true;
+  }
+
+ private:
+  std::mt19937 rng_{3};
+  std::normal_distribution<double> noise_{0.0, 0.03 * M_PI / 180};
+};
 
 struct RenderedPair {
   RectifiedPair pair;

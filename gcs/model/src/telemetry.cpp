@@ -75,6 +75,10 @@ const std::vector<Signal<VisualOdometryReport>>& VisualOdometrySignals() {
       {{"error", "error_m", "m", "VO+IMU from truth, horizontal", F::kMetres}, [](const R& r) {
          return r.track_N && r.truth_N ? (r.track_N->head<2>() - r.truth_N->head<2>()).norm() : 0.0;
        }},
+      {{"truth_alt", "truth_alt_m", "m", "simulation, up from home", F::kMetres}, [](const R& r) { return r.truth_N ? -r.truth_N->z() : 0.0; }},
+      {{"error_alt", "error_alt_m", "m", "VO+IMU from truth, vertical (up +)", F::kMetres}, [](const R& r) {
+         return r.track_N && r.truth_N ? r.truth_N->z() - r.track_N->z() : 0.0;
+       }},
   };
   return k;
 }

@@ -38,6 +38,13 @@ void VoWorker::Tick(int64_t utime) {
   vision::RectifiedPair rect;
   rect.left_utime = pair.left_utime;
   rect.right_utime = pair.right_utime;
+  // The INS's attitude of the rectified left camera and its covariance there: the odometry
+  // weighs its rotation against the IMU's (gyro-aided; see RectifiedPair::R_XC).
+  if (d.estimate.utime > 0) {  // aligned
+    const Eigen::Matrix3d R_BC = T_BC_.linear();
+    rect.R_XC = d.estimate.q_NB.toRotationMatrix() * R_BC;
+    rect.R_XC_covariance = R_BC.transpose() * d.estimate.attitude_covariance_B * R_BC;
+  }
   vision::VoResult r;
   try {
     rectifier_.Rectify(pair.left, pair.right, &rect.left, &rect.right);

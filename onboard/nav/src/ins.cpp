@@ -300,6 +300,7 @@ void Ins::Publish(const hal::SensorSample& s) {
   estimate_.euler = EulerFromRotationNB(q_NB_.toRotationMatrix());
   estimate_.w_B = s.gyro_B - bg_;
   estimate_.f_B = s.accel_B - ba_;
+  estimate_.attitude_covariance_B = P_.block<3, 3>(kTh, kTh);
 }
 
 void Ins::QueueHeight(double height_m, double sigma_m) {

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -38,6 +40,13 @@ Eigen::Vector3d EulerFromRotation(const Eigen::Matrix3d& r) {
   return {std::atan2(r(2, 1), r(2, 2)), std::atan2(-r(2, 0), std::hypot(r(2, 1), r(2, 2))), std::atan2(r(1, 0), r(0, 0))};
 }
 
+// The IMU's rotation of the current frame from the keyframe, R_CK, and the inverse of the
+// lower Cholesky factor of its covariance (residual = L^-1 dth: unit variance).
+struct ImuRotation {
+  Eigen::Matrix3d R_CK;
+  Eigen::Matrix3d inv_sqrt_cov;
+};
+
 // One correspondence from the keyframe to the current frame.
 struct Match {
   int keyframe_index;
@@ -60,12 +69,20 @@ cv::Mat ParamsOf(const Eigen::Isometry3d& T) {
   return (cv::Mat_<double>(6, 1) << e.x(), e.y(), e.z(), T.translation().x(), T.translation().y(), T.translation().z());
 }
 
+// A rotation prior (gyro-aided odometry) adds three residuals: the rotation vector of
+// R_CK R_CK(prior)^T (a small rotation in the current camera's frame) times `weight` (residual
+// units per radian, the inverse of the prior's square-root covariance).
+struct RotationPrior {
+  Eigen::Matrix3d R_CK;
+  Eigen::Matrix3d weight;
+};
+
 class PoseResiduals : public cv::LMSolver::Callback {
  public:
-  explicit PoseResiduals(double angle_step) : angle_step_(angle_step) {}
+  PoseResiduals(double angle_step, std::optional<RotationPrior> prior) : angle_step_(angle_step), prior_(prior) {}
   bool compute(cv::InputArray param, cv::OutputArray err, cv::OutputArray J) const override {
     const cv::Mat x = param.getMat();
-    const std::vector<double> e0 = Errors(PoseOf(x));
+    const std::vector<double> e0 = AllErrors(PoseOf(x));
     cv::Mat(e0).copyTo(err);
     if (J.needed()) {
       J.create(static_cast<int>(e0.size()), 6, CV_64F);
@@ -74,7 +91,7 @@ class PoseResiduals : public cv::LMSolver::Callback {
         cv::Mat xh = x.clone();
         const double h = j < 3 ? angle_step_ : 1e-6;
         xh.at<double>(j) += h;
-        const std::vector<double> e1 = Errors(PoseOf(xh));
+        const std::vector<double> e1 = AllErrors(PoseOf(xh));
         for (size_t i = 0; i < e0.size(); ++i) Jm.at<double>(static_cast<int>(i), j) = (e1[i] - e0[i]) / h;
       }
     }
@@ -84,7 +101,17 @@ class PoseResiduals : public cv::LMSolver::Callback {
   virtual std::vector<double> Errors(const Eigen::Isometry3d& T_CK) const = 0;
 
  private:
+  std::vector<double> AllErrors(const Eigen::Isometry3d& T_CK) const {
+    std::vector<double> e = Errors(T_CK);
+    if (prior_) {
+      const Eigen::AngleAxisd d(T_CK.linear() * prior_->R_CK.transpose());
+      const Eigen::Vector3d r = prior_->weight * (d.angle() * d.axis());
+      e.insert(e.end(), {r.x(), r.y(), r.z()});
+    }
+    return e;
+  }
   double angle_step_;
+  std::optional<RotationPrior> prior_;
 };
 
 // Runs LM (20 iterations) from T0; T0 again when it ends in non-finite numbers.
@@ -98,8 +125,8 @@ Eigen::Isometry3d RefineLm(const cv::Ptr<PoseResiduals>& residuals, const Eigen:
 class RigidResiduals : public PoseResiduals {
  public:
   RigidResiduals(const std::vector<Eigen::Vector3d>& P, const std::vector<Eigen::Vector3d>& Q,
-                 const std::vector<double>& inv_sigma)
-      : PoseResiduals(1e-6), P_(P), Q_(Q), inv_sigma_(inv_sigma) {}
+                 const std::vector<double>& inv_sigma, std::optional<RotationPrior> prior)
+      : PoseResiduals(1e-6, prior), P_(P), Q_(Q), inv_sigma_(inv_sigma) {}
 
  private:
   std::vector<double> Errors(const Eigen::Isometry3d& T) const override {
@@ -122,8 +149,9 @@ class RigidResiduals : public PoseResiduals {
 // that a single image leaves free to trade against a rotation.
 class StereoReprojection : public PoseResiduals {
  public:
-  StereoReprojection(const std::vector<Match>& m, const std::vector<int>& in, double f, double cx, double cy, double b)
-      : PoseResiduals(1e-7), m_(m), in_(in), f_(f), cx_(cx), cy_(cy), b_(b) {}
+  StereoReprojection(const std::vector<Match>& m, const std::vector<int>& in, double f, double cx, double cy, double b,
+                     std::optional<RotationPrior> prior)
+      : PoseResiduals(1e-7, prior), m_(m), in_(in), f_(f), cx_(cx), cy_(cy), b_(b) {}
 
  private:
   std::vector<double> Errors(const Eigen::Isometry3d& T) const override {
@@ -169,6 +197,7 @@ void VoParams::Validate() const {
   require(min_distance_px >= 1 && min_distance_px <= 100, "min_distance_px must be 1..100");
   require(border_px >= 0 && border_px <= 200, "border_px must be 0..200");
   require(corner_quality > 0 && corner_quality < 1, "corner_quality must be in (0, 1)");
+  require(feature_grid >= 1 && feature_grid <= 16, "feature_grid must be 1..16");
   require(lk_window_px >= 5 && lk_window_px <= 61 && lk_levels >= 0 && lk_levels <= 6, "LK window 5..61 px, levels 0..6");
   require(lk_fb_tol_px > 0 && epipolar_tol_px > 0, "tolerances must be positive");
   require(disparity_sigma_px > 0 && max_depth_error > 0 && max_depth_error < 1, "depth error model out of range");
@@ -181,6 +210,9 @@ void VoParams::Validate() const {
   require(min_inliers >= 6 && keyframe_min_inliers >= min_inliers, "min_inliers >= 6 and keyframe_min_inliers >= it");
   require(keyframe_min_fraction > 0 && keyframe_min_fraction < 1, "keyframe_min_fraction must be in (0, 1)");
   require(max_sync_skew_s >= 0 && max_gap_s > 0 && min_contrast_dn >= 0, "timing and contrast limits");
+  require(imu_rotation_sigma_rad > 0 && imu_rotation_sigma_rad <= 1 && imu_rotation_gate_rad > 0 && imu_rotation_gate_rad <= M_PI &&
+              track_sigma_px > 0 && track_sigma_px <= 10,
+          "imu_rotation_sigma_rad must be in (0, 1], imu_rotation_gate_rad in (0, pi] and track_sigma_px in (0, 10]");
 }
 
 int RansacIterations(double p, double outliers, int s) {
@@ -231,6 +263,7 @@ struct StereoVo::Impl {
   };
   std::optional<Keyframe> keyframe;
   Eigen::Isometry3d T_WC = Eigen::Isometry3d::Identity();
+  std::optional<Eigen::Matrix3d> R_XW;  // W in the IMU's frame X, from the first pair that had one
   int segment = 0;
   int64_t last_utime = -1;
 
@@ -285,13 +318,37 @@ struct StereoVo::Impl {
     return out;
   }
 
+  // Shi-Tomasi corners (thesis 5.2) in a grid of cells, each with its own quality threshold: one
+  // strong corner (a roof edge, a person) otherwise sets a threshold that the ground's texture
+  // everywhere else falls under, and a keyframe at 15 m kept 30 of 400 points. The border is
+  // masked and the points stay min_distance_px apart across the cells too.
+  std::vector<cv::Point2f> DetectCorners(const cv::Mat& left) const {
+    const int b = p.border_px, n = p.feature_grid;
+    const cv::Rect inner(b, b, left.cols - 2 * b, left.rows - 2 * b);
+    std::vector<cv::Point2f> out;
+    if (inner.width < 2 * n || inner.height < 2 * n) return out;
+    const int per_cell = std::max(1, p.max_features / (n * n));
+    cv::Mat taken = cv::Mat::zeros(left.size(), CV_8U);
+    for (int cy = 0; cy < n; ++cy)
+      for (int cx = 0; cx < n; ++cx) {
+        const cv::Rect cell(inner.x + cx * inner.width / n, inner.y + cy * inner.height / n,
+                            (cx + 1) * inner.width / n - cx * inner.width / n, (cy + 1) * inner.height / n - cy * inner.height / n);
+        std::vector<cv::Point2f> corners;
+        cv::goodFeaturesToTrack(left(cell), corners, per_cell, p.corner_quality, p.min_distance_px);
+        for (cv::Point2f c : corners) {
+          c += cv::Point2f(static_cast<float>(cell.x), static_cast<float>(cell.y));
+          const cv::Point ci(cvRound(c.x), cvRound(c.y));
+          if (taken.at<uchar>(ci)) continue;  // too close to a point of the next cell
+          cv::circle(taken, ci, static_cast<int>(p.min_distance_px), 255, cv::FILLED);
+          out.push_back(c);
+        }
+      }
+    return out;
+  }
+
   // Detects and triangulates a new keyframe; the reason when it has too few points.
   std::string MakeKeyframe(const cv::Mat& left, const cv::Mat& right, const Eigen::Isometry3d& T_WK) {
-    cv::Mat mask = cv::Mat::zeros(left.size(), CV_8U);
-    const int b = p.border_px;
-    if (left.cols > 2 * b && left.rows > 2 * b) mask(cv::Rect(b, b, left.cols - 2 * b, left.rows - 2 * b)) = 255;
-    std::vector<cv::Point2f> corners;
-    cv::goodFeaturesToTrack(left, corners, p.max_features, p.corner_quality, p.min_distance_px, mask);
+    const std::vector<cv::Point2f> corners = DetectCorners(left);
     int row_misses = 0;
     const auto points = Triangulate(left, right, corners, &row_misses);
     Keyframe k;
@@ -381,7 +438,12 @@ struct StereoVo::Impl {
   }
 
   // Re-estimates on the consensus set (RANSAC step 4/6) and refines it by LM (Eq. 5.21).
-  Eigen::Isometry3d Refine(const std::vector<Match>& m, const std::vector<int>& in, const Eigen::Isometry3d& T0) const {
+  Eigen::Isometry3d Refine(const std::vector<Match>& m, const std::vector<int>& in, const Eigen::Isometry3d& T0,
+                           const std::optional<ImuRotation>& imu) const {
+    // The rigid residuals are in sigmas already; the reprojections in pixels of track_sigma_px.
+    const auto prior = [&](double unit) {
+      return imu ? std::optional<RotationPrior>(RotationPrior{imu->R_CK, unit * imu->inv_sqrt_cov}) : std::nullopt;
+    };
     if (p.method == VoMethod::kRigid) {
       std::vector<Eigen::Vector3d> P, Q;
       std::vector<double> inv_sigma;
@@ -396,7 +458,7 @@ struct StereoVo::Impl {
       }
       Eigen::Isometry3d T = T0;
       if (!RigidMotion(Pm, Qm, w, &T)) T = T0;
-      return RefineLm(cv::makePtr<RigidResiduals>(P, Q, inv_sigma), T);
+      return RefineLm(cv::makePtr<RigidResiduals>(P, Q, inv_sigma, prior(1.0)), T);
     }
     std::vector<cv::Point3d> obj;
     std::vector<cv::Point2d> img;
@@ -416,11 +478,13 @@ struct StereoVo::Impl {
     }
     if (!cv::checkRange(rvec) || !cv::checkRange(tvec)) return T0;
     // Then Eq. 5.21 in both images of the current pair.
-    return RefineLm(cv::makePtr<StereoReprojection>(m, in, g.f_px, g.cx, g.cy, g.baseline_m), FromRvecTvec(rvec, tvec));
+    return RefineLm(cv::makePtr<StereoReprojection>(m, in, g.f_px, g.cx, g.cy, g.baseline_m, prior(p.track_sigma_px)),
+                    FromRvecTvec(rvec, tvec));
   }
 
   // RANSAC (thesis 5.4) then refinement; the consensus indices in `inliers`.
-  std::optional<Eigen::Isometry3d> Estimate(const std::vector<Match>& m, std::vector<int>* inliers, int* iterations) {
+  std::optional<Eigen::Isometry3d> Estimate(const std::vector<Match>& m, const std::optional<ImuRotation>& imu,
+                                            std::vector<int>* inliers, int* iterations) {
     const int n = static_cast<int>(m.size()), s = SampleSize();
     if (n < std::max(s, p.min_inliers)) return std::nullopt;
     int needed = std::min(p.ransac_max_iterations, RansacIterations(p.ransac_p, p.ransac_initial_outliers, s));
@@ -436,6 +500,9 @@ struct StereoVo::Impl {
       }
       Eigen::Isometry3d T;
       if (!SolveSample(m, idx, &T)) continue;
+      // With the IMU's rotation, a sample whose rotation is far from it is not a hypothesis
+      // (a few points near one depth can fit a motion that tilts the camera by tens of degrees).
+      if (imu && Eigen::AngleAxisd(T.linear() * imu->R_CK.transpose()).angle() > p.imu_rotation_gate_rad) continue;
       cur.clear();
       for (int i = 0; i < n; ++i)
         if (Inlier(T, m[i])) cur.push_back(i);
@@ -451,14 +518,14 @@ struct StereoVo::Impl {
     }
     *iterations = it;
     if (static_cast<int>(best.size()) < p.min_inliers) return std::nullopt;
-    Eigen::Isometry3d T = Refine(m, best, best_T);
+    Eigen::Isometry3d T = Refine(m, best, best_T, imu);
     // The refined motion decides the final consensus; one more refinement on it.
     for (int pass = 0; pass < 2; ++pass) {
       inliers->clear();
       for (int i = 0; i < n; ++i)
         if (Inlier(T, m[i])) inliers->push_back(i);
       if (static_cast<int>(inliers->size()) < p.min_inliers) return std::nullopt;
-      if (pass == 0) T = Refine(m, *inliers, T);
+      if (pass == 0) T = Refine(m, *inliers, T, imu);
     }
     return T;
   }
@@ -485,6 +552,13 @@ struct StereoVo::Impl {
     if (skew > p.max_sync_skew_s)
       return Format("unsynchronised pair: the right image was exposed %.1f ms from the left (limit %.1f ms)", skew * 1e3,
                     p.max_sync_skew_s * 1e3);
+    if (pair.R_XC && !(pair.R_XC->allFinite() && (*pair.R_XC * pair.R_XC->transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-3 &&
+                       pair.R_XC->determinant() > 0))
+      return "the IMU attitude given with the pair is not a rotation";
+    const Eigen::Matrix3d& c = pair.R_XC_covariance;
+    if (pair.R_XC && !(c.allFinite() && (c - c.transpose()).norm() <= 1e-9 * (1 + c.norm()) &&
+                       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(c).eigenvalues().minCoeff() >= -1e-12))
+      return "the IMU attitude covariance given with the pair is not a covariance (finite, symmetric, not negative)";
     *left = Grey(pair.left);
     *right = Grey(pair.right);
     for (const auto& [img, side] : {std::pair{left, "left"}, std::pair{right, "right"}}) {
@@ -504,6 +578,7 @@ struct StereoVo::Impl {
     const bool gap = last_utime >= 0 && (utime - last_utime) * 1e-6 > p.max_gap_s;
     const double gap_s = (utime - last_utime) * 1e-6;
     last_utime = utime;
+    if (pair.R_XC && !R_XW) R_XW = *pair.R_XC * T_WC.linear().transpose();
     if (gap && keyframe) {
       keyframe.reset();
       ++segment;
@@ -614,7 +689,19 @@ struct StereoVo::Impl {
     }
     std::vector<int> inliers;
     int iterations = 0;
-    const auto T_CK = Estimate(matches, &inliers, &iterations);
+    // The IMU's attitude as a prior on this frame's rotation from the keyframe: R_CK = R_WC^T R_WK
+    // with R_WC from the IMU and R_WK as the chain has it. Tied to W, not to the keyframe, so
+    // that the small rotation errors of successive keyframes (plenty while climbing, when the
+    // view changes scale) do not add up.
+    std::optional<ImuRotation> imu;
+    if (pair.R_XC && R_XW) {
+      const Eigen::Matrix3d cov =
+          pair.R_XC_covariance + Eigen::Matrix3d::Identity() * p.imu_rotation_sigma_rad * p.imu_rotation_sigma_rad;
+      const Eigen::LLT<Eigen::Matrix3d> llt(cov);
+      imu = ImuRotation{(R_XW->transpose() * *pair.R_XC).transpose() * k.T_WK.linear(),
+                        llt.matrixL().solve(Eigen::Matrix3d::Identity())};
+    }
+    const auto T_CK = Estimate(matches, imu, &inliers, &iterations);
     if (!T_CK) {
       // Lost: the next frame starts a new segment from its own keyframe.
       VoResult r = Unhealthy(Format("RANSAC found no motion that %.0f of %.0f tracked points agree on", p.min_inliers,

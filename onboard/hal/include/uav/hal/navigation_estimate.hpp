@@ -19,6 +19,9 @@ struct VehicleEstimate {
   EulerAngles euler;                              // of q_NB, z-y-x (Eq. 5.51)
   Eigen::Vector3d w_B = Eigen::Vector3d::Zero();  // [rad/s]
   Eigen::Vector3d f_B = Eigen::Vector3d::Zero();  // [m/s^2] specific force
+  // [rad^2] the estimator's attitude covariance, of a small rotation dth_B with
+  // R_NB(true) = R_NB(estimate) Exp(dth_B)
+  Eigen::Matrix3d attitude_covariance_B = Eigen::Matrix3d::Zero();
   double altitude() const { return -p_N.z(); }    // [m] above home
   Eigen::Isometry3d T_NB() const {                // body pose in local NED
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
