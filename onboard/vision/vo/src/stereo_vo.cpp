@@ -40,13 +40,6 @@ Eigen::Vector3d EulerFromRotation(const Eigen::Matrix3d& r) {
   return {std::atan2(r(2, 1), r(2, 2)), std::atan2(-r(2, 0), std::hypot(r(2, 1), r(2, 2))), std::atan2(r(1, 0), r(0, 0))};
 }
 
-// The IMU's rotation of the current frame from the keyframe, R_CK, and the inverse of the
-// lower Cholesky factor of its covariance (residual = L^-1 dth: unit variance).
-struct ImuRotation {
-  Eigen::Matrix3d R_CK;
-  Eigen::Matrix3d inv_sqrt_cov;
-};
-
 // One correspondence from the keyframe to the current frame.
 struct Match {
   int keyframe_index;
@@ -69,13 +62,18 @@ cv::Mat ParamsOf(const Eigen::Isometry3d& T) {
   return (cv::Mat_<double>(6, 1) << e.x(), e.y(), e.z(), T.translation().x(), T.translation().y(), T.translation().z());
 }
 
-// A rotation prior (gyro-aided odometry) adds three residuals: the rotation vector of
-// R_CK R_CK(prior)^T (a small rotation in the current camera's frame) times `weight` (residual
-// units per radian, the inverse of the prior's square-root covariance).
+// A rotation prior (gyro-aided odometry): the IMU's rotation of the current frame from the
+// keyframe, and `weight`, the inverse of the lower Cholesky factor of its covariance (residual
+// units per radian). It adds three residuals, weight times the rotation vector of
+// R_CK R_CK(prior)^T (a small rotation in the current camera's frame).
 struct RotationPrior {
   Eigen::Matrix3d R_CK;
   Eigen::Matrix3d weight;
 };
+Eigen::Vector3d FromPrior(const Eigen::Matrix3d& R_CK, const RotationPrior& prior) {
+  const Eigen::AngleAxisd d(R_CK * prior.R_CK.transpose());
+  return d.angle() * d.axis();
+}
 
 class PoseResiduals : public cv::LMSolver::Callback {
  public:
@@ -104,8 +102,7 @@ class PoseResiduals : public cv::LMSolver::Callback {
   std::vector<double> AllErrors(const Eigen::Isometry3d& T_CK) const {
     std::vector<double> e = Errors(T_CK);
     if (prior_) {
-      const Eigen::AngleAxisd d(T_CK.linear() * prior_->R_CK.transpose());
-      const Eigen::Vector3d r = prior_->weight * (d.angle() * d.axis());
+      const Eigen::Vector3d r = prior_->weight * FromPrior(T_CK.linear(), *prior_);
       e.insert(e.end(), {r.x(), r.y(), r.z()});
     }
     return e;
@@ -439,10 +436,10 @@ struct StereoVo::Impl {
 
   // Re-estimates on the consensus set (RANSAC step 4/6) and refines it by LM (Eq. 5.21).
   Eigen::Isometry3d Refine(const std::vector<Match>& m, const std::vector<int>& in, const Eigen::Isometry3d& T0,
-                           const std::optional<ImuRotation>& imu) const {
+                           const std::optional<RotationPrior>& imu) const {
     // The rigid residuals are in sigmas already; the reprojections in pixels of track_sigma_px.
     const auto prior = [&](double unit) {
-      return imu ? std::optional<RotationPrior>(RotationPrior{imu->R_CK, unit * imu->inv_sqrt_cov}) : std::nullopt;
+      return imu ? std::optional<RotationPrior>(RotationPrior{imu->R_CK, unit * imu->weight}) : std::nullopt;
     };
     if (p.method == VoMethod::kRigid) {
       std::vector<Eigen::Vector3d> P, Q;
@@ -483,7 +480,7 @@ struct StereoVo::Impl {
   }
 
   // RANSAC (thesis 5.4) then refinement; the consensus indices in `inliers`.
-  std::optional<Eigen::Isometry3d> Estimate(const std::vector<Match>& m, const std::optional<ImuRotation>& imu,
+  std::optional<Eigen::Isometry3d> Estimate(const std::vector<Match>& m, const std::optional<RotationPrior>& imu,
                                             std::vector<int>* inliers, int* iterations) {
     const int n = static_cast<int>(m.size()), s = SampleSize();
     if (n < std::max(s, p.min_inliers)) return std::nullopt;
@@ -502,7 +499,7 @@ struct StereoVo::Impl {
       if (!SolveSample(m, idx, &T)) continue;
       // With the IMU's rotation, a sample whose rotation is far from it is not a hypothesis
       // (a few points near one depth can fit a motion that tilts the camera by tens of degrees).
-      if (imu && Eigen::AngleAxisd(T.linear() * imu->R_CK.transpose()).angle() > p.imu_rotation_gate_rad) continue;
+      if (imu && FromPrior(T.linear(), *imu).norm() > p.imu_rotation_gate_rad) continue;
       cur.clear();
       for (int i = 0; i < n; ++i)
         if (Inlier(T, m[i])) cur.push_back(i);
@@ -693,13 +690,13 @@ struct StereoVo::Impl {
     // with R_WC from the IMU and R_WK as the chain has it. Tied to W, not to the keyframe, so
     // that the small rotation errors of successive keyframes (plenty while climbing, when the
     // view changes scale) do not add up.
-    std::optional<ImuRotation> imu;
+    std::optional<RotationPrior> imu;
     if (pair.R_XC && R_XW) {
       const Eigen::Matrix3d cov =
           pair.R_XC_covariance + Eigen::Matrix3d::Identity() * p.imu_rotation_sigma_rad * p.imu_rotation_sigma_rad;
       const Eigen::LLT<Eigen::Matrix3d> llt(cov);
-      imu = ImuRotation{(R_XW->transpose() * *pair.R_XC).transpose() * k.T_WK.linear(),
-                        llt.matrixL().solve(Eigen::Matrix3d::Identity())};
+      imu = RotationPrior{(R_XW->transpose() * *pair.R_XC).transpose() * k.T_WK.linear(),
+                          llt.matrixL().solve(Eigen::Matrix3d::Identity())};
     }
     const auto T_CK = Estimate(matches, imu, &inliers, &iterations);
     if (!T_CK) {

@@ -53,10 +53,10 @@ struct VoParams {
   double keyframe_min_fraction = 0.5;  // ... or fewer than this share of the keyframe's points
   // Gyro-aided motion (a pair carrying R_XC): the IMU's attitude enters the refinement as a prior
   // on the rotation, with the pair's covariance plus this sigma on each axis (the reprojections
-  // count with track_sigma_px), and RANSAC samples further than the gate from it are not tried. Over plain ground (all points near one
-  // depth) a sideways motion and a tilt move the image alike, and vision alone trades one for the
-  // other: a climb to 20 m with the camera 3 degrees off the vertical read as 1.3 m of sideways
-  // motion without the prior.
+  // count with track_sigma_px), and RANSAC samples further than the gate from it are not tried.
+  // Over plain ground (all points near one depth) a sideways motion and a tilt move the image
+  // alike, and vision alone trades one for the other: a climb to 20 m with the camera 3 degrees
+  // off the vertical read as a metre of sideways motion without the prior.
   double imu_rotation_sigma_rad = 0.001;
   double imu_rotation_gate_rad = 0.05;
   double track_sigma_px = 0.3;
