@@ -135,15 +135,17 @@ void Strongest(std::vector<cv::KeyPoint>* k, int n) {
 }
 }  // namespace
 
-Registration FrameRegistration::Register(const cv::Mat& prev, const cv::Mat& cur) const {
+Registration FrameRegistration::Register(const cv::Mat& prev, const cv::Mat& cur, const cv::Mat& prev_mask) const {
   Require(!prev.empty() && !cur.empty(), "empty image");
   Require(prev.type() == CV_8UC1 && cur.type() == CV_8UC1, "images must be 8-bit grey");
   Require(prev.size() == cur.size(), "images must have the same size");
+  Require(prev_mask.empty() || (prev_mask.type() == CV_8UC1 && prev_mask.size() == prev.size()),
+          "the mask must be 8-bit and the images' size");
   Registration r;
   std::vector<cv::Point2f> a, b;  // current -> previous
   if (params_.detector == Detector::kGfttKlt) {
     std::vector<cv::Point2f> p_prev, p_cur;
-    cv::goodFeaturesToTrack(prev, p_prev, params_.max_corners, params_.corner_quality, params_.corner_spacing_px);
+    cv::goodFeaturesToTrack(prev, p_prev, params_.max_corners, params_.corner_quality, params_.corner_spacing_px, prev_mask);
     r.corners = static_cast<int>(p_prev.size());
     if (r.corners < params_.min_inliers) {
       r.failure = "too few corners (" + std::to_string(r.corners) + ")";
@@ -163,19 +165,19 @@ Registration FrameRegistration::Register(const cv::Mat& prev, const cv::Mat& cur
     // for ORB's binary descriptors; FLANN with Lowe's ratio test for SIFT).
     std::vector<cv::KeyPoint> k_prev, k_cur;
     cv::Mat d_prev, d_cur;
-    auto describe = [&](const cv::Mat& image, std::vector<cv::KeyPoint>* k, cv::Mat* d) {
+    auto describe = [&](const cv::Mat& image, const cv::Mat& mask, std::vector<cv::KeyPoint>* k, cv::Mat* d) {
       if (params_.detector == Detector::kFastOrb) {
-        impl_->fast->detect(image, *k);
+        impl_->fast->detect(image, *k, mask);
         Strongest(k, 4 * params_.max_corners);
         impl_->orb->compute(image, *k, *d);
       } else if (params_.detector == Detector::kAsift) {
         AffineSift(impl_->sift, image, k, d);
       } else {
-        impl_->sift->detectAndCompute(image, cv::noArray(), *k, *d);
+        impl_->sift->detectAndCompute(image, mask, *k, *d);
       }
     };
-    describe(prev, &k_prev, &d_prev);
-    describe(cur, &k_cur, &d_cur);
+    describe(prev, prev_mask, &k_prev, &d_prev);
+    describe(cur, cv::Mat(), &k_cur, &d_cur);
     r.corners = static_cast<int>(k_prev.size());
     if (r.corners < params_.min_inliers || static_cast<int>(k_cur.size()) < params_.min_inliers) {
       r.failure = "too few corners (" + std::to_string(std::min(k_prev.size(), k_cur.size())) + ")";

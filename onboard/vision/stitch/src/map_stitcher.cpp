@@ -9,7 +9,10 @@
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "seamless_render.hpp"
 
 namespace uav::vision {
 
@@ -27,6 +30,84 @@ struct Tile {
 };
 int64_t TileKey(int tx, int ty) { return (static_cast<int64_t>(tx) << 32) ^ static_cast<uint32_t>(ty); }
 int FloorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// Matched points kept per frame pair for the global alignment: enough to fix four unknowns a
+// frame many times over, few enough that 1000 frames solve in a second.
+constexpr size_t kMatchesPerPair = 60;
+// Ground matches a pair needs to constrain the alignment.
+constexpr size_t kMinGroundMatches = 10;
+// Footprint overlap down to which a frame is matched with earlier frames of its own pass.
+constexpr double kAlongOverlap = 0.6;
+
+// Every stride-th pair of points, at most `most` of them.
+void KeepMatches(const std::vector<cv::Point2f>& a, const std::vector<cv::Point2f>& b, size_t most,
+                 std::vector<Eigen::Vector2d>* p_a, std::vector<Eigen::Vector2d>* p_b) {
+  const size_t stride = std::max<size_t>(1, (a.size() + most - 1) / most);
+  for (size_t j = 0; j < a.size(); j += stride) {
+    p_a->emplace_back(a[j].x, a[j].y);
+    p_b->emplace_back(b[j].x, b[j].y);
+  }
+}
+
+// The matches on the ground. Two views of a point h above the ground, placed on the ground plane,
+// land apart by B h / (H - h) along the baseline (relief displacement: B the baseline, H the
+// height above ground), always towards the first camera; ground points land apart only by the
+// placements' error, the same for all. So the ground is, of the clusters of displacements that
+// enough matches share (a wrong track shares its displacement with nobody), the one displaced
+// least along the baseline; then a similarity is fitted to it by RANSAC (the placements'
+// rotation and scale errors spread it by a pixel or two).
+// x_a, x_b: the matches placed on the map by frames a and b; baseline_a_b: camera a minus b.
+std::vector<uint8_t> GroundMatches(const std::vector<Eigen::Vector2d>& x_a, const std::vector<Eigen::Vector2d>& x_b,
+                                   const Eigen::Vector2d& baseline_a_b, size_t min_count) {
+  constexpr double kClusterPx = 2.0;  // [map px] displacements closer than this are one cluster
+  constexpr double kGroundPx = 3.0;   // [map px] matches this close to the ground cluster are fitted
+  const size_t n = x_a.size();
+  std::vector<uint8_t> keep(n, 0);
+  if (n < min_count) return keep;
+  const Eigen::Vector2d u = baseline_a_b.norm() > 1e-6 ? Eigen::Vector2d(baseline_a_b.normalized()) : Eigen::Vector2d(1, 0);
+  std::vector<Eigen::Vector2d> d(n);
+  for (size_t j = 0; j < n; ++j) d[j] = x_b[j] - x_a[j];
+  const size_t cluster = std::max<size_t>(8, n / 25);
+  int ground = -1;
+  for (size_t i = 0; i < n; ++i) {
+    if (ground >= 0 && d[i].dot(u) >= d[ground].dot(u)) continue;
+    size_t near = 0;
+    for (size_t j = 0; j < n; ++j) near += (d[j] - d[i]).norm() <= kClusterPx;
+    if (near >= cluster) ground = static_cast<int>(i);
+  }
+  if (ground < 0) return keep;
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  int count = 0;
+  for (size_t j = 0; j < n; ++j)
+    if ((d[j] - d[ground]).norm() <= kClusterPx) {
+      centre += d[j];
+      ++count;
+    }
+  centre /= count;
+  std::vector<cv::Point2f> from, to;
+  std::vector<size_t> index;
+  for (size_t j = 0; j < n; ++j)
+    if ((d[j] - centre).norm() <= kGroundPx) {
+      from.emplace_back(static_cast<float>(x_b[j].x()), static_cast<float>(x_b[j].y()));
+      to.emplace_back(static_cast<float>(x_a[j].x()), static_cast<float>(x_a[j].y()));
+      index.push_back(j);
+    }
+  if (from.size() < min_count) return keep;
+  std::vector<uint8_t> inlier;
+  const cv::Mat M = cv::estimateAffinePartial2D(from, to, inlier, cv::RANSAC, 1.0);
+  if (M.empty()) return keep;
+  for (size_t j = 0; j < index.size(); ++j) keep[index[j]] = inlier[j];
+  return keep;
+}
+
+// A placed frame as the final map needs it.
+struct KeptFrame {
+  int64_t utime = 0;
+  bool registered = false;
+  Eigen::Matrix3d H = Eigen::Matrix3d::Identity();  // image pixel -> map pixel (adjusted after Align)
+  std::optional<Eigen::Matrix3d> H_nav;             // the navigation solution's placement
+  std::vector<uint8_t> jpeg;                        // the undistorted image
+};
 }  // namespace
 
 struct MapStitcher::Impl {
@@ -41,7 +122,7 @@ struct MapStitcher::Impl {
   cv::Mat prev_grey;
   Eigen::Matrix3d H_map_prev = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d C_prev = Eigen::Matrix3d::Identity();  // the previous frame's correction
-  std::vector<Eigen::Matrix3d> placements;  // image pixel -> map pixel, per frame
+  std::vector<KeptFrame> kept;  // every placed frame
   std::unordered_map<int64_t, Tile> tiles;
   std::set<int64_t> changed;  // tiles written since TakeChangedTiles
 
@@ -270,6 +351,11 @@ MapStitcher::MapStitcher(const CameraIntrinsics& camera, const StitcherParams& p
   Require(std::isfinite(params.ground_down_m), "ground_down_m must be finite");
   Require(params.gain_blocks >= 1 && params.gain_blocks <= 32, "gain_blocks must be 1..32");
   Require(params.feather_px >= 0 && params.feather_px <= 500, "feather_px must be 0..500");
+  ValidateAlignmentParams(params.alignment);
+  Require(params.cross_pairs_per_frame >= 0 && params.cross_pairs_per_frame <= 8, "cross_pairs_per_frame must be 0..8");
+  Require(params.cross_min_overlap > 0 && params.cross_min_overlap <= 1, "cross_min_overlap must be in (0, 1]");
+  Require(params.blend_bands >= 1 && params.blend_bands <= 8, "blend_bands must be 1..8");
+  Require(params.kept_jpeg_quality >= 50 && params.kept_jpeg_quality <= 100, "kept_jpeg_quality must be 50..100");
   const auto& d = camera.distortion;
   if (d[0] != 0 || d[1] != 0 || d[2] != 0 || d[3] != 0 || d[4] != 0) {
     const cv::Mat K = (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
@@ -344,8 +430,14 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   m.started = true;
   m.Write(image, H);
   m.H_map_prev = H;
+  KeptFrame kept;
+  kept.utime = frame.utime;
+  kept.registered = step.registered;
+  kept.H = H;
+  if (have_nav) kept.H_nav = H_nav;
+  cv::imencode(".jpg", image, kept.jpeg, {cv::IMWRITE_JPEG_QUALITY, m.p.kept_jpeg_quality});
+  m.kept.push_back(std::move(kept));
   m.prev_grey = grey;
-  m.placements.push_back(H);
   step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return step;
 }
@@ -406,21 +498,230 @@ MapGrid MapStitcher::grid() const {
   return {m.gsd, m.north0, m.east0, m.p.tile_px, m.georeferenced};
 }
 
-int MapStitcher::frames() const { return static_cast<int>(impl_->placements.size()); }
+int MapStitcher::frames() const { return static_cast<int>(impl_->kept.size()); }
 
 Eigen::Vector2d MapStitcher::PlacedCentreNE(int k) const {
   const Impl& m = *impl_;
-  return m.GroundNE(Apply(m.placements.at(k), Eigen::Vector2d(m.k.cx, m.k.cy)));
+  return m.GroundNE(Apply(m.kept.at(k).H, Eigen::Vector2d(m.k.cx, m.k.cy)));
 }
 
 double MapStitcher::PlacedPixelSize(int k) const {
   const Impl& m = *impl_;
-  return Impl::PixelScale(m.placements.at(k), Eigen::Vector2d(m.k.cx, m.k.cy)) * m.gsd;
+  return Impl::PixelScale(m.kept.at(k).H, Eigen::Vector2d(m.k.cx, m.k.cy)) * m.gsd;
+}
+
+namespace {
+
+// Reduced image pixel -> image pixel, for an image decoded at 1/reduce.
+Eigen::Matrix3d Enlarge(int reduce) {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  R(0, 0) = R(1, 1) = reduce;
+  R(0, 2) = R(1, 2) = (reduce - 1) / 2.0;
+  return R;
+}
+
+int DecodeFlags(int reduce, bool grey) {
+  switch (reduce) {
+    case 2: return grey ? cv::IMREAD_REDUCED_GRAYSCALE_2 : cv::IMREAD_REDUCED_COLOR_2;
+    case 4: return grey ? cv::IMREAD_REDUCED_GRAYSCALE_4 : cv::IMREAD_REDUCED_COLOR_4;
+    case 8: return grey ? cv::IMREAD_REDUCED_GRAYSCALE_8 : cv::IMREAD_REDUCED_COLOR_8;
+    default: return grey ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR;
+  }
+}
+
+cv::Mat Decode(const std::vector<uint8_t>& jpeg, int reduce, bool grey) {
+  return cv::imdecode(jpeg, DecodeFlags(reduce, grey));
+}
+
+}  // namespace
+
+AlignmentReport MapStitcher::Align() {
+  Impl& m = *impl_;
+  AlignmentReport report;
+  const int n = static_cast<int>(m.kept.size());
+  report.frames = n;
+  if (n < 2) {
+    report.message = "fewer than two frames";
+    return report;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<FrameMatches> tracked;  // every pair's tracked points, before the ground gate
+  // Pairs of frames to match:
+  //  - along the track, the two farthest earlier frames that still overlap by kAlongOverlap: a
+  //    long baseline separates the ground from what stands on it (relief displacement grows with
+  //    it), and few links between the ends of a line let little bias add up; two neighbouring
+  //    partners keep every frame tied to every other;
+  //  - across passes, frames that overlap although the path flown between them is much longer
+  //    than the distance between them (a neighbouring survey line, a second visit): there the
+  //    live map's chain has had the time to drift, so they are what the joint adjustment needs.
+  const double w = m.k.width - 1, h = m.k.height - 1;
+  std::vector<std::vector<cv::Point2f>> outline(n);
+  std::vector<cv::Rect2f> box(n);
+  std::vector<double> area(n), path(n, 0.0);
+  std::vector<Eigen::Vector2d> centre(n);
+  double short_side = 1e18;
+  for (int k = 0; k < n; ++k) {
+    for (const Eigen::Vector2d& q : {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h), Eigen::Vector2d(0, h)}) {
+      const Eigen::Vector2d p = Apply(m.kept[k].H, q);
+      outline[k].emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+    }
+    box[k] = cv::Rect2f(cv::boundingRect(outline[k]));
+    area[k] = cv::contourArea(outline[k]);
+    centre[k] = Apply(m.kept[k].H, Eigen::Vector2d(m.k.cx, m.k.cy));
+    if (k > 0) path[k] = path[k - 1] + (centre[k] - centre[k - 1]).norm();
+    short_side = std::min({short_side, static_cast<double>(box[k].width), static_cast<double>(box[k].height)});
+  }
+  auto overlap = [&](int a, int b) {
+    if ((box[a] & box[b]).empty()) return 0.0;
+    std::vector<cv::Point2f> inter;
+    return static_cast<double>(cv::intersectConvexConvex(outline[a], outline[b], inter)) / std::min(area[a], area[b]);
+  };
+  const int reduce = m.k.width > 800 ? 2 : 1;
+  const Eigen::Matrix3d R = Enlarge(reduce);
+  auto is_cross = [&](int k, int i) { return path[k] - path[i] > (centre[k] - centre[i]).norm() + short_side; };
+  for (int k = 1; k < n; ++k) {
+    std::vector<std::pair<int, bool>> partners;  // frame, across passes
+    int far = k - 1;
+    while (far > 0 && !is_cross(k, far - 1) && overlap(k, far - 1) >= kAlongOverlap) --far;
+    partners.emplace_back(far, false);
+    if (far + 1 < k) partners.emplace_back(far + 1, false);
+    // Cross candidates, grouped into runs of consecutive frames (one pass); the best of each run.
+    std::vector<std::pair<double, int>> best_of_run;
+    int run_end = -2;
+    for (int i = 0; i < k; ++i) {
+      const bool cross = is_cross(k, i);
+      const double o = cross ? overlap(k, i) : 0.0;
+      if (o < m.p.cross_min_overlap) continue;
+      if (i != run_end + 1) best_of_run.emplace_back(o, i);
+      else if (o > best_of_run.back().first) best_of_run.back() = {o, i};
+      run_end = i;
+    }
+    std::sort(best_of_run.rbegin(), best_of_run.rend());
+    if (best_of_run.size() > static_cast<size_t>(m.p.cross_pairs_per_frame)) best_of_run.resize(m.p.cross_pairs_per_frame);
+    for (const auto& [o, i] : best_of_run) partners.emplace_back(i, true);
+    const cv::Mat grey_k = Decode(m.kept[k].jpeg, reduce, true);
+    for (const auto& [i, cross] : partners) {
+      // Frame i warped into frame k's pixels by the live placements, so registration sees two
+      // views that differ by the placements' error only (any heading, any line direction);
+      // corners are looked for where the two overlap.
+      const Eigen::Matrix3d W = m.kept[k].H.inverse() * m.kept[i].H;  // i pixel -> k pixel
+      cv::Mat W_small, warped, mask;
+      cv::eigen2cv(Eigen::Matrix3d(R.inverse() * W * R), W_small);
+      cv::warpPerspective(Decode(m.kept[i].jpeg, reduce, true), warped, W_small, grey_k.size());
+      cv::warpPerspective(cv::Mat(grey_k.size(), CV_8U, cv::Scalar(255)), mask, W_small, grey_k.size(), cv::INTER_NEAREST);
+      cv::erode(mask, mask, cv::Mat(), cv::Point(-1, -1), m.p.registration.klt_window_px, cv::BORDER_CONSTANT, cv::Scalar(0));
+      const Registration r = m.registration.Register(grey_k, warped, mask);
+      if (r.tracked_prev.empty()) continue;
+      FrameMatches fm;
+      fm.a = i;
+      fm.b = k;
+      fm.cross = cross;
+      std::vector<Eigen::Vector2d> in_k, in_warped;
+      KeepMatches(r.tracked_prev, r.tracked_cur, 4 * kMatchesPerPair, &in_k, &in_warped);
+      const Eigen::Matrix3d to_i = W.inverse() * R;
+      for (size_t j = 0; j < in_k.size(); ++j) {
+        fm.p_b.push_back(Apply(R, in_k[j]));
+        fm.p_a.push_back(Apply(to_i, in_warped[j]));
+      }
+      tracked.push_back(std::move(fm));
+    }
+  }
+  // The ground matches of every pair, placed by the live map.
+  std::vector<FrameMatches> matches;
+  for (const FrameMatches& t : tracked) {
+    std::vector<Eigen::Vector2d> x_a, x_b;
+    for (size_t j = 0; j < t.p_a.size(); ++j) {
+      x_a.push_back(Apply(m.kept[t.a].H, t.p_a[j]));
+      x_b.push_back(Apply(m.kept[t.b].H, t.p_b[j]));
+    }
+    const std::vector<uint8_t> ground =
+        GroundMatches(x_a, x_b, centre[t.a] - centre[t.b], kMinGroundMatches);
+    FrameMatches g{t.a, t.b, t.cross, {}, {}};
+    std::vector<cv::Point2f> ga, gb;
+    for (size_t j = 0; j < ground.size(); ++j)
+      if (ground[j]) {
+        ga.emplace_back(static_cast<float>(t.p_a[j].x()), static_cast<float>(t.p_a[j].y()));
+        gb.emplace_back(static_cast<float>(t.p_b[j].x()), static_cast<float>(t.p_b[j].y()));
+      }
+    if (ga.size() < kMinGroundMatches) continue;
+    KeepMatches(ga, gb, kMatchesPerPair, &g.p_a, &g.p_b);
+    (g.cross ? report.cross_pairs : report.consecutive_pairs) += 1;
+    matches.push_back(std::move(g));
+  }
+  const auto matched = std::chrono::steady_clock::now();
+  report.seconds_matching = std::chrono::duration<double>(matched - start).count();
+
+  std::vector<AlignmentFrame> frames(n);
+  std::vector<Eigen::Matrix3d> before(n);
+  for (int k = 0; k < n; ++k) {
+    const KeptFrame& f = m.kept[k];
+    frames[k].H_base = f.H_nav ? *f.H_nav : f.H;
+    frames[k].H_start = f.H;
+    frames[k].centre_px = Eigen::Vector2d(m.k.cx, m.k.cy);
+    frames[k].nav_prior = f.H_nav.has_value();
+    before[k] = f.H;
+  }
+  report.cross_before = MatchResiduals(before, matches, true);
+  report.all_before = MatchResiduals(before, matches, false);
+  const AlignmentSolution solution = AlignFrames(frames, matches, m.gsd, m.p.alignment);
+  report.seconds_solving = std::chrono::duration<double>(std::chrono::steady_clock::now() - matched).count();
+  report.message = solution.message;
+  report.iterations = solution.iterations;
+  report.matches_dropped = solution.matches_dropped;
+  if (!solution.ok) {
+    report.cross_after = report.cross_before;
+    report.all_after = report.all_before;
+    return report;
+  }
+  for (int k = 0; k < n; ++k) m.kept[k].H = solution.H_map_img[k];
+  report.cross_after = MatchResiduals(solution.H_map_img, matches, true);
+  report.all_after = MatchResiduals(solution.H_map_img, matches, false);
+  report.adjusted = true;
+  return report;
+}
+
+Mosaic MapStitcher::RenderSeamless() const {
+  const Impl& m = *impl_;
+  Mosaic out;
+  out.gsd_m = m.gsd;
+  out.georeferenced = m.georeferenced;
+  if (m.kept.empty()) return out;
+  std::vector<SeamlessFrame> frames;
+  for (const KeptFrame& f : m.kept) frames.push_back({f.H});
+  const SeamlessMap map = vision::RenderSeamless(frames, cv::Size(m.k.width, m.k.height), cv::Point2d(m.k.cx, m.k.cy),
+                                                 m.p.blend_bands,
+                                                 [&](int k, int reduce) { return Decode(m.kept[k].jpeg, reduce, false); });
+  out.bgr = map.bgr;
+  out.mask = map.mask;
+  out.north_top_m = m.north0 - (map.origin.y - 0.5) * m.gsd;
+  out.east_left_m = m.east0 + (map.origin.x - 0.5) * m.gsd;
+  return out;
+}
+
+std::vector<FramePlacement> MapStitcher::Placements() const {
+  const Impl& m = *impl_;
+  const double w = m.k.width - 1, h = m.k.height - 1;
+  std::vector<FramePlacement> out;
+  for (const KeptFrame& f : m.kept) {
+    FramePlacement p;
+    p.utime = f.utime;
+    p.registered = f.registered;
+    p.H_map_img = f.H;
+    int i = 0;
+    for (const Eigen::Vector2d& q : {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h), Eigen::Vector2d(0, h)}) {
+      const Eigen::Vector2d px = Apply(f.H, q);
+      p.corners_NE[i++] = m.georeferenced ? m.GroundNE(px) : px;
+    }
+    out.push_back(p);
+  }
+  return out;
 }
 
 size_t MapStitcher::tiles() const { return impl_->tiles.size(); }
 size_t MapStitcher::memory_bytes() const {
-  return impl_->tiles.size() * static_cast<size_t>(impl_->p.tile_px) * impl_->p.tile_px * 4;
+  size_t kept = 0;
+  for (const KeptFrame& f : impl_->kept) kept += f.jpeg.size() + sizeof(KeptFrame);
+  return impl_->tiles.size() * static_cast<size_t>(impl_->p.tile_px) * impl_->p.tile_px * 4 + kept;
 }
 
 }  // namespace uav::vision

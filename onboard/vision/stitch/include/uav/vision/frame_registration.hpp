@@ -62,9 +62,11 @@ class FrameRegistration {
   explicit FrameRegistration(const RegistrationParams& params = RegistrationParams());
   ~FrameRegistration();
   FrameRegistration(FrameRegistration&&) noexcept;
-  // 8-bit grey images of the same size. Throws std::invalid_argument for empty, mismatched or
-  // non-grey images; a registration that fails its checks returns ok = false with the reason.
-  Registration Register(const cv::Mat& prev_grey, const cv::Mat& cur_grey) const;
+  // 8-bit grey images of the same size; corners are looked for where prev_mask (8-bit, same
+  // size) is non-zero, everywhere when it is empty (ASIFT always looks everywhere). Throws std::invalid_argument for empty,
+  // mismatched or non-grey images; a registration that fails its checks returns ok = false with
+  // the reason.
+  Registration Register(const cv::Mat& prev_grey, const cv::Mat& cur_grey, const cv::Mat& prev_mask = cv::Mat()) const;
 
  private:
   struct Impl;

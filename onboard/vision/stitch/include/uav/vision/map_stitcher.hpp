@@ -13,6 +13,10 @@
 // gain-compensated block by block against the map under it (exposure and cloud-shadow steps do
 // not show as patches), then written newest-on-top (Eq. 6.5, feathered at its edge) into 256 px tiles of a north-up
 // canvas in local NED metres: memory grows with the area covered, not with a fixed canvas.
+// That is the live map. Each frame is also kept (JPEG) with its matches: at the end of the
+// survey Align() adjusts all placements jointly (cross-line matches, navigation prior) and
+// RenderSeamless() renders the map offered for download again, without seams between lines.
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -23,6 +27,7 @@
 
 #include "uav/shared/camera_intrinsics.hpp"
 #include "uav/vision/frame_registration.hpp"
+#include "uav/vision/global_alignment.hpp"
 
 namespace uav::vision {
 
@@ -35,6 +40,12 @@ struct StitcherParams {
   int gain_blocks = 4;             // gain grid per frame (gain_blocks x gain_blocks)
   int feather_px = 24;             // [map px] a new frame fades in over this distance from its edge
   RegistrationParams registration;
+  // The final map (Align, RenderSeamless).
+  AlignmentParams alignment;
+  int cross_pairs_per_frame = 2;     // earlier passes each frame is matched against; 0..8
+  double cross_min_overlap = 0.25;   // footprint overlap, of the smaller footprint, to match a pair; (0, 1]
+  int blend_bands = 5;               // multi-band blending levels; 1..8
+  int kept_jpeg_quality = 95;        // frames are kept JPEG-compressed for the final render; 50..100
 };
 
 // One image with the navigation solution's camera pose when it was taken.
@@ -81,6 +92,26 @@ struct MapGrid {
   bool georeferenced = false;
 };
 
+// Where a frame is on the map.
+struct FramePlacement {
+  int64_t utime = 0;
+  bool registered = false;
+  Eigen::Matrix3d H_map_img = Eigen::Matrix3d::Identity();  // undistorted image pixel -> map pixel
+  // Ground (north, east) [m] of the image corners: top-left, top-right, bottom-right,
+  // bottom-left (map pixels (x, y) when the map is not geo-referenced).
+  std::array<Eigen::Vector2d, 4> corners_NE;
+};
+
+struct AlignmentReport {
+  bool adjusted = false;
+  std::string message;  // the solver's summary, or why nothing was adjusted
+  int frames = 0, consecutive_pairs = 0, cross_pairs = 0;
+  ResidualStats cross_before, cross_after;  // matches between passes [map px]
+  ResidualStats all_before, all_after;      // every match
+  int iterations = 0, matches_dropped = 0;
+  double seconds_matching = 0.0, seconds_solving = 0.0;
+};
+
 class MapStitcher {
  public:
   // Throws std::invalid_argument naming a bad intrinsic or parameter.
@@ -91,7 +122,18 @@ class MapStitcher {
   // Throws std::invalid_argument for an image of the wrong size or type, or a non-finite pose.
   StitchStep Add(const StitchInput& frame);
 
+  // The live map: the tiles as written frame by frame.
   Mosaic Render() const;
+  // Global alignment of every frame so far (global_alignment.hpp): each frame is matched with
+  // the overlapping frames of earlier passes (a survey's neighbouring lines), then all
+  // placements are solved together with the frame-to-frame matches and the navigation prior.
+  // The live tiles stay as they were; PlacedCentreNE, Placements and RenderSeamless then use the
+  // adjusted placements.
+  AlignmentReport Align();
+  // The final map: every kept frame rendered again at its current placement, with exposure
+  // compensation, nearest-nadir seams and multi-band blending (seamless_render.hpp).
+  Mosaic RenderSeamless() const;
+  std::vector<FramePlacement> Placements() const;
   // Tiles written since the last call (each once, as it is now).
   std::vector<MapTile> TakeChangedTiles();
   MapGrid grid() const;
@@ -101,7 +143,7 @@ class MapStitcher {
   Eigen::Vector2d PlacedCentreNE(int k) const;
   double PlacedPixelSize(int k) const;
   size_t tiles() const;
-  size_t memory_bytes() const;
+  size_t memory_bytes() const;  // the tiles and the kept frames
 
  private:
   struct Impl;

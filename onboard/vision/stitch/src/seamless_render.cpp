@@ -1,0 +1,174 @@
+#include "seamless_render.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/stitching/detail/blenders.hpp>
+#include <opencv2/stitching/detail/exposure_compensate.hpp>
+
+namespace uav::vision {
+
+namespace {
+
+Eigen::Vector2d Apply(const Eigen::Matrix3d& H, const Eigen::Vector2d& p) {
+  const Eigen::Vector3d q = H * p.homogeneous();
+  return q.head<2>() / q.z();
+}
+
+// The frame's outline in map pixels.
+std::vector<cv::Point2f> Outline(const Eigen::Matrix3d& H, const cv::Size& size) {
+  const double w = size.width - 1, h = size.height - 1;
+  std::vector<cv::Point2f> out;
+  for (const Eigen::Vector2d& q : {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h), Eigen::Vector2d(0, h)}) {
+    const Eigen::Vector2d m = Apply(H, q);
+    out.emplace_back(static_cast<float>(m.x()), static_cast<float>(m.y()));
+  }
+  return out;
+}
+
+// The frame warped into the map-pixel rectangle `roi`, from an image decoded at 1/reduce, and its
+// footprint mask there (eroded by a pixel: the edge pixels mix with the outside).
+void Warp(const cv::Mat& image, const Eigen::Matrix3d& H_map_img, int reduce, const cv::Rect& roi, double map_scale,
+          int border, cv::Mat* warped, cv::Mat* mask) {
+  Eigen::Matrix3d S = Eigen::Matrix3d::Identity();  // map pixel -> roi pixel (at map_scale)
+  S(0, 0) = S(1, 1) = map_scale;
+  S(0, 2) = -roi.x;
+  S(1, 2) = -roi.y;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // reduced image pixel -> image pixel
+  R(0, 0) = R(1, 1) = reduce;
+  R(0, 2) = R(1, 2) = (reduce - 1) / 2.0;
+  cv::Mat H;
+  cv::eigen2cv(Eigen::Matrix3d(S * H_map_img * R), H);
+  cv::warpPerspective(image, *warped, H, roi.size(), cv::INTER_LINEAR, border);
+  if (mask) {
+    cv::warpPerspective(cv::Mat(image.size(), CV_8U, cv::Scalar(255)), *mask, H, roi.size(), cv::INTER_NEAREST,
+                        cv::BORDER_CONSTANT);
+    cv::erode(*mask, *mask, cv::Mat(), cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  }
+}
+
+}  // namespace
+
+SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::Size& image_size,
+                           const cv::Point2d& centre_px, int bands,
+                           const std::function<cv::Mat(int k, int reduce)>& load) {
+  SeamlessMap out;
+  const int n = static_cast<int>(frames.size());
+  if (n == 0) return out;
+  std::vector<cv::Rect> box(n);
+  std::vector<cv::Point2d> centre(n);
+  cv::Rect content;
+  for (int k = 0; k < n; ++k) {
+    box[k] = cv::boundingRect(Outline(frames[k].H_map_img, image_size));
+    const Eigen::Vector2d c = Apply(frames[k].H_map_img, Eigen::Vector2d(centre_px.x, centre_px.y));
+    centre[k] = cv::Point2d(c.x(), c.y());
+    content = k == 0 ? box[k] : (content | box[k]);
+  }
+  if (static_cast<double>(content.area()) > 4e8)
+    throw std::runtime_error("seamless map: " + std::to_string(content.width) + "x" + std::to_string(content.height) +
+                             " px is too large to render");
+
+  // 2. Seams: the nearest frame centre wins each pixel of the footprints.
+  cv::Mat label(content.size(), CV_32S, cv::Scalar(-1));
+  cv::Mat best(content.size(), CV_32F, cv::Scalar(std::numeric_limits<float>::max()));
+  std::vector<cv::Rect> cell(n);
+  for (int k = 0; k < n; ++k) {
+    const cv::Rect r = box[k] & content;
+    cv::Mat footprint = cv::Mat::zeros(r.size(), CV_8U);
+    std::vector<cv::Point> poly;
+    for (const cv::Point2f& p : Outline(frames[k].H_map_img, image_size))
+      poly.emplace_back(cvRound(p.x - r.x), cvRound(p.y - r.y));
+    cv::fillConvexPoly(footprint, poly, cv::Scalar(255));
+    cv::erode(footprint, footprint, cv::Mat(), cv::Point(-1, -1), 2, cv::BORDER_CONSTANT, cv::Scalar(0));
+    for (int y = 0; y < r.height; ++y) {
+      const uint8_t* in = footprint.ptr<uint8_t>(y);
+      float* d = best.ptr<float>(y + r.y - content.y) + (r.x - content.x);
+      int* l = label.ptr<int>(y + r.y - content.y) + (r.x - content.x);
+      const double dy = y + r.y - centre[k].y;
+      for (int x = 0; x < r.width; ++x) {
+        if (!in[x]) continue;
+        const double dx = x + r.x - centre[k].x;
+        const float d2 = static_cast<float>(dx * dx + dy * dy);
+        if (d2 < d[x]) {
+          d[x] = d2;
+          l[x] = k;
+        }
+      }
+    }
+  }
+  std::vector<cv::Vec4i> span(n, cv::Vec4i(content.width, content.height, -1, -1));  // x0, y0, x1, y1
+  for (int y = 0; y < content.height; ++y) {
+    const int* l = label.ptr<int>(y);
+    for (int x = 0; x < content.width; ++x) {
+      if (l[x] < 0) continue;
+      cv::Vec4i& s = span[l[x]];
+      s[0] = std::min(s[0], x);
+      s[1] = std::min(s[1], y);
+      s[2] = std::max(s[2], x);
+      s[3] = std::max(s[3], y);
+    }
+  }
+  for (int k = 0; k < n; ++k)
+    if (span[k][2] >= 0)
+      cell[k] = cv::Rect(span[k][0] + content.x, span[k][1] + content.y, span[k][2] - span[k][0] + 1, span[k][3] - span[k][1] + 1);
+  best.release();
+
+  // 1. Exposure: one gain per frame, from the frames decoded at 1/reduce and warped at that scale.
+  const int reduce = content.area() > 4'000'000 ? 8 : content.area() > 1'000'000 ? 4 : 2;
+  const double small = 1.0 / reduce;
+  std::vector<cv::Point> corners;
+  std::vector<cv::UMat> images;
+  std::vector<std::pair<cv::UMat, uchar>> masks;
+  std::vector<int> fed;
+  for (int k = 0; k < n; ++k) {
+    if (cell[k].empty()) continue;
+    const cv::Rect r(static_cast<int>(std::floor(box[k].x * small)), static_cast<int>(std::floor(box[k].y * small)),
+                     static_cast<int>(std::ceil(box[k].width * small)) + 1,
+                     static_cast<int>(std::ceil(box[k].height * small)) + 1);
+    cv::Mat warped, mask;
+    Warp(load(k, reduce), frames[k].H_map_img, reduce, r, small, cv::BORDER_CONSTANT, &warped, &mask);
+    corners.push_back(r.tl());
+    images.push_back(warped.getUMat(cv::ACCESS_READ).clone());
+    masks.emplace_back(mask.getUMat(cv::ACCESS_READ).clone(), uchar(255));
+    fed.push_back(k);
+  }
+  std::vector<double> gain(n, 1.0);
+  if (fed.size() > 1) {
+    cv::detail::GainCompensator compensator;
+    compensator.feed(corners, images, masks);
+    const std::vector<double> g = compensator.gains();
+    for (size_t i = 0; i < fed.size(); ++i) gain[fed[i]] = std::isfinite(g[i]) ? std::clamp(g[i], 0.5, 2.0) : 1.0;
+  }
+  images.clear();
+  masks.clear();
+
+  // 3. Multi-band blending over the seams. Each frame is fed over its cell and a margin of the
+  // blender's reach, with its border replicated beyond the footprint (never black).
+  cv::detail::MultiBandBlender blender(false, bands);
+  blender.prepare(content);
+  const int margin = 2 << bands;
+  for (int k = 0; k < n; ++k) {
+    if (cell[k].empty()) continue;
+    const cv::Rect r = (cell[k] + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) & box[k] & content;
+    cv::Mat warped;
+    Warp(load(k, 1), frames[k].H_map_img, 1, r, 1.0, cv::BORDER_REPLICATE, &warped, nullptr);
+    cv::Mat mask = label(r - content.tl()) == k;
+    cv::Mat img16;
+    warped.convertTo(img16, CV_16SC3, gain[k]);
+    blender.feed(img16, mask, r.tl());
+  }
+  cv::Mat result, result_mask;
+  blender.blend(result, result_mask);
+  result.convertTo(out.bgr, CV_8UC3);
+  cv::bitwise_and(result_mask, label >= 0, out.mask);
+  out.bgr.setTo(cv::Scalar::all(0), out.mask == 0);
+  out.origin = content.tl();
+  return out;
+}
+
+}  // namespace uav::vision

@@ -1,0 +1,34 @@
+#pragma once
+// The final map of a survey, rendered again from every frame once the placements are adjusted
+// (internal to the stitcher). Three steps, as OpenCV's stitching pipeline:
+//   1. exposure: one gain per frame from the overlaps (cv::detail::GainCompensator), on frames
+//      decoded at reduced size;
+//   2. seams: each map pixel is taken from the frame whose centre (principal point) is nearest,
+//      the most nadir view, with the least relief displacement and lens error (a Voronoi seam on
+//      the frames' centres, clipped to their footprints);
+//   3. multi-band blending across those seams (cv::detail::MultiBandBlender, Burt and Adelson),
+//      so brightness differences fade over a band-dependent width while edges stay sharp.
+#include <functional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core/mat.hpp>
+
+namespace uav::vision {
+
+struct SeamlessFrame {
+  Eigen::Matrix3d H_map_img;  // undistorted image pixel -> map pixel
+};
+
+struct SeamlessMap {
+  cv::Mat bgr, mask;  // content only
+  cv::Point origin;   // map pixel of bgr(0, 0)
+};
+
+// load(k, reduce): frame k, undistorted 8-bit BGR, decoded at 1/reduce of its size (1, 2, 4 or 8).
+// centre_px: the principal point; image_size: the frames' size. bands: multi-band levels.
+SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::Size& image_size,
+                           const cv::Point2d& centre_px, int bands,
+                           const std::function<cv::Mat(int k, int reduce)>& load);
+
+}  // namespace uav::vision
