@@ -1,6 +1,6 @@
 // uav-stitch on a capture folder written by the onboard camera thread (CameraWorker): a 60 m
-// line at 30 m over the village. Checks the outputs exist, the report, and that the world file
-// puts the map where the vehicle flew.
+// line at 30 m over the village. Checks the outputs exist, the report (placements, alignment),
+// that the world file puts the map where the vehicle flew, and a plain folder of photos.
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +8,8 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "uav/sim/sim_cameras.hpp"
 #include "uav/world/scene.hpp"
@@ -58,6 +60,42 @@ TEST(UavStitch, StitchesACaptureFolderIntoGeoreferencedFiles) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/map" + ext)) << ext;
   const std::string report = Slurp(dir + "/report.json");
   EXPECT_NE(report.find("\"placed\": 60"), std::string::npos) << report;
+  const nlohmann::json r = nlohmann::json::parse(report);
+  EXPECT_TRUE(r["alignment"]["adjusted"].get<bool>()) << r["alignment"];
+  ASSERT_EQ(r["placements"].size(), 60u);
+  EXPECT_EQ(r["placements"][0]["corners_lat_lon_deg"].size(), 4u);
+  EXPECT_EQ(r["placements"][0]["H_map_img"].size(), 9u);
+  EXPECT_LT(r["alignment"]["all_after"]["p95_px"].get<double>(), 2.0) << r["alignment"];
+
+  // A plain folder of photos (no session.json, no poses): a map in pixels from the ones that
+  // can be used; a broken file and a photo from another camera are named and left out.
+  const std::string plain = dir + "/plain";
+  std::filesystem::create_directories(plain);
+  for (int i = 0; i < 20; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "IMG_%06d.jpg", i + 1);
+    std::filesystem::copy_file(dir + "/captures/" + name, plain + "/" + name);
+  }
+  std::ofstream(plain + "/IMG_000010b.jpg") << "not a jpeg";
+  cv::imwrite(plain + "/IMG_000015b.jpg", cv::Mat(240, 320, CV_8UC3, cv::Scalar(90, 120, 60)));
+  const std::string plain_command = std::string(UAV_STITCH_BIN) + " " + plain + " --out " + dir + "/pixels --report " +
+                                    dir + "/plain.json > " + dir + "/plain.txt 2>&1";
+  ASSERT_EQ(std::system(plain_command.c_str()), 0) << Slurp(dir + "/plain.txt");
+  const nlohmann::json p = nlohmann::json::parse(Slurp(dir + "/plain.json"));
+  EXPECT_EQ(p["placed"], 20);
+  EXPECT_FALSE(p["georeferenced"].get<bool>());
+  ASSERT_EQ(p["skipped"].size(), 2u) << p["skipped"];
+  EXPECT_NE(p["skipped"][0].get<std::string>().find("IMG_000010b.jpg: missing or not an image"), std::string::npos);
+  EXPECT_NE(p["skipped"][1].get<std::string>().find("320x240, the camera's is 640x480"), std::string::npos);
+  const cv::Mat pixels = cv::imread(dir + "/pixels.png", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(pixels.channels(), 4);
+  // 20 frames 1 m apart, north up, at 30 m (the 640 px footprint is 40 m wide: 16 px per metre):
+  // the strip is 19 m (304 px) longer than one frame. Chained by registration alone over roofs
+  // and trees it comes out 889 x 711 px (measured): without poses the scale wanders.
+  EXPECT_GT(pixels.rows, 480 + 200);
+  EXPECT_LT(pixels.rows, 480 + 500);
+  EXPECT_LT(pixels.cols, 800);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/pixels.tif"));
 
   // The world file's upper-left pixel against the flown area: the line runs north -30 .. 29 m at
   // east 10 m; at 30 m the footprint is 40 x 30 m, so the map's north-west corner lies near

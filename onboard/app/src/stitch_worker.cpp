@@ -52,7 +52,10 @@ void StitchWorker::Tick(int64_t /*utime*/) {
 }
 
 void StitchWorker::Finish() {
-  const vision::Mosaic map = stitcher_->Render();
+  // The map offered for download: every frame adjusted jointly, then rendered again without
+  // seams (the live tiles stay as they were flown).
+  const vision::AlignmentReport alignment = stitcher_->Align();
+  const vision::Mosaic map = stitcher_->RenderSeamless();
   char name[32];
   std::snprintf(name, sizeof name, "map_%d", maps_written_ + 1);
   const std::string prefix = (std::filesystem::path(options_.map_dir) / name).string();
@@ -61,9 +64,11 @@ void StitchWorker::Finish() {
       board_.PushDownload(std::filesystem::path(path).filename().string(), ReadTextFile(path, "map file"));
     ++maps_written_;
     last_map_ = prefix;
-    char text[256];
-    std::snprintf(text, sizeof text, "map ready: %s.tif, %d frames (%d registered), %dx%d px at %.3f m/px", name,
-                  stitcher_->frames(), registered_, map.bgr.cols, map.bgr.rows, map.gsd_m);
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "map ready: %s.tif, %d frames (%d registered), %dx%d px at %.3f m/px; cross-line p95 %.1f -> %.1f px%s",
+                  name, stitcher_->frames(), registered_, map.bgr.cols, map.bgr.rows, map.gsd_m,
+                  alignment.cross_before.p95_px, alignment.cross_after.p95_px, alignment.adjusted ? "" : " (not adjusted)");
     board_.PushStatus(Severity::kInfo, text);
   } catch (const std::exception& e) {
     board_.PushStatus(Severity::kError, std::string("map not written: ") + e.what());

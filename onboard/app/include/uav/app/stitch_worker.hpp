@@ -1,8 +1,9 @@
 #pragma once
 // STITCH: the onboard map stitcher (issue 7 item 1). A thin shell around vision::MapStitcher:
 // takes every survey capture CAM hands over (image + estimated camera pose), stitches it while
-// the vehicle flies, and once the survey is over and the vehicle has landed writes the map
-// (GeoTIFF, PNG + world file, KML) into the map directory and reports it. It needs nothing from
+// the vehicle flies, and once the survey is over and the vehicle has landed adjusts all frames
+// jointly, renders the map again without seams and writes it (GeoTIFF, PNG + world file, KML)
+// into the map directory and reports it. It needs nothing from
 // the GCS link, so a link loss does not stop it.
 #include <memory>
 #include <string>
