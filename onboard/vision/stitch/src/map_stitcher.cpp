@@ -129,6 +129,17 @@ struct MapStitcher::Impl {
   explicit Impl(const CameraIntrinsics& cam, const StitcherParams& params)
       : k(cam), p(params), registration(params.registration) {}
 
+  // A map whose pixel (0, 0) is map pixel `origin`. Map pixel (c, r) is centred on
+  // east0 + c gsd, north0 - r gsd: the outer edges are half a pixel beyond the first centres.
+  Mosaic MosaicAt(const cv::Point& origin) const {
+    Mosaic out;
+    out.gsd_m = gsd;
+    out.georeferenced = georeferenced;
+    out.north_top_m = north0 - (origin.y - 0.5) * gsd;
+    out.east_left_m = east0 + (origin.x - 0.5) * gsd;
+    return out;
+  }
+
   Eigen::Vector2d MapPixel(double north, double east) const { return {(east - east0) / gsd, (north0 - north) / gsd}; }
   Eigen::Vector2d GroundNE(const Eigen::Vector2d& map_px) const {
     return {north0 - map_px.y() * gsd, east0 + map_px.x() * gsd};
@@ -245,9 +256,8 @@ struct MapStitcher::Impl {
   }
 
   void Write(const cv::Mat& image, const Eigen::Matrix3d& H_map_img) {
-    const double w = k.width - 1, h = k.height - 1;
     double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
-    for (const Eigen::Vector2d& q : {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h), Eigen::Vector2d(0, h)}) {
+    for (const Eigen::Vector2d& q : ImageCorners(cv::Size(k.width, k.height))) {
       const Eigen::Vector2d m = Apply(H_map_img, q);
       x0 = std::min(x0, m.x());
       y0 = std::min(y0, m.y());
@@ -444,10 +454,7 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
 
 Mosaic MapStitcher::Render() const {
   const Impl& m = *impl_;
-  Mosaic out;
-  out.gsd_m = m.gsd;
-  out.georeferenced = m.georeferenced;
-  if (m.tiles.empty()) return out;
+  if (m.tiles.empty()) return m.MosaicAt({0, 0});
   const int T = m.p.tile_px;
   cv::Rect content;
   bool any = false;
@@ -459,7 +466,8 @@ Mosaic MapStitcher::Render() const {
     content = any ? (content | global) : global;
     any = true;
   }
-  if (!any) return out;
+  if (!any) return m.MosaicAt({0, 0});
+  Mosaic out = m.MosaicAt(content.tl());
   out.bgr = cv::Mat::zeros(content.size(), CV_8UC3);
   out.mask = cv::Mat::zeros(content.size(), CV_8U);
   for (const auto& [key, tile] : m.tiles) {
@@ -470,10 +478,6 @@ Mosaic MapStitcher::Render() const {
     tile.bgr(overlap - tile_rect.tl()).copyTo(out.bgr(overlap - content.tl()));
     tile.mask(overlap - tile_rect.tl()).copyTo(out.mask(overlap - content.tl()));
   }
-  // Map pixel (c, r) is centred on east0 + c gsd, north0 - r gsd: the outer edges are half a
-  // pixel beyond the first and last centres.
-  out.north_top_m = m.north0 - (content.y - 0.5) * m.gsd;
-  out.east_left_m = m.east0 + (content.x - 0.5) * m.gsd;
   return out;
 }
 
@@ -512,14 +516,6 @@ double MapStitcher::PlacedPixelSize(int k) const {
 
 namespace {
 
-// Reduced image pixel -> image pixel, for an image decoded at 1/reduce.
-Eigen::Matrix3d Enlarge(int reduce) {
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  R(0, 0) = R(1, 1) = reduce;
-  R(0, 2) = R(1, 2) = (reduce - 1) / 2.0;
-  return R;
-}
-
 int DecodeFlags(int reduce, bool grey) {
   switch (reduce) {
     case 2: return grey ? cv::IMREAD_REDUCED_GRAYSCALE_2 : cv::IMREAD_REDUCED_COLOR_2;
@@ -554,14 +550,13 @@ AlignmentReport MapStitcher::Align() {
   //  - across passes, frames that overlap although the path flown between them is much longer
   //    than the distance between them (a neighbouring survey line, a second visit): there the
   //    live map's chain has had the time to drift, so they are what the joint adjustment needs.
-  const double w = m.k.width - 1, h = m.k.height - 1;
   std::vector<std::vector<cv::Point2f>> outline(n);
   std::vector<cv::Rect2f> box(n);
   std::vector<double> area(n), path(n, 0.0);
   std::vector<Eigen::Vector2d> centre(n);
   double short_side = 1e18;
   for (int k = 0; k < n; ++k) {
-    for (const Eigen::Vector2d& q : {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h), Eigen::Vector2d(0, h)}) {
+    for (const Eigen::Vector2d& q : ImageCorners(cv::Size(m.k.width, m.k.height))) {
       const Eigen::Vector2d p = Apply(m.kept[k].H, q);
       outline[k].emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
     }
@@ -682,25 +677,20 @@ AlignmentReport MapStitcher::Align() {
 
 Mosaic MapStitcher::RenderSeamless() const {
   const Impl& m = *impl_;
-  Mosaic out;
-  out.gsd_m = m.gsd;
-  out.georeferenced = m.georeferenced;
-  if (m.kept.empty()) return out;
+  if (m.kept.empty()) return m.MosaicAt({0, 0});
   std::vector<SeamlessFrame> frames;
   for (const KeptFrame& f : m.kept) frames.push_back({f.H});
   const SeamlessMap map = vision::RenderSeamless(frames, cv::Size(m.k.width, m.k.height), cv::Point2d(m.k.cx, m.k.cy),
                                                  m.p.blend_bands,
                                                  [&](int k, int reduce) { return Decode(m.kept[k].jpeg, reduce, false); });
+  Mosaic out = m.MosaicAt(map.origin);
   out.bgr = map.bgr;
   out.mask = map.mask;
-  out.north_top_m = m.north0 - (map.origin.y - 0.5) * m.gsd;
-  out.east_left_m = m.east0 + (map.origin.x - 0.5) * m.gsd;
   return out;
 }
 
 std::vector<FramePlacement> MapStitcher::Placements() const {
   const Impl& m = *impl_;
-  const double w = m.k.width - 1, h = m.k.height - 1;
   std::vector<FramePlacement> out;
   for (const KeptFrame& f : m.kept) {
     FramePlacement p;
@@ -708,7 +698,7 @@ std::vector<FramePlacement> MapStitcher::Placements() const {
     p.registered = f.registered;
     p.H_map_img = f.H;
     int i = 0;
-    for (const Eigen::Vector2d& q : {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h), Eigen::Vector2d(0, h)}) {
+    for (const Eigen::Vector2d& q : ImageCorners(cv::Size(m.k.width, m.k.height))) {
       const Eigen::Vector2d px = Apply(f.H, q);
       p.corners_NE[i++] = m.georeferenced ? m.GroundNE(px) : px;
     }

@@ -22,9 +22,8 @@ Eigen::Vector2d Apply(const Eigen::Matrix3d& H, const Eigen::Vector2d& p) {
 
 // The frame's outline in map pixels.
 std::vector<cv::Point2f> Outline(const Eigen::Matrix3d& H, const cv::Size& size) {
-  const double w = size.width - 1, h = size.height - 1;
   std::vector<cv::Point2f> out;
-  for (const Eigen::Vector2d& q : {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h), Eigen::Vector2d(0, h)}) {
+  for (const Eigen::Vector2d& q : ImageCorners(size)) {
     const Eigen::Vector2d m = Apply(H, q);
     out.emplace_back(static_cast<float>(m.x()), static_cast<float>(m.y()));
   }
@@ -39,11 +38,8 @@ void Warp(const cv::Mat& image, const Eigen::Matrix3d& H_map_img, int reduce, co
   S(0, 0) = S(1, 1) = map_scale;
   S(0, 2) = -roi.x;
   S(1, 2) = -roi.y;
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // reduced image pixel -> image pixel
-  R(0, 0) = R(1, 1) = reduce;
-  R(0, 2) = R(1, 2) = (reduce - 1) / 2.0;
   cv::Mat H;
-  cv::eigen2cv(Eigen::Matrix3d(S * H_map_img * R), H);
+  cv::eigen2cv(Eigen::Matrix3d(S * H_map_img * Enlarge(reduce)), H);
   cv::warpPerspective(image, *warped, H, roi.size(), cv::INTER_LINEAR, border);
   if (mask) {
     cv::warpPerspective(cv::Mat(image.size(), CV_8U, cv::Scalar(255)), *mask, H, roi.size(), cv::INTER_NEAREST,
@@ -53,6 +49,18 @@ void Warp(const cv::Mat& image, const Eigen::Matrix3d& H_map_img, int reduce, co
 }
 
 }  // namespace
+
+std::array<Eigen::Vector2d, 4> ImageCorners(const cv::Size& size) {
+  const double w = size.width - 1, h = size.height - 1;
+  return {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h), Eigen::Vector2d(0, h)};
+}
+
+Eigen::Matrix3d Enlarge(int reduce) {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  R(0, 0) = R(1, 1) = reduce;
+  R(0, 2) = R(1, 2) = (reduce - 1) / 2.0;
+  return R;
+}
 
 SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::Size& image_size,
                            const cv::Point2d& centre_px, int bands,

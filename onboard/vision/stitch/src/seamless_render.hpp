@@ -8,6 +8,7 @@
 //      the frames' centres, clipped to their footprints);
 //   3. multi-band blending across those seams (cv::detail::MultiBandBlender, Burt and Adelson),
 //      so brightness differences fade over a band-dependent width while edges stay sharp.
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -15,6 +16,11 @@
 #include <opencv2/core/mat.hpp>
 
 namespace uav::vision {
+
+// The image's corner pixels: top-left, top-right, bottom-right, bottom-left.
+std::array<Eigen::Vector2d, 4> ImageCorners(const cv::Size& size);
+// Pixel of an image decoded at 1/reduce -> pixel of the full image.
+Eigen::Matrix3d Enlarge(int reduce);
 
 struct SeamlessFrame {
   Eigen::Matrix3d H_map_img;  // undistorted image pixel -> map pixel
