@@ -4,13 +4,16 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
+#include "geotagged_jpeg.hpp"
 #include "uav/sim/sim_cameras.hpp"
 #include "uav/world/scene.hpp"
 #include "uav/app/camera_worker.hpp"
@@ -96,6 +99,72 @@ TEST(UavStitch, StitchesACaptureFolderIntoGeoreferencedFiles) {
   EXPECT_LT(pixels.rows, 480 + 500);
   EXPECT_LT(pixels.cols, 800);
   EXPECT_FALSE(std::filesystem::exists(dir + "/pixels.tif"));
+
+  // The same line as a drone's geotagged photos (EXIF GPS and lens, DJI XMP with the height
+  // above take-off and the gimbal): a geo-referenced map with each photo where it was taken.
+  // A photo without GPS, one with a latitude of 95 deg and one from another camera are named
+  // and left out.
+  const std::string tagged = dir + "/geotagged";
+  std::filesystem::create_directories(tagged);
+  const LocalNedFrame ned(home);
+  auto exif_at = [&](const Eigen::Vector3d& p_N) {
+    const GeodeticPoint g = ned.ToGeodetic(p_N);
+    return std::map<std::string, std::string>{{"GPSLatitude", test::Dms(g.latitude_deg)},
+                                              {"GPSLatitudeRef", "N"},
+                                              {"GPSLongitude", test::Dms(g.longitude_deg)},
+                                              {"GPSLongitudeRef", "E"},
+                                              {"GPSAltitude", "(" + std::to_string(g.altitude_m) + ")"},
+                                              {"Make", "Sim"},
+                                              {"Model", "Downward 640"},
+                                              {"FocalLength", "(3.6)"},
+                                              {"FocalPlaneXResolution", "(133.3333)"},  // 640 px over 4.8 mm
+                                              {"FocalPlaneResolutionUnit", "4"}};
+  };
+  const std::string nadir_xmp = test::DjiXmp(
+      {{"RelativeAltitude", "+30.00"}, {"GimbalYawDegree", "+0.0"}, {"GimbalPitchDegree", "-90.0"}, {"GimbalRollDegree", "0.0"}});
+  for (int i = 0; i < 60; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "IMG_%06d.jpg", i);
+    const cv::Mat image = cv::imread(dir + "/captures/" + name);
+    test::WriteGeotaggedJpeg(tagged + "/DJI_" + std::string(name + 4), image, exif_at({-30.0 + i, 10.0, -30.0}), nadir_xmp);
+  }
+  const cv::Mat any = cv::imread(dir + "/captures/IMG_000030.jpg");
+  test::WriteGeotaggedJpeg(tagged + "/DJI_000030a.jpg", any, {{"Model", "Downward 640"}}, nadir_xmp);
+  auto far = exif_at({0, 10, -30});
+  far["GPSLatitude"] = "(95) (0) (0)";
+  test::WriteGeotaggedJpeg(tagged + "/DJI_000030b.jpg", any, far, nadir_xmp);
+  auto other = exif_at({0, 10, -30});
+  other["Model"] = "Thermal 320";
+  cv::Mat small;
+  cv::resize(any, small, cv::Size(320, 240));
+  test::WriteGeotaggedJpeg(tagged + "/DJI_000030c.jpg", small, other, nadir_xmp);
+  const std::string tagged_command = std::string(UAV_STITCH_BIN) + " " + tagged + " --out " + dir + "/tagged --report " +
+                                     dir + "/tagged.json > " + dir + "/tagged.txt 2>&1";
+  ASSERT_EQ(std::system(tagged_command.c_str()), 0) << Slurp(dir + "/tagged.txt");
+  const nlohmann::json t = nlohmann::json::parse(Slurp(dir + "/tagged.json"));
+  EXPECT_EQ(t["input"], "geotagged photos");
+  EXPECT_TRUE(t["georeferenced"].get<bool>());
+  EXPECT_EQ(t["placed"], 60);
+  EXPECT_NEAR(t["camera"]["fx"].get<double>(), 480.0, 0.01);
+  ASSERT_EQ(t["skipped"].size(), 3u) << t["skipped"];
+  EXPECT_NE(t["skipped"][0].get<std::string>().find("DJI_000030a.jpg: no EXIF GPSLatitude"), std::string::npos);
+  EXPECT_NE(t["skipped"][1].get<std::string>().find("DJI_000030b.jpg: EXIF GPSLatitude 95"), std::string::npos);
+  EXPECT_NE(t["skipped"][2].get<std::string>().find("another camera"), std::string::npos);
+  for (const std::string ext : {".tif", ".png", ".pgw", ".kml"}) EXPECT_TRUE(std::filesystem::exists(dir + "/tagged" + ext)) << ext;
+  // Each photo's footprint centre against where it was taken (the NED origin is the ground under
+  // the first photo, so compare in the map's own frame: offsets from the first photo).
+  ASSERT_EQ(t["placements"].size(), 60u);
+  double worst_m = 0;
+  for (int i = 0; i < 60; ++i) {
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (const auto& c : t["placements"][i]["corners_lat_lon_deg"]) {
+      const Eigen::Vector3d p = ned.ToNed({c[0].get<double>(), c[1].get<double>(), home.altitude_m});
+      centre += 0.25 * p.head<2>();
+    }
+    worst_m = std::max(worst_m, (centre - Eigen::Vector2d(-30.0 + i, 10.0)).norm());
+  }
+  EXPECT_LT(worst_m, 0.5) << "worst footprint centre error";
+  std::printf("[ geotag ] 60 photos placed from EXIF/XMP, worst footprint centre error %.2f m\n", worst_m);
 
   // The world file's upper-left pixel against the flown area: the line runs north -30 .. 29 m at
   // east 10 m; at 30 m the footprint is 40 x 30 m, so the map's north-west corner lies near

@@ -148,11 +148,26 @@ AlignmentSolution AlignFrames(const std::vector<AlignmentFrame>& frames, const s
     Eigen::Vector2d x_a, x_b;
   };
   std::vector<Match> all;
-  for (const FrameMatches& fm : matches)
+  out.pair_used.assign(matches.size(), true);
+  for (size_t pair = 0; pair < matches.size(); ++pair) {
+    const FrameMatches& fm = matches[pair];
+    if (frames[fm.a].nav_prior && frames[fm.b].nav_prior && !fm.p_a.empty()) {
+      std::vector<double> start_px;
+      for (size_t i = 0; i < fm.p_a.size(); ++i)
+        start_px.push_back((Apply(frames[fm.a].H_start, fm.p_a[i]) - Apply(frames[fm.b].H_start, fm.p_b[i])).norm());
+      const double sigma_m = std::min(std::sqrt(2.0) * params.nav_position_sigma_m,
+                                      params.nav_drift_sigma_m * std::sqrt(std::abs(fm.b - fm.a)));
+      if (!(Quantile(start_px, 0.5) <= 3.0 * sigma_m / gsd_m + params.outlier_px)) {
+        ++out.pairs_rejected;
+        out.pair_used[pair] = false;
+        continue;
+      }
+    }
     for (size_t i = 0; i < fm.p_a.size(); ++i) {
       const Match m{fm.a, fm.b, Apply(frames[fm.a].H_base, fm.p_a[i]), Apply(frames[fm.b].H_base, fm.p_b[i])};
       if (m.x_a.allFinite() && m.x_b.allFinite()) all.push_back(m);
     }
+  }
   const double inv_position = gsd_m / params.nav_position_sigma_m, inv_drift = gsd_m / params.nav_drift_sigma_m;
   auto solve = [&](const std::vector<Match>& use) {
     ceres::Problem::Options problem_options;

@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <stdexcept>
 
 #include <gdal_priv.h>
@@ -50,6 +51,7 @@ void WriteGeoTiff(const cv::Mat& bgra, const Affine& a, const std::string& path)
   options = CSLSetNameValue(options, "COMPRESS", "DEFLATE");
   options = CSLSetNameValue(options, "TILED", "YES");
   options = CSLSetNameValue(options, "ALPHA", "YES");
+  options = CSLSetNameValue(options, "NUM_THREADS", "ALL_CPUS");  // tiles compressed in parallel
   GDALDataset* ds = driver->Create(tmp.c_str(), bgra.cols, bgra.rows, 4, GDT_Byte, options);
   CSLDestroy(options);
   if (!ds) throw std::runtime_error("cannot write '" + path + "': " + CPLGetLastErrorMsg());
@@ -103,11 +105,17 @@ std::vector<std::string> ExportMap(const Mosaic& map, const GeodeticPoint& home,
   cv::insertChannel(alpha, bgra, 3);
 
   std::vector<std::string> written;
+  // The PNG is compressed while the GeoTIFF is written.
+  std::future<std::vector<uint8_t>> png_bytes = std::async(std::launch::async, [&bgra] {
+    std::vector<uint8_t> png;
+    if (!cv::imencode(".png", bgra, png)) png.clear();
+    return png;
+  });
   WriteGeoTiff(bgra, a, prefix + ".tif");
   written.push_back(prefix + ".tif");
 
-  std::vector<uint8_t> png;
-  if (!cv::imencode(".png", bgra, png)) throw std::runtime_error("cannot encode '" + prefix + ".png'");
+  const std::vector<uint8_t> png = png_bytes.get();
+  if (png.empty()) throw std::runtime_error("cannot encode '" + prefix + ".png'");
   WriteFileAtomically(prefix + ".png", std::string(png.begin(), png.end()));
   written.push_back(prefix + ".png");
   // World file: pixel size x, rotation, rotation, pixel size y, then the centre of the

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <set>
 #include <unordered_map>
@@ -38,6 +39,8 @@ constexpr size_t kMatchesPerPair = 60;
 constexpr size_t kMinGroundMatches = 10;
 // Footprint overlap down to which a frame is matched with earlier frames of its own pass.
 constexpr double kAlongOverlap = 0.6;
+// Frames the alignment keeps decoded per thread (at registration size).
+constexpr size_t kDecodedFrames = 32;
 
 // Every stride-th pair of points, at most `most` of them.
 void KeepMatches(const std::vector<cv::Point2f>& a, const std::vector<cv::Point2f>& b, size_t most,
@@ -55,7 +58,10 @@ void KeepMatches(const std::vector<cv::Point2f>& a, const std::vector<cv::Point2
 // placements' error, the same for all. So the ground is, of the clusters of displacements that
 // enough matches share (a wrong track shares its displacement with nobody), the one displaced
 // least along the baseline; then a similarity is fitted to it by RANSAC (the placements'
-// rotation and scale errors spread it by a pixel or two).
+// rotation and scale errors spread it by a pixel or two). What moved between the two views
+// (cloud shadows, vehicles) clusters too, displaced by its motion, in any direction: so a
+// cluster is a ground candidate only on the line through the largest cluster along the
+// baseline, and with at least a quarter of its matches (shadow edges give a few).
 // x_a, x_b: the matches placed on the map by frames a and b; baseline_a_b: camera a minus b.
 std::vector<uint8_t> GroundMatches(const std::vector<Eigen::Vector2d>& x_a, const std::vector<Eigen::Vector2d>& x_b,
                                    const Eigen::Vector2d& baseline_a_b, size_t min_count) {
@@ -67,15 +73,19 @@ std::vector<uint8_t> GroundMatches(const std::vector<Eigen::Vector2d>& x_a, cons
   const Eigen::Vector2d u = baseline_a_b.norm() > 1e-6 ? Eigen::Vector2d(baseline_a_b.normalized()) : Eigen::Vector2d(1, 0);
   std::vector<Eigen::Vector2d> d(n);
   for (size_t j = 0; j < n; ++j) d[j] = x_b[j] - x_a[j];
-  const size_t cluster = std::max<size_t>(8, n / 25);
-  int ground = -1;
+  std::vector<size_t> near(n, 0);
+  size_t largest = 0;
   for (size_t i = 0; i < n; ++i) {
-    if (ground >= 0 && d[i].dot(u) >= d[ground].dot(u)) continue;
-    size_t near = 0;
-    for (size_t j = 0; j < n; ++j) near += (d[j] - d[i]).norm() <= kClusterPx;
-    if (near >= cluster) ground = static_cast<int>(i);
+    for (size_t j = 0; j < n; ++j) near[i] += (d[j] - d[i]).norm() <= kClusterPx;
+    if (near[i] > near[largest]) largest = i;
   }
-  if (ground < 0) return keep;
+  if (near[largest] < std::max<size_t>(8, n / 25)) return keep;
+  const Eigen::Vector2d across(-u.y(), u.x());
+  size_t ground = largest;
+  for (size_t i = 0; i < n; ++i)
+    if (4 * near[i] >= near[largest] && std::abs((d[i] - d[largest]).dot(across)) <= kGroundPx &&
+        d[i].dot(u) < d[ground].dot(u))
+      ground = i;
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   int count = 0;
   for (size_t j = 0; j < n; ++j)
@@ -100,13 +110,25 @@ std::vector<uint8_t> GroundMatches(const std::vector<Eigen::Vector2d>& x_a, cons
   return keep;
 }
 
+// A registration of frames decoded at 1/reduce, in the full frames' pixels.
+Registration InFullPixels(Registration r, int reduce) {
+  if (reduce == 1) return r;
+  const Eigen::Matrix3d E = Enlarge(reduce);
+  r.H_prev_cur = E * r.H_prev_cur * E.inverse();
+  r.H_prev_cur /= r.H_prev_cur(2, 2);
+  r.translation_px *= reduce;
+  for (auto* points : {&r.tracked_prev, &r.tracked_cur})
+    for (cv::Point2f& q : *points) q = cv::Point2f(reduce * q.x + 0.5f * (reduce - 1), reduce * q.y + 0.5f * (reduce - 1));
+  return r;
+}
+
 // A placed frame as the final map needs it.
 struct KeptFrame {
   int64_t utime = 0;
   bool registered = false;
   Eigen::Matrix3d H = Eigen::Matrix3d::Identity();  // image pixel -> map pixel (adjusted after Align)
   std::optional<Eigen::Matrix3d> H_nav;             // the navigation solution's placement
-  std::vector<uint8_t> jpeg;                        // the undistorted image
+  std::vector<uint8_t> jpeg;                        // the undistorted image (JPEG, or the input's own file)
 };
 }  // namespace
 
@@ -115,6 +137,7 @@ struct MapStitcher::Impl {
   StitcherParams p;
   FrameRegistration registration;
   cv::Mat undistort_x, undistort_y;  // empty for a distortion-free lens
+  int reduce = 1;                    // frames are registered at 1/reduce of their size
   double gsd = 0.0;
   double north0 = 0.0, east0 = 0.0;  // map pixel (0, 0) centre
   bool started = false;
@@ -366,6 +389,9 @@ MapStitcher::MapStitcher(const CameraIntrinsics& camera, const StitcherParams& p
   Require(params.cross_min_overlap > 0 && params.cross_min_overlap <= 1, "cross_min_overlap must be in (0, 1]");
   Require(params.blend_bands >= 1 && params.blend_bands <= 8, "blend_bands must be 1..8");
   Require(params.kept_jpeg_quality >= 50 && params.kept_jpeg_quality <= 100, "kept_jpeg_quality must be 50..100");
+  Require(params.registration_width_px >= 160 && params.registration_width_px <= 20000,
+          "registration_width_px must be 160..20000");
+  while (impl_->reduce < 8 && camera.width > impl_->reduce * params.registration_width_px) impl_->reduce *= 2;
   const auto& d = camera.distortion;
   if (d[0] != 0 || d[1] != 0 || d[2] != 0 || d[3] != 0 || d[4] != 0) {
     const cv::Mat K = (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
@@ -412,9 +438,10 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   const bool have_nav = m.georeferenced && frame.T_NC && m.NavPlacement(*frame.T_NC, &H_nav);
   cv::Mat grey;
   cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  if (m.reduce > 1) cv::resize(grey, grey, cv::Size(m.k.width / m.reduce, m.k.height / m.reduce), 0, 0, cv::INTER_AREA);
   Eigen::Matrix3d H;
   if (m.started) {
-    step.registration = m.registration.Register(m.prev_grey, grey);
+    step.registration = InFullPixels(m.registration.Register(m.prev_grey, grey), m.reduce);
     step.registered = step.registration.ok;
     step.failure = step.registration.failure;
   }
@@ -438,14 +465,15 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   }
   step.placed = true;
   m.started = true;
-  m.Write(image, H);
+  if (m.p.live_map) m.Write(image, H);
   m.H_map_prev = H;
   KeptFrame kept;
   kept.utime = frame.utime;
   kept.registered = step.registered;
   kept.H = H;
   if (have_nav) kept.H_nav = H_nav;
-  cv::imencode(".jpg", image, kept.jpeg, {cv::IMWRITE_JPEG_QUALITY, m.p.kept_jpeg_quality});
+  if (m.undistort_x.empty() && !frame.encoded.empty()) kept.jpeg = frame.encoded;
+  else cv::imencode(".jpg", image, kept.jpeg, {cv::IMWRITE_JPEG_QUALITY, m.p.kept_jpeg_quality});
   m.kept.push_back(std::move(kept));
   m.prev_grey = grey;
   step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -571,11 +599,12 @@ AlignmentReport MapStitcher::Align() {
     std::vector<cv::Point2f> inter;
     return static_cast<double>(cv::intersectConvexConvex(outline[a], outline[b], inter)) / std::min(area[a], area[b]);
   };
-  const int reduce = m.k.width > 800 ? 2 : 1;
+  const int reduce = m.reduce;
   const Eigen::Matrix3d R = Enlarge(reduce);
   auto is_cross = [&](int k, int i) { return path[k] - path[i] > (centre[k] - centre[i]).norm() + short_side; };
+  std::vector<std::vector<std::pair<int, bool>>> partners_of(n);  // frame, across passes
   for (int k = 1; k < n; ++k) {
-    std::vector<std::pair<int, bool>> partners;  // frame, across passes
+    std::vector<std::pair<int, bool>>& partners = partners_of[k];
     int far = k - 1;
     while (far > 0 && !is_cross(k, far - 1) && overlap(k, far - 1) >= kAlongOverlap) --far;
     partners.emplace_back(far, false);
@@ -594,33 +623,53 @@ AlignmentReport MapStitcher::Align() {
     std::sort(best_of_run.rbegin(), best_of_run.rend());
     if (best_of_run.size() > static_cast<size_t>(m.p.cross_pairs_per_frame)) best_of_run.resize(m.p.cross_pairs_per_frame);
     for (const auto& [o, i] : best_of_run) partners.emplace_back(i, true);
-    const cv::Mat grey_k = Decode(m.kept[k].jpeg, reduce, true);
-    for (const auto& [i, cross] : partners) {
-      // Frame i warped into frame k's pixels by the live placements, so registration sees two
-      // views that differ by the placements' error only (any heading, any line direction);
-      // corners are looked for where the two overlap.
-      const Eigen::Matrix3d W = m.kept[k].H.inverse() * m.kept[i].H;  // i pixel -> k pixel
-      cv::Mat W_small, warped, mask;
-      cv::eigen2cv(Eigen::Matrix3d(R.inverse() * W * R), W_small);
-      cv::warpPerspective(Decode(m.kept[i].jpeg, reduce, true), warped, W_small, grey_k.size());
-      cv::warpPerspective(cv::Mat(grey_k.size(), CV_8U, cv::Scalar(255)), mask, W_small, grey_k.size(), cv::INTER_NEAREST);
-      cv::erode(mask, mask, cv::Mat(), cv::Point(-1, -1), m.p.registration.klt_window_px, cv::BORDER_CONSTANT, cv::Scalar(0));
-      const Registration r = m.registration.Register(grey_k, warped, mask);
-      if (r.tracked_prev.empty()) continue;
-      FrameMatches fm;
-      fm.a = i;
-      fm.b = k;
-      fm.cross = cross;
-      std::vector<Eigen::Vector2d> in_k, in_warped;
-      KeepMatches(r.tracked_prev, r.tracked_cur, 4 * kMatchesPerPair, &in_k, &in_warped);
-      const Eigen::Matrix3d to_i = W.inverse() * R;
-      for (size_t j = 0; j < in_k.size(); ++j) {
-        fm.p_b.push_back(Apply(R, in_k[j]));
-        fm.p_a.push_back(Apply(to_i, in_warped[j]));
-      }
-      tracked.push_back(std::move(fm));
-    }
   }
+  // Every frame's pairs are matched independently: spread over the cores, collected in order.
+  std::vector<std::vector<FrameMatches>> tracked_of(n);
+  cv::parallel_for_(cv::Range(1, n), [&](const cv::Range& range) {
+    // No more corners than the ground gate keeps.
+    RegistrationParams pair_params = m.p.registration;
+    pair_params.max_corners = std::min(pair_params.max_corners, static_cast<int>(4 * kMatchesPerPair));
+    const FrameRegistration registration(pair_params);
+    // Along-track partners are the frames a few steps back, decoded moments ago.
+    std::map<int, cv::Mat> decoded;
+    auto grey = [&](int f) {
+      auto it = decoded.find(f);
+      if (it != decoded.end()) return it->second;
+      if (decoded.size() >= kDecodedFrames) decoded.erase(decoded.begin());
+      return decoded[f] = Decode(m.kept[f].jpeg, reduce, true);
+    };
+    for (int k = range.start; k < range.end; ++k) {
+      const cv::Mat grey_k = grey(k);
+      for (const auto& [i, cross] : partners_of[k]) {
+        // Frame i warped into frame k's pixels by the live placements, so registration sees two
+        // views that differ by the placements' error only (any heading, any line direction);
+        // corners are looked for where the two overlap.
+        const Eigen::Matrix3d W = m.kept[k].H.inverse() * m.kept[i].H;  // i pixel -> k pixel
+        cv::Mat W_small, warped, mask;
+        cv::eigen2cv(Eigen::Matrix3d(R.inverse() * W * R), W_small);
+        cv::warpPerspective(grey(i), warped, W_small, grey_k.size());
+        cv::warpPerspective(cv::Mat(grey_k.size(), CV_8U, cv::Scalar(255)), mask, W_small, grey_k.size(), cv::INTER_NEAREST);
+        cv::erode(mask, mask, cv::Mat(), cv::Point(-1, -1), m.p.registration.klt_window_px, cv::BORDER_CONSTANT, cv::Scalar(0));
+        const Registration r = registration.Register(grey_k, warped, mask);
+        if (r.tracked_prev.empty()) continue;
+        FrameMatches fm;
+        fm.a = i;
+        fm.b = k;
+        fm.cross = cross;
+        std::vector<Eigen::Vector2d> in_k, in_warped;
+        KeepMatches(r.tracked_prev, r.tracked_cur, 4 * kMatchesPerPair, &in_k, &in_warped);
+        const Eigen::Matrix3d to_i = W.inverse() * R;
+        for (size_t j = 0; j < in_k.size(); ++j) {
+          fm.p_b.push_back(Apply(R, in_k[j]));
+          fm.p_a.push_back(Apply(to_i, in_warped[j]));
+        }
+        tracked_of[k].push_back(std::move(fm));
+      }
+    }
+  });
+  for (std::vector<FrameMatches>& t : tracked_of)
+    for (FrameMatches& fm : t) tracked.push_back(std::move(fm));
   // The ground matches of every pair, placed by the live map.
   std::vector<FrameMatches> matches;
   for (const FrameMatches& t : tracked) {
@@ -640,7 +689,6 @@ AlignmentReport MapStitcher::Align() {
       }
     if (ga.size() < kMinGroundMatches) continue;
     KeepMatches(ga, gb, kMatchesPerPair, &g.p_a, &g.p_b);
-    (g.cross ? report.cross_pairs : report.consecutive_pairs) += 1;
     matches.push_back(std::move(g));
   }
   const auto matched = std::chrono::steady_clock::now();
@@ -656,21 +704,27 @@ AlignmentReport MapStitcher::Align() {
     frames[k].nav_prior = f.H_nav.has_value();
     before[k] = f.H;
   }
-  report.cross_before = MatchResiduals(before, matches, true);
-  report.all_before = MatchResiduals(before, matches, false);
   const AlignmentSolution solution = AlignFrames(frames, matches, m.gsd, m.p.alignment);
   report.seconds_solving = std::chrono::duration<double>(std::chrono::steady_clock::now() - matched).count();
   report.message = solution.message;
   report.iterations = solution.iterations;
   report.matches_dropped = solution.matches_dropped;
+  report.pairs_rejected = solution.pairs_rejected;
+  // The residuals over the pairs the solve used (a rejected pair matched something that moved).
+  std::vector<FrameMatches> used;
+  for (size_t i = 0; i < matches.size(); ++i)
+    if (solution.pair_used.empty() || solution.pair_used[i]) used.push_back(std::move(matches[i]));
+  for (const FrameMatches& g : used) (g.cross ? report.cross_pairs : report.consecutive_pairs) += 1;
+  report.cross_before = MatchResiduals(before, used, true);
+  report.all_before = MatchResiduals(before, used, false);
   if (!solution.ok) {
     report.cross_after = report.cross_before;
     report.all_after = report.all_before;
     return report;
   }
   for (int k = 0; k < n; ++k) m.kept[k].H = solution.H_map_img[k];
-  report.cross_after = MatchResiduals(solution.H_map_img, matches, true);
-  report.all_after = MatchResiduals(solution.H_map_img, matches, false);
+  report.cross_after = MatchResiduals(solution.H_map_img, used, true);
+  report.all_after = MatchResiduals(solution.H_map_img, used, false);
   report.adjusted = true;
   return report;
 }

@@ -133,18 +133,25 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
   std::vector<cv::UMat> images;
   std::vector<std::pair<cv::UMat, uchar>> masks;
   std::vector<int> fed;
-  for (int k = 0; k < n; ++k) {
-    if (cell[k].empty()) continue;
-    const cv::Rect r(static_cast<int>(std::floor(box[k].x * small)), static_cast<int>(std::floor(box[k].y * small)),
-                     static_cast<int>(std::ceil(box[k].width * small)) + 1,
-                     static_cast<int>(std::ceil(box[k].height * small)) + 1);
-    cv::Mat warped, mask;
-    Warp(load(k, reduce), frames[k].H_map_img, reduce, r, small, cv::BORDER_CONSTANT, &warped, &mask);
-    corners.push_back(r.tl());
-    images.push_back(warped.getUMat(cv::ACCESS_READ).clone());
-    masks.emplace_back(mask.getUMat(cv::ACCESS_READ).clone(), uchar(255));
-    fed.push_back(k);
-  }
+  for (int k = 0; k < n; ++k)
+    if (!cell[k].empty()) fed.push_back(k);
+  corners.resize(fed.size());
+  images.resize(fed.size());
+  masks.resize(fed.size());
+  // Frames are decoded and warped in parallel (each one independent).
+  cv::parallel_for_(cv::Range(0, static_cast<int>(fed.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      const int k = fed[i];
+      const cv::Rect r(static_cast<int>(std::floor(box[k].x * small)), static_cast<int>(std::floor(box[k].y * small)),
+                       static_cast<int>(std::ceil(box[k].width * small)) + 1,
+                       static_cast<int>(std::ceil(box[k].height * small)) + 1);
+      cv::Mat warped, mask;
+      Warp(load(k, reduce), frames[k].H_map_img, reduce, r, small, cv::BORDER_CONSTANT, &warped, &mask);
+      corners[i] = r.tl();
+      images[i] = warped.getUMat(cv::ACCESS_READ).clone();
+      masks[i] = {mask.getUMat(cv::ACCESS_READ).clone(), uchar(255)};
+    }
+  });
   std::vector<double> gain(n, 1.0);
   if (fed.size() > 1) {
     cv::detail::GainCompensator compensator;
@@ -160,15 +167,25 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
   cv::detail::MultiBandBlender blender(false, bands);
   blender.prepare(content);
   const int margin = 2 << bands;
-  for (int k = 0; k < n; ++k) {
-    if (cell[k].empty()) continue;
-    const cv::Rect r = (cell[k] + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) & box[k] & content;
-    cv::Mat warped;
-    Warp(load(k, 1), frames[k].H_map_img, 1, r, 1.0, cv::BORDER_REPLICATE, &warped, nullptr);
-    cv::Mat mask = label(r - content.tl()) == k;
-    cv::Mat img16;
-    warped.convertTo(img16, CV_16SC3, gain[k]);
-    blender.feed(img16, mask, r.tl());
+  // In batches: decoded and warped in parallel, fed to the blender in order.
+  constexpr int kBatch = 8;
+  for (size_t first = 0; first < fed.size(); first += kBatch) {
+    const int count = static_cast<int>(std::min<size_t>(kBatch, fed.size() - first));
+    std::vector<cv::Mat> img16(count);
+    std::vector<cv::Rect> roi(count);
+    cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) {
+      for (int i = range.start; i < range.end; ++i) {
+        const int k = fed[first + i];
+        roi[i] = (cell[k] + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) & box[k] & content;
+        cv::Mat warped;
+        Warp(load(k, 1), frames[k].H_map_img, 1, roi[i], 1.0, cv::BORDER_REPLICATE, &warped, nullptr);
+        warped.convertTo(img16[i], CV_16SC3, gain[k]);
+      }
+    });
+    for (int i = 0; i < count; ++i) {
+      const int k = fed[first + i];
+      blender.feed(img16[i], label(roi[i] - content.tl()) == k, roi[i].tl());
+    }
   }
   cv::Mat result, result_mask;
   blender.blend(result, result_mask);

@@ -31,7 +31,8 @@ struct SeamlessMap {
   cv::Point origin;   // map pixel of bgr(0, 0)
 };
 
-// load(k, reduce): frame k, undistorted 8-bit BGR, decoded at 1/reduce of its size (1, 2, 4 or 8).
+// load(k, reduce): frame k, undistorted 8-bit BGR, decoded at 1/reduce of its size (1, 2, 4 or 8);
+// called from several threads at once.
 // centre_px: the principal point; image_size: the frames' size. bands: multi-band levels.
 SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::Size& image_size,
                            const cv::Point2d& centre_px, int bands,

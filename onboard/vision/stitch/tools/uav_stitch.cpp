@@ -1,17 +1,23 @@
-// uav-stitch IMAGES_DIR --out MAP [--poses POSES.csv] [--camera FILE] [--report REPORT.json] [--detector ...]
-// The onboard stitcher on a folder of images. Two kinds of folder:
+// uav-stitch IMAGES_DIR --out MAP [--poses POSES.csv] [--camera FILE] [--ground-altitude M] [--report REPORT.json]
+// The onboard stitcher on a folder of images. Three kinds of folder:
 //  - a capture folder as uav-onboard writes it (IMG_*.jpg, captures.csv with the navigation
 //    solution per image, session.json with home and camera): a geo-referenced map;
-//  - any folder of photos (no session.json): the images in name order, chained by registration
-//    alone into a map in the first image's pixels (not geo-referenced).
+//  - geotagged photos as drones write them (EXIF GPS position and focal length, DJI-style XMP
+//    gimbal angles and height above take-off where present): a geo-referenced map;
+//  - any other folder of photos: the images in name order, chained by registration alone into a
+//    map in the first image's pixels (not geo-referenced).
 // Then all frames are adjusted jointly and the map is rendered again without seams. Writes
 // MAP.tif (GeoTIFF), MAP.png + .pgw + .prj, MAP.kml (a pixel map: MAP.png only), and a JSON
 // report with every frame's placement and the alignment's residuals.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <future>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +34,7 @@
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/map_export.hpp"
 #include "uav/vision/map_stitcher.hpp"
+#include "uav/vision/photo_geotag.hpp"
 
 namespace {
 
@@ -40,6 +47,107 @@ struct Input {
   int64_t utime = 0;
   std::optional<Eigen::Isometry3d> T_NC;
 };
+
+// This process's peak resident memory [MB] (the kernel's high-water mark; 0 where /proc is absent).
+double PeakMemoryMb() {
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmHWM:") {
+      double kb = 0;
+      status >> kb;
+      return kb / 1024.0;
+    }
+    status.ignore(1 << 20, '\n');
+  }
+  return 0.0;
+}
+
+// Poses from the photos' geotags. Photos without a usable geotag, or from another camera than
+// the first geotagged one, are named in `skipped`. Throws when no photo is geotagged.
+struct GeotaggedFolder {
+  uav::GeodeticPoint home;  // the ground under the first photo
+  uav::CameraIntrinsics camera;
+  std::string camera_name;
+  std::vector<Input> inputs;
+  int yaw_from_course = 0;  // photos whose heading came from the track, not a tag
+};
+
+GeotaggedFolder ReadGeotaggedFolder(const std::vector<std::string>& files, const std::string& camera_path,
+                                    std::optional<double> ground_altitude_m, std::vector<std::string>* skipped) {
+  struct Tagged {
+    std::string path;
+    uav::vision::PhotoGeotag tag;
+  };
+  std::vector<Tagged> tagged;
+  for (const std::string& f : files) {
+    try {
+      Tagged t{f, uav::vision::ReadPhotoGeotag(f)};
+      // Heights: above take-off (XMP RelativeAltitude, barometric) unless the ground's altitude
+      // is given, then the GPS altitude over it.
+      if (!ground_altitude_m && !t.tag.height_above_takeoff_m)
+        throw std::invalid_argument(f + ": no height above the ground (XMP RelativeAltitude); give --ground-altitude M, "
+                                        "the ground's altitude in the photos' GPS altitude reference");
+      if (ground_altitude_m && !t.tag.has_altitude) throw std::invalid_argument(f + ": no EXIF GPSAltitude");
+      if (!tagged.empty() && (t.tag.camera != tagged[0].tag.camera || t.tag.width != tagged[0].tag.width ||
+                              t.tag.height != tagged[0].tag.height))
+        throw std::invalid_argument(f + ": another camera ('" + t.tag.camera + "' at " + std::to_string(t.tag.width) + "x" +
+                                    std::to_string(t.tag.height) + "; the survey's is '" + tagged[0].tag.camera + "' at " +
+                                    std::to_string(tagged[0].tag.width) + "x" + std::to_string(tagged[0].tag.height) + ")");
+      tagged.push_back(std::move(t));
+    } catch (const std::invalid_argument& e) {
+      skipped->push_back(e.what());
+      std::fprintf(stderr, "uav-stitch: skipped %s\n", e.what());
+    }
+  }
+  if (tagged.empty()) Fail("no geotagged photo could be used");
+  GeotaggedFolder out;
+  const uav::vision::PhotoGeotag& first = tagged[0].tag;
+  out.camera = camera_path.empty() ? uav::vision::IntrinsicsFromGeotag(first, tagged[0].path)
+                                   : uav::IntrinsicsFromParameters(uav::ParameterSet::LoadFile(camera_path));
+  out.camera_name = first.camera;
+  // The NED origin: on the ground under the first photo.
+  out.home = first.position;
+  out.home.altitude_m = ground_altitude_m ? *ground_altitude_m
+                        : first.has_altitude ? first.position.altitude_m - *first.height_above_takeoff_m
+                                             : 0.0;
+  const uav::LocalNedFrame ned(out.home);
+  std::vector<Eigen::Vector3d> p_N;
+  for (const Tagged& t : tagged) {
+    Eigen::Vector3d p = ned.ToNed(t.tag.position);
+    if (!ground_altitude_m) p.z() = -*t.tag.height_above_takeoff_m;
+    p_N.push_back(p);
+  }
+  for (size_t i = 0; i < tagged.size(); ++i) {
+    const uav::vision::PhotoGeotag& tag = tagged[i].tag;
+    double yaw_deg = 0.0;
+    if (tag.yaw_deg) {
+      yaw_deg = *tag.yaw_deg;
+    } else {
+      // No heading in the tags: the course over ground between the neighbouring photos (a
+      // survey camera's image top looks along the track).
+      const Eigen::Vector3d d = p_N[std::min(i + 1, p_N.size() - 1)] - p_N[i > 0 ? i - 1 : 0];
+      yaw_deg = std::atan2(d.y(), d.x()) * 180.0 / M_PI;
+      ++out.yaw_from_course;
+    }
+    Eigen::Isometry3d T_NC = Eigen::Isometry3d::Identity();
+    T_NC.linear() = uav::vision::RotationNCFromGeotag(yaw_deg, tag.pitch_deg.value_or(-90.0), tag.roll_deg.value_or(0.0));
+    T_NC.translation() = p_N[i];
+    out.inputs.push_back({tagged[i].path, tag.utime.value_or(static_cast<int64_t>(i) * 1'000'000), T_NC});
+  }
+  return out;
+}
+
+bool AnyGeotagged(const std::vector<std::string>& files) {
+  for (const std::string& f : files) {
+    try {
+      uav::vision::ReadPhotoGeotag(f);
+      return true;
+    } catch (const std::invalid_argument&) {
+    }
+  }
+  return false;
+}
 
 json Residuals(const uav::vision::ResidualStats& s) {
   return {{"matches", s.matches}, {"median_px", s.median_px}, {"p95_px", s.p95_px}};
@@ -55,13 +163,22 @@ int main(int argc, char** argv) {
   cli.add_option("--out", out, "output prefix: writes OUT.tif, OUT.png (+ .pgw, .prj) and OUT.kml")->required();
   cli.add_option("--poses", poses_path, "poses CSV in captures.csv's format (default IMAGES_DIR/captures.csv)");
   cli.add_option("--camera", camera_path, "camera file (resources/cameras/*.camera) overriding the intrinsics");
+  std::optional<double> ground_altitude_m;
+  cli.add_option("--ground-altitude", ground_altitude_m,
+                 "geotagged photos: the ground's altitude [m] in the photos' GPS altitude reference (default: from the "
+                 "first photo's XMP RelativeAltitude)");
   cli.add_option("--report", report_path, "write a JSON report here");
   cli.add_option("--detector", detector,
                  "gftt: good features + Lucas-Kanade (thesis); orb: FAST + ORB + brute force; sift: SIFT + FLANN")
       ->capture_default_str();
   CLI11_PARSE(cli, argc, argv);
+  const auto start = std::chrono::steady_clock::now();
+  const auto since_start = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   try {
     const bool capture_folder = std::filesystem::exists(dir + "/session.json");
+    std::string kind = "capture folder", camera_name;
+    int yaw_from_course = 0;
+    uav::vision::StitcherParams params;
     uav::CaptureSession session;
     std::vector<Input> inputs;
     std::vector<std::string> skipped;
@@ -72,9 +189,24 @@ int main(int argc, char** argv) {
         if (!c.T_NB_estimate) Fail(c.problem);
         inputs.push_back({dir + "/" + c.file, c.utime, *c.T_NB_estimate * session.T_BC});
       }
+    } else if (const std::vector<std::string> files = uav::ImageFilesIn(dir); AnyGeotagged(files)) {
+      if (!poses_path.empty()) Fail(dir + ": --poses needs the folder's session.json (home and camera mount)");
+      kind = "geotagged photos";
+      GeotaggedFolder folder = ReadGeotaggedFolder(files, camera_path, ground_altitude_m, &skipped);
+      session.home = folder.home;
+      session.camera = folder.camera;
+      inputs = std::move(folder.inputs);
+      camera_name = folder.camera_name;
+      yaw_from_course = folder.yaw_from_course;
+      camera_path.clear();  // applied
+      // Poses from a consumer drone's tags: GPS-grade position, a gimbal's or the track's heading.
+      params.alignment.nav_position_sigma_m = 3.0;
+      params.alignment.nav_yaw_sigma_rad = 0.05;
+      params.alignment.nav_scale_sigma = 0.01;
     } else {
       if (!poses_path.empty()) Fail(dir + ": --poses needs the folder's session.json (home and camera mount)");
-      for (const std::string& f : uav::ImageFilesIn(dir)) inputs.push_back({f, static_cast<int64_t>(inputs.size()), {}});
+      kind = "photos without poses";
+      for (const std::string& f : files) inputs.push_back({f, static_cast<int64_t>(inputs.size()), {}});
       if (inputs.empty()) Fail(dir + ": no images (and no session.json)");
       // Without a camera file, a pinhole without distortion over the first image's size: enough
       // for a map in pixels.
@@ -88,17 +220,32 @@ int main(int argc, char** argv) {
     }
     if (inputs.empty()) Fail(poses_path + ": no captures");
     if (!camera_path.empty()) session.camera = uav::IntrinsicsFromParameters(uav::ParameterSet::LoadFile(camera_path));
-    uav::vision::StitcherParams params;
     params.registration.detector = uav::vision::ParseDetector(detector);
+    params.live_map = false;  // only the adjusted map is written
     uav::vision::MapStitcher stitcher(session.camera, params);
     std::vector<double> ms;
     std::map<std::string, int> failures;
     std::vector<std::string> placed_files;
     int registered = 0;
     uav::ProgressBar progress(inputs.size());
+    // The next image is decoded while this one is registered.
+    struct Read {
+      std::vector<uint8_t> bytes;
+      cv::Mat image;
+    };
+    auto read = [&](size_t i) {
+      Read r;
+      std::ifstream file(inputs[i].path, std::ios::binary);
+      r.bytes.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+      if (!r.bytes.empty()) r.image = cv::imdecode(r.bytes, cv::IMREAD_COLOR);
+      return r;
+    };
+    std::future<Read> next = std::async(std::launch::async, read, 0);
     for (size_t i = 0; i < inputs.size(); ++i) {
       const Input& in = inputs[i];
-      const cv::Mat image = cv::imread(in.path, cv::IMREAD_COLOR);
+      Read file = next.get();
+      const cv::Mat& image = file.image;
+      if (i + 1 < inputs.size()) next = std::async(std::launch::async, read, i + 1);
       // A frame that cannot be used is named and left out; the others still are.
       std::string problem;
       if (image.empty()) problem = "missing or not an image";
@@ -110,7 +257,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "\nuav-stitch: skipped %s: %s\n", in.path.c_str(), problem.c_str());
         continue;
       }
-      const uav::vision::StitchStep step = stitcher.Add({image, in.utime, in.T_NC});
+      const uav::vision::StitchStep step = stitcher.Add({image, in.utime, in.T_NC, std::move(file.bytes)});
       if (step.placed) placed_files.push_back(std::filesystem::path(in.path).filename().string());
       registered += step.registered;
       if (!step.failure.empty()) ++failures[step.failure.substr(0, step.failure.find(" ("))];
@@ -119,10 +266,13 @@ int main(int argc, char** argv) {
     }
     progress.Finish(inputs.size());
     if (stitcher.frames() == 0) Fail(dir + ": no frame could be placed");
+    const double seconds_placing = since_start();
     std::fprintf(stderr, "uav-stitch: adjusting %d frames jointly...\n", stitcher.frames());
     const uav::vision::AlignmentReport alignment = stitcher.Align();
+    const double seconds_aligning = since_start() - seconds_placing;
     std::fprintf(stderr, "uav-stitch: rendering the map without seams...\n");
     const uav::vision::Mosaic map = stitcher.RenderSeamless();
+    const double seconds_rendering = since_start() - seconds_placing - seconds_aligning;
     std::vector<std::string> files;
     if (map.georeferenced) {
       files = uav::vision::ExportMap(map, session.home, out);
@@ -139,6 +289,7 @@ int main(int argc, char** argv) {
       uav::WriteFileAtomically(out + ".png", std::string(png.begin(), png.end()));
       files.push_back(out + ".png");
     }
+    const double seconds_writing = since_start() - seconds_placing - seconds_aligning - seconds_rendering;
     std::vector<double> sorted = ms;
     std::sort(sorted.begin(), sorted.end());
     json placements = json::array();
@@ -163,7 +314,15 @@ int main(int argc, char** argv) {
       placements.push_back(row);
     }
     const uav::vision::GeoBox box = uav::vision::MapBounds(map, session.home);
-    json report = {{"detector", detector},
+    json report = {{"input", kind},
+                   {"camera",
+                    {{"name", camera_name},
+                     {"width", session.camera.width},
+                     {"height", session.camera.height},
+                     {"fx", session.camera.fx},
+                     {"fy", session.camera.fy}}},
+                   {"headings_from_course", yaw_from_course},
+                   {"detector", detector},
                    {"frames", inputs.size()},
                    {"placed", stitcher.frames()},
                    {"registered", registered},
@@ -171,6 +330,11 @@ int main(int argc, char** argv) {
                    {"failures", failures},
                    {"georeferenced", map.georeferenced},
                    {"ms_per_frame_median", sorted.empty() ? 0.0 : sorted[sorted.size() / 2]},
+                   {"seconds",
+                    {{"reading_and_placing", seconds_placing},
+                     {"aligning", seconds_aligning},
+                     {"rendering", seconds_rendering},
+                     {"writing", seconds_writing}}},
                    {"ms_per_frame_max", sorted.empty() ? 0.0 : sorted.back()},
                    {"alignment",
                     {{"adjusted", alignment.adjusted},
@@ -182,6 +346,7 @@ int main(int argc, char** argv) {
                      {"all_before", Residuals(alignment.all_before)},
                      {"all_after", Residuals(alignment.all_after)},
                      {"matches_dropped", alignment.matches_dropped},
+                     {"pairs_rejected", alignment.pairs_rejected},
                      {"seconds_matching", alignment.seconds_matching},
                      {"seconds_solving", alignment.seconds_solving}}},
                    {"map_width_px", map.bgr.cols},
@@ -189,6 +354,7 @@ int main(int argc, char** argv) {
                    {"gsd_m", map.gsd_m},
                    {"tiles", stitcher.tiles()},
                    {"memory_mb", stitcher.memory_bytes() / 1e6},
+                   {"peak_memory_mb", PeakMemoryMb()},
                    {"files", files},
                    {"placements", placements}};
     if (map.georeferenced)

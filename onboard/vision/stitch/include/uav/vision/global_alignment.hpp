@@ -13,6 +13,9 @@
 //     s_k to nav_scale_sigma (the navigation solution's own uncertainty);
 //   - the navigation's error changes slowly: t_k - t_{k-1} to nav_drift_sigma_m, so a frame no
 //     image ties follows its neighbours instead of jumping by its own error.
+// A pair whose matches disagree, at the start, by more than the navigation prior allows between
+// its two frames (3 sigma of min(sqrt 2 nav_position_sigma_m, nav_drift_sigma_m sqrt(frames
+// apart)), plus outlier_px) is left out whole: its "ground" was something that moved.
 // Without any prior (a map without poses), the first frame holds the gauge.
 // Plain data in, plain data out: no OpenCV, no messages.
 #include <string>
@@ -59,6 +62,8 @@ struct AlignmentSolution {
   std::vector<Eigen::Matrix3d> H_map_img;  // per frame, the adjusted placement
   int iterations = 0;
   int matches_used = 0, matches_dropped = 0;
+  std::vector<bool> pair_used;  // per FrameMatches: false when the navigation prior's gate left it out
+  int pairs_rejected = 0;
 };
 
 // gsd_m: map metres per pixel (turns the metre sigmas into pixels). Throws

@@ -40,6 +40,13 @@ struct StitcherParams {
   int gain_blocks = 4;             // gain grid per frame (gain_blocks x gain_blocks)
   int feather_px = 24;             // [map px] a new frame fades in over this distance from its edge
   RegistrationParams registration;
+  // Frames wider than this are registered (live and for the alignment) at 1/2, 1/4 or 1/8 of
+  // their size: Lucas-Kanade's sub-pixel accuracy there is still well under a map pixel and the
+  // cost falls with the square. [px], 160..20000.
+  int registration_width_px = 800;
+  // false: frames are placed and kept but no live tiles are written (an offline run that only
+  // wants the final, adjusted map).
+  bool live_map = true;
   // The final map (Align, RenderSeamless).
   AlignmentParams alignment;
   int cross_pairs_per_frame = 2;     // earlier passes each frame is matched against; 0..8
@@ -55,6 +62,9 @@ struct StitchInput {
   // Camera in local NED (the navigation estimate). Without poses the map is in the first
   // frame's pixels (gsd 1, not geo-referenced) and frames chain by registration alone (Eq. 6.4).
   std::optional<Eigen::Isometry3d> T_NC;
+  // The image's file as read (JPEG, PNG), when there is one: kept as it is for the final render
+  // (no second compression) when the lens has no distortion to undo.
+  std::vector<uint8_t> encoded;
 };
 
 struct StitchStep {
@@ -108,7 +118,7 @@ struct AlignmentReport {
   int frames = 0, consecutive_pairs = 0, cross_pairs = 0;
   ResidualStats cross_before, cross_after;  // matches between passes [map px]
   ResidualStats all_before, all_after;      // every match
-  int iterations = 0, matches_dropped = 0;
+  int iterations = 0, matches_dropped = 0, pairs_rejected = 0;
   double seconds_matching = 0.0, seconds_solving = 0.0;
 };
 
