@@ -78,6 +78,8 @@ int main(int argc, char** argv) {
   cli.add_flag("--demo", demo, "run the built-in demo flight script")->excludes("--script");
   cli.add_option("--vehicle", vehicle, "vehicle to show first (default: the first one heard)");
   cli.add_option("--layout", layout, "window layout file, kept between runs")->capture_default_str();
+  std::string basemap;
+  cli.add_option("--basemap", basemap, "a GeoTIFF to draw under the map (e.g. the last survey's map)");
   cli.add_option("--download-dir", download_dir,
                  "download every map a vehicle offers into this directory as soon as it is offered");
   cli.add_option("--replay", replay_path,
@@ -114,6 +116,8 @@ int main(int argc, char** argv) {
       model_ptr->SetReplay(replaying);
       if (!download_dir.empty()) model_ptr->maps().SetDownloadDir(download_dir);
       model_ptr->wires().params() = wire_warning;
+      if (!basemap.empty()) model_ptr->LoadBasemap(basemap, Now());
+      ctx.state.basemap_version = -1;
       link_ptr = std::make_unique<uav::gcs::GcsLink>(bus.get(), *model_ptr);
       // The panels' caches belong to the old model's frames and tiles.
       ctx.state.live_tiles.clear();
@@ -142,6 +146,7 @@ int main(int argc, char** argv) {
         headless ? uav::gcs::MakeNullPlatform(1600, 900)
                  : uav::gcs::MakeGlfwPlatform(1600, 900, "uav-gcs", layout);
     if (!download_dir.empty()) ctx.state.download_dir = download_dir;
+    if (!basemap.empty()) ctx.state.basemap_file = basemap;
     uav::gcs::Platform* p = platform.get();
     uav::gcs::ImGuiScriptDriver driver(
         ctx, p->has_display() ? uav::gcs::ImGuiScriptDriver::ScreenshotFn(

@@ -157,6 +157,20 @@ bool GcsModel::StartDownload(const std::string& dir, double now) {
   return maps_.StartDownload(Selected(), selected_, dir, now, log_);
 }
 
+bool GcsModel::LoadBasemap(const std::string& path, double now) {
+  if (!basemap_.Load(path, now, log_)) return false;
+  const VehicleModel* v = selected();
+  if (!v || !v->home) {
+    GeodeticPoint centre;
+    for (const GeodeticPoint& c : basemap_.image()->corners) {
+      centre.latitude_deg += 0.25 * c.latitude_deg;
+      centre.longitude_deg += 0.25 * c.longitude_deg;
+    }
+    missions_.planner().SetOrigin(centre);
+  }
+  return true;
+}
+
 bool GcsModel::ExportPlotCsv(const std::string& path, double t0, double t1, double now) {
   return plots_.ExportCsv(selected(), selected_, path, t0, t1, now, log_);
 }

@@ -113,6 +113,7 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
   if (name == "video.width") return *num = v ? v->video.width : 0.0, true;
   if (name == "video.source_width") return *num = v ? v->video.source_width : 0.0, true;
   if (name == "mission.items") return *num = v && v->mission ? static_cast<double>(v->mission->items.size()) : 0.0, true;
+  if (name == "basemap.width") return *num = m.basemap().image() ? m.basemap().image()->source_width : 0.0, true;
   if (name == "livemap.tiles") return *num = v ? static_cast<double>(v->live_map.tiles.size()) : 0.0, true;
   if (name == "livemap.received") return *num = v ? static_cast<double>(v->live_map.received) : 0.0, true;
   if (name == "download.offered") return *num = v ? static_cast<double>(v->files.offers().size()) : 0.0, true;

@@ -1,5 +1,5 @@
 // Map view: top-down in local metres (north up) around the map origin (the selected vehicle's
-// home). Shows the map the vehicle is stitching (live tiles, to scale), the vehicle with heading
+// home). Shows a basemap the operator loads (a GeoTIFF), the map the vehicle is stitching (live tiles, to scale), the vehicle with heading
 // and trail, home, the power lines it has ranged, the survey being planned (polygon,
 // coverage of the capture legs, path) and the mission the vehicle accepted. Mouse: wheel zooms
 // about the pointer; drag on empty ground pans; with "Edit survey" a click adds a vertex, a drag
@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include <imgui.h>
+#include <imgui_stdlib.h>
 
 #include "uav/gcs/gcs_ui.hpp"
 
@@ -26,6 +27,7 @@ constexpr ImU32 kGpsTrail = IM_COL32(255, 230, 80, 180);   // GPS fixes
 constexpr ImU32 kVoTrail = IM_COL32(80, 220, 255, 220);    // the VO+IMU filter
 constexpr ImU32 kTruthTrail = IM_COL32(255, 255, 255, 160);  // simulation's truth
 constexpr float kVertexPickPx = 9.0f;
+constexpr int kBasemapTextureSlot = 1;  // 0: the video; 100 on: live-map tiles
 
 // Largest 1-2-5 step whose pixel size is at least `min_px`.
 double NiceStep(double px_per_m, double min_px) {
@@ -52,6 +54,17 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
   }
   RegisterLastItem(ctx, "map:centre");
   ImGui::SameLine();
+  ImGui::SetNextItemWidth(220);
+  ImGui::InputText("##basemap", &st.basemap_file);
+  RegisterLastItem(ctx, "map:basemap");
+  ImGui::SameLine();
+  if (ImGui::Button("Load basemap")) model.LoadBasemap(st.basemap_file, ctx.now);
+  RegisterLastItem(ctx, "map:load_basemap");
+  if (model.basemap().image()) {
+    ImGui::SameLine();
+    if (ImGui::Button("Clear basemap")) model.ClearBasemap();
+    RegisterLastItem(ctx, "map:clear_basemap");
+  }
   ImGui::TextDisabled("wheel: zoom  drag: pan  click: add vertex  drag vertex: move  right click: delete");
 
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
@@ -120,6 +133,27 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
     dl->AddLine(to_screen(n, lo.y()), to_screen(n, hi.y()), kGrid);
   for (double e = std::floor(lo.y() / step) * step; e <= hi.y(); e += step)
     dl->AddLine(to_screen(lo.x(), e), to_screen(hi.x(), e), kGrid);
+
+  // The basemap (a GeoTIFF) under everything, by its four corners.
+  if (const auto& base = model.basemap().image()) {
+    if (st.basemap_version != base->version) {
+      // A new basemap: the view moves onto it.
+      Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+      for (const GeodeticPoint& corner : base->corners) centre += 0.25 * planner.ToMap(corner);
+      st.map_center_n = centre.x(), st.map_center_e = centre.y();
+      if (ctx.update_texture)
+        st.basemap_texture = ctx.update_texture(kBasemapTextureSlot, base->rgba.data(), base->width, base->height);
+      st.basemap_version = base->version;
+    }
+    if (st.basemap_texture) {
+      ImVec2 q[4];
+      for (int i = 0; i < 4; ++i) {
+        const Eigen::Vector2d ne = planner.ToMap(base->corners[i]);
+        q[i] = to_screen(ne.x(), ne.y());
+      }
+      dl->AddImageQuad(st.basemap_texture, q[0], q[1], q[2], q[3]);
+    }
+  }
 
   // The map the vehicle is stitching, to scale under everything else (geo-referenced maps only:
   // their local NED frame is the vehicle's home, which is this map's origin).

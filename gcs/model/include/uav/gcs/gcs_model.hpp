@@ -7,6 +7,7 @@
 #include <string>
 
 #include "uav/gcs/commands.hpp"
+#include "uav/gcs/basemap.hpp"
 #include "uav/gcs/maps_downloads.hpp"
 #include "uav/gcs/message_log.hpp"
 #include "uav/gcs/mission_uploads.hpp"
@@ -69,6 +70,11 @@ class GcsModel {
   bool ImportSurvey(const std::string& path, double now);
   bool StartDownload(const std::string& dir, double now);
   bool ExportPlotCsv(const std::string& path, double t0, double t1, double now);
+  // A GeoTIFF under the map (basemap.hpp); the reason in the log when it cannot be shown.
+  // Without a vehicle's home, the map's origin moves to the basemap's centre (planning over it).
+  bool LoadBasemap(const std::string& path, double now);
+  void ClearBasemap() { basemap_.Clear(); }
+  const Basemap& basemap() const { return basemap_; }
   // Replay: nothing is sent on any bus; commands are refused saying so; every GCS's
   // acknowledgements go to the messages, naming the GCS they answered.
   void SetReplay(bool replay);
@@ -114,6 +120,7 @@ class GcsModel {
   PlotSet plots_;
   VideoTracking video_;
   MapsDownloads maps_;
+  Basemap basemap_;
   MissionUploads missions_;
   WireWarnings wires_;
   ObstacleReports obstacles_;

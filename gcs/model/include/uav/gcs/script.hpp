@@ -31,7 +31,7 @@
 // "STATE.x", "HEARTBEAT...") or one of: ack ack.reason ack.command ack.percent tries error task
 // armed vehicles selected plots link sent gave_up log survey.vertices survey.images
 // survey.lines survey.altitude survey.ok survey.problem upload upload.reason mission.items
-// video.frames video.rejected video.frozen livemap.tiles livemap.received download.offered
+// video.frames video.rejected video.frozen basemap.width livemap.tiles livemap.received download.offered
 // download.saved plot_panels plot.window plot.held plotN.signals plotN.right track.sent track.x
 // track.y track.w track.h track.method track.state track.cx track.cy track.error; in a replay
 // also replay.position replay.events replay.paused replay.damage.

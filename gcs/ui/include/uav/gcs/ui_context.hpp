@@ -36,6 +36,10 @@ struct UiState {
   int map_pressed_vertex = -1;   // vertex under the pointer when the button went down
   bool map_dragged = false;
   float map_press_x = 0, map_press_y = 0;
+  // Map panel's basemap: the file to load, and which load is in the texture.
+  std::string basemap_file = "maps/map.tif";
+  int64_t basemap_version = -1;
+  void* basemap_texture = nullptr;
   // Survey panel.
   std::string survey_file = "survey.plan";
   // Live map panel: where downloads are saved, and the tile textures (per tile: the version
