@@ -11,15 +11,13 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "homography.hpp"
+
 namespace uav::vision {
 
 namespace {
 void Require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("frame registration: " + what);
-}
-Eigen::Vector2d Apply(const Eigen::Matrix3d& H, double u, double v) {
-  const Eigen::Vector3d p = H * Eigen::Vector3d(u, v, 1.0);
-  return p.head<2>() / p.z();
 }
 }  // namespace
 
@@ -220,12 +218,12 @@ Registration FrameRegistration::Register(const cv::Mat& prev, const cv::Mat& cur
   r.H_prev_cur /= r.H_prev_cur(2, 2);
   // Algorithm 1's checks: the outline's area and the centre's displacement.
   const double w = cur.cols - 1, h = cur.rows - 1;
-  const Eigen::Vector2d c[4] = {Apply(r.H_prev_cur, 0, 0), Apply(r.H_prev_cur, w, 0), Apply(r.H_prev_cur, w, h),
-                                Apply(r.H_prev_cur, 0, h)};
+  const Eigen::Vector2d c[4] = {Apply(r.H_prev_cur, {0, 0}), Apply(r.H_prev_cur, {w, 0}), Apply(r.H_prev_cur, {w, h}),
+                                Apply(r.H_prev_cur, {0, h})};
   double area2 = 0;
   for (int i = 0; i < 4; ++i) area2 += c[i].x() * c[(i + 1) % 4].y() - c[(i + 1) % 4].x() * c[i].y();
   r.area_ratio = 0.5 * area2 / (w * h);
-  r.translation_px = (Apply(r.H_prev_cur, w / 2, h / 2) - Eigen::Vector2d(w / 2, h / 2)).norm();
+  r.translation_px = (Apply(r.H_prev_cur, {w / 2, h / 2}) - Eigen::Vector2d(w / 2, h / 2)).norm();
   if (r.inliers < params_.min_inliers) {
     r.failure = "too few inliers (" + std::to_string(r.inliers) + ")";
   } else if (!r.H_prev_cur.allFinite() || std::abs(r.area_ratio - 1.0) > params_.max_area_change) {

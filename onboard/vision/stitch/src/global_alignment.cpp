@@ -6,6 +6,7 @@
 
 #include <ceres/ceres.h>
 #include <Eigen/Geometry>
+#include "homography.hpp"
 
 namespace uav::vision {
 
@@ -13,11 +14,6 @@ namespace {
 
 void Require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("global alignment: " + what);
-}
-
-Eigen::Vector2d Apply(const Eigen::Matrix3d& H, const Eigen::Vector2d& p) {
-  const Eigen::Vector3d q = H * p.homogeneous();
-  return q.head<2>() / q.z();
 }
 
 // x' = c + t + exp(s) R(theta) (x - c), with m = [t_x, t_y, theta, s].

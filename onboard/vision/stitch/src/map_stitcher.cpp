@@ -13,6 +13,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "homography.hpp"
 #include "seamless_render.hpp"
 
 namespace uav::vision {
@@ -20,10 +21,6 @@ namespace uav::vision {
 namespace {
 void Require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("map stitcher: " + what);
-}
-Eigen::Vector2d Apply(const Eigen::Matrix3d& H, const Eigen::Vector2d& p) {
-  const Eigen::Vector3d q = H * p.homogeneous();
-  return q.head<2>() / q.z();
 }
 struct Tile {
   cv::Mat bgr;   // CV_8UC3

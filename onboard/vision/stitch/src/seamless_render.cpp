@@ -11,14 +11,10 @@
 #include <opencv2/stitching/detail/blenders.hpp>
 #include <opencv2/stitching/detail/exposure_compensate.hpp>
 
+#include "homography.hpp"
 namespace uav::vision {
 
 namespace {
-
-Eigen::Vector2d Apply(const Eigen::Matrix3d& H, const Eigen::Vector2d& p) {
-  const Eigen::Vector3d q = H * p.homogeneous();
-  return q.head<2>() / q.z();
-}
 
 // The frame's outline in map pixels.
 std::vector<cv::Point2f> Outline(const Eigen::Matrix3d& H, const cv::Size& size) {

@@ -67,13 +67,13 @@ double PeakMemoryMb() {
 // the first geotagged one, are named in `skipped`. Throws when no photo is geotagged.
 struct GeotaggedFolder {
   uav::GeodeticPoint home;  // the ground under the first photo
-  uav::CameraIntrinsics camera;
+  uav::CameraIntrinsics camera;  // from the first photo's EXIF; left for --camera when one is given
   std::string camera_name;
   std::vector<Input> inputs;
   int yaw_from_course = 0;  // photos whose heading came from the track, not a tag
 };
 
-GeotaggedFolder ReadGeotaggedFolder(const std::vector<std::string>& files, const std::string& camera_path,
+GeotaggedFolder ReadGeotaggedFolder(const std::vector<std::string>& files, bool camera_given,
                                     std::optional<double> ground_altitude_m, std::vector<std::string>* skipped) {
   struct Tagged {
     std::string path;
@@ -103,8 +103,7 @@ GeotaggedFolder ReadGeotaggedFolder(const std::vector<std::string>& files, const
   if (tagged.empty()) Fail("no geotagged photo could be used");
   GeotaggedFolder out;
   const uav::vision::PhotoGeotag& first = tagged[0].tag;
-  out.camera = camera_path.empty() ? uav::vision::IntrinsicsFromGeotag(first, tagged[0].path)
-                                   : uav::IntrinsicsFromParameters(uav::ParameterSet::LoadFile(camera_path));
+  if (!camera_given) out.camera = uav::vision::IntrinsicsFromGeotag(first, tagged[0].path);  // else --camera's
   out.camera_name = first.camera;
   // The NED origin: on the ground under the first photo.
   out.home = first.position;
@@ -192,13 +191,12 @@ int main(int argc, char** argv) {
     } else if (const std::vector<std::string> files = uav::ImageFilesIn(dir); AnyGeotagged(files)) {
       if (!poses_path.empty()) Fail(dir + ": --poses needs the folder's session.json (home and camera mount)");
       kind = "geotagged photos";
-      GeotaggedFolder folder = ReadGeotaggedFolder(files, camera_path, ground_altitude_m, &skipped);
+      GeotaggedFolder folder = ReadGeotaggedFolder(files, !camera_path.empty(), ground_altitude_m, &skipped);
       session.home = folder.home;
       session.camera = folder.camera;
       inputs = std::move(folder.inputs);
       camera_name = folder.camera_name;
       yaw_from_course = folder.yaw_from_course;
-      camera_path.clear();  // applied
       // Poses from a consumer drone's tags: GPS-grade position, a gimbal's or the track's heading.
       params.alignment.nav_position_sigma_m = 3.0;
       params.alignment.nav_yaw_sigma_rad = 0.05;
