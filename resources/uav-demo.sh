@@ -22,18 +22,21 @@ logs=${UAV_LOG_DIR:-$PWD/flight-logs}
 maps=${UAV_MAP_DIR:-$PWD/maps}
 scene="@PROJECT_SOURCE_DIR@/resources/scenes/survey_village.scene.json"  # filled in by CMake
 mkdir -p "$logs" "$maps"
+# The signing key the vehicle and the GCS share (made once, kept beside the logs; see README).
+key=${UAV_KEY:-$PWD/uav.key}
+[ -e "$key" ] || "$bin/uav-keygen" "$key"
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
 speed=2; [ "$mode" = headless ] && speed=8
 echo "uav-demo: starting the simulated vehicle over the village (speed x$speed, logs in $logs)"
-"$bin/uav-onboard" --sim --speed "$speed" --lcm-url "$url" --log-dir "$logs" --scene "$scene" > "$logs/onboard.txt" 2>&1 &
+"$bin/uav-onboard" --sim --speed "$speed" --lcm-url "$url" --key "$key" --log-dir "$logs" --scene "$scene" > "$logs/onboard.txt" 2>&1 &
 onboard=$!
 trap 'kill $onboard 2>/dev/null || true; wait $onboard 2>/dev/null || true' EXIT
 status=0
 if [ "$mode" = window ]; then
-  "$bin/uav-gcs" --demo --lcm-url "$url" --download-dir "$maps" || status=$?
+  "$bin/uav-gcs" --demo --lcm-url "$url" --key "$key" --download-dir "$maps" || status=$?
 else
   echo "uav-demo: no display, running the survey mission headless"
-  "$bin/uav-gcs" --headless --demo --lcm-url "$url" --download-dir "$maps" || status=$?
+  "$bin/uav-gcs" --headless --demo --lcm-url "$url" --key "$key" --download-dir "$maps" || status=$?
 fi
 echo "uav-demo: flight log $(ls -t "$logs"/flight_*.csv 2>/dev/null | head -1)"
 echo "uav-demo: map saved as $(ls -t "$maps"/map_*.tif 2>/dev/null | head -1) (GeoTIFF; PNG + world file and KML beside it)"

@@ -10,13 +10,16 @@ bin=$1 script=$2 out=$3
 mkdir -p "$out"
 rm -f "$out"/gcs_*.png "$out/layout.ini"
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
-"$bin/uav-onboard" --sim --speed 2 --lcm-url "$url" \
+key="$out/uav.key"
+rm -f "$key" "$key.last"
+"$bin/uav-keygen" "$key" > /dev/null
+"$bin/uav-onboard" --sim --speed 2 --lcm-url "$url" --key "$key" \
   --scene "$(dirname "$0")/../../resources/scenes/tracking.scene.json" > "$out/onboard.log" 2>&1 &
 trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 cd "$out"
 status=0
 LIBGL_ALWAYS_SOFTWARE=1 timeout 180 xvfb-run -a -s "-screen 0 1600x900x24" \
-  "$bin/uav-gcs" --name e2e --lcm-url "$url" --layout "$out/layout.ini" --script "$script" || status=$?
+  "$bin/uav-gcs" --name e2e --lcm-url "$url" --key "$key" --layout "$out/layout.ini" --script "$script" || status=$?
 [ $status -eq 0 ] || exit $status
 # The layout persists: the window wrote where every panel was, for the next start to restore.
 for panel in Plot Map Video "Vehicle state" "Live map"; do

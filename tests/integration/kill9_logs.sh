@@ -8,11 +8,13 @@ bin=$1 script=$2
 work=$(mktemp -d)
 trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
+key="$work/uav.key"
+"$bin/uav-keygen" "$key" > /dev/null
 lcm-logger --lcm-url="$url" --flush-interval=10 -f "$work/reference.lcmlog" > /dev/null 2>&1 &
 logger=$!
-"$bin/uav-onboard" --sim --speed 2 --vehicle-id UAV1 --lcm-url "$url" --log-dir "$work/log" > "$work/onboard.log" 2>&1 &
+"$bin/uav-onboard" --sim --speed 2 --vehicle-id UAV1 --lcm-url "$url" --key "$key" --log-dir "$work/log" > "$work/onboard.log" 2>&1 &
 vehicle=$!
-timeout 120 "$bin/uav-gcs" --headless --name kill9 --lcm-url "$url" --script "$script"
+timeout 120 "$bin/uav-gcs" --headless --name kill9 --lcm-url "$url" --key "$key" --script "$script"
 kill -9 $vehicle
 sleep 0.5   # the logger writes what was already on the bus
 kill -INT $logger

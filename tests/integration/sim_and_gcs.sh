@@ -1,6 +1,7 @@
 # Sourced by the integration tests: runs uav-onboard --sim and a headless uav-gcs script against
 # it over LCM (inside netns.sh), then prints the vehicle's output.
-# Sets: work (temporary directory with log/, onboard.log and gcs.log, the GCS's output), status
+# Sets: work (temporary directory with log/, onboard.log and gcs.log, the GCS's output), key (the
+# signing key both use), status
 # (the GCS's exit code).
 # Usage: run_sim_and_gcs BIN_DIR SPEED GCS_NAME SCRIPT TIMEOUT_S [LINGER_S UNTIL_FUNCTION]
 # With LINGER_S, the vehicle keeps flying after the GCS exits, until UNTIL_FUNCTION succeeds or
@@ -10,12 +11,15 @@ run_sim_and_gcs() {
   local url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
   work=$(mktemp -d)
   trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
+  # A signing key for this test alone, shared by the vehicle and the GCS.
+  key="$work/uav.key"
+  "$bin/uav-keygen" "$key" > /dev/null
   # shellcheck disable=SC2086  # ONBOARD_ARGS: extra options, word-split on purpose
-  "$bin/uav-onboard" --sim --speed "$speed" --vehicle-id UAV1 --lcm-url "$url" --log-dir "$work/log" ${ONBOARD_ARGS:-} \
+  "$bin/uav-onboard" --sim --speed "$speed" --vehicle-id UAV1 --lcm-url "$url" --key "$key" --log-dir "$work/log" ${ONBOARD_ARGS:-} \
     > "$work/onboard.log" 2>&1 &
   status=0
   # From inside the work directory: relative paths the script types (downloads) land there.
-  (cd "$work" && timeout "$limit" "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" --script "$script") \
+  (cd "$work" && timeout "$limit" "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" --key "$key" --script "$script") \
     > "$work/gcs.log" 2>&1 || status=$?
   cat "$work/gcs.log"
   local waited=0

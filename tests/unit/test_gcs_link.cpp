@@ -73,7 +73,7 @@ class LinkTest : public ::testing::Test {
  protected:
   Bus bus_{"memq://"};
   GcsModel model_{"gcs", 100};
-  GcsLink link_{&bus_, model_};
+  GcsLink link_{&bus_, model_, std::nullopt};  // unsigned; signing: test_signing.cpp
   double now_ = 10.0;
   void Poll() { link_.Poll(0, now_ += 0.02); }
 };
@@ -574,7 +574,7 @@ struct Replayed {
     link.reset();
     model = std::make_unique<GcsModel>("gcs", 1);
     model->SetReplay(true);
-    link = std::make_unique<GcsLink>(nullptr, *model);
+    link = std::make_unique<GcsLink>(nullptr, *model, std::nullopt);
     return *link;
   }
 };

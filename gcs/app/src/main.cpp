@@ -93,6 +93,13 @@ int main(int argc, char** argv) {
                  "warn (status bar, messages) when a ranged power line is nearer than this [m]")
       ->check(CLI::Range(0.5, 500.0))
       ->capture_default_str();
+  std::string key_path;
+  bool insecure = false;
+  auto* key_option = cli.add_option("--key", key_path,
+                                    "signing key shared with the vehicles (uav-keygen FILE, mode 0600): commands, "
+                                    "missions, targets, file requests and heartbeats are signed with it");
+  cli.add_flag("--insecure", insecure, "send unsigned (only a vehicle started with --insecure obeys); shown in red")
+      ->excludes(key_option);
   cli.add_option("--exit-after", exit_after, "quit after this many seconds (0: never)")->check(CLI::Range(0.0, 1e6));
   CLI11_PARSE(cli, argc, argv);
 
@@ -104,6 +111,11 @@ int main(int argc, char** argv) {
     else if (!script_path.empty()) runner = std::make_unique<uav::gcs::ScriptRunner>(uav::gcs::Script::LoadFile(script_path), stdout);
 
     const bool replaying = !replay_path.empty();
+    if (!replaying && key_path.empty() && !insecure)
+      throw std::invalid_argument("give --key FILE (the vehicle's key; uav-keygen FILE makes one) or, to send "
+                                  "unsigned, --insecure");
+    std::optional<uav::SigningKey> key;
+    if (!key_path.empty()) key = uav::SigningKey::LoadFile(key_path);
     // Live: the bus and a link on it. Replay: no bus at all (nothing can be sent), a decode-only
     // link, and both rebuilt when the replay seeks back.
     std::unique_ptr<uav::Bus> bus = replaying ? nullptr : std::make_unique<uav::Bus>(lcm_url);
@@ -118,7 +130,7 @@ int main(int argc, char** argv) {
       model_ptr->wires().params() = wire_warning;
       if (!basemap.empty()) model_ptr->LoadBasemap(basemap, Now());
       ctx.state.basemap_version = -1;
-      link_ptr = std::make_unique<uav::gcs::GcsLink>(bus.get(), *model_ptr);
+      link_ptr = std::make_unique<uav::gcs::GcsLink>(bus.get(), *model_ptr, key);
       // The panels' caches belong to the old model's frames and tiles.
       ctx.state.live_tiles.clear();
       ctx.state.live_map_id = -1;

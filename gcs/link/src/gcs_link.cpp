@@ -19,6 +19,7 @@
 #include "uavmsg/file_offer_t.hpp"
 #include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
+#include "uav/shared/signed_message.hpp"
 #include "uavmsg/map_tile_t.hpp"
 #include "uavmsg/obstacles_t.hpp"
 #include "uavmsg/point_cloud_t.hpp"
@@ -60,7 +61,8 @@ const std::map<Topic, Decoder>& Decoders() {
          const auto task = TaskFromWire(m.task);
          const auto mode = FlightModeFromWire(m.flight_mode);
          if (!task || !mode) throw std::invalid_argument("unknown task or flight mode");
-         model.OnHeartbeat(id, m.header.seq, {*task, m.armed, *mode}, now);
+         model.OnHeartbeat(id, m.header.seq, {*task, m.armed != 0, *mode, m.signing == uavmsg::heartbeat_t::SIGNING_ON,
+                                              m.signature_rejections}, now);
        }},
       {Topic::kState,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
@@ -178,6 +180,7 @@ struct GcsLink::Impl {
   Impl(Bus* b, GcsModel& m) : bus(b), model(m) {}
   Bus* bus;
   GcsModel& model;
+  std::optional<MessageSigner> signer;  // none: --insecure
   double now = 0.0;
   double last_heartbeat = -1e9;
   std::map<Topic, int64_t> seq;  // header.seq per outgoing topic
@@ -188,11 +191,16 @@ struct GcsLink::Impl {
   void Publish(const std::string& vehicle_id, Topic t, Msg& m) {
     m.utime = WallTimeMicros();
     m.header = {vehicle_id, ++seq[t]};
+    if (signer) SignMessage(*signer, m.utime, m);
+    else m.signature = uavmsg::signature_t{};  // VERSION_UNSIGNED
     bus->Publish(Channel(vehicle_id, t), m);
   }
 };
 
-GcsLink::GcsLink(Bus* bus, GcsModel& model) : impl_(std::make_unique<Impl>(bus, model)) {
+GcsLink::GcsLink(Bus* bus, GcsModel& model, const std::optional<SigningKey>& key, int link_id)
+    : impl_(std::make_unique<Impl>(bus, model)) {
+  if (key) impl_->signer.emplace(*key, link_id);
+  model.SetSigningKeyId(key ? key->Id() : "");
   if (!bus) return;
   Impl* im = impl_.get();
   // One subscription per topic (each LCM subscription has its own queue).
@@ -236,7 +244,7 @@ void GcsLink::Poll(int timeout_ms, double now) {
   im.bus->Handle(timeout_ms);
   if (im.model.replay()) return;  // a replay watches only
   for (const auto& c : im.model.commands().TakeOutgoing()) {
-    uavmsg::command_t m;
+    uavmsg::command_t m{};
     m.source = im.model.gcs_name();
     m.command_seq = c.command_seq;
     m.text = c.text;
@@ -248,7 +256,7 @@ void GcsLink::Poll(int timeout_ms, double now) {
     im.Publish(c.vehicle_id, Topic::kMissionUpload, m);
   }
   for (const auto& r : im.model.maps().TakeOutgoing()) {
-    uavmsg::file_request_t m;
+    uavmsg::file_request_t m{};
     m.source = im.model.gcs_name();
     m.transfer_id = r.request.transfer_id;
     m.complete = r.request.complete;

@@ -10,6 +10,10 @@ const std::vector<Signal<HeartbeatInfo>>& HeartbeatSignals() {
   static const std::vector<Signal<HeartbeatInfo>> k = {
       {{"task", "task", "1", "", SignalFormat::kTask}, [](const HeartbeatInfo& h) { return double(static_cast<int>(h.task)); }},
       {{"armed", "armed", "1", "", SignalFormat::kBool}, [](const HeartbeatInfo& h) { return h.armed ? 1.0 : 0.0; }},
+      {{"signing", "signing", "1", "1 only signed messages executed, 0 insecure", SignalFormat::kBool},
+       [](const HeartbeatInfo& h) { return h.signing ? 1.0 : 0.0; }},
+      {{"rejected", "signature_rejections", "1", "refused by the signature check", SignalFormat::kInteger},
+       [](const HeartbeatInfo& h) { return double(h.signature_rejections); }},
   };
   return k;
 }

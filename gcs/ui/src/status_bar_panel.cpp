@@ -1,5 +1,6 @@
-// One line across the top: every vehicle's link quality (heartbeat age, message rate, messages
-// lost to sequence gaps), then the selected vehicle's flight mode, task, battery, failsafe and
+// One line across the top: whether this GCS signs what it sends (red when not), every vehicle's
+// link quality (heartbeat age, message rate, messages lost to sequence gaps) and signing state
+// (red when it executes unsigned messages, with the count it refused), then the selected vehicle's flight mode, task, battery, failsafe and
 // a power-line warning.
 #include <algorithm>
 #include <cctype>
@@ -17,6 +18,15 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
   ImGui::SetNextWindowSize(ImVec2(d.x, 0.04f * d.y));
   ImGui::Begin("Status", nullptr,
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
+  const ImVec4 red(1, 0.3f, 0.3f, 1), green(0.4f, 0.9f, 0.4f, 1), amber(1, 0.7f, 0.2f, 1);
+  if (model.signing_key_id().empty() && !model.replay()) {
+    ImGui::TextColored(red, "INSECURE");
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("started with --insecure: commands go out unsigned; start with --key FILE (uav-keygen)");
+    ImGui::SameLine();
+    ImGui::TextDisabled("|");
+    ImGui::SameLine();
+  }
   if (model.vehicles().empty()) {
     ImGui::Text("GCS %s  |  no vehicle on the bus", model.gcs_name().c_str());
     ImGui::End();
@@ -31,6 +41,22 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
     if (ImGui::IsItemHovered())
       ImGui::SetTooltip("%s: heartbeat %.1f s ago, %.0f messages/s, %lld messages lost (sequence gaps)", id.c_str(),
                         veh.HeartbeatAge(ctx.now), veh.MessageRate(ctx.now), static_cast<long long>(veh.sequence_gaps));
+    if (veh.heartbeat) {
+      ImGui::SameLine();
+      const bool signing = veh.heartbeat->signing;
+      ImGui::TextColored(signing ? green : red, signing ? "signed" : "UNSIGNED");
+      if (veh.heartbeat->signature_rejections > 0) {
+        ImGui::SameLine();
+        ImGui::TextColored(amber, "%lld refused", static_cast<long long>(veh.heartbeat->signature_rejections));
+      }
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("%s %s; %lld messages refused by its signature check since it started (the reasons are in "
+                          "the messages)",
+                          id.c_str(),
+                          signing ? "executes only messages signed with its key"
+                                  : "was started with --insecure: it executes unsigned messages from anyone",
+                          static_cast<long long>(veh.heartbeat->signature_rejections));
+    }
     ImGui::SameLine();
     ImGui::TextDisabled("|");
     ImGui::SameLine();

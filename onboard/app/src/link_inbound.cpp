@@ -27,6 +27,22 @@ void SendAck(LinkContext& c, int64_t utime, const control::TaskReport& r) {
 void SubscribeCommands(LinkContext& c) {
   c.bus.Subscribe<uavmsg::command_t>(Channel(c.vehicle_id, Topic::kCommand),
                                      [&c](const std::string&, const uavmsg::command_t& m) {
+                                       const SignatureVerdict v = c.signatures.Check(Topic::kCommand, m, m.source);
+                                       if (v != SignatureVerdict::kAccepted) {
+                                         // Told, never executed, and not remembered as the answer
+                                         // to (source, seq): the real sender's request may follow.
+                                         // A replay's sender is not the source it names: no answer.
+                                         if (v == SignatureVerdict::kReplay) return;
+                                         uavmsg::command_ack_t ack{};
+                                         ack.utime = c.now;
+                                         ack.source = m.source;
+                                         ack.command_seq = m.command_seq;
+                                         ack.command = m.text.substr(0, 256);
+                                         ack.result = uavmsg::command_ack_t::RESULT_REJECTED;
+                                         ack.reason = SignatureRefusal(v);
+                                         c.Publish(Topic::kCommandAck, ack);
+                                         return;
+                                       }
                                        auto r = c.intake.Receive(m.header.vehicle_id, m.source, m.command_seq, m.text);
                                        for (const auto& rep : r.replies) SendAck(c, c.now, rep);
                                        if (r.request) c.board.PushCommand(*r.request);
@@ -41,7 +57,13 @@ void SubscribeMissionUploads(LinkContext& c) {
         if (m.header.vehicle_id != c.vehicle_id || m.source.empty() || m.source.size() > 64) return;
         using Result = waypoints::MissionUploadAck::Result;
         waypoints::MissionUploadAck ack;
-        try {
+        const SignatureVerdict v = c.signatures.Check(Topic::kMissionUpload, m, m.source);
+        if (v == SignatureVerdict::kReplay) return;
+        if (v != SignatureVerdict::kAccepted) {
+          ack.upload_id = m.upload_id;
+          ack.result = Result::kRejected;
+          ack.reason = SignatureRefusal(v);
+        } else try {
           ack = (*uploads)[m.source].Receive(waypoints::FromMessage(m), [&c](const waypoints::Mission& mission) {
             return c.missions.AcceptUpload(mission);
           });
@@ -68,6 +90,7 @@ void SubscribeFileRequests(LinkContext& c, FileSender& files) {
   c.bus.Subscribe<uavmsg::file_request_t>(
       Channel(c.vehicle_id, Topic::kFileRequest), [&c, &files](const std::string&, const uavmsg::file_request_t& m) {
         if (m.header.vehicle_id != c.vehicle_id) return;
+        if (c.signatures.Check(Topic::kFileRequest, m, m.source) != SignatureVerdict::kAccepted) return;
         FileRequest r;
         r.transfer_id = m.transfer_id;
         r.complete = m.complete;
@@ -94,6 +117,12 @@ void SubscribeTrackTargets(LinkContext& c) {
           reject("the target is for vehicle '" + m.header.vehicle_id + "', this is '" + c.vehicle_id + "'");
           return;
         }
+        const SignatureVerdict v = c.signatures.Check(Topic::kTrackTarget, m, m.source);
+        if (v == SignatureVerdict::kReplay) return;
+        if (v != SignatureVerdict::kAccepted) {
+          reject(SignatureRefusal(v));
+          return;
+        }
         if (c.board.Snapshot().tracking_camera.empty()) {
           reject("this vehicle has no tracking camera");
           return;
@@ -114,6 +143,10 @@ class GcsHeartbeatTranslator : public Translator {
     c.bus.Subscribe<uavmsg::heartbeat_t>(Channel(c.vehicle_id, Topic::kGcsHeartbeat),
                                          [this](const std::string&, const uavmsg::heartbeat_t& m) {
                                            if (m.source_kind != uavmsg::heartbeat_t::SOURCE_GCS) return;
+                                           // A stranger must not hold off the link-loss failsafe.
+                                           if (c_.signatures.Check(Topic::kGcsHeartbeat, m, m.source_name) !=
+                                               SignatureVerdict::kAccepted)
+                                             return;
                                            if (!seen_.count(m.source_name))
                                              c_.board.PushStatus(Severity::kInfo, "GCS link up: " + m.source_name);
                                            seen_[m.source_name] = c_.now;

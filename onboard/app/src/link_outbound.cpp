@@ -2,6 +2,8 @@
 // and file offers and chunks. Each reads the blackboard (or a store) and publishes one topic.
 #include "link_translators.hpp"
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 
 #include "uav/app/reported_state.hpp"
@@ -76,9 +78,11 @@ class HeartbeatTranslator : public Translator {
     if (last_ >= 0 && utime - last_ < Micros(c_.params.heartbeat_period_s)) return;
     last_ = utime;
     const BlackboardData d = c_.board.Snapshot();
-    uavmsg::heartbeat_t hb;
+    uavmsg::heartbeat_t hb{};
     hb.utime = utime;
     hb.source_kind = uavmsg::heartbeat_t::SOURCE_VEHICLE;
+    hb.signing = c_.signatures.enabled() ? uavmsg::heartbeat_t::SIGNING_ON : uavmsg::heartbeat_t::SIGNING_OFF;
+    hb.signature_rejections = static_cast<int32_t>(std::min<int64_t>(c_.signatures.rejections(), INT32_MAX));
     hb.source_name = c_.vehicle_id;
     hb.uptime_us = utime - start_;
     hb.armed = d.armed;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,20 +15,67 @@
 #include "uav/shared/bus.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/file_transfer.hpp"
+#include "uav/shared/signed_message.hpp"
+#include "uav/shared/time.hpp"
 #include "uavmsg/header_t.hpp"
 
 namespace uav::app {
 
+// The signature check of every inbound message that changes what the vehicle does: counts and
+// reports refusals by reason (at most one status text a second per reason, with the count), and
+// keeps the newest accepted timestamp in a file for the next start.
+class SignatureGate {
+ public:
+  SignatureGate(const LinkParams& p, const std::string& vehicle_id, Blackboard& board);
+  ~SignatureGate();  // saves the newest timestamp
+  SignatureGate(const SignatureGate&) = delete;
+  SignatureGate& operator=(const SignatureGate&) = delete;
+  bool enabled() const { return verifier_.has_value(); }
+  int64_t rejections() const { return rejections_; }
+  // The verdict on `m` from `source` on `topic`; refusals are counted and reported.
+  template <class Msg>
+  SignatureVerdict Check(Topic topic, const Msg& m, const std::string& source) {
+    if (!verifier_) return SignatureVerdict::kAccepted;
+    const SignatureVerdict v = VerifyMessage(*verifier_, m, source, SigningTimestamp(WallTimeMicros()));
+    if (v != SignatureVerdict::kAccepted) Refused(v, topic, source);
+    return v;
+  }
+  // Reports refusals not yet reported, and saves the newest timestamp; once a tick.
+  void Tick();
+
+ private:
+  void Refused(SignatureVerdict v, Topic topic, const std::string& source);
+  void Save();
+  std::optional<SignatureVerifier> verifier_;
+  std::string state_file_;
+  Blackboard& board_;
+  int64_t rejections_ = 0;
+  struct Pending {
+    int64_t count = 0;
+    int64_t last_report_us = -1;  // wall clock
+    std::string last;             // what the latest refused message was
+  };
+  std::map<SignatureVerdict, Pending> pending_;
+  int64_t saved_ = -1;        // newest timestamp in the state file
+  int64_t last_save_us_ = 0;  // monotonic clock
+  bool save_failed_ = false;
+};
+
+// Reason text for a refusal, as acknowledgements and status texts say it.
+std::string SignatureRefusal(SignatureVerdict v);
+
 // What every translator shares: the bus, the vehicle's channels and their sequence numbers.
 struct LinkContext {
   LinkContext(std::string id, const std::string& url, const LinkParams& p, Blackboard& b, MissionStore& m)
-      : vehicle_id(std::move(id)), bus(url), params(p), board(b), missions(m), intake(vehicle_id) {}
+      : vehicle_id(std::move(id)), bus(url), params(p), board(b), missions(m), intake(vehicle_id),
+        signatures(p, vehicle_id, b) {}
   std::string vehicle_id;
   Bus bus;
   LinkParams params;
   Blackboard& board;
   MissionStore& missions;
   CommandIntake intake;  // shared by the command translator (requests) and the ack translator (answers)
+  SignatureGate signatures;
   std::map<Topic, int64_t> seq;
   int64_t now = 0;  // [us] vehicle clock of the current tick
 

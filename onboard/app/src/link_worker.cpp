@@ -10,7 +10,11 @@ constexpr int kEventLogQueue = 5000;
 }  // namespace
 
 LinkParams LinkParams::FromParameters(const ParameterSet& p, AttitudeMode attitude_mode) {
-  return {p.Get("link_heartbeat_period"), p.Get("link_tile_period"), attitude_mode};
+  LinkParams l;
+  l.heartbeat_period_s = p.Get("link_heartbeat_period");
+  l.tile_period_s = p.Get("link_tile_period");
+  l.attitude_mode = attitude_mode;
+  return l;
 }
 
 struct LinkWorker::Impl {
@@ -63,6 +67,7 @@ void LinkWorker::Tick(int64_t utime) {
   Impl& im = *impl_;
   im.context.now = utime;
   im.context.bus.Handle(0);  // commands, uploads, requests and GCS heartbeats since the last tick
+  im.context.signatures.Tick();
   for (auto& t : im.translators) t->Tick(utime);
   if (im.events) im.events->Flush();
 }

@@ -66,6 +66,8 @@ int main(int argc, char** argv) {
   double duration_s = 0.0;
   std::string scene_path;
   std::vector<std::string> param_overrides;
+  std::string key_path;
+  bool insecure = false;
   cli.add_flag("--sim", sim, "run against the simulated quadrotor (thesis 2.4 model)");
   cli.add_option("--vehicle-id", vehicle_id, "vehicle id; channels are <ID>/<TOPIC>")->capture_default_str();
   cli.add_option("--lcm-url", lcm_url, "LCM URL")->capture_default_str();
@@ -81,6 +83,12 @@ int main(int argc, char** argv) {
                  "simulated world (resources/scenes/*.scene.json): renders the scene's cameras; the downward "
                  "camera streams to the GCS and records survey captures into LOG_DIR/captures_<utime>, the "
                  "stereo pair measures the nearest obstacle ahead");
+  auto* key_option = cli.add_option(
+      "--key", key_path,
+      "signing key (uav-keygen FILE, mode 0600): only commands, missions, targets, file requests and GCS "
+      "heartbeats signed with it are executed; the newest accepted timestamp is kept in FILE.last");
+  cli.add_flag("--insecure", insecure, "no signing key: execute unsigned messages from anyone on the network")
+      ->excludes(key_option);
   cli.add_option("--duration", duration_s, "stop after this many simulated seconds (0: run until signalled)")
       ->check(CLI::Range(0.0, 1e7));
   CLI11_PARSE(cli, argc, argv);
@@ -90,6 +98,9 @@ int main(int argc, char** argv) {
     if (!uav::IsValidVehicleId(vehicle_id))
       throw std::invalid_argument("--vehicle-id must be 1-32 characters of [A-Za-z0-9_-], got '" +
                                   vehicle_id + "'");
+    if (key_path.empty() && !insecure)
+      throw std::invalid_argument("give --key FILE (make one with uav-keygen FILE) or, to accept unsigned "
+                                  "commands from anyone on the network, --insecure");
     const double speed = ParseSpeed(speed_text);
     const uav::GeodeticPoint home = ParseHome(home_text);
     uav::ParameterSet params = uav::ParameterSet::LoadFile(params_path);
@@ -122,8 +133,12 @@ int main(int argc, char** argv) {
     std::unique_ptr<uav::app::EventLog> events;
     if (!log_dir.empty()) events = std::make_unique<uav::app::EventLog>(log_dir, start);
     const std::string events_path = events ? events->path() : "";
-    uav::app::LinkWorker cmm(vehicle_id, lcm_url, uav::app::LinkParams::FromParameters(params, vehicle_params.attitude_mode),
-                           board, missions, std::move(events));
+    auto link_params = uav::app::LinkParams::FromParameters(params, vehicle_params.attitude_mode);
+    if (!key_path.empty()) {
+      link_params.signing_key = uav::SigningKey::LoadFile(key_path);
+      link_params.signing_state_file = key_path + ".last";
+    }
+    uav::app::LinkWorker cmm(vehicle_id, lcm_url, link_params, board, missions, std::move(events));
 
     std::unique_ptr<uav::world::Scene> scene;
     std::unique_ptr<uav::sim::SimCamera> downward_camera;
@@ -224,8 +239,11 @@ int main(int argc, char** argv) {
     });
     signal_waiter.detach();
 
-    std::printf("uav-onboard: vehicle %s, simulated quadrotor, speed %s, LCM %s%s%s%s%s\n",
-                vehicle_id.c_str(), speed_text.c_str(), lcm_url.c_str(),
+    const std::string signing = link_params.signing_key
+                                    ? "signed with key " + link_params.signing_key->Id()
+                                    : "INSECURE (unsigned commands from anyone are executed)";
+    std::printf("uav-onboard: vehicle %s, simulated quadrotor, speed %s, LCM %s, %s%s%s%s%s\n",
+                vehicle_id.c_str(), speed_text.c_str(), lcm_url.c_str(), signing.c_str(),
                 log_path.empty() ? "" : ", log ", log_path.c_str(),
                 events_path.empty() ? "" : ", events ", events_path.c_str());
     std::fflush(stdout);

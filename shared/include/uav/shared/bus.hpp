@@ -2,6 +2,8 @@
 // The message bus: a small interface over LCM so that the algorithms never see it and tests can
 // run on "memq://" (in-process) as well as UDP multicast.
 #include <cstdint>
+#include <cstring>
+#include <exception>
 #include <functional>
 #include <memory>
 #include <string>
@@ -59,13 +61,28 @@ class Bus {
     virtual ~HandlerBase() = default;
     virtual void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& channel) = 0;
   };
+  // Only the bytes our encoder writes: LCM's decoder ignores some (the byte after a string, which
+  // should be its terminating zero), so two datagrams could carry one message. Signatures are
+  // checked over the message's encoding (signed_message.hpp): it must be the datagram itself.
+  template <class Msg>
+  static bool Canonical(const Msg& msg, const void* data, uint32_t size) {
+    std::vector<uint8_t> bytes(size);
+    return msg.encode(bytes.data(), 0, static_cast<int>(size)) == static_cast<int>(size) &&
+           std::memcmp(bytes.data(), data, size) == 0;
+  }
   template <class Msg>
   struct TypedHandler : HandlerBase {
     TypedHandler(std::function<void(const std::string&, const Msg&)> f, int64_t* errors)
         : fn(std::move(f)), decode_errors(errors) {}
     void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& channel) override {
       Msg msg;
-      if (msg.decode(rbuf->data, 0, rbuf->data_size) < 0) {
+      bool decoded = false;
+      try {  // a malformed datagram must never take the process down
+        decoded = msg.decode(rbuf->data, 0, rbuf->data_size) == static_cast<int>(rbuf->data_size) &&
+                  Canonical(msg, rbuf->data, rbuf->data_size);
+      } catch (const std::exception&) {
+      }
+      if (!decoded) {
         ++*decode_errors;
         return;
       }

@@ -5,9 +5,11 @@
 // channel and the bytes as they were on the bus.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "uav/gcs/gcs_model.hpp"
+#include "uav/shared/signing.hpp"
 
 namespace uav {
 class Bus;
@@ -20,8 +22,10 @@ class GcsLink {
   static constexpr double kHeartbeatPeriod = 1.0;  // [s] GCS heartbeat to each vehicle
 
   // Receives and sends on `bus` (a UDP multicast bus, or memq:// in tests); `bus` == nullptr:
-  // decode only (replay), nothing is ever sent.
-  GcsLink(Bus* bus, GcsModel& model);
+  // decode only (replay), nothing is ever sent. With `key`, every message that changes what a
+  // vehicle does (commands, mission uploads, targets, file requests, heartbeats) is signed
+  // (shared/signing.hpp) on link `link_id`; without, they go unsigned (--insecure).
+  GcsLink(Bus* bus, GcsModel& model, const std::optional<SigningKey>& key, int link_id = 0);
   ~GcsLink();
   // Receives for up to timeout_ms, then sends what the model queued. `now` is the GCS clock [s].
   void Poll(int timeout_ms, double now);

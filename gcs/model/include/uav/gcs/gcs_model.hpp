@@ -79,6 +79,9 @@ class GcsModel {
   // acknowledgements go to the messages, naming the GCS they answered.
   void SetReplay(bool replay);
   bool replay() const { return replay_; }
+  // The id of this GCS's signing key (SigningKey::Id); empty: it sends unsigned (--insecure).
+  void SetSigningKeyId(std::string id) { signing_key_id_ = std::move(id); }
+  const std::string& signing_key_id() const { return signing_key_id_; }
 
   // ---- Periodic: resends, uploads, download requests and saves.
   void Tick(double now);
@@ -114,6 +117,7 @@ class GcsModel {
   std::map<std::string, VehicleModel> vehicles_;
   std::string selected_;
   bool replay_ = false;
+  std::string signing_key_id_;
   TelemetryParams telemetry_params_;
   MessageLog log_;
   CommandCenter commands_;

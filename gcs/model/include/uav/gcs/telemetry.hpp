@@ -39,6 +39,8 @@ struct HeartbeatInfo {
   Task task = Task::kIdle;
   bool armed = false;
   FlightMode flight_mode = FlightMode::kAuto;
+  bool signing = false;               // the vehicle executes only messages signed with its key
+  int64_t signature_rejections = 0;   // messages it refused by the signature check since start
 };
 
 // What the vehicle's tracker reports (track_status_t), image coordinates normalised to 0..1.

@@ -6,12 +6,14 @@
 // Messages stay here, at the edge.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "uav/app/blackboard.hpp"
 #include "uav/app/event_log.hpp"
 #include "uav/app/mission_store.hpp"
 #include "uav/shared/parameters.hpp"
+#include "uav/shared/signing.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
 namespace uav::app {
@@ -20,6 +22,10 @@ struct LinkParams {
   double heartbeat_period_s = 1.0;  // link_heartbeat_period
   double tile_period_s = 0.2;       // link_tile_period: at most one live-map tile per period
   AttitudeMode attitude_mode = AttitudeMode::kDirect;  // reported in the state
+  // Message signing (shared/signing.hpp): without a key (--insecure) unsigned messages are
+  // executed. The newest accepted timestamp is kept in `signing_state_file` across restarts.
+  std::optional<SigningKey> signing_key;
+  std::string signing_state_file;
   static LinkParams FromParameters(const ParameterSet& p, AttitudeMode attitude_mode);
 };
 
