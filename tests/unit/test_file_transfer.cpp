@@ -2,6 +2,7 @@
 // duplicated or delayed (so reordered); the file must arrive identical every time, resume after
 // a link cut, and never accept a damaged chunk.
 #include <deque>
+#include <memory>
 #include <random>
 #include <string>
 #include <variant>
@@ -108,6 +109,40 @@ TEST(FileTransfer, ResumesAfterALinkCut) {
   const TransferResult run = Transfer(file, 0.01, 0.01, 90, 0.3, 6.3);  // cut mid-transfer for 6 s
   EXPECT_TRUE(run.complete);
   EXPECT_GT(run.seconds, 6.3);
+}
+
+// The vehicle process restarted mid-download: the new process offers the same file (the same
+// SHA-256, so the same transfer id), and the GCS asks only for the chunks it still misses.
+TEST(FileTransfer, ResumesWhenARestartedVehicleOffersTheSameFileAgain) {
+  const std::string file = RandomFile(1'000'000, 21);
+  FileReceiver receiver;
+  std::string error;
+  auto first = std::make_unique<FileSender>();
+  const FileOffer offer = first->Offer("map_1.tif", file);
+  ASSERT_TRUE(receiver.OnOffer(offer, &error) && receiver.Start(offer.transfer_id, &error)) << error;
+  double t = 0;
+  auto step = [&](FileSender& sender, int* chunks_sent) {
+    for (const auto& r : receiver.Poll(t)) sender.OnRequest(r);
+    for (const auto& c : sender.Poll(t).chunks) {
+      receiver.OnChunk(c);
+      if (chunks_sent) ++*chunks_sent;
+    }
+    t += 0.02;
+  };
+  while (receiver.progress(offer.transfer_id)->received < offer.chunks / 2) step(*first, nullptr);
+  const int had = receiver.progress(offer.transfer_id)->received;
+  first.reset();  // the vehicle process dies
+  for (int i = 0; i < 100; ++i, t += 0.02) receiver.Poll(t);  // nobody answers for 2 s
+  FileSender restarted;
+  const FileOffer again = restarted.Offer("map_1.tif", file);
+  ASSERT_EQ(again.transfer_id, offer.transfer_id);
+  ASSERT_TRUE(receiver.OnOffer(again, &error)) << error;
+  int resent = 0;
+  while (!restarted.Delivered(offer.transfer_id) && t < 60) step(restarted, &resent);
+  ASSERT_NE(receiver.Contents(offer.transfer_id), nullptr);
+  EXPECT_EQ(*receiver.Contents(offer.transfer_id), file);
+  EXPECT_LE(resent, offer.chunks - had + 8) << "the restarted vehicle sent chunks the GCS already had";
+  std::printf("[ restart ] %d of %d chunks before the restart, %d sent after it\n", had, offer.chunks, resent);
 }
 
 TEST(FileTransfer, DamagedChunksAreRejectedAndFetchedAgain) {

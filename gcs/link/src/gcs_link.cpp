@@ -47,7 +47,7 @@ using Decoder = std::function<void(GcsModel&, const std::string& vehicle, const 
 template <class Msg>
 Msg Decode(const void* data, int size, const std::string& vehicle) {
   Msg m;
-  if (m.decode(data, 0, size) < 0) throw std::invalid_argument("does not decode");
+  if (size < 0 || !DecodeDatagram(data, static_cast<size_t>(size), &m)) throw std::invalid_argument("does not decode");
   if (m.header.vehicle_id != vehicle) throw std::invalid_argument("header names vehicle '" + m.header.vehicle_id + "'");
   return m;
 }
@@ -113,7 +113,7 @@ const std::map<Topic, Decoder>& Decoders() {
          const auto m = Decode<uavmsg::map_tile_t>(d, n, id);
          model.OnMapTile(id,
                          {m.map_id, m.tile_x, m.tile_y, m.tile_px, m.gsd_m, m.origin_north_m, m.origin_east_m,
-                          m.georeferenced, m.jpeg},
+                          m.georeferenced != 0, m.jpeg},
                          now);
        }},
       {Topic::kTrackStatus,

@@ -79,6 +79,7 @@ bool MapsDownloads::StartDownload(VehicleMaps* v, const std::string& vehicle_id,
 }
 
 void MapsDownloads::StartAll(VehicleMaps& v, const std::string& vehicle_id, double now, MessageLog& log) {
+  v.unsaved.clear();  // the next tick writes them again
   for (const FileOffer& o : v.files.offers()) {
     const auto p = v.files.progress(o.transfer_id);
     if (p->started && !p->failed) continue;
@@ -95,17 +96,21 @@ void MapsDownloads::Tick(VehicleMaps& v, const std::string& id, double now, Mess
       v.saved[o.transfer_id] = "";
       log.Add(now, id, "download of " + o.name + " failed: " + p->error, Severity::kError);
     }
-    if (!p->complete || v.saved.count(o.transfer_id)) continue;
+    if (!p->complete || v.saved.count(o.transfer_id) || v.unsaved.count(o.transfer_id)) continue;
     const std::string path = (std::filesystem::path(dir_) / o.name).string();
     try {
+      // Through a temporary name: on a full disk nothing is left behind, not even half a file.
       std::filesystem::create_directories(dir_);
       WriteFileAtomically(path, *v.files.Contents(o.transfer_id));
       v.saved[o.transfer_id] = path;
       log.Add(now, id, "saved " + path + " (" + std::to_string((o.size + 1023) / 1024) + " kB, SHA-256 verified)",
               Severity::kInfo);
     } catch (const std::exception& e) {
-      v.saved[o.transfer_id] = "";
-      log.Add(now, id, "download of " + o.name + ": " + e.what(), Severity::kError);
+      v.unsaved.insert(o.transfer_id);
+      log.Add(now, id,
+              "download of " + o.name + " received but not saved: " + e.what() +
+                  "; it is kept: make room and download again",
+              Severity::kError);
     }
   }
 }

@@ -13,6 +13,24 @@
 
 namespace uav {
 
+// Decodes one datagram as Msg, the one way every receiver does: false for a datagram that does
+// not decode, has bytes left over, or is not exactly what our encoder writes for the message it
+// decodes to (LCM's decoder ignores some bytes, the one after each string for instance, so two
+// datagrams could carry one message; signatures are checked over the message's encoding, which
+// must be the datagram itself). Never throws: a malformed datagram must not take a process down.
+template <class Msg>
+bool DecodeDatagram(const void* data, size_t size, Msg* msg) {
+  if (size > static_cast<size_t>(INT32_MAX)) return false;
+  try {
+    if (msg->decode(data, 0, static_cast<int>(size)) != static_cast<int>(size)) return false;
+    std::vector<uint8_t> bytes(size);
+    return msg->encode(bytes.data(), 0, static_cast<int>(size)) == static_cast<int>(size) &&
+           std::memcmp(bytes.data(), data, size) == 0;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 class Bus {
  public:
   // Throws std::runtime_error naming the URL when LCM cannot start on it.
@@ -61,28 +79,13 @@ class Bus {
     virtual ~HandlerBase() = default;
     virtual void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& channel) = 0;
   };
-  // Only the bytes our encoder writes: LCM's decoder ignores some (the byte after a string, which
-  // should be its terminating zero), so two datagrams could carry one message. Signatures are
-  // checked over the message's encoding (signed_message.hpp): it must be the datagram itself.
-  template <class Msg>
-  static bool Canonical(const Msg& msg, const void* data, uint32_t size) {
-    std::vector<uint8_t> bytes(size);
-    return msg.encode(bytes.data(), 0, static_cast<int>(size)) == static_cast<int>(size) &&
-           std::memcmp(bytes.data(), data, size) == 0;
-  }
   template <class Msg>
   struct TypedHandler : HandlerBase {
     TypedHandler(std::function<void(const std::string&, const Msg&)> f, int64_t* errors)
         : fn(std::move(f)), decode_errors(errors) {}
     void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& channel) override {
       Msg msg;
-      bool decoded = false;
-      try {  // a malformed datagram must never take the process down
-        decoded = msg.decode(rbuf->data, 0, rbuf->data_size) == static_cast<int>(rbuf->data_size) &&
-                  Canonical(msg, rbuf->data, rbuf->data_size);
-      } catch (const std::exception&) {
-      }
-      if (!decoded) {
+      if (!DecodeDatagram(rbuf->data, rbuf->data_size, &msg)) {
         ++*decode_errors;
         return;
       }

@@ -3,6 +3,7 @@
 // the finished map files it offers (uav::FileReceiver), saved once their SHA-256 matched.
 #include <cstdint>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <utility>
@@ -45,7 +46,10 @@ struct OutgoingFileRequest {
 struct VehicleMaps {
   LiveMap live_map;
   FileReceiver files;                  // offers and their downloads
-  std::map<int64_t, std::string> saved;  // transfer id -> path written ("" when it failed)
+  std::map<int64_t, std::string> saved;  // transfer id -> path written ("" when the download failed)
+  // Verified in memory but not written (a full disk, a removed directory): kept, and written
+  // when the operator asks to download again.
+  std::set<int64_t> unsaved;
 };
 
 class MapsDownloads {
@@ -60,8 +64,9 @@ class MapsDownloads {
   // starts downloading at once.
   void OnFileOffer(VehicleMaps& v, const std::string& vehicle_id, const FileOffer& offer, double now, MessageLog& log);
   static void OnFileChunk(VehicleMaps& v, const FileChunk& chunk) { v.files.OnChunk(chunk); }
-  // Downloads every file `v` offers into `dir` (created if missing). Returns false and sets
-  // error() when there is no vehicle or the directory cannot be made.
+  // Downloads every file `v` offers into `dir` (created if missing), and writes again the ones
+  // received whose saving failed. Returns false and sets error() when there is no vehicle or the
+  // directory cannot be made.
   bool StartDownload(VehicleMaps* v, const std::string& vehicle_id, const std::string& dir, double now, MessageLog& log);
   // From now on every file any vehicle offers is downloaded into `dir` as soon as it is offered.
   void SetDownloadDir(const std::string& dir) { dir_ = dir; }

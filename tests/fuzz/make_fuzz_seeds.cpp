@@ -1,0 +1,196 @@
+// make_fuzz_seeds OUT_DIR: the binary seed corpora, encoded by the project's own code so they
+// stay valid as the message types change: OUT_DIR/vehicle_messages (GCS -> vehicle, signed with
+// the harness's key), OUT_DIR/gcs_messages (vehicle -> GCS, one per topic) and
+// OUT_DIR/event_log (a short onboard event log). Text seeds are files of the project
+// (tests/fuzz/CMakeLists.txt lists them).
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "uav/shared/channels.hpp"
+#include "uav/shared/signed_message.hpp"
+#include "uavmsg/active_stereo_t.hpp"
+#include "uavmsg/command_ack_t.hpp"
+#include "uavmsg/command_t.hpp"
+#include "uavmsg/file_chunk_t.hpp"
+#include "uavmsg/file_offer_t.hpp"
+#include "uavmsg/file_request_t.hpp"
+#include "uavmsg/heartbeat_t.hpp"
+#include "uavmsg/map_tile_t.hpp"
+#include "uavmsg/mission_ack_t.hpp"
+#include "uavmsg/mission_upload_t.hpp"
+#include "uavmsg/mono_depth_t.hpp"
+#include "uavmsg/obstacles_t.hpp"
+#include "uavmsg/point_cloud_t.hpp"
+#include "uavmsg/power_lines_t.hpp"
+#include "uavmsg/status_text_t.hpp"
+#include "uavmsg/track_status_t.hpp"
+#include "uavmsg/track_target_t.hpp"
+#include "uavmsg/vehicle_state_t.hpp"
+#include "uavmsg/video_frame_t.hpp"
+#include "uavmsg/visual_odometry_t.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+constexpr int64_t kUtime = 1'795'000'000'000'000;
+
+template <class Msg>
+std::vector<uint8_t> Encode(const Msg& m) {
+  std::vector<uint8_t> b(m.getEncodedSize());
+  m.encode(b.data(), 0, static_cast<int>(b.size()));
+  return b;
+}
+
+void Write(const fs::path& path, uint8_t selector, const std::vector<uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.put(static_cast<char>(selector));
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+template <class Msg>
+Msg ForVehicle() {
+  Msg m{};
+  m.utime = kUtime;
+  m.header.vehicle_id = "UAV1";
+  m.header.seq = 1;
+  return m;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: make_fuzz_seeds OUT_DIR\n");
+    return 2;
+  }
+  const fs::path out = argv[1];
+  for (const char* d : {"vehicle_messages", "gcs_messages", "event_log"}) fs::create_directories(out / d);
+
+  // GCS -> vehicle, selector = the harness's case; signed with its key (0x42 x 32).
+  uav::SigningKey key;
+  key.bytes.fill(0x42);
+  uav::MessageSigner signer(key, 0);
+  {
+    auto m = ForVehicle<uavmsg::command_t>();
+    m.source = "gcs";
+    m.command_seq = 7;
+    for (const char* text : {"arm", "goto 10 20 15", "takeoff 10"}) {
+      m.text = text;
+      uav::SignMessage(signer, kUtime, m);
+      Write(out / "vehicle_messages" / (std::string("command_") + text[0]), 0, Encode(m));
+    }
+  }
+  {
+    auto m = ForVehicle<uavmsg::mission_upload_t>();
+    m.source = "gcs";
+    m.upload_id = 3;
+    m.total_items = 2;
+    m.home_latitude_deg = 1.2966;
+    m.home_longitude_deg = 103.7764;
+    m.home_altitude_m = 15;
+    m.cruise_speed_m_s = 5;
+    for (int i = 0; i < 2; ++i) {
+      uavmsg::mission_item_t it{};
+      it.command = i == 0 ? 22 : 16;
+      it.frame = 3;
+      it.latitude_deg = 1.2966 + 1e-4 * i;
+      it.longitude_deg = 103.7764;
+      it.altitude_m = 20;
+      it.autocontinue = 1;
+      m.items.push_back(it);
+    }
+    m.num_items = 2;
+    uav::SignMessage(signer, kUtime, m);
+    Write(out / "vehicle_messages" / "mission_upload", 1, Encode(m));
+  }
+  {
+    auto m = ForVehicle<uavmsg::file_request_t>();
+    m.source = "gcs";
+    m.first = {0, 5};
+    m.count = {3, 1};
+    m.n_ranges = 2;
+    uav::SignMessage(signer, kUtime, m);
+    Write(out / "vehicle_messages" / "file_request", 2, Encode(m));
+  }
+  {
+    auto m = ForVehicle<uavmsg::track_target_t>();
+    m.source = "gcs";
+    m.target_seq = 1;
+    m.frame_utime = kUtime;
+    m.camera = "gimbal";
+    m.x = 0.4, m.y = 0.4, m.width = 0.1, m.height = 0.1;
+    for (int i = 0; i < 4; ++i) m.corner_x[i] = 0.4 + 0.1 * (i == 1 || i == 2), m.corner_y[i] = 0.4 + 0.1 * (i >= 2);
+    uav::SignMessage(signer, kUtime, m);
+    Write(out / "vehicle_messages" / "track_target", 3, Encode(m));
+  }
+  {
+    auto m = ForVehicle<uavmsg::heartbeat_t>();
+    m.source_kind = uavmsg::heartbeat_t::SOURCE_GCS;
+    m.source_name = "gcs";
+    uav::SignMessage(signer, kUtime, m);
+    Write(out / "vehicle_messages" / "gcs_heartbeat", 4, Encode(m));
+  }
+
+  // Vehicle -> GCS, selector = the index in fuzz_gcs_messages.cpp's topic table.
+  const fs::path g = out / "gcs_messages";
+  auto hb = ForVehicle<uavmsg::heartbeat_t>();
+  hb.source_name = "UAV1";
+  hb.signing = uavmsg::heartbeat_t::SIGNING_ON;
+  Write(g / "heartbeat", 0, Encode(hb));
+  auto state = ForVehicle<uavmsg::vehicle_state_t>();
+  Write(g / "state", 1, Encode(state));
+  auto ack = ForVehicle<uavmsg::command_ack_t>();
+  ack.source = "fuzz";
+  ack.command = "arm";
+  ack.result = uavmsg::command_ack_t::RESULT_COMPLETED;
+  Write(g / "command_ack", 2, Encode(ack));
+  auto text = ForVehicle<uavmsg::status_text_t>();
+  text.text = "GPS fix lost";
+  Write(g / "status_text", 3, Encode(text));
+  Write(g / "mission_ack", 4, Encode(ForVehicle<uavmsg::mission_ack_t>()));
+  Write(g / "video_frame", 5, Encode(ForVehicle<uavmsg::video_frame_t>()));
+  auto offer = ForVehicle<uavmsg::file_offer_t>();
+  offer.name = "map_1.tif";
+  Write(g / "file_offer", 6, Encode(offer));
+  Write(g / "file_chunk", 7, Encode(ForVehicle<uavmsg::file_chunk_t>()));
+  Write(g / "map_tile", 8, Encode(ForVehicle<uavmsg::map_tile_t>()));
+  Write(g / "track_status", 9, Encode(ForVehicle<uavmsg::track_status_t>()));
+  Write(g / "power_lines", 10, Encode(ForVehicle<uavmsg::power_lines_t>()));
+  Write(g / "obstacles", 11, Encode(ForVehicle<uavmsg::obstacles_t>()));
+  Write(g / "point_cloud", 12, Encode(ForVehicle<uavmsg::point_cloud_t>()));
+  Write(g / "mono_depth", 13, Encode(ForVehicle<uavmsg::mono_depth_t>()));
+  Write(g / "active_stereo", 14, Encode(ForVehicle<uavmsg::active_stereo_t>()));
+  Write(g / "visual_odometry", 15, Encode(ForVehicle<uavmsg::visual_odometry_t>()));
+
+  // A short event log, as the onboard EventLog writes it (LCM log format).
+  {
+    lcm::LogFile log((out / "event_log" / "events.lcmlog").string(), "w");
+    for (int i = 0; i < 5; ++i) {
+      lcm::LogEvent e{};
+      e.eventnum = i;
+      e.timestamp = kUtime + i * 100'000;
+      std::vector<uint8_t> b;
+      if (i % 2 == 0) {
+        hb.utime = e.timestamp;
+        hb.header.seq = i;
+        b = Encode(hb);
+        e.channel = uav::Channel("UAV1", uav::Topic::kHeartbeat);
+      } else {
+        state.utime = e.timestamp;
+        state.header.seq = i;
+        b = Encode(state);
+        e.channel = uav::Channel("UAV1", uav::Topic::kState);
+      }
+      e.datalen = static_cast<int32_t>(b.size());
+      e.data = b.data();
+      log.writeEvent(&e);
+    }
+  }
+  std::printf("make_fuzz_seeds: wrote %s\n", out.c_str());
+  return 0;
+}

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Builds the project with sanitizers in its own tree and runs tests under them; any report
+# fails (halt on the first error, leaks included).
+#   asan       ASan+UBSan: every unit and integration test (build-asan/)
+#   asan-unit  ASan+UBSan: the unit tests of the shared code, the mission code, the GCS and the
+#              vehicle's command intake, plus every fuzz harness over its seeds (CI runs this)
+#   tsan       TSan: the threaded parts, the lockstep scheduler and the workers (test_onboard),
+#              the GCS link (test_gcs), and a whole flight over LCM (integration.fly_mission)
+# Usage: tests/sanitizers/sanitize.sh MODE [BUILD_DIR]
+set -euo pipefail
+src=$(cd "$(dirname "$0")/../.." && pwd)
+mode=${1:?usage: sanitize.sh asan|asan-unit|tsan [BUILD_DIR]}
+jobs=$(nproc)
+supp="$src/tests/sanitizers"
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=1:strict_string_checks=1"
+export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$supp/tsan.supp"
+case "$mode" in
+  asan | asan-unit) flags=address,undefined dir=${2:-$src/build-asan} ;;
+  tsan) flags=thread dir=${2:-$src/build-tsan} ;;
+  *) echo "sanitize.sh: unknown mode '$mode' (asan, asan-unit or tsan)"; exit 2 ;;
+esac
+case "$mode" in
+  # Unit tests are labelled with their executable's name (tests/CMakeLists.txt).
+  asan) targets=(all) select=(-E '^bench\.') ;;
+  asan-unit) targets=(test_shared test_waypoints test_gcs fuzzers) select=(-L '^(test_shared|test_waypoints|test_gcs|fuzz)$') ;;
+  tsan) targets=(test_onboard test_gcs uav-onboard uav-gcs uav-keygen)
+        select=(-R '^(LockstepScheduler|CameraWorker|StereoWorker|ActiveStereoWorker|TrackWorker|LinkTest|integration\.fly_mission)') ;;
+esac
+echo "sanitize.sh: $mode (-fsanitize=$flags) in $dir"
+cmake -S "$src" -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DUAV_SANITIZE=$flags > /dev/null
+start=$(date +%s)
+cmake --build "$dir" -j"$jobs" --target "${targets[@]}" > "$dir/build.log" 2>&1 || { tail -40 "$dir/build.log"; exit 1; }
+echo "sanitize.sh: built in $(( $(date +%s) - start )) s"
+start=$(date +%s)
+ctest --test-dir "$dir" "${select[@]}" -j"$jobs" --output-on-failure --timeout 900
+echo "sanitize.sh: $mode tests clean in $(( $(date +%s) - start )) s"
