@@ -49,10 +49,12 @@ std::vector<CaptureRow> ReadCaptureRows(const std::string& path) {
   std::string line;
   if (!std::getline(in, line)) Fail(path + ": empty");
   std::map<std::string, int> col;
+  size_t columns = 0;
   {
     std::istringstream h(line);
     std::string name;
-    for (int i = 0; std::getline(h, name, ','); ++i) col[name] = i;
+    for (int i = 0; std::getline(h, name, ','); ++i, ++columns)
+      if (!col.emplace(name, i).second) Fail(path + ": column '" + name + "' appears twice in the header");
   }
   for (const char* need : {"utime", "file", "est_north_m", "est_east_m", "est_down_m", "est_roll_rad", "est_pitch_rad", "est_yaw_rad"})
     if (!col.count(need)) Fail(path + ": no column '" + std::string(need) + "'");
@@ -63,7 +65,7 @@ std::vector<CaptureRow> ReadCaptureRows(const std::string& path) {
     std::istringstream r(line);
     for (std::string v; std::getline(r, v, ',');) f.push_back(v);
     const std::string where = path + ":" + std::to_string(row);
-    if (f.size() < col.size()) Fail(where + ": " + std::to_string(f.size()) + " fields, the header has " + std::to_string(col.size()));
+    if (f.size() < columns) Fail(where + ": " + std::to_string(f.size()) + " fields, the header has " + std::to_string(columns));
     CaptureRow c;
     c.row = row;
     c.file = f[col["file"]];
@@ -81,6 +83,7 @@ std::vector<CaptureRow> ReadCaptureRows(const std::string& path) {
     };
     const auto utime = num("utime");
     if (!utime) Fail(c.problem);
+    if (!(*utime >= 0 && *utime < 9.2e18)) Fail(where + ": utime " + f[col["utime"]] + " is out of range");
     c.utime = static_cast<int64_t>(*utime);
     const auto n = num("est_north_m"), e = num("est_east_m"), d = num("est_down_m");
     const auto phi = num("est_roll_rad"), theta = num("est_pitch_rad"), psi = num("est_yaw_rad");

@@ -52,9 +52,10 @@ void FileSender::OnRequest(const FileRequest& r) {
     return;
   }
   for (const FileRange& range : r.ranges) {
-    const int32_t first = std::max(0, range.first);
-    const int32_t last = std::min(out.offer.chunks, range.first + std::max(0, std::min(range.count, out.offer.chunks)));
-    for (int32_t i = first; i < last; ++i) out.queued.insert(i);
+    // In 64 bits: a range near INT32_MAX from a bad request must not wrap round.
+    const int64_t first = std::max<int64_t>(0, range.first);
+    const int64_t last = std::min<int64_t>(out.offer.chunks, int64_t{range.first} + std::max<int64_t>(0, range.count));
+    for (int64_t i = first; i < last; ++i) out.queued.insert(static_cast<int32_t>(i));
   }
 }
 

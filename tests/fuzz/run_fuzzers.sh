@@ -21,10 +21,13 @@ names=${UAV_FUZZERS:-$(cat "$out/tests/fuzz/fuzzers.txt" | tr ';' ' ')}
 mkdir -p "$out/artifacts" "$out/logs"
 run_one() {
   local name=$1 secs=$2 out=$3
-  mkdir -p "$out/corpus/$name"
+  # libFuzzer reads directories: the seed files go into one of their own.
+  mkdir -p "$out/corpus/$name" "$out/seed_files/$name"
   mapfile -t seeds < "$out/tests/fuzz/seeds_$name.txt"
-  local existing=()
-  for s in "${seeds[@]}"; do [ -n "$s" ] && [ -e "$s" ] && existing+=("$s"); done
+  local existing=("$out/seed_files/$name")
+  for s in "${seeds[@]}"; do
+    if [ -d "$s" ]; then existing+=("$s"); elif [ -f "$s" ]; then cp "$s" "$out/seed_files/$name/"; fi
+  done
   # -timeout: an input slower than 10 s is a hang; -rss_limit_mb: more than 2 GB is a leak or a
   # bomb. Both are findings, like crashes.
   "$out/bin/fuzz_$name" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
@@ -39,8 +42,8 @@ failed=0 total_execs=0
 printf '%-20s %12s %8s %8s  %s\n' harness executions exec/s corpus result
 for name in $names; do
   log="$out/logs/$name.log"
-  execs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | awk '{print $2}' | tail -1)
-  rate=$(grep -o 'stat::average_exec_per_sec: [0-9]*' "$log" | awk '{print $2}' | tail -1)
+  execs=$(awk '/stat::number_of_executed_units:/ {v = $2} END {print v}' "$log")
+  rate=$(awk '/stat::average_exec_per_sec:/ {v = $2} END {print v}' "$log")
   corpus=$(ls "$out/corpus/$name" | wc -l)
   status=$(awk -v n="$name" '$1 == n {print $2}' "$out/logs/status.txt")
   result=ok

@@ -117,7 +117,7 @@ Mission ParsePlan(const std::string& text, const std::string& origin) {
   Json root;
   try {
     root = Json::parse(text);  // the message names line and column
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // a syntax error, or a number out of range ("1e999")
     throw MissionFileError(origin + ": not valid JSON: " + e.what());
   }
   PlanReader r(origin);

@@ -123,6 +123,9 @@ const std::map<Topic, Decoder>& Decoders() {
          st.utime = m.utime;
          st.seq = m.header.seq;
          st.target_seq = m.target_seq;
+         // Checked before the cast: an enum holding a value it does not name is undefined.
+         if (m.state < TrackStatus::kIdle || m.state > TrackStatus::kRejected)
+           throw std::invalid_argument("unknown tracker state " + std::to_string(m.state));
          st.state = static_cast<TrackStatus::State>(m.state);
          st.center_x = m.center_x;
          st.center_y = m.center_y;

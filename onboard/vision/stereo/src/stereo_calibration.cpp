@@ -4,16 +4,69 @@
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
+#include <sstream>
 #include <string>
+#include <string_view>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgproc.hpp>
+#include <nlohmann/json.hpp>
+
+#include "uav/shared/text_file.hpp"
 
 namespace uav::vision {
 
 namespace {
+
+bool NumberListChars(std::string_view s) {
+  return s.find_first_not_of("0123456789.eE+-, []nanifNANIF") == std::string_view::npos;  // .nan, .inf too
+}
+
+// OpenCV's FileStorage parser can loop forever or allocate without bound on malformed text (found
+// by fuzzing: a 56-byte YAML file hangs it). So a file reaches it only in the shape it writes:
+// JSON that parses, or YAML of `key: number`, `key: !!opencv-matrix` with indented rows, cols, dt
+// and data lines. The empty string, or the first line that is not, with what it should be.
+std::string NotWhatWeWrite(const std::string& text) {
+  if (text.size() > 65536) return "larger than 64 kB";
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && text[first] == '{')
+    return nlohmann::json::accept(text) ? "" : "not valid JSON";
+  std::istringstream in(text);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::string_view l(line);
+    const size_t indent = l.find_first_not_of(' ');
+    if (indent == std::string_view::npos || l[indent] == '#') continue;
+    const std::string where = "line " + std::to_string(n) + " ";
+    if (n == 1) {
+      if (l.rfind("%YAML", 0) != 0 || l.substr(5).find_first_not_of(":. 0123456789") != std::string_view::npos)
+        return where + "is not %YAML:1.0";
+      continue;
+    }
+    if (l == "---") continue;
+    const size_t colon = l.find(':');
+    const std::string_view key = l.substr(indent, colon == std::string_view::npos ? 0 : colon - indent);
+    std::string_view value = colon == std::string_view::npos ? l.substr(indent) : l.substr(colon + 1);
+    if (!value.empty() && value.front() == ' ') value.remove_prefix(1);
+    const bool name = !key.empty() && key.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") ==
+                                          std::string_view::npos;
+    if (indent == 0) {
+      if (!name || (value != "!!opencv-matrix" && !NumberListChars(value))) return where + "is not 'key: number' or 'key: !!opencv-matrix'";
+    } else if (colon == std::string_view::npos) {
+      if (!NumberListChars(value)) return where + "is not a continued data list";
+    } else if (key == "rows" || key == "cols") {
+      if (value.empty() || value.find_first_not_of("0123456789") != std::string_view::npos) return where + "is not a row or column count";
+    } else if (key == "dt") {
+      if (value.empty() || value.find_first_not_of("abcdefghijklmnopqrstuvwxyz") != std::string_view::npos) return where + "is not a data type";
+    } else if (key != "data" || !NumberListChars(value)) {
+      return where + "is not a matrix's rows, cols, dt or data";
+    }
+  }
+  return "";
+}
 cv::Mat CameraMatrix(const CameraIntrinsics& k) {
   return (cv::Mat_<double>(3, 3) << k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
 }
@@ -106,8 +159,8 @@ StereoCalibration CalibrateStereo(const std::vector<cv::Mat>& left, const std::v
 void WriteStereoCalibration(const std::string& path, const StereoCalibration& c) {
   const std::filesystem::path p(path);
   const std::string ext = p.extension().string();
-  if (ext != ".yml" && ext != ".yaml" && ext != ".xml" && ext != ".json")
-    throw std::runtime_error("calibration file " + path + ": extension must be .yml, .yaml, .xml or .json");
+  if (ext != ".yml" && ext != ".yaml" && ext != ".json")
+    throw std::runtime_error("calibration file " + path + ": extension must be .yml, .yaml or .json");
   const Eigen::Isometry3d T_RL = c.rig.T_LR.inverse();
   cv::Mat R, T, D1(1, 5, CV_64F), D2(1, 5, CV_64F);
   cv::eigen2cv(Eigen::Matrix3d(T_RL.linear()), R);
@@ -138,17 +191,31 @@ void WriteStereoCalibration(const std::string& path, const StereoCalibration& c)
 StereoCalibration ReadStereoCalibration(const std::string& path) {
   auto fail = [&](const std::string& what) { return std::runtime_error("calibration file " + path + ": " + what); };
   if (!std::filesystem::is_regular_file(path)) throw fail("no such file");
+  const std::string text = ReadTextFile(path, "calibration file");
+  if (const std::string problem = NotWhatWeWrite(text); !problem.empty())
+    throw fail(problem + " (a calibration is YAML or JSON as uav-stereo-calibrate writes it)");
   cv::FileStorage fs;
   try {
-    fs.open(path, cv::FileStorage::READ);
-  } catch (const cv::Exception& e) {
+    fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  } catch (const std::exception& e) {  // cv::Exception, and std::length_error from its YAML parser
     throw fail("not an OpenCV YAML/XML/JSON file");
   }
   if (!fs.isOpened()) throw fail("not an OpenCV YAML/XML/JSON file");
   auto matrix = [&](const char* key, int rows, int cols) {
     cv::Mat m;
-    if (fs[key].empty()) throw fail(std::string("missing ") + key);
-    fs[key] >> m;
+    const cv::FileNode node = fs[key];
+    if (node.empty()) throw fail(std::string("missing ") + key);
+    try {
+      // The size first: a matrix header claiming a billion rows must not be allocated.
+      if (!node.isMap() || !node["rows"].isInt() || !node["cols"].isInt() ||
+          int64_t{static_cast<int>(node["rows"])} * static_cast<int>(node["cols"]) != int64_t{rows} * cols)
+        throw fail(std::string(key) + " must have " + std::to_string(rows * cols) + " entries");
+      node >> m;
+    } catch (const std::runtime_error&) {
+      throw;
+    } catch (const std::exception&) {
+      throw fail(std::string(key) + " is not a matrix");
+    }
     if (m.total() != static_cast<std::size_t>(rows * cols)) throw fail(std::string(key) + " must have " + std::to_string(rows * cols) + " entries");
     m.convertTo(m, CV_64F);
     m = m.reshape(1, rows);
@@ -156,9 +223,15 @@ StereoCalibration ReadStereoCalibration(const std::string& path) {
     return m;
   };
   int width = 0, height = 0;
+  double rms_px = 0;
   if (fs["image_width"].empty() || fs["image_height"].empty()) throw fail("missing image_width or image_height");
-  fs["image_width"] >> width;
-  fs["image_height"] >> height;
+  try {
+    fs["image_width"] >> width;
+    fs["image_height"] >> height;
+    if (!fs["rms_px"].empty()) fs["rms_px"] >> rms_px;
+  } catch (const std::exception&) {
+    throw fail("image_width, image_height or rms_px is not a number");
+  }
   const cv::Size size(width, height);
   StereoCalibration c;
   // One entry after the other, so the first bad one is named.
@@ -170,7 +243,7 @@ StereoCalibration ReadStereoCalibration(const std::string& path) {
   const cv::Mat T = matrix("T", 3, 1);
   c.rig.left = Intrinsics(K1, D1, size);
   c.rig.right = Intrinsics(K2, D2, size);
-  if (!fs["rms_px"].empty()) fs["rms_px"] >> c.rms_px;
+  c.rms_px = rms_px;
   Eigen::Matrix3d R_RL;
   Eigen::Vector3d t_RL;
   cv::cv2eigen(R, R_RL);

@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
   params.disparity.texture_threshold = 0.0;  // any pair; the vehicle masks featureless areas (2)
   cli.add_option("left", left_path, "left image")->required();
   cli.add_option("right", right_path, "right image")->required();
-  auto* calib = cli.add_option("--calib", calib_path, "calibration file (.yml/.xml) of a raw pair");
+  auto* calib = cli.add_option("--calib", calib_path, "calibration file (.yml/.json) of a raw pair");
   cli.add_flag("--rectified", rectified, "the pair is already rectified")->excludes(calib);
   cli.add_option("--focal", focal_px, "rectified focal length [px] (with --rectified)");
   cli.add_option("--baseline", baseline_m, "baseline [m] (with --rectified)");

@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> images;
   cli.add_option("--board", board_text, "inner corners, COLSxROWS")->capture_default_str();
   cli.add_option("--square", square_m, "square size [m]")->capture_default_str();
-  cli.add_option("--out", out, "calibration file (.yml, .yaml, .xml, .json)")->required();
+  cli.add_option("--out", out, "calibration file (.yml, .yaml, .json)")->required();
   cli.add_option("images", images, "LEFT RIGHT pairs")->required();
   CLI11_PARSE(cli, argc, argv);
   uav::vision::ChessboardSpec board;

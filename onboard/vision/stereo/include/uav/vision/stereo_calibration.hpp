@@ -31,7 +31,7 @@ struct StereoCalibration {
 StereoCalibration CalibrateStereo(const std::vector<cv::Mat>& left, const std::vector<cv::Mat>& right,
                                   const ChessboardSpec& board);
 
-// Writes through a temporary name (.yml, .yaml, .xml or .json). Throws std::runtime_error naming the path.
+// Writes through a temporary name (.yml, .yaml or .json). Throws std::runtime_error naming the path.
 void WriteStereoCalibration(const std::string& path, const StereoCalibration& calibration);
 // Throws std::runtime_error naming the file and the missing or bad entry (a missing file, a
 // non-finite or wrongly sized matrix, intrinsics out of range).
