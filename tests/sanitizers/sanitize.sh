@@ -6,11 +6,11 @@
 #              vehicle's command intake, plus every fuzz harness over its seeds (CI runs this)
 #   tsan       TSan: the threaded parts, the lockstep scheduler and the workers (test_onboard),
 #              the GCS link (test_gcs), and a whole flight over LCM (integration.fly_mission)
-# Usage: tests/sanitizers/sanitize.sh MODE [BUILD_DIR]
+# Usage: tests/sanitizers/sanitize.sh MODE [BUILD_DIR]   (UAV_SANITIZE_JOBS: parallel jobs, default nproc)
 set -euo pipefail
 src=$(cd "$(dirname "$0")/../.." && pwd)
 mode=${1:?usage: sanitize.sh asan|asan-unit|tsan [BUILD_DIR]}
-jobs=$(nproc)
+jobs=${UAV_SANITIZE_JOBS:-$(nproc)}
 supp="$src/tests/sanitizers"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=1:strict_string_checks=1"
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"

@@ -497,6 +497,14 @@ TEST_F(LinkTest, MismatchedVehicleIdsAndGarbageAreDroppedAndCounted) {
   const char garbage[] = "not an LCM message";
   EXPECT_FALSE(link_.Dispatch("UAV1/STATE", garbage, sizeof garbage, now_));
   EXPECT_EQ(link_.dropped_messages(), 3);
+  // A tracker state the enum does not name: refused before the cast (found by fuzzing).
+  uavmsg::track_status_t ts{};
+  ts.header = {"UAV1", 1};
+  ts.state = 7;
+  bus_.Publish("UAV1/TRACK_STATUS", ts);
+  Poll();
+  EXPECT_EQ(link_.dropped_messages(), 4);
+  EXPECT_NE(link_.last_drop_reason().find("unknown tracker state 7"), std::string::npos) << link_.last_drop_reason();
   EXPECT_TRUE(model_.vehicles().empty() || !model_.vehicles().at("UAV1").state);
 }
 

@@ -125,9 +125,7 @@ TEST(GcsTracking, SelectionIsValidatedAndStatusIsPerVehicle) {
   TrackStatus bad = st;
   bad.center_x = NAN;
   m.OnTrackStatus("UAV1", bad, 0.3);
-  bad = st;
-  bad.state = static_cast<TrackStatus::State>(7);
-  m.OnTrackStatus("UAV1", bad, 0.3);
+  // A state outside the enum is refused by the link before it becomes one (LinkTest).
   bad = st;
   bad.center_y = 1.6;
   m.OnTrackStatus("UAV1", bad, 0.3);
