@@ -25,8 +25,15 @@ CaptureSession ReadCaptureSession(const std::string& path) {
     s.home.longitude_deg = j.at("home").at("longitude_deg");
     s.home.altitude_m = j.at("home").at("altitude_m");
     const json& c = j.at("camera");
-    s.camera.width = c.at("width");
-    s.camera.height = c.at("height");
+    // Checked before converting: a float too large for an int is undefined behaviour.
+    auto pixels = [&](const char* name) {
+      const json& v = c.at(name);
+      if (!v.is_number_integer() || v.get<double>() < 1 || v.get<double>() > 100000)
+        Fail(path + ": camera " + name + " must be a whole number of pixels, 1 to 100000");
+      return static_cast<int>(v.get<double>());
+    };
+    s.camera.width = pixels("width");
+    s.camera.height = pixels("height");
     s.camera.fx = c.at("fx");
     s.camera.fy = c.at("fy");
     s.camera.cx = c.at("cx");
