@@ -47,8 +47,8 @@ for name in $names; do
   corpus=$(ls "$out/corpus/$name" | wc -l)
   status=$(awk -v n="$name" '$1 == n {print $2}' "$out/logs/status.txt")
   result=ok
-  if [ "$status" != 0 ] || ls "$out/artifacts/$name-"* > /dev/null 2>&1; then
-    result="FOUND: $(ls "$out/artifacts/$name-"* 2>/dev/null | head -1) (log $log)"
+  if [ "$status" != 0 ] || compgen -G "$out/artifacts/$name-*" > /dev/null; then
+    result="FOUND: $(compgen -G "$out/artifacts/$name-*" | head -1 || true) (log $log)"
     failed=1
   fi
   total_execs=$((total_execs + ${execs:-0}))

@@ -2,8 +2,8 @@
 # Builds the project with sanitizers in its own tree and runs tests under them; any report
 # fails (halt on the first error, leaks included).
 #   asan       ASan+UBSan: every unit and integration test (build-asan/)
-#   asan-unit  ASan+UBSan: the unit tests of the shared code, the mission code, the GCS and the
-#              vehicle's command intake, plus every fuzz harness over its seeds (CI runs this)
+#   asan-unit  ASan+UBSan: the unit tests of the shared code, the mission code and the GCS, and
+#              the fuzz harnesses of the messages and files over their seeds (CI runs this)
 #   tsan       TSan: the threaded parts, the lockstep scheduler and the workers (test_onboard),
 #              the GCS link (test_gcs), and a whole flight over LCM (integration.fly_mission)
 # Usage: tests/sanitizers/sanitize.sh MODE [BUILD_DIR]   (UAV_SANITIZE_JOBS: parallel jobs, default nproc)
@@ -24,7 +24,12 @@ esac
 case "$mode" in
   # Unit tests are labelled with their executable's name (tests/CMakeLists.txt).
   asan) targets=(all) select=(-E '^bench\.') ;;
-  asan-unit) targets=(test_shared test_waypoints test_gcs fuzzers) select=(-L '^(test_shared|test_waypoints|test_gcs|fuzz)$') ;;
+  # The fuzz harnesses of the scene and the stereo calibration would pull the renderer and PCL
+  # into this build; their seeds run in the g++ build and under libFuzzer's ASan.
+  asan-unit)
+    targets=(test_shared test_waypoints test_gcs make_fuzz_seeds fuzz_command_grammar fuzz_mission_files fuzz_parameters
+             fuzz_capture_folder fuzz_gcs_script fuzz_vehicle_messages fuzz_gcs_messages fuzz_event_log)
+    select=(-L '^(test_shared|test_waypoints|test_gcs|fuzz)$' -E '^fuzz\.(scene|stereo_calibration)\.seeds$') ;;
   tsan) targets=(test_onboard test_gcs uav-onboard uav-gcs uav-keygen)
         select=(-R '^(LockstepScheduler|CameraWorker|StereoWorker|ActiveStereoWorker|TrackWorker|LinkTest|integration\.fly_mission)') ;;
 esac

@@ -53,8 +53,14 @@ std::string NotWhatWeWrite(const std::string& text) {
     if (!value.empty() && value.front() == ' ') value.remove_prefix(1);
     const bool name = !key.empty() && key.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") ==
                                           std::string_view::npos;
+    // The one-line flow style people write by hand: K1: !!opencv-matrix {rows: 3, cols: 3, dt: d, data: [...]}
+    const std::string_view flow_tag = "!!opencv-matrix {";
+    const bool flow = value.rfind(flow_tag, 0) == 0 && value.back() == '}' &&
+                      value.substr(flow_tag.size(), value.size() - flow_tag.size() - 1)
+                              .find_first_not_of("0123456789.eE+-, []:rowscldtafuinNANIF") == std::string_view::npos;
     if (indent == 0) {
-      if (!name || (value != "!!opencv-matrix" && !NumberListChars(value))) return where + "is not 'key: number' or 'key: !!opencv-matrix'";
+      if (!name || (value != "!!opencv-matrix" && !flow && !NumberListChars(value)))
+        return where + "is not 'key: number' or 'key: !!opencv-matrix'";
     } else if (colon == std::string_view::npos) {
       if (!NumberListChars(value)) return where + "is not a continued data list";
     } else if (key == "rows" || key == "cols") {
