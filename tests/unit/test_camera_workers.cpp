@@ -6,6 +6,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <opencv2/core/utility.hpp>
 
 #include "uav/sim/sim_cameras.hpp"
 #include "uav/app/active_stereo_worker.hpp"
@@ -16,6 +17,14 @@
 
 namespace uav::app {
 namespace {
+
+#if defined(__SANITIZE_THREAD__)
+// Under ThreadSanitizer (tests/sanitizers/sanitize.sh tsan): OpenCV's parallel_for_ runs on TBB
+// threads that TSan cannot see joined (neither library is instrumented), so every loop in the
+// renderer and the vision code would be reported. Run them on the calling thread: the workers'
+// own threads, the blackboard and the scheduler are what is checked.
+const int kSerialOpenCv = (cv::setNumThreads(0), 0);
+#endif
 
 world::Scene LoadScene(const std::string& name) {
   return world::Scene::LoadFile(std::string(UAV_RESOURCE_DIR) + "/scenes/" + name + ".scene.json");
