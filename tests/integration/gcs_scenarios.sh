@@ -7,7 +7,7 @@ set -euo pipefail
 bin=$1 script=$2 scene=$3
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
 work=$(mktemp -d)
-trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
+trap 'kill $(jobs -p) 2>/dev/null || true; wait 2>/dev/null || true; rm -rf "$work"' EXIT
 key="$work/uav.key"
 "$bin/uav-keygen" "$key" > /dev/null
 "$bin/uav-onboard" --sim --speed 2 --vehicle-id UAV1 --lcm-url "$url" --key "$key" --scene "$scene" > "$work/uav1.log" 2>&1 &

@@ -6,7 +6,7 @@
 set -euo pipefail
 bin=$1 script=$2
 work=$(mktemp -d)
-trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
+trap 'kill $(jobs -p) 2>/dev/null || true; wait 2>/dev/null || true; rm -rf "$work"' EXIT
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
 key="$work/uav.key"
 "$bin/uav-keygen" "$key" > /dev/null

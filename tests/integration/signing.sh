@@ -12,7 +12,7 @@ bin=$1
 dir=$(cd "$(dirname "$0")" && pwd)
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
 work=$(mktemp -d)
-trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
+trap 'kill $(jobs -p) 2>/dev/null || true; wait 2>/dev/null || true; rm -rf "$work"' EXIT
 "$bin/uav-keygen" "$work/vehicle.key" > /dev/null
 "$bin/uav-keygen" "$work/stranger.key" > /dev/null
 "$bin/uav-onboard" --sim --speed 4 --vehicle-id UAV1 --lcm-url "$url" --key "$work/vehicle.key" > "$work/onboard.log" 2>&1 &

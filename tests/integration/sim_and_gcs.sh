@@ -10,7 +10,7 @@ run_sim_and_gcs() {
   local bin=$1 speed=$2 name=$3 script=$4 limit=$5 linger=${6:-0} until=${7:-false}
   local url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
   work=$(mktemp -d)
-  trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
+  trap 'kill $(jobs -p) 2>/dev/null || true; wait 2>/dev/null || true; rm -rf "$work"' EXIT
   # A signing key for this test alone, shared by the vehicle and the GCS.
   key="$work/uav.key"
   "$bin/uav-keygen" "$key" > /dev/null
