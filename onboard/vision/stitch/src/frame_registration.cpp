@@ -133,76 +133,101 @@ void Strongest(std::vector<cv::KeyPoint>* k, int n) {
 }
 }  // namespace
 
-Registration FrameRegistration::Register(const cv::Mat& prev, const cv::Mat& cur, const cv::Mat& prev_mask) const {
+FrameFeatures FrameRegistration::Features(const cv::Mat& grey, const cv::Mat& mask) const {
+  Require(!grey.empty(), "empty image");
+  Require(grey.type() == CV_8UC1, "images must be 8-bit grey");
+  Require(mask.empty() || (mask.type() == CV_8UC1 && mask.size() == grey.size()),
+          "the mask must be 8-bit and the image's size");
+  FrameFeatures f;
+  switch (params_.detector) {
+    case Detector::kGfttKlt:
+      cv::goodFeaturesToTrack(grey, f.points, params_.max_corners, params_.corner_quality, params_.corner_spacing_px, mask);
+      return f;
+    case Detector::kFastOrb:
+      impl_->fast->detect(grey, f.keypoints, mask);
+      Strongest(&f.keypoints, 4 * params_.max_corners);
+      impl_->orb->compute(grey, f.keypoints, f.descriptors);
+      break;
+    case Detector::kSiftFlann:
+      impl_->sift->detectAndCompute(grey, mask, f.keypoints, f.descriptors);
+      break;
+    case Detector::kAsift:
+      AffineSift(impl_->sift, grey, &f.keypoints, &f.descriptors);
+      break;
+  }
+  for (const cv::KeyPoint& k : f.keypoints) f.points.push_back(k.pt);
+  return f;
+}
+
+Registration FrameRegistration::Register(const cv::Mat& prev, const cv::Mat& cur) const {
+  Require(!prev.empty() && !cur.empty(), "empty image");
+  return Register(prev, Features(prev), cur);
+}
+
+FeatureMatches FrameRegistration::Match(const cv::Mat& prev, const FrameFeatures& features, const cv::Mat& cur) const {
   Require(!prev.empty() && !cur.empty(), "empty image");
   Require(prev.type() == CV_8UC1 && cur.type() == CV_8UC1, "images must be 8-bit grey");
   Require(prev.size() == cur.size(), "images must have the same size");
-  Require(prev_mask.empty() || (prev_mask.type() == CV_8UC1 && prev_mask.size() == prev.size()),
-          "the mask must be 8-bit and the images' size");
-  Registration r;
-  std::vector<cv::Point2f> a, b;  // current -> previous
+  Require(features.keypoints.empty() || (features.keypoints.size() == features.points.size() &&
+                                         features.descriptors.rows == static_cast<int>(features.points.size())),
+          "features must have one keypoint and descriptor per point");
+  FeatureMatches r;
+  std::vector<cv::Point2f>& a = r.cur;
+  std::vector<cv::Point2f>& b = r.prev;
+  r.corners = static_cast<int>(features.points.size());
   if (params_.detector == Detector::kGfttKlt) {
-    std::vector<cv::Point2f> p_prev, p_cur;
-    cv::goodFeaturesToTrack(prev, p_prev, params_.max_corners, params_.corner_quality, params_.corner_spacing_px, prev_mask);
-    r.corners = static_cast<int>(p_prev.size());
     if (r.corners < params_.min_inliers) {
       r.failure = "too few corners (" + std::to_string(r.corners) + ")";
       return r;
     }
+    std::vector<cv::Point2f> p_cur;
     std::vector<uchar> status;
     std::vector<float> error;
-    cv::calcOpticalFlowPyrLK(prev, cur, p_prev, p_cur, status, error,
+    cv::calcOpticalFlowPyrLK(prev, cur, features.points, p_cur, status, error,
                              cv::Size(params_.klt_window_px, params_.klt_window_px), params_.klt_levels);
     for (size_t i = 0; i < status.size(); ++i)
       if (status[i]) {
         a.push_back(p_cur[i]);
-        b.push_back(p_prev[i]);
+        b.push_back(features.points[i]);
       }
   } else {
-    // Keypoints and descriptors in both frames, then matching (brute force with cross-check
-    // for ORB's binary descriptors; FLANN with Lowe's ratio test for SIFT).
-    std::vector<cv::KeyPoint> k_prev, k_cur;
-    cv::Mat d_prev, d_cur;
-    auto describe = [&](const cv::Mat& image, const cv::Mat& mask, std::vector<cv::KeyPoint>* k, cv::Mat* d) {
-      if (params_.detector == Detector::kFastOrb) {
-        impl_->fast->detect(image, *k, mask);
-        Strongest(k, 4 * params_.max_corners);
-        impl_->orb->compute(image, *k, *d);
-      } else if (params_.detector == Detector::kAsift) {
-        AffineSift(impl_->sift, image, k, d);
-      } else {
-        impl_->sift->detectAndCompute(image, mask, *k, *d);
-      }
-    };
-    describe(prev, prev_mask, &k_prev, &d_prev);
-    describe(cur, cv::Mat(), &k_cur, &d_cur);
-    r.corners = static_cast<int>(k_prev.size());
-    if (r.corners < params_.min_inliers || static_cast<int>(k_cur.size()) < params_.min_inliers) {
-      r.failure = "too few corners (" + std::to_string(std::min(k_prev.size(), k_cur.size())) + ")";
+    // Keypoints and descriptors in the current frame too, then matching (brute force with
+    // cross-check for ORB's binary descriptors; FLANN with Lowe's ratio test for SIFT).
+    const FrameFeatures current = Features(cur);
+    if (r.corners < params_.min_inliers || static_cast<int>(current.points.size()) < params_.min_inliers) {
+      r.failure = "too few corners (" + std::to_string(std::min(features.points.size(), current.points.size())) + ")";
       return r;
     }
     if (params_.detector == Detector::kFastOrb) {
       std::vector<cv::DMatch> matches;
-      impl_->matcher->match(d_cur, d_prev, matches);
+      impl_->matcher->match(current.descriptors, features.descriptors, matches);
       for (const cv::DMatch& m : matches) {
-        a.push_back(k_cur[m.queryIdx].pt);
-        b.push_back(k_prev[m.trainIdx].pt);
+        a.push_back(current.points[m.queryIdx]);
+        b.push_back(features.points[m.trainIdx]);
       }
     } else {
       std::vector<std::vector<cv::DMatch>> knn;
-      impl_->matcher->knnMatch(d_cur, d_prev, knn, 2);
+      impl_->matcher->knnMatch(current.descriptors, features.descriptors, knn, 2);
       for (const auto& m : knn)
         if (m.size() == 2 && m[0].distance < 0.75f * m[1].distance) {
-          a.push_back(k_cur[m[0].queryIdx].pt);
-          b.push_back(k_prev[m[0].trainIdx].pt);
+          a.push_back(current.points[m[0].queryIdx]);
+          b.push_back(features.points[m[0].trainIdx]);
         }
     }
   }
-  r.tracked = static_cast<int>(a.size());
-  if (r.tracked < params_.min_inliers) {
-    r.failure = "too few corners tracked (" + std::to_string(r.tracked) + ")";
-    return r;
-  }
+  if (static_cast<int>(a.size()) < params_.min_inliers) r.failure = "too few corners tracked (" + std::to_string(a.size()) + ")";
+  return r;
+}
+
+Registration FrameRegistration::Register(const cv::Mat& prev, const FrameFeatures& features, const cv::Mat& cur) const {
+  Registration r;
+  const FeatureMatches m = Match(prev, features, cur);
+  r.corners = m.corners;
+  r.tracked = static_cast<int>(m.prev.size());
+  r.failure = m.failure;
+  if (!r.failure.empty()) return r;
+  const std::vector<cv::Point2f>& a = m.cur;
+  const std::vector<cv::Point2f>& b = m.prev;
   // RANSAC, then OpenCV's Levenberg-Marquardt refinement on the inliers (Eq. 6.2-6.3).
   std::vector<uchar> inlier_mask;
   const cv::Mat H = cv::findHomography(a, b, cv::RANSAC, params_.ransac_threshold_px, inlier_mask, 2000, 0.999);

@@ -140,6 +140,7 @@ struct MapStitcher::Impl {
   bool started = false;
   bool georeferenced = false;
   cv::Mat prev_grey;
+  FrameFeatures prev_features;  // of prev_grey
   Eigen::Matrix3d H_map_prev = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d C_prev = Eigen::Matrix3d::Identity();  // the previous frame's correction
   std::vector<KeptFrame> kept;  // every placed frame
@@ -438,7 +439,7 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   if (m.reduce > 1) cv::resize(grey, grey, cv::Size(m.k.width / m.reduce, m.k.height / m.reduce), 0, 0, cv::INTER_AREA);
   Eigen::Matrix3d H;
   if (m.started) {
-    step.registration = InFullPixels(m.registration.Register(m.prev_grey, grey), m.reduce);
+    step.registration = InFullPixels(m.registration.Register(m.prev_grey, m.prev_features, grey), m.reduce);
     step.registered = step.registration.ok;
     step.failure = step.registration.failure;
   }
@@ -458,6 +459,7 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   } else {
     if (step.failure.empty()) step.failure = "the camera does not see the ground";
     m.prev_grey = grey;  // the next frame registers against this one and chains from the last placement
+    m.prev_features = m.registration.Features(grey);
     return step;
   }
   step.placed = true;
@@ -471,8 +473,9 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   if (have_nav) kept.H_nav = H_nav;
   if (m.undistort_x.empty() && !frame.encoded.empty()) kept.jpeg = frame.encoded;
   else cv::imencode(".jpg", image, kept.jpeg, {cv::IMWRITE_JPEG_QUALITY, m.p.kept_jpeg_quality});
-  m.kept.push_back(std::move(kept));
   m.prev_grey = grey;
+  m.prev_features = m.registration.Features(grey);
+  m.kept.push_back(std::move(kept));
   step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return step;
 }
@@ -621,12 +624,22 @@ AlignmentReport MapStitcher::Align() {
     if (best_of_run.size() > static_cast<size_t>(m.p.cross_pairs_per_frame)) best_of_run.resize(m.p.cross_pairs_per_frame);
     for (const auto& [o, i] : best_of_run) partners.emplace_back(i, true);
   }
-  // Every frame's pairs are matched independently: spread over the cores, collected in order.
+  // Every frame's pairs are matched independently: spread over the cores in one run of
+  // consecutive frames each (a frame's partners are decoded once per run), collected in order.
   std::vector<std::vector<FrameMatches>> tracked_of(n);
   cv::parallel_for_(cv::Range(1, n), [&](const cv::Range& range) {
-    // No more corners than the ground gate keeps.
+    // Each frame's features are found once, for all its partners. A pair uses no more corners
+    // than the ground gate keeps, the strongest where the two frames overlap: so four times
+    // that many are found over the frame (a cross-line overlap can be a quarter of it), down
+    // to a tenth of the registration's corner quality (relative to the frame's strongest, and
+    // the overlap can be its plainest part: at the registration's own quality, 10 of 77
+    // cross-line pairs were lost on the village).
+    // Descriptor detectors give their keypoints unordered: a pair uses all in the overlap.
+    const bool corners = m.p.registration.detector == Detector::kGfttKlt;
+    const size_t pair_corners = 4 * kMatchesPerPair;
     RegistrationParams pair_params = m.p.registration;
-    pair_params.max_corners = std::min(pair_params.max_corners, static_cast<int>(4 * kMatchesPerPair));
+    pair_params.max_corners = static_cast<int>(corners ? 4 * pair_corners : pair_corners);
+    pair_params.corner_quality = 0.1 * m.p.registration.corner_quality;
     const FrameRegistration registration(pair_params);
     // Along-track partners are the frames a few steps back, decoded moments ago.
     std::map<int, cv::Mat> decoded;
@@ -638,24 +651,33 @@ AlignmentReport MapStitcher::Align() {
     };
     for (int k = range.start; k < range.end; ++k) {
       const cv::Mat grey_k = grey(k);
+      const FrameFeatures features_k = registration.Features(grey_k);
       for (const auto& [i, cross] : partners_of[k]) {
         // Frame i warped into frame k's pixels by the live placements, so registration sees two
         // views that differ by the placements' error only (any heading, any line direction);
-        // corners are looked for where the two overlap.
+        // frame k's features are used where the two overlap, a tracking window inside.
         const Eigen::Matrix3d W = m.kept[k].H.inverse() * m.kept[i].H;  // i pixel -> k pixel
-        cv::Mat W_small, warped, mask;
-        cv::eigen2cv(Eigen::Matrix3d(R.inverse() * W * R), W_small);
-        cv::warpPerspective(grey(i), warped, W_small, grey_k.size());
-        cv::warpPerspective(cv::Mat(grey_k.size(), CV_8U, cv::Scalar(255)), mask, W_small, grey_k.size(), cv::INTER_NEAREST);
-        cv::erode(mask, mask, cv::Mat(), cv::Point(-1, -1), m.p.registration.klt_window_px, cv::BORDER_CONSTANT, cv::Scalar(0));
-        const Registration r = registration.Register(grey_k, warped, mask);
-        if (r.tracked_prev.empty()) continue;
+        const Eigen::Matrix3d W_small = R.inverse() * W * R;
+        const Eigen::Matrix3d W_small_inverse = W_small.inverse();
+        const double margin = m.p.registration.klt_window_px;
+        const FrameFeatures overlap = features_k.Select(
+            [&](const cv::Point2f& p) {
+              const Eigen::Vector2d q = Apply(W_small_inverse, Eigen::Vector2d(p.x, p.y));
+              return q.x() >= margin && q.y() >= margin && q.x() <= grey_k.cols - 1 - margin &&
+                     q.y() <= grey_k.rows - 1 - margin;
+            },
+            corners ? pair_corners : features_k.points.size());
+        cv::Mat W_cv, warped;
+        cv::eigen2cv(W_small, W_cv);
+        cv::warpPerspective(grey(i), warped, W_cv, grey_k.size());
+        const FeatureMatches r = registration.Match(grey_k, overlap, warped);
+        if (!r.failure.empty()) continue;
         FrameMatches fm;
         fm.a = i;
         fm.b = k;
         fm.cross = cross;
         std::vector<Eigen::Vector2d> in_k, in_warped;
-        KeepMatches(r.tracked_prev, r.tracked_cur, 4 * kMatchesPerPair, &in_k, &in_warped);
+        KeepMatches(r.prev, r.cur, pair_corners, &in_k, &in_warped);
         const Eigen::Matrix3d to_i = W.inverse() * R;
         for (size_t j = 0; j < in_k.size(); ++j) {
           fm.p_b.push_back(Apply(R, in_k[j]));
@@ -664,7 +686,7 @@ AlignmentReport MapStitcher::Align() {
         tracked_of[k].push_back(std::move(fm));
       }
     }
-  });
+  }, std::max(1, cv::getNumThreads()));
   for (std::vector<FrameMatches>& t : tracked_of)
     for (FrameMatches& fm : t) tracked.push_back(std::move(fm));
   // The ground matches of every pair, placed by the live map.

@@ -122,8 +122,11 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
       cell[k] = cv::Rect(span[k][0] + content.x, span[k][1] + content.y, span[k][2] - span[k][0] + 1, span[k][3] - span[k][1] + 1);
   best.release();
 
-  // 1. Exposure: one gain per frame, from the frames decoded at 1/reduce and warped at that scale.
-  const int reduce = content.area() > 4'000'000 ? 8 : content.area() > 1'000'000 ? 4 : 2;
+  // 1. Exposure: one gain per frame, from the frames decoded at 1/reduce (JPEG's own DCT scaling:
+  // nearly free at 1/8) and warped at that scale. A gain is a mean over an overlap, for which
+  // 120 px across a frame is plenty; OpenCV's compensator then costs little per pair of frames.
+  int reduce = 8;
+  while (reduce > 1 && image_size.width / reduce < 120) reduce /= 2;
   const double small = 1.0 / reduce;
   std::vector<cv::Point> corners;
   std::vector<cv::UMat> images;

@@ -56,17 +56,54 @@ struct Registration {
   std::vector<uint8_t> inlier;
 };
 
+// What registration finds in a frame before pairing it: corners (gftt, strongest first) or
+// keypoints with descriptors. Found once per frame and used against each partner.
+struct FrameFeatures {
+  std::vector<cv::Point2f> points;       // the corners, or the keypoints' positions
+  std::vector<cv::KeyPoint> keypoints;   // descriptor detectors only
+  cv::Mat descriptors;                   // one row per keypoint; descriptor detectors only
+  // The features whose points pass `keep`, in order, at most `most` of them.
+  template <class Keep>
+  FrameFeatures Select(Keep keep, size_t most) const {
+    FrameFeatures out;
+    for (size_t i = 0; i < points.size() && out.points.size() < most; ++i) {
+      if (!keep(points[i])) continue;
+      out.points.push_back(points[i]);
+      if (!keypoints.empty()) {
+        out.keypoints.push_back(keypoints[i]);
+        out.descriptors.push_back(descriptors.row(static_cast<int>(i)));
+      }
+    }
+    return out;
+  }
+};
+
+// Features of one frame followed (KLT) or matched (descriptors) into another, before any model.
+struct FeatureMatches {
+  int corners = 0;                           // features given in the first frame
+  std::vector<cv::Point2f> prev, cur;        // the pairs, index by index
+  std::string failure;                       // non-empty: too few features or pairs to register
+};
+
 class FrameRegistration {
  public:
   // Throws std::invalid_argument naming a bad parameter.
   explicit FrameRegistration(const RegistrationParams& params = RegistrationParams());
   ~FrameRegistration();
   FrameRegistration(FrameRegistration&&) noexcept;
-  // 8-bit grey images of the same size; corners are looked for where prev_mask (8-bit, same
-  // size) is non-zero, everywhere when it is empty (ASIFT always looks everywhere). Throws std::invalid_argument for empty,
-  // mismatched or non-grey images; a registration that fails its checks returns ok = false with
-  // the reason.
-  Registration Register(const cv::Mat& prev_grey, const cv::Mat& cur_grey, const cv::Mat& prev_mask = cv::Mat()) const;
+  // The features of an 8-bit grey image, looked for where mask (8-bit, same size) is non-zero,
+  // everywhere when it is empty (ASIFT always looks everywhere). Throws std::invalid_argument
+  // for an empty or non-grey image or a mismatched mask.
+  FrameFeatures Features(const cv::Mat& grey, const cv::Mat& mask = cv::Mat()) const;
+  // 8-bit grey images of the same size; prev's features are found first. Throws
+  // std::invalid_argument for empty, mismatched or non-grey images; a registration that fails
+  // its checks returns ok = false with the reason.
+  Registration Register(const cv::Mat& prev_grey, const cv::Mat& cur_grey) const;
+  // The same with prev's features already found (by Features on prev_grey, or a Select of them).
+  Registration Register(const cv::Mat& prev_grey, const FrameFeatures& prev_features, const cv::Mat& cur_grey) const;
+  // The pairs only, without the homography and its checks (for a caller that sorts the pairs
+  // itself, as the alignment's ground gate does).
+  FeatureMatches Match(const cv::Mat& prev_grey, const FrameFeatures& prev_features, const cv::Mat& cur_grey) const;
 
  private:
   struct Impl;
