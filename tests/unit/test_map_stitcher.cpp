@@ -192,7 +192,7 @@ double Percentile(std::vector<double> v, double q) {
 // Global alignment (issue: seamless maps): three lines flown on a navigation solution whose GPS
 // error is a random walk of about 2 m (0.14 m per frame per axis over 200 frames). The live map
 // steps where lines meet; after the joint adjustment the cross-line matches agree to 1.5 px
-// (p95), the seam jump measured against true projections nearly so, and the frames sit where
+// (p95), the seam jump measured against true projections too, and the frames sit where
 // they are up to the navigation's mean error, which no image can see.
 class GlobalAlignment : public ::testing::TestWithParam<unsigned> {};
 
@@ -239,9 +239,10 @@ TEST_P(GlobalAlignment, RemovesTheStepsBetweenSurveyLines) {
               nav_mean.norm(), nav_worst.norm(), report.iterations, report.seconds_matching, report.seconds_solving);
   EXPECT_GT(report.cross_pairs, 60);
   EXPECT_LE(report.cross_after.p95_px, 1.5);
-  // Measured 1.6 and 2.5 px: the rest is each frame's attitude error (0.3 deg), which tilts its
-  // placement and which a similarity per frame cannot take out.
-  EXPECT_LE(Percentile(jumps_after, 0.95), 3.0);
+  // The goal on real surveys is 2 px. Measured 0.98 and 0.66 px with each frame's tilt solved
+  // (2.00 and 1.50 px with a similarity per frame: the attitude error, 0.3 deg, leans each
+  // footprint).
+  EXPECT_LE(Percentile(jumps_after, 0.95), 1.5);
   EXPECT_GT(Percentile(jumps_before, 0.95), 3 * Percentile(jumps_after, 0.95));  // the live map did step
   EXPECT_LE(Percentile(relative, 0.5), 0.5);
   EXPECT_LE((mean - nav_mean).norm(), 0.5);

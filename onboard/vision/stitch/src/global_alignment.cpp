@@ -16,14 +16,18 @@ void Require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("global alignment: " + what);
 }
 
-// x' = c + t + exp(s) R(theta) (x - c), with m = [t_x, t_y, theta, s].
+constexpr int kMoveSize = 6;  // [t_x, t_y, theta, s, g_x, g_y]
+
+// x' = c + (t + exp(s) R(theta) d) / (1 + g . d), d = x - c: a similarity about the frame's
+// centre and the perspective of a small camera tilt (g = tilt / height above ground).
 template <class T>
 void Move(const T* m, const Eigen::Vector2d& x, const Eigen::Vector2d& c, T* out) {
   const T scale = ceres::exp(m[3]);
   const T cs = scale * ceres::cos(m[2]), sn = scale * ceres::sin(m[2]);
   const double dx = x.x() - c.x(), dy = x.y() - c.y();
-  out[0] = c.x() + m[0] + cs * dx - sn * dy;
-  out[1] = c.y() + m[1] + sn * dx + cs * dy;
+  const T w = T(1.0) + m[4] * dx + m[5] * dy;
+  out[0] = c.x() + (m[0] + cs * dx - sn * dy) / w;
+  out[1] = c.y() + (m[1] + sn * dx + cs * dy) / w;
 }
 
 // Two frames' placements of one matched ground point agree (in map pixels).
@@ -42,13 +46,27 @@ struct MatchCost {
 
 // The navigation prior: the move is small, to the navigation solution's own uncertainty.
 struct PriorCost {
-  double inv_position, inv_yaw, inv_scale;  // 1 / sigma in map px, rad, log scale
+  double inv_position, inv_yaw, inv_scale, inv_g;  // 1 / sigma in map px, rad, log scale, 1/map px
   template <class T>
   bool operator()(const T* m, T* r) const {
     r[0] = m[0] * inv_position;
     r[1] = m[1] * inv_position;
     r[2] = m[2] * inv_yaw;
     r[3] = m[3] * inv_scale;
+    r[4] = m[4] * inv_g;
+    r[5] = m[5] * inv_g;
+    return true;
+  }
+};
+
+// Without a navigation prior the tilt is still held to the attitude's uncertainty (a frame that
+// only its neighbours tie would otherwise be free to lean).
+struct TiltCost {
+  double inv_g;
+  template <class T>
+  bool operator()(const T* m, T* r) const {
+    r[0] = m[4] * inv_g;
+    r[1] = m[5] * inv_g;
     return true;
   }
 };
@@ -68,10 +86,15 @@ Eigen::Matrix3d MoveMatrix(const double* m, const Eigen::Vector2d& c) {
   const double scale = std::exp(m[3]);
   Eigen::Matrix2d sR;
   sR << scale * std::cos(m[2]), -scale * std::sin(m[2]), scale * std::sin(m[2]), scale * std::cos(m[2]);
-  Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
-  S.topLeftCorner<2, 2>() = sR;
-  S.topRightCorner<2, 1>() = c + Eigen::Vector2d(m[0], m[1]) - sR * c;
-  return S;
+  // Move(x) = c + (t + sR d) / (1 + g.d), d = x - c, as a matrix: T(c) [sR t; g^T 1] T(-c).
+  Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  M.topLeftCorner<2, 2>() = sR;
+  M.topRightCorner<2, 1>() = Eigen::Vector2d(m[0], m[1]);
+  M.bottomLeftCorner<1, 2>() = Eigen::Vector2d(m[4], m[5]).transpose();
+  Eigen::Matrix3d to_centre = Eigen::Matrix3d::Identity(), from_centre = Eigen::Matrix3d::Identity();
+  to_centre.topRightCorner<2, 1>() = -c;
+  from_centre.topRightCorner<2, 1>() = c;
+  return from_centre * M * to_centre;
 }
 
 // The similarity about c that carries the base placement closest to the start placement.
@@ -90,6 +113,7 @@ void StartMove(const AlignmentFrame& f, const Eigen::Vector2d& c, double* m) {
   const Eigen::Vector2d t = sR * c + S.topRightCorner<2, 1>() - c;
   m[0] = t.x();
   m[1] = t.y();
+  m[4] = m[5] = 0.0;
   if (!std::isfinite(m[0] + m[1] + m[2] + m[3])) m[0] = m[1] = m[2] = m[3] = 0.0;
 }
 
@@ -108,6 +132,7 @@ void ValidateAlignmentParams(const AlignmentParams& p) {
   Require(in(p.nav_drift_sigma_m, 0, 100), "nav_drift_sigma_m must be in (0, 100] m");
   Require(in(p.nav_yaw_sigma_rad, 0, 1), "nav_yaw_sigma_rad must be in (0, 1] rad");
   Require(in(p.nav_scale_sigma, 0, 1), "nav_scale_sigma must be in (0, 1]");
+  Require(in(p.nav_tilt_sigma_rad, 0, 0.5), "nav_tilt_sigma_rad must be in (0, 0.5] rad");
   Require(in(p.match_loss_px, 0, 100), "match_loss_px must be in (0, 100] px");
   Require(in(p.outlier_px, 0, 1000), "outlier_px must be in (0, 1000] px");
   Require(p.max_iterations >= 1 && p.max_iterations <= 1000, "max_iterations must be 1..1000");
@@ -118,8 +143,10 @@ AlignmentSolution AlignFrames(const std::vector<AlignmentFrame>& frames, const s
   ValidateAlignmentParams(params);
   Require(std::isfinite(gsd_m) && gsd_m > 0, "gsd_m must be positive");
   const int n = static_cast<int>(frames.size());
-  for (const AlignmentFrame& f : frames)
+  for (const AlignmentFrame& f : frames) {
     Require(f.H_base.allFinite() && f.H_start.allFinite() && f.centre_px.allFinite(), "a frame's placement is not finite");
+    Require(std::isfinite(f.focal_px) && f.focal_px > 0, "a frame's focal_px must be positive");
+  }
   for (const FrameMatches& fm : matches) {
     Require(fm.a >= 0 && fm.a < n && fm.b >= 0 && fm.b < n && fm.a != fm.b,
             "matches between frames " + std::to_string(fm.a) + " and " + std::to_string(fm.b) + " of " + std::to_string(n));
@@ -133,10 +160,17 @@ AlignmentSolution AlignFrames(const std::vector<AlignmentFrame>& frames, const s
     return out;
   }
   std::vector<Eigen::Vector2d> centre(n);
-  std::vector<std::array<double, 4>> move(n);
+  std::vector<std::array<double, kMoveSize>> move(n);
+  std::vector<double> inv_g(n);  // 1 / sigma of g: the height above ground in map px over the tilt's sigma
   for (int k = 0; k < n; ++k) {
     centre[k] = Apply(frames[k].H_base, frames[k].centre_px);
     StartMove(frames[k], centre[k], move[k].data());
+    // Map px per image px at the centre, times the focal length in image px: the height in map px.
+    const Eigen::Vector2d& p = frames[k].centre_px;
+    const Eigen::Vector2d u = Apply(frames[k].H_base, p + Eigen::Vector2d(1, 0)) - centre[k];
+    const Eigen::Vector2d v = Apply(frames[k].H_base, p + Eigen::Vector2d(0, 1)) - centre[k];
+    const double map_per_image = std::sqrt(std::abs(u.x() * v.y() - u.y() * v.x()));
+    inv_g[k] = std::max(frames[k].focal_px * map_per_image, 1.0) / params.nav_tilt_sigma_rad;
   }
   // The matches in base-placed map pixels, once.
   struct Match {
@@ -170,22 +204,26 @@ AlignmentSolution AlignFrames(const std::vector<AlignmentFrame>& frames, const s
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::HuberLoss loss(params.match_loss_px);
     ceres::Problem problem(problem_options);
-    for (int k = 0; k < n; ++k) problem.AddParameterBlock(move[k].data(), 4);
+    for (int k = 0; k < n; ++k) problem.AddParameterBlock(move[k].data(), kMoveSize);
     for (const Match& m : use)
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<MatchCost, 2, 4, 4>(
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<MatchCost, 2, kMoveSize, kMoveSize>(
                                    new MatchCost{m.x_a, m.x_b, centre[m.a], centre[m.b]}),
                                &loss, move[m.a].data(), move[m.b].data());
     bool any_prior = false;
     int previous_nav = -1;
     for (int k = 0; k < n; ++k) {
-      if (!frames[k].nav_prior) continue;
+      if (!frames[k].nav_prior) {
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<TiltCost, 2, kMoveSize>(new TiltCost{inv_g[k]}), nullptr,
+                                 move[k].data());
+        continue;
+      }
       any_prior = true;
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PriorCost, 4, 4>(new PriorCost{
-                                   inv_position, 1.0 / params.nav_yaw_sigma_rad, 1.0 / params.nav_scale_sigma}),
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PriorCost, 6, kMoveSize>(new PriorCost{
+                                   inv_position, 1.0 / params.nav_yaw_sigma_rad, 1.0 / params.nav_scale_sigma, inv_g[k]}),
                                nullptr, move[k].data());
       if (previous_nav >= 0)
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DriftCost, 2, 4, 4>(new DriftCost{inv_drift}), nullptr,
-                                 move[previous_nav].data(), move[k].data());
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DriftCost, 2, kMoveSize, kMoveSize>(new DriftCost{inv_drift}),
+                                 nullptr, move[previous_nav].data(), move[k].data());
       previous_nav = k;
     }
     if (!any_prior) problem.SetParameterBlockConstant(move[0].data());  // the first frame holds the gauge

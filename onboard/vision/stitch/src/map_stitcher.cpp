@@ -720,6 +720,7 @@ AlignmentReport MapStitcher::Align() {
     frames[k].H_base = f.H_nav ? *f.H_nav : f.H;
     frames[k].H_start = f.H;
     frames[k].centre_px = Eigen::Vector2d(m.k.cx, m.k.cy);
+    frames[k].focal_px = std::sqrt(m.k.fx * m.k.fy);
     frames[k].nav_prior = f.H_nav.has_value();
     before[k] = f.H;
   }

@@ -208,6 +208,7 @@ int main(int argc, char** argv) {
       params.alignment.nav_position_sigma_m = 3.0;
       params.alignment.nav_yaw_sigma_rad = 0.05;
       params.alignment.nav_scale_sigma = 0.01;
+      params.alignment.nav_tilt_sigma_rad = 0.03;  // a gimbal holds the camera within a degree or two
     } else {
       if (!poses_path.empty()) Fail(dir + ": --poses needs the folder's session.json (home and camera mount)");
       kind = "photos without poses";
