@@ -108,6 +108,51 @@ TEST(FrameRegistration, FastOrbRegistersTheVillage) {
   EXPECT_GT(r.inliers, 50);
 }
 
+// Features found once serve every partner: a selection keeps their order (strongest first for
+// corners) and their descriptors, the pairs come from the selection only, and registering with
+// the features found beforehand is registering.
+class FeaturesFoundOnce : public ::testing::TestWithParam<Detector> {};
+
+TEST_P(FeaturesFoundOnce, ServeEveryPartner) {
+  const world::CameraSetup& cam = *Village().downward_camera();
+  const world::Renderer renderer(Village(), cam);
+  const cv::Mat a = Grey(renderer.Render(CameraPose(cam, 10, 20, 40, 0.3), 1'000'000).image);
+  const cv::Mat b = Grey(renderer.Render(CameraPose(cam, 16, 21, 40, 0.35), 1'200'000).image);
+  RegistrationParams p;
+  p.detector = GetParam();
+  const FrameRegistration reg(p);
+  const FrameFeatures all = reg.Features(a);
+  ASSERT_GT(all.points.size(), 100u);
+  auto left = [&](const cv::Point2f& q) { return q.x < a.cols / 2; };
+  const FrameFeatures half = all.Select(left, 60);
+  ASSERT_EQ(half.points.size(), 60u);
+  size_t next = 0;  // the selection is the first 60 on the left, in order
+  for (const cv::Point2f& q : half.points) {
+    while (!(all.points[next] == q)) ASSERT_FALSE(left(all.points[next++]));
+    ++next;
+  }
+  if (p.detector != Detector::kGfttKlt) {
+    ASSERT_EQ(half.descriptors.rows, 60);
+    const size_t i = std::find(all.points.begin(), all.points.end(), half.points[7]) - all.points.begin();
+    EXPECT_EQ(cv::norm(half.descriptors.row(7), all.descriptors.row(static_cast<int>(i)), cv::NORM_L1), 0.0);
+  }
+  const FeatureMatches m = reg.Match(a, half, b);
+  EXPECT_TRUE(m.failure.empty()) << m.failure;
+  EXPECT_GE(m.prev.size(), 30u);
+  for (const cv::Point2f& q : m.prev) EXPECT_TRUE(left(q));
+  const Registration once = reg.Register(a, all, b), again = reg.Register(a, b);
+  ASSERT_TRUE(once.ok) << once.failure;
+  ASSERT_TRUE(again.ok) << again.failure;
+  // The same up to RANSAC's and FLANN's random draws: the image corners land within 0.5 px.
+  for (const Eigen::Vector3d q : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(a.cols - 1, 0, 1),
+                                  Eigen::Vector3d(0, a.rows - 1, 1), Eigen::Vector3d(a.cols - 1, a.rows - 1, 1)}) {
+    const Eigen::Vector3d x = once.H_prev_cur * q, y = again.H_prev_cur * q;
+    EXPECT_LT((x.hnormalized() - y.hnormalized()).norm(), 0.5);
+  }
+}
+INSTANTIATE_TEST_SUITE_P(FrameRegistration, FeaturesFoundOnce, ::testing::Values(Detector::kGfttKlt, Detector::kSiftFlann),
+                         [](const ::testing::TestParamInfo<Detector>& i) { return std::string(DetectorName(i.param)); });
+
 TEST(FrameRegistration, FailsWithAReasonWhenFramesDoNotOverlap) {
   const world::CameraSetup& cam = *Village().downward_camera();
   const world::Renderer renderer(Village(), cam);

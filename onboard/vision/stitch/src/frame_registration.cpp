@@ -133,23 +133,21 @@ void Strongest(std::vector<cv::KeyPoint>* k, int n) {
 }
 }  // namespace
 
-FrameFeatures FrameRegistration::Features(const cv::Mat& grey, const cv::Mat& mask) const {
+FrameFeatures FrameRegistration::Features(const cv::Mat& grey) const {
   Require(!grey.empty(), "empty image");
   Require(grey.type() == CV_8UC1, "images must be 8-bit grey");
-  Require(mask.empty() || (mask.type() == CV_8UC1 && mask.size() == grey.size()),
-          "the mask must be 8-bit and the image's size");
   FrameFeatures f;
   switch (params_.detector) {
     case Detector::kGfttKlt:
-      cv::goodFeaturesToTrack(grey, f.points, params_.max_corners, params_.corner_quality, params_.corner_spacing_px, mask);
+      cv::goodFeaturesToTrack(grey, f.points, params_.max_corners, params_.corner_quality, params_.corner_spacing_px);
       return f;
     case Detector::kFastOrb:
-      impl_->fast->detect(grey, f.keypoints, mask);
+      impl_->fast->detect(grey, f.keypoints);
       Strongest(&f.keypoints, 4 * params_.max_corners);
       impl_->orb->compute(grey, f.keypoints, f.descriptors);
       break;
     case Detector::kSiftFlann:
-      impl_->sift->detectAndCompute(grey, mask, f.keypoints, f.descriptors);
+      impl_->sift->detectAndCompute(grey, cv::noArray(), f.keypoints, f.descriptors);
       break;
     case Detector::kAsift:
       AffineSift(impl_->sift, grey, &f.keypoints, &f.descriptors);

@@ -91,10 +91,9 @@ class FrameRegistration {
   explicit FrameRegistration(const RegistrationParams& params = RegistrationParams());
   ~FrameRegistration();
   FrameRegistration(FrameRegistration&&) noexcept;
-  // The features of an 8-bit grey image, looked for where mask (8-bit, same size) is non-zero,
-  // everywhere when it is empty (ASIFT always looks everywhere). Throws std::invalid_argument
-  // for an empty or non-grey image or a mismatched mask.
-  FrameFeatures Features(const cv::Mat& grey, const cv::Mat& mask = cv::Mat()) const;
+  // The features of an 8-bit grey image. Throws std::invalid_argument for an empty or non-grey
+  // image.
+  FrameFeatures Features(const cv::Mat& grey) const;
   // 8-bit grey images of the same size; prev's features are found first. Throws
   // std::invalid_argument for empty, mismatched or non-grey images; a registration that fails
   // its checks returns ok = false with the reason.
