@@ -26,7 +26,11 @@ struct Tile {
   cv::Mat bgr;   // CV_8UC3
   cv::Mat mask;  // CV_8U
 };
-int64_t TileKey(int tx, int ty) { return (static_cast<int64_t>(tx) << 32) ^ static_cast<uint32_t>(ty); }
+// tx in the high 32 bits, ty in the low (shifted as unsigned: a tile west or north of the origin
+// has a negative index, and shifting a negative value is undefined; UBSan found it).
+int64_t TileKey(int tx, int ty) {
+  return static_cast<int64_t>((static_cast<uint64_t>(static_cast<uint32_t>(tx)) << 32) | static_cast<uint32_t>(ty));
+}
 int FloorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 // Matched points kept per frame pair for the global alignment: enough to fix four unknowns a
