@@ -144,7 +144,6 @@ struct MapStitcher::Impl {
   bool started = false;
   bool georeferenced = false;
   cv::Mat prev_grey;
-  FrameFeatures prev_features;  // of prev_grey
   Eigen::Matrix3d H_map_prev = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d C_prev = Eigen::Matrix3d::Identity();  // the previous frame's correction
   std::vector<KeptFrame> kept;  // every placed frame
@@ -443,7 +442,7 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   if (m.reduce > 1) cv::resize(grey, grey, cv::Size(m.k.width / m.reduce, m.k.height / m.reduce), 0, 0, cv::INTER_AREA);
   Eigen::Matrix3d H;
   if (m.started) {
-    step.registration = InFullPixels(m.registration.Register(m.prev_grey, m.prev_features, grey), m.reduce);
+    step.registration = InFullPixels(m.registration.Register(m.prev_grey, grey), m.reduce);
     step.registered = step.registration.ok;
     step.failure = step.registration.failure;
   }
@@ -463,7 +462,6 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   } else {
     if (step.failure.empty()) step.failure = "the camera does not see the ground";
     m.prev_grey = grey;  // the next frame registers against this one and chains from the last placement
-    m.prev_features = m.registration.Features(grey);
     return step;
   }
   step.placed = true;
@@ -477,9 +475,8 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   if (have_nav) kept.H_nav = H_nav;
   if (m.undistort_x.empty() && !frame.encoded.empty()) kept.jpeg = frame.encoded;
   else cv::imencode(".jpg", image, kept.jpeg, {cv::IMWRITE_JPEG_QUALITY, m.p.kept_jpeg_quality});
-  m.prev_grey = grey;
-  m.prev_features = m.registration.Features(grey);
   m.kept.push_back(std::move(kept));
+  m.prev_grey = grey;
   step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return step;
 }
