@@ -88,7 +88,7 @@ TEST(UavStitch, StitchesACaptureFolderIntoGeoreferencedFiles) {
   EXPECT_EQ(p["placed"], 20);
   EXPECT_FALSE(p["georeferenced"].get<bool>());
   ASSERT_EQ(p["skipped"].size(), 2u) << p["skipped"];
-  EXPECT_NE(p["skipped"][0].get<std::string>().find("IMG_000010b.jpg: missing or not an image"), std::string::npos);
+  EXPECT_NE(p["skipped"][0].get<std::string>().find("IMG_000010b.jpg: map stitcher: not an image"), std::string::npos);
   EXPECT_NE(p["skipped"][1].get<std::string>().find("320x240, the camera's is 640x480"), std::string::npos);
   const cv::Mat pixels = cv::imread(dir + "/pixels.png", cv::IMREAD_UNCHANGED);
   ASSERT_EQ(pixels.channels(), 4);

@@ -204,13 +204,29 @@ FeatureMatches FrameRegistration::Match(const cv::Mat& prev, const FrameFeatures
         b.push_back(features.points[m.trainIdx]);
       }
     } else {
+      // Lowe's ratio test against the nearest neighbour elsewhere in the image: ASIFT finds
+      // a point again in several simulated views, and those copies are not rivals.
       std::vector<std::vector<cv::DMatch>> knn;
-      impl_->matcher->knnMatch(current.descriptors, features.descriptors, knn, 2);
-      for (const auto& m : knn)
-        if (m.size() == 2 && m[0].distance < 0.75f * m[1].distance) {
-          a.push_back(current.points[m[0].queryIdx]);
-          b.push_back(features.points[m[0].trainIdx]);
+      {
+        // FLANN's randomised trees draw from the thread's RNG: from a fixed state, the same
+        // frames give the same matches whatever ran before on this thread.
+        const cv::RNG caller_rng = cv::theRNG();
+        cv::theRNG() = cv::RNG();
+        impl_->matcher->knnMatch(current.descriptors, features.descriptors, knn, 4);
+        cv::theRNG() = caller_rng;
+      }
+      for (const auto& m : knn) {
+        if (m.empty()) continue;
+        const cv::Point2f best = features.points[m[0].trainIdx];
+        for (size_t j = 1; j < m.size(); ++j) {
+          if (cv::norm(features.points[m[j].trainIdx] - best) <= 2.0f) continue;
+          if (m[0].distance < 0.75f * m[j].distance) {
+            a.push_back(current.points[m[0].queryIdx]);
+            b.push_back(best);
+          }
+          break;
         }
+      }
     }
   }
   if (static_cast<int>(a.size()) < params_.min_inliers) r.failure = "too few corners tracked (" + std::to_string(a.size()) + ")";

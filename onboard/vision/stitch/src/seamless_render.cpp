@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <stdexcept>
 
@@ -51,6 +52,12 @@ std::array<Eigen::Vector2d, 4> ImageCorners(const cv::Size& size) {
   return {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h), Eigen::Vector2d(0, h)};
 }
 
+int ThumbnailReduction(const cv::Size& image_size) {
+  int reduce = 8;
+  while (reduce > 1 && image_size.width / reduce < 120) reduce /= 2;
+  return reduce;
+}
+
 Eigen::Matrix3d Enlarge(int reduce) {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   R(0, 0) = R(1, 1) = reduce;
@@ -60,7 +67,7 @@ Eigen::Matrix3d Enlarge(int reduce) {
 
 SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::Size& image_size,
                            const cv::Point2d& centre_px, int bands,
-                           const std::function<cv::Mat(int k, int reduce)>& load) {
+                           const std::function<cv::Mat(int k, const cv::Rect& region, cv::Point* origin)>& load) {
   SeamlessMap out;
   const int n = static_cast<int>(frames.size());
   if (n == 0) return out;
@@ -77,34 +84,57 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
     throw std::runtime_error("seamless map: " + std::to_string(content.width) + "x" + std::to_string(content.height) +
                              " px is too large to render");
 
-  // 2. Seams: the nearest frame centre wins each pixel of the footprints.
-  cv::Mat label(content.size(), CV_32S, cv::Scalar(-1));
-  cv::Mat best(content.size(), CV_32F, cv::Scalar(std::numeric_limits<float>::max()));
-  std::vector<cv::Rect> cell(n);
+  // 2. Seams: the nearest frame centre wins each pixel of the footprints, each footprint eroded
+  // by 2 px (its edge pixels mix with the outside). A footprint is a convex quadrilateral, so on
+  // a row it is one run of pixels, between its four edges' lines; rows are labelled in parallel.
+  constexpr double kInsetPx = 2.0;
+  std::vector<std::array<Eigen::Vector3d, 4>> edges(n);  // (a, b, c): a x + b y + c >= 0 inside, |(a, b)| = 1
   for (int k = 0; k < n; ++k) {
-    const cv::Rect r = box[k] & content;
-    cv::Mat footprint = cv::Mat::zeros(r.size(), CV_8U);
-    std::vector<cv::Point> poly;
-    for (const cv::Point2f& p : Outline(frames[k].H_map_img, image_size))
-      poly.emplace_back(cvRound(p.x - r.x), cvRound(p.y - r.y));
-    cv::fillConvexPoly(footprint, poly, cv::Scalar(255));
-    cv::erode(footprint, footprint, cv::Mat(), cv::Point(-1, -1), 2, cv::BORDER_CONSTANT, cv::Scalar(0));
-    for (int y = 0; y < r.height; ++y) {
-      const uint8_t* in = footprint.ptr<uint8_t>(y);
-      float* d = best.ptr<float>(y + r.y - content.y) + (r.x - content.x);
-      int* l = label.ptr<int>(y + r.y - content.y) + (r.x - content.x);
-      const double dy = y + r.y - centre[k].y;
-      for (int x = 0; x < r.width; ++x) {
-        if (!in[x]) continue;
-        const double dx = x + r.x - centre[k].x;
-        const float d2 = static_cast<float>(dx * dx + dy * dy);
-        if (d2 < d[x]) {
-          d[x] = d2;
-          l[x] = k;
+    const std::vector<cv::Point2f> q = Outline(frames[k].H_map_img, image_size);
+    double area2 = 0.0;
+    for (int i = 0; i < 4; ++i) area2 += q[i].x * q[(i + 1) % 4].y - q[(i + 1) % 4].x * q[i].y;
+    for (int i = 0; i < 4; ++i) {
+      const cv::Point2d p0 = q[i], p1 = q[(i + 1) % 4];
+      Eigen::Vector2d normal(-(p1.y - p0.y), p1.x - p0.x);  // left of p0 -> p1
+      if (area2 < 0) normal = -normal;
+      normal.normalize();
+      edges[k][i] = Eigen::Vector3d(normal.x(), normal.y(), -(normal.x() * p0.x + normal.y() * p0.y));
+    }
+  }
+  cv::Mat label(content.size(), CV_32S, cv::Scalar(-1));
+  cv::parallel_for_(cv::Range(0, content.height), [&](const cv::Range& rows) {
+    std::vector<float> best(content.width);
+    for (int row = rows.start; row < rows.end; ++row) {
+      const double y = row + content.y;
+      std::fill(best.begin(), best.end(), std::numeric_limits<float>::max());
+      int* l = label.ptr<int>(row);
+      for (int k = 0; k < n; ++k) {
+        if (y < box[k].y || y >= box[k].y + box[k].height) continue;
+        double x0 = content.x, x1 = content.x + content.width - 1;
+        for (const Eigen::Vector3d& e : edges[k]) {
+          const double rest = kInsetPx - e.y() * y - e.z();  // a x >= rest
+          if (std::abs(e.x()) < 1e-12) {
+            if (rest > 0) x1 = x0 - 1;
+          } else if (e.x() > 0) {
+            x0 = std::max(x0, std::ceil(rest / e.x()));
+          } else {
+            x1 = std::min(x1, std::floor(rest / e.x()));
+          }
+        }
+        const double dy = y - centre[k].y;
+        for (int x = static_cast<int>(x0); x <= static_cast<int>(x1); ++x) {
+          const double dx = x - centre[k].x;
+          const float d2 = static_cast<float>(dx * dx + dy * dy);
+          const int c = x - content.x;
+          if (d2 < best[c]) {
+            best[c] = d2;
+            l[c] = k;
+          }
         }
       }
     }
-  }
+  });
+  std::vector<cv::Rect> cell(n);
   std::vector<cv::Vec4i> span(n, cv::Vec4i(content.width, content.height, -1, -1));  // x0, y0, x1, y1
   for (int y = 0; y < content.height; ++y) {
     const int* l = label.ptr<int>(y);
@@ -120,13 +150,10 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
   for (int k = 0; k < n; ++k)
     if (span[k][2] >= 0)
       cell[k] = cv::Rect(span[k][0] + content.x, span[k][1] + content.y, span[k][2] - span[k][0] + 1, span[k][3] - span[k][1] + 1);
-  best.release();
 
-  // 1. Exposure: one gain per frame, from the frames decoded at 1/reduce (JPEG's own DCT scaling:
-  // nearly free at 1/8) and warped at that scale. A gain is a mean over an overlap, for which
-  // 120 px across a frame is plenty; OpenCV's compensator then costs little per pair of frames.
-  int reduce = 8;
-  while (reduce > 1 && image_size.width / reduce < 120) reduce /= 2;
+  // 1. Exposure: one gain per frame, from the thumbnails warped at their scale (OpenCV's
+  // compensator then costs little per pair of frames; it takes colour, so grey in three channels).
+  const int reduce = ThumbnailReduction(image_size);
   const double small = 1.0 / reduce;
   std::vector<cv::Point> corners;
   std::vector<cv::UMat> images;
@@ -137,7 +164,7 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
   corners.resize(fed.size());
   images.resize(fed.size());
   masks.resize(fed.size());
-  // Frames are decoded and warped in parallel (each one independent).
+  // Thumbnails are warped in parallel (each one independent).
   cv::parallel_for_(cv::Range(0, static_cast<int>(fed.size())), [&](const cv::Range& range) {
     for (int i = range.start; i < range.end; ++i) {
       const int k = fed[i];
@@ -145,7 +172,8 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
                        static_cast<int>(std::ceil(box[k].width * small)) + 1,
                        static_cast<int>(std::ceil(box[k].height * small)) + 1);
       cv::Mat warped, mask;
-      Warp(load(k, reduce), frames[k].H_map_img, reduce, r, small, cv::BORDER_CONSTANT, &warped, &mask);
+      Warp(frames[k].thumbnail, frames[k].H_map_img, reduce, r, small, cv::BORDER_CONSTANT, &warped, &mask);
+      cv::cvtColor(warped, warped, cv::COLOR_GRAY2BGR);
       corners[i] = r.tl();
       images[i] = warped.getUMat(cv::ACCESS_READ).clone();
       masks[i] = {mask.getUMat(cv::ACCESS_READ).clone(), uchar(255)};
@@ -166,24 +194,49 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
   cv::detail::MultiBandBlender blender(false, bands);
   blender.prepare(content);
   const int margin = 2 << bands;
-  // In batches: decoded and warped in parallel, fed to the blender in order.
+  // In batches, decoded and warped in parallel; the blender takes them in order on this thread
+  // while the next batch is decoded and warped (a feed accumulates into the one set of pyramids).
   constexpr int kBatch = 8;
-  for (size_t first = 0; first < fed.size(); first += kBatch) {
+  struct Batch {
+    std::vector<cv::Mat> img16;
+    std::vector<cv::Rect> roi;
+  };
+  auto warp_batch = [&](size_t first) {
     const int count = static_cast<int>(std::min<size_t>(kBatch, fed.size() - first));
-    std::vector<cv::Mat> img16(count);
-    std::vector<cv::Rect> roi(count);
+    Batch b{std::vector<cv::Mat>(count), std::vector<cv::Rect>(count)};
     cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) {
       for (int i = range.start; i < range.end; ++i) {
         const int k = fed[first + i];
-        roi[i] = (cell[k] + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) & box[k] & content;
+        b.roi[i] = (cell[k] + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) & box[k] & content;
+        // Only the part of the frame the roi maps back onto (and 2 px for interpolation) is
+        // decoded: a frame's cell is a strip of it.
+        std::vector<cv::Point2f> back;
+        const Eigen::Matrix3d H_img_map = frames[k].H_map_img.inverse();
+        for (const Eigen::Vector2d& q : ImageCorners(b.roi[i].size())) {
+          const Eigen::Vector2d p = Apply(H_img_map, q + Eigen::Vector2d(b.roi[i].x, b.roi[i].y));
+          back.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+        }
+        const cv::Rect needed =
+            (cv::boundingRect(back) + cv::Size(6, 6) - cv::Point(3, 3)) & cv::Rect(cv::Point(0, 0), image_size);
+        cv::Point origin;
+        const cv::Mat part = load(k, needed, &origin);
+        Eigen::Matrix3d T_img_part = Eigen::Matrix3d::Identity();  // part pixel -> frame pixel
+        T_img_part(0, 2) = origin.x;
+        T_img_part(1, 2) = origin.y;
         cv::Mat warped;
-        Warp(load(k, 1), frames[k].H_map_img, 1, roi[i], 1.0, cv::BORDER_REPLICATE, &warped, nullptr);
-        warped.convertTo(img16[i], CV_16SC3, gain[k]);
+        Warp(part, frames[k].H_map_img * T_img_part, 1, b.roi[i], 1.0, cv::BORDER_REPLICATE, &warped, nullptr);
+        warped.convertTo(b.img16[i], CV_16SC3, gain[k]);
       }
     });
-    for (int i = 0; i < count; ++i) {
+    return b;
+  };
+  std::future<Batch> next = std::async(std::launch::async, warp_batch, 0);
+  for (size_t first = 0; first < fed.size(); first += kBatch) {
+    const Batch b = next.get();
+    if (first + kBatch < fed.size()) next = std::async(std::launch::async, warp_batch, first + kBatch);
+    for (size_t i = 0; i < b.roi.size(); ++i) {
       const int k = fed[first + i];
-      blender.feed(img16[i], label(roi[i] - content.tl()) == k, roi[i].tl());
+      blender.feed(b.img16[i], label(b.roi[i] - content.tl()) == k, b.roi[i].tl());
     }
   }
   cv::Mat result, result_mask;

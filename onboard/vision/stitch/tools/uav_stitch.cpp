@@ -216,7 +216,7 @@ int main(int argc, char** argv) {
       if (inputs.empty()) Fail(dir + ": no images (and no session.json)");
       // Without a camera file, a pinhole without distortion over the first image's size: enough
       // for a map in pixels.
-      const cv::Mat first = cv::imread(inputs[0].path, cv::IMREAD_COLOR);
+      const cv::Mat first = cv::imread(inputs[0].path, cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
       if (first.empty()) Fail(inputs[0].path + ": not an image");
       session.camera.width = first.cols;
       session.camera.height = first.rows;
@@ -234,36 +234,38 @@ int main(int argc, char** argv) {
     std::vector<std::string> placed_files;
     int registered = 0;
     uav::ProgressBar progress(inputs.size());
-    // The next image is decoded while this one is registered.
+    // The next image is read and prepared (decoded, its features found) while this one is added.
     struct Read {
-      std::vector<uint8_t> bytes;
-      cv::Mat image;
+      std::optional<uav::vision::PreparedFrame> frame;
+      std::string problem;  // why the frame cannot be used
     };
     auto read = [&](size_t i) {
       Read r;
       std::ifstream file(inputs[i].path, std::ios::binary);
-      r.bytes.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
-      if (!r.bytes.empty()) r.image = cv::imdecode(r.bytes, cv::IMREAD_COLOR);
+      std::vector<uint8_t> bytes(std::istreambuf_iterator<char>(file), {});
+      if (bytes.empty()) {
+        r.problem = "missing or empty";
+        return r;
+      }
+      try {
+        r.frame = stitcher.Prepare({cv::Mat(), inputs[i].utime, inputs[i].T_NC, std::move(bytes)});
+      } catch (const std::invalid_argument& e) {
+        r.problem = e.what();
+      }
       return r;
     };
     std::future<Read> next = std::async(std::launch::async, read, 0);
     for (size_t i = 0; i < inputs.size(); ++i) {
       const Input& in = inputs[i];
       Read file = next.get();
-      const cv::Mat& image = file.image;
       if (i + 1 < inputs.size()) next = std::async(std::launch::async, read, i + 1);
       // A frame that cannot be used is named and left out; the others still are.
-      std::string problem;
-      if (image.empty()) problem = "missing or not an image";
-      else if (image.cols != session.camera.width || image.rows != session.camera.height)
-        problem = std::to_string(image.cols) + "x" + std::to_string(image.rows) + ", the camera's is " +
-                  std::to_string(session.camera.width) + "x" + std::to_string(session.camera.height) + " (another camera?)";
-      if (!problem.empty()) {
-        skipped.push_back(in.path + ": " + problem);
-        std::fprintf(stderr, "\nuav-stitch: skipped %s: %s\n", in.path.c_str(), problem.c_str());
+      if (!file.frame) {
+        skipped.push_back(in.path + ": " + file.problem);
+        std::fprintf(stderr, "\nuav-stitch: skipped %s: %s\n", in.path.c_str(), file.problem.c_str());
         continue;
       }
-      const uav::vision::StitchStep step = stitcher.Add({image, in.utime, in.T_NC, std::move(file.bytes)});
+      const uav::vision::StitchStep step = stitcher.Add(std::move(*file.frame));
       if (step.placed) placed_files.push_back(std::filesystem::path(in.path).filename().string());
       registered += step.registered;
       if (!step.failure.empty()) ++failures[step.failure.substr(0, step.failure.find(" ("))];

@@ -57,14 +57,31 @@ struct StitcherParams {
 
 // One image with the navigation solution's camera pose when it was taken.
 struct StitchInput {
-  cv::Mat image;                 // 8-bit BGR, the camera's size
+  cv::Mat image;                 // 8-bit BGR, the camera's size; may be empty when `encoded` is given
   int64_t utime = 0;
   // Camera in local NED (the navigation estimate). Without poses the map is in the first
   // frame's pixels (gsd 1, not geo-referenced) and frames chain by registration alone (Eq. 6.4).
   std::optional<Eigen::Isometry3d> T_NC;
   // The image's file as read (JPEG, PNG), when there is one: kept as it is for the final render
-  // (no second compression) when the lens has no distortion to undo.
+  // (no second compression) when the lens has no distortion to undo. Without `image` it is
+  // decoded only as far as the stitcher needs (no live map, no distortion: grey, at the
+  // registration's scale, which JPEG decodes several times faster than the whole image). Files
+  // are decoded as stored, without turning them by their EXIF orientation: the intrinsics and
+  // the pose describe the sensor's pixel grid.
   std::vector<uint8_t> encoded;
+};
+
+// A frame made ready to be added (MapStitcher::Prepare): decoded, undistorted, in grey at the
+// registration's scale with its features found, and its file for the final render.
+struct PreparedFrame {
+  int64_t utime = 0;
+  std::optional<Eigen::Isometry3d> T_NC;
+  cv::Mat image;            // undistorted BGR at the camera's size; empty when there is no live map to write
+  cv::Mat grey;             // undistorted grey at 1/reduce of the camera's size
+  FrameFeatures features;   // in `grey`, for registering the next frame against this one
+  cv::Mat thumbnail;        // grey, a few pixels across: for the final render's exposure gains
+  std::vector<uint8_t> kept;  // the undistorted image as a file (the input's own, or JPEG)
+  double seconds = 0.0;     // spent preparing
 };
 
 struct StitchStep {
@@ -129,8 +146,16 @@ class MapStitcher {
   ~MapStitcher();
   MapStitcher(MapStitcher&&) noexcept;
 
-  // Throws std::invalid_argument for an image of the wrong size or type, or a non-finite pose.
+  // Add(Prepare(frame)).
   StitchStep Add(const StitchInput& frame);
+  // The work on a frame that does not depend on the frames before it. Reads only what Add never
+  // changes: one thread can prepare the next frame while another adds this one (one Prepare at a
+  // time). Throws std::invalid_argument naming what is wrong: no image, a file that is not an
+  // image, an image of another size or type than the camera's, a non-finite pose.
+  PreparedFrame Prepare(StitchInput frame) const;
+  // Registers the frame to the previous one and places it. Throws std::invalid_argument for a
+  // frame Prepare did not make.
+  StitchStep Add(PreparedFrame frame);
 
   // The live map: the tiles as written frame by frame.
   Mosaic Render() const;
