@@ -6,6 +6,7 @@
 # panel (panel_*.png) for the README.
 # Usage: gcs_window.sh BIN_DIR SCRIPT OUT_DIR
 set -euo pipefail
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/../integration/scaled_timeout.sh"
 bin=$1 script=$2 out=$3
 mkdir -p "$out"
 rm -f "$out"/gcs_*.png "$out/layout.ini"
@@ -18,7 +19,7 @@ rm -f "$key" "$key.last"
 trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 cd "$out"
 status=0
-LIBGL_ALWAYS_SOFTWARE=1 timeout 180 xvfb-run -a -s "-screen 0 1600x900x24" \
+LIBGL_ALWAYS_SOFTWARE=1 scaled_timeout 180 xvfb-run -a -s "-screen 0 1600x900x24" \
   "$bin/uav-gcs" --name e2e --lcm-url "$url" --key "$key" --layout "$out/layout.ini" --script "$script" || status=$?
 [ $status -eq 0 ] || exit $status
 # The layout persists: the window wrote where every panel was, for the next start to restore.

@@ -12,7 +12,7 @@ url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
 ONBOARD_ARGS="--scene $dir/../../resources/scenes/survey_village.scene.json"
 # Run once, as soon as the first GCS has exited (run_sim_and_gcs's until-function).
 resume() {
-  (cd "$work" && timeout 300 "$bin/uav-gcs" --headless --name operator --lcm-url "$url" --key "$key" \
+  (cd "$work" && scaled_timeout 300 "$bin/uav-gcs" --headless --name operator --lcm-url "$url" --key "$key" \
     --script "$dir/gcs_restart_resume.gcs") > "$work/gcs2.log" 2>&1 || true
   echo "--- the restarted GCS"
   cat "$work/gcs2.log"

@@ -4,6 +4,7 @@
 # whose onboard tracker answers the selections), UAV2 without a scene.
 # Usage: gcs_scenarios.sh BIN_DIR SCRIPT SCENE
 set -euo pipefail
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/scaled_timeout.sh"
 bin=$1 script=$2 scene=$3
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
 work=$(mktemp -d)
@@ -13,5 +14,5 @@ key="$work/uav.key"
 "$bin/uav-onboard" --sim --speed 2 --vehicle-id UAV1 --lcm-url "$url" --key "$key" --scene "$scene" > "$work/uav1.log" 2>&1 &
 "$bin/uav-onboard" --sim --speed 2 --vehicle-id UAV2 --lcm-url "$url" --key "$key" > "$work/uav2.log" 2>&1 &
 status=0
-(cd "$work" && timeout 240 "$bin/uav-gcs" --headless --name scenarios --lcm-url "$url" --key "$key" --script "$script") || status=$?
+(cd "$work" && scaled_timeout 240 "$bin/uav-gcs" --headless --name scenarios --lcm-url "$url" --key "$key" --script "$script") || status=$?
 [ "$status" -eq 0 ] || { echo "--- uav1"; tail -20 "$work/uav1.log"; exit "$status"; }

@@ -4,6 +4,7 @@
 # lcm-logger on the same bus. The event log must also replay with lcm-logplayer.
 # Usage: kill9_logs.sh BIN_DIR SCRIPT
 set -euo pipefail
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/scaled_timeout.sh"
 bin=$1 script=$2
 work=$(mktemp -d)
 trap 'kill $(jobs -p) 2>/dev/null || true; wait 2>/dev/null || true; rm -rf "$work"' EXIT
@@ -14,7 +15,7 @@ lcm-logger --lcm-url="$url" --flush-interval=10 -f "$work/reference.lcmlog" > /d
 logger=$!
 "$bin/uav-onboard" --sim --speed 2 --vehicle-id UAV1 --lcm-url "$url" --key "$key" --log-dir "$work/log" > "$work/onboard.log" 2>&1 &
 vehicle=$!
-timeout 120 "$bin/uav-gcs" --headless --name kill9 --lcm-url "$url" --key "$key" --script "$script"
+scaled_timeout 120 "$bin/uav-gcs" --headless --name kill9 --lcm-url "$url" --key "$key" --script "$script"
 kill -9 $vehicle
 sleep 0.5   # the logger writes what was already on the bus
 kill -INT $logger
@@ -22,5 +23,5 @@ wait $logger || true
 events=$(ls "$work"/log/events_*.lcmlog) csv=$(ls "$work"/log/flight_*.csv)
 "$bin/check_logs" "$events" "$work/reference.lcmlog" "$csv" 0.2
 # lcm-logplayer reads the whole truncated log (on a private in-process bus).
-timeout 60 lcm-logplayer -s 50 -l "memq://" "$events"
+scaled_timeout 60 lcm-logplayer -s 50 -l "memq://" "$events"
 echo "ok: lcm-logplayer replayed $(du -h "$events" | cut -f1) of events"

@@ -8,6 +8,7 @@
 # --insecure.
 # Usage: signing.sh BIN_DIR
 set -euo pipefail
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/scaled_timeout.sh"
 bin=$1
 dir=$(cd "$(dirname "$0")" && pwd)
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
@@ -24,7 +25,7 @@ gcs() {
   local name=$1 script=$2
   shift 2
   echo "--- $name"
-  (cd "$work" && timeout 120 "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" "$@" --script "$dir/$script") ||
+  (cd "$work" && scaled_timeout 120 "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" "$@" --script "$dir/$script") ||
     { echo "FAIL: $name"; cat "$work/onboard.log"; exit 1; }
 }
 gcs stranger signing_stranger.gcs --key "$work/stranger.key"

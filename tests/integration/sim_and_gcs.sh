@@ -5,7 +5,8 @@
 # (the GCS's exit code).
 # Usage: run_sim_and_gcs BIN_DIR SPEED GCS_NAME SCRIPT TIMEOUT_S [LINGER_S UNTIL_FUNCTION]
 # With LINGER_S, the vehicle keeps flying after the GCS exits, until UNTIL_FUNCTION succeeds or
-# LINGER_S pass.
+# LINGER_S pass. Both limits are multiplied by UAV_TIMEOUT_SCALE (scaled_timeout.sh).
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/scaled_timeout.sh"
 run_sim_and_gcs() {
   local bin=$1 speed=$2 name=$3 script=$4 limit=$5 linger=${6:-0} until=${7:-false}
   local url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
@@ -19,10 +20,11 @@ run_sim_and_gcs() {
     > "$work/onboard.log" 2>&1 &
   status=0
   # From inside the work directory: relative paths the script types (downloads) land there.
-  (cd "$work" && timeout "$limit" "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" --key "$key" --script "$script") \
+  (cd "$work" && scaled_timeout "$limit" "$bin/uav-gcs" --headless --name "$name" --lcm-url "$url" --key "$key" --script "$script") \
     > "$work/gcs.log" 2>&1 || status=$?
   cat "$work/gcs.log"
   local waited=0
+  linger=$(scaled_seconds "$linger")
   while [ "$waited" -lt "$linger" ] && ! "$until"; do sleep 1; waited=$((waited + 1)); done
   kill %1 2>/dev/null || true
   wait || true

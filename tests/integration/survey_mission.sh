@@ -84,7 +84,7 @@ set plot:file replay_alt.csv
 click plot:export
 wait_until log contains replay_alt.csv timeout 10
 GCS
-(cd "$work" && timeout 120 "$bin/uav-gcs" --headless --replay "$(ls "$work"/log/events_*.lcmlog)" --script "$work/replay.gcs") \
+(cd "$work" && scaled_timeout 120 "$bin/uav-gcs" --headless --replay "$(ls "$work"/log/events_*.lcmlog)" --script "$work/replay.gcs") \
   | tee "$work/replay.log"
 if grep -q "damaged" "$work/replay.log"; then echo "the log of a clean flight was read as damaged"; exit 1; fi
 python3 - "$work/live_alt.csv" "$work/replay_alt.csv" <<'PY'

@@ -6,7 +6,9 @@
 #              the fuzz harnesses of the messages and files over their seeds (CI runs this)
 #   tsan       TSan: the threaded parts, the lockstep scheduler and the workers (test_onboard),
 #              the GCS link (test_gcs), and a whole flight over LCM (integration.fly_mission)
-# Usage: tests/sanitizers/sanitize.sh MODE [BUILD_DIR]   (UAV_SANITIZE_JOBS: parallel jobs, default nproc)
+# Usage: tests/sanitizers/sanitize.sh MODE [BUILD_DIR [CTEST_ARGS...]]   (UAV_SANITIZE_JOBS: parallel
+# jobs, default nproc; UAV_SANITIZE_TIMEOUT: seconds per test, default 900; CTEST_ARGS narrow the
+# mode's tests further, e.g. -R integration)
 set -euo pipefail
 src=$(cd "$(dirname "$0")/../.." && pwd)
 mode=${1:?usage: sanitize.sh asan|asan-unit|tsan [BUILD_DIR]}
@@ -33,11 +35,12 @@ case "$mode" in
   tsan) targets=(test_onboard test_gcs uav-onboard uav-gcs uav-keygen)
         select=(-R '^(LockstepScheduler|CameraWorker|StereoWorker|ActiveStereoWorker|TrackWorker|LinkTest|integration\.fly_mission)') ;;
 esac
+shift $(( $# < 2 ? $# : 2 ))
 echo "sanitize.sh: $mode (-fsanitize=$flags) in $dir"
 cmake -S "$src" -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DUAV_SANITIZE=$flags > /dev/null
 start=$(date +%s)
 cmake --build "$dir" -j"$jobs" --target "${targets[@]}" > "$dir/build.log" 2>&1 || { tail -40 "$dir/build.log"; exit 1; }
 echo "sanitize.sh: built in $(( $(date +%s) - start )) s"
 start=$(date +%s)
-ctest --test-dir "$dir" "${select[@]}" -j"$jobs" --output-on-failure --timeout 900
+ctest --test-dir "$dir" "${select[@]}" "$@" -j"$jobs" --output-on-failure --timeout "${UAV_SANITIZE_TIMEOUT:-900}"
 echo "sanitize.sh: $mode tests clean in $(( $(date +%s) - start )) s"

@@ -2,6 +2,7 @@
 // into the command bar and clicking a tick box go through ImGui exactly as a person's would.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <sstream>
 
 #include <imgui.h>
@@ -62,6 +63,27 @@ TEST(Script, ConditionsOnTelemetryAndAcks) {
   EXPECT_TRUE(eval("ack == rejected and ack.reason contains already armed").holds);
   EXPECT_FALSE(eval("ack.reason lacks already armed").holds);
   EXPECT_TRUE(eval("ack.reason lacks failsafe and ack == rejected").holds);
+}
+
+// A slow build's scale stretches every wait: `timeout 2` at scale 3 gives up after 6 s, not 2.
+TEST(Script, TimeoutScaleStretchesWaits) {
+  GcsModel model("gcs", 1);
+  UiContext ctx;
+  ImGuiScriptDriver driver(ctx, nullptr);
+  std::FILE* out = std::tmpfile();
+  ASSERT_NE(out, nullptr);
+  ScriptRunner runner(Script::Parse("wait_until vehicles >= 1 timeout 2\n", "s"), out, 3.0);
+  EXPECT_TRUE(runner.Update(model, driver, 0.0));
+  EXPECT_TRUE(runner.Update(model, driver, 5.9));
+  EXPECT_FALSE(runner.failed());
+  EXPECT_FALSE(runner.Update(model, driver, 6.1));
+  EXPECT_TRUE(runner.failed());
+  std::rewind(out);
+  char line[512] = {};
+  std::string text;
+  while (std::fgets(line, sizeof line, out)) text += line;
+  std::fclose(out);
+  EXPECT_NE(text.find("not true within 6 s"), std::string::npos) << text;
 }
 
 // A fake vehicle fed straight into the model, the real panels on the null platform, and the

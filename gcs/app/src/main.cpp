@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -106,9 +107,20 @@ int main(int argc, char** argv) {
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   try {
+    // UAV_TIMEOUT_SCALE: the scripts' waits times this (tests/sanitizers/sanitize.sh sets it).
+    double timeout_scale = 1.0;
+    if (const char* scale = std::getenv("UAV_TIMEOUT_SCALE")) {
+      char* end = nullptr;
+      timeout_scale = std::strtod(scale, &end);
+      if (end == scale || *end != '\0' || !(timeout_scale >= 1.0 && timeout_scale <= 100.0))
+        throw std::invalid_argument(std::string("UAV_TIMEOUT_SCALE must be a number from 1 to 100, not '") + scale + "'");
+    }
     std::unique_ptr<uav::gcs::ScriptRunner> runner;
-    if (demo) runner = std::make_unique<uav::gcs::ScriptRunner>(uav::gcs::Script::Parse(uav::gcs::kDemoScript, "demo"), stdout);
-    else if (!script_path.empty()) runner = std::make_unique<uav::gcs::ScriptRunner>(uav::gcs::Script::LoadFile(script_path), stdout);
+    if (demo)
+      runner = std::make_unique<uav::gcs::ScriptRunner>(uav::gcs::Script::Parse(uav::gcs::kDemoScript, "demo"), stdout,
+                                                        timeout_scale);
+    else if (!script_path.empty())
+      runner = std::make_unique<uav::gcs::ScriptRunner>(uav::gcs::Script::LoadFile(script_path), stdout, timeout_scale);
 
     const bool replaying = !replay_path.empty();
     if (!replaying && key_path.empty() && !insecure)

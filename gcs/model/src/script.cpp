@@ -403,8 +403,8 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
     } else if (!driver.InputPending()) {
       Pass(s, now, s.verb == "type" && !model.commands().error().empty()
                        ? "command bar says: " + model.commands().error() : "");
-    } else if (now - step_start_ > 10.0) {
-      Fail(s, now, "input was not consumed within 10 s");
+    } else if (now - step_start_ > 10.0 * timeout_scale_) {
+      Fail(s, now, "input was not consumed within " + Format(10.0 * timeout_scale_) + " s");
     }
   } else if (s.verb == "screenshot") {
     const int r = driver.Screenshot(s.args[0], &err);
@@ -417,6 +417,7 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
       timeout = std::atof(cond.back().c_str());
       cond.resize(cond.size() - 2);
     }
+    timeout *= timeout_scale_;
     const ConditionResult r = EvaluateCondition(cond, model, now, replay_);
     if (!r.error.empty()) Fail(s, now, r.error);
     else if (r.holds) Pass(s, now, r.observed);

@@ -92,7 +92,10 @@ class ScriptDriver {
 
 class ScriptRunner {
  public:
-  ScriptRunner(Script script, std::FILE* out) : script_(std::move(script)), out_(out) {}
+  // timeout_scale multiplies every wait (wait_until's timeout, input consumption): a build that
+  // runs several times slower, as under sanitizers, waits as long in its own time.
+  ScriptRunner(Script script, std::FILE* out, double timeout_scale = 1.0)
+      : script_(std::move(script)), out_(out), timeout_scale_(timeout_scale) {}
   // Advances the script; call once per frame. Returns false when it has finished or failed.
   bool Update(GcsModel& model, ScriptDriver& driver, double now);
   void SetReplay(ReplayControl* replay) { replay_ = replay; }
@@ -106,6 +109,7 @@ class ScriptRunner {
 
   Script script_;
   std::FILE* out_;
+  double timeout_scale_ = 1.0;
   ReplayControl* replay_ = nullptr;
   bool tick_searched_ = false;  // a tick step has typed its signal into the search box
   std::size_t index_ = 0;
