@@ -14,7 +14,7 @@ src=$(cd "$(dirname "$0")/../.." && pwd)
 mode=${1:?usage: sanitize.sh asan|asan-unit|tsan [BUILD_DIR]}
 jobs=${UAV_SANITIZE_JOBS:-$(nproc)}
 supp="$src/tests/sanitizers"
-export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=1:strict_string_checks=1"
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=1:strict_string_checks=1:verify_asan_link_order=0"
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$supp/tsan.supp"
