@@ -1,5 +1,7 @@
 #include "uav/shared/command_grammar.hpp"
 
+#include "uav/shared/decimal.hpp"
+
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -130,16 +132,12 @@ ParseResult ParseCommand(std::string_view line) {
   for (std::size_t i = 0; i < spec->args.size(); ++i) {
     const ArgumentSpec& a = spec->args[i];
     const std::string& w = words[i + 1];
-    char* end = nullptr;
-    const double v = std::strtod(w.c_str(), &end);
-    if (end == w.c_str() || *end != '\0') {
-      r.error = name + ": argument " + a.name + " is not a number: '" + w + "'";
+    const std::optional<double> parsed = ParseDecimal(w);
+    if (!parsed) {
+      r.error = name + ": argument " + a.name + " is not a finite number (decimal digits only): '" + w + "'";
       return r;
     }
-    if (!std::isfinite(v)) {
-      r.error = name + ": argument " + a.name + " is not a finite number: '" + w + "'";
-      return r;
-    }
+    const double v = *parsed;
     if (a.integer && v != std::floor(v)) {
       r.error = name + ": argument " + a.name + " must be a whole number: '" + w + "'";
       return r;

@@ -1,63 +1,100 @@
 #include "uav/shared/parameters.hpp"
 
+#include "uav/shared/decimal.hpp"
 #include "uav/shared/text_file.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 namespace uav {
 namespace {
 
-bool ParseFinite(const std::string& s, double* out) {
-  char* end = nullptr;
-  *out = std::strtod(s.c_str(), &end);
-  return end != s.c_str() && *end == '\0' && std::isfinite(*out);
+std::string Format(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
 }
+
+std::size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// " (did you mean 'mass'?)" when a declared name is a likely misspelling of `name`.
+std::string Suggestion(const ParameterSchema& schema, const std::string& name) {
+  const ParameterSpec* best = nullptr;
+  std::size_t best_d = 3;  // at most two edits away
+  for (const auto& s : schema.specs) {
+    const std::size_t d = EditDistance(name, s.name);
+    if (d < best_d) best_d = d, best = &s;
+  }
+  return best ? " (did you mean '" + best->name + "'?)" : "";
+}
+
+Parameter FromSpec(const ParameterSpec& s, double value) { return {value, s.unit, s.min, s.max, s.description}; }
 
 }  // namespace
 
-ParameterSet ParameterSet::LoadFile(const std::string& path) {
-  return Parse(ReadTextFile(path, "parameter file"), path);
+const ParameterSpec* ParameterSchema::Find(const std::string& name) const {
+  for (const auto& s : specs)
+    if (s.name == name) return &s;
+  return nullptr;
 }
 
-ParameterSet ParameterSet::Parse(const std::string& text, const std::string& source_name) {
+ParameterSet ParameterSet::LoadFile(const std::string& path, const ParameterSchema& schema) {
+  return Parse(ReadTextFile(path, schema.kind + " parameter file"), path, schema);
+}
+
+ParameterSet ParameterSet::Defaults(const ParameterSchema& schema) { return Parse("", "defaults", schema); }
+
+ParameterSet ParameterSet::Parse(const std::string& text, const std::string& source_name,
+                                 const ParameterSchema& schema) {
   ParameterSet set;
   set.source_ = source_name;
+  set.schema_ = &schema;
   std::istringstream lines(text);
   std::string line;
   int line_no = 0;
   while (std::getline(lines, line)) {
     ++line_no;
     const std::string where = source_name + ":" + std::to_string(line_no) + ": ";
-    std::string description;
-    if (auto hash = line.find('#'); hash != std::string::npos) {
-      description = line.substr(hash + 1);
-      line = line.substr(0, hash);
-      const auto first = description.find_first_not_of(' ');
-      description = first == std::string::npos ? "" : description.substr(first);
-    }
+    if (auto hash = line.find('#'); hash != std::string::npos) line = line.substr(0, hash);
     std::istringstream fields(line);
-    std::string name, value_s, unit, min_s, max_s, extra;
+    std::string name, value_s, extra;
     if (!(fields >> name)) continue;  // blank or comment line
-    if (!(fields >> value_s >> unit >> min_s >> max_s) || (fields >> extra)) {
-      throw std::runtime_error(where + "expected 'name value unit min max', got '" + line + "'");
-    }
-    Parameter p{0, unit, 0, 0, description};
-    if (!ParseFinite(value_s, &p.value))
+    if (!(fields >> value_s) || (fields >> extra))
+      throw std::runtime_error(where + "expected 'name value', got '" + line +
+                               "' (units and limits are declared by the program, not the file)");
+    const ParameterSpec* spec = schema.Find(name);
+    if (!spec)
+      throw std::runtime_error(where + "'" + name + "' is not a " + schema.kind + " parameter" +
+                               Suggestion(schema, name));
+    const std::optional<double> value = ParseDecimal(value_s);
+    if (!value)
       throw std::runtime_error(where + name + ": value '" + value_s + "' is not a finite number");
-    if (!ParseFinite(min_s, &p.min))
-      throw std::runtime_error(where + name + ": min '" + min_s + "' is not a finite number");
-    if (!ParseFinite(max_s, &p.max))
-      throw std::runtime_error(where + name + ": max '" + max_s + "' is not a finite number");
-    if (p.min > p.max) throw std::runtime_error(where + name + ": min > max");
-    if (p.value < p.min || p.value > p.max)
-      throw std::runtime_error(where + name + " = " + value_s + " is outside [" + min_s + ", " +
-                               max_s + "] " + unit);
-    if (!set.params_.emplace(name, p).second)
-      throw std::runtime_error(where + name + " is defined twice");
+    if (*value < spec->min || *value > spec->max)
+      throw std::runtime_error(where + name + " = " + value_s + " is outside [" + Format(spec->min) + ", " +
+                               Format(spec->max) + "] " + spec->unit);
+    if (!set.params_.emplace(name, FromSpec(*spec, *value)).second)
+      throw std::runtime_error(where + name + " is set twice");
+  }
+  for (const auto& s : schema.specs) {
+    if (set.params_.count(s.name)) continue;
+    if (s.default_value) set.params_.emplace(s.name, FromSpec(s, *s.default_value));
+    else if (!s.optional)
+      throw std::runtime_error(source_name + ": " + s.name + " is missing (" + s.description + ", " + s.unit + ")");
   }
   return set;
 }
@@ -70,27 +107,38 @@ double ParameterSet::Get(const std::string& name) const {
 }
 
 ParameterSet ParameterSet::With(const std::string& name, double value) const {
-  auto it = params_.find(name);
-  if (it == params_.end()) throw std::invalid_argument("parameter '" + name + "' does not exist in " + source_);
-  const Parameter& p = it->second;
-  if (!std::isfinite(value) || value < p.min || value > p.max) {
+  const ParameterSpec* spec = schema_ ? schema_->Find(name) : nullptr;
+  if (!spec)
+    throw std::invalid_argument("parameter '" + name + "' does not exist in " + source_ +
+                                (schema_ ? Suggestion(*schema_, name) : ""));
+  if (!std::isfinite(value) || value < spec->min || value > spec->max) {
     std::ostringstream os;
-    os << "parameter " << name << " = " << value << " is outside [" << p.min << ", " << p.max << "] "
-       << p.unit;
+    os << "parameter " << name << " = " << value << " is outside [" << spec->min << ", " << spec->max << "] "
+       << spec->unit;
     throw std::invalid_argument(os.str());
   }
   ParameterSet copy = *this;
-  copy.params_[name].value = value;
+  copy.params_[name] = FromSpec(*spec, value);
   return copy;
 }
 
 ParameterSet ParameterSet::WithAssignment(const std::string& assignment) const {
   const auto eq = assignment.find('=');
-  double value = 0;
-  if (eq == std::string::npos || eq == 0 || !ParseFinite(assignment.substr(eq + 1), &value))
-    throw std::invalid_argument("parameter override must be NAME=VALUE with a finite number, got '" +
+  const std::optional<double> value =
+      eq == std::string::npos ? std::nullopt : ParseDecimal(std::string_view(assignment).substr(eq + 1));
+  if (eq == std::string::npos || eq == 0 || !value)
+    throw std::invalid_argument("parameter override must be NAME=VALUE with a finite decimal number, got '" +
                                 assignment + "'");
-  return With(assignment.substr(0, eq), value);
+  return With(assignment.substr(0, eq), *value);
+}
+
+std::string DescribeSchema(const ParameterSchema& schema) {
+  std::ostringstream os;
+  for (const auto& s : schema.specs) {
+    os << s.name << "  " << (s.default_value ? Format(*s.default_value) : std::string(s.optional ? "(optional)" : "(required)"))
+       << "  " << s.unit << "  [" << Format(s.min) << ", " << Format(s.max) << "]  " << s.description << "\n";
+  }
+  return os.str();
 }
 
 }  // namespace uav

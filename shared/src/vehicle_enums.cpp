@@ -20,7 +20,8 @@ static_assert(W(Task::kIdle) == S::TASK_IDLE && W(Task::kTakeoff) == S::TASK_TAK
               W(Task::kReturn) == S::TASK_RETURN && W(Task::kFollow) == S::TASK_FOLLOW);
 static_assert(W(CommandResult::kAccepted) == A::RESULT_ACCEPTED && W(CommandResult::kRejected) == A::RESULT_REJECTED &&
               W(CommandResult::kInProgress) == A::RESULT_IN_PROGRESS &&
-              W(CommandResult::kCompleted) == A::RESULT_COMPLETED && W(CommandResult::kFailed) == A::RESULT_FAILED);
+              W(CommandResult::kCompleted) == A::RESULT_COMPLETED && W(CommandResult::kFailed) == A::RESULT_FAILED &&
+              W(CommandResult::kReplaced) == A::RESULT_REPLACED);
 static_assert(W(FailsafeAction::kNone) == S::FAILSAFE_NONE && W(FailsafeAction::kHold) == S::FAILSAFE_HOLD &&
               W(FailsafeAction::kReturn) == S::FAILSAFE_RETURN && W(FailsafeAction::kLand) == S::FAILSAFE_LAND &&
               W(FailsafeAction::kManual) == S::FAILSAFE_MANUAL);
@@ -44,7 +45,8 @@ constexpr Entry<CommandResult> kResults[] = {{CommandResult::kAccepted, "accepte
                                              {CommandResult::kRejected, "rejected"},
                                              {CommandResult::kInProgress, "in_progress"},
                                              {CommandResult::kCompleted, "completed"},
-                                             {CommandResult::kFailed, "failed"}};
+                                             {CommandResult::kFailed, "failed"},
+                                             {CommandResult::kReplaced, "replaced"}};
 constexpr Entry<FailsafeAction> kFailsafes[] = {{FailsafeAction::kNone, "none"},     {FailsafeAction::kHold, "hold"},
                                                 {FailsafeAction::kReturn, "return"}, {FailsafeAction::kLand, "land"},
                                                 {FailsafeAction::kManual, "manual"}};

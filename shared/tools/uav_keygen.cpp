@@ -5,11 +5,13 @@
 #include <CLI/CLI.hpp>
 
 #include "uav/shared/signing.hpp"
+#include "uav/shared/decimal.hpp"
 
 int main(int argc, char** argv) {
   CLI::App cli{"uav-keygen: a new message-signing key shared by a vehicle and its ground stations"};
   std::string path;
   cli.add_option("FILE", path, "key file to create (refuses to overwrite one)")->required();
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
     const uav::SigningKey key = uav::SigningKey::Generate(path);

@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: bench_sim_speed [SIM_SECONDS > 0] [REPEATS >= 1]\n");
     return 2;
   }
-  const auto params = uav::ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params");
+  const auto params = uav::ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", uav::VehicleParameterSchema());
   std::vector<double> wall;
   for (int r = 0; r < repeats; ++r) {
     uav::sim::SimVehicle vehicle(params, {1.2966, 103.7764, 15.0}, 0);

@@ -1,5 +1,5 @@
 // Vehicle parameter files (resources/vehicles/*.params) and camera files (resources/cameras/
-// *.camera, the same format): parsed, then read as a vehicle and as a camera calibration.
+// *.camera, the same format): parsed against each declaration, a camera's read as a calibration.
 #include <stdexcept>
 #include <string>
 
@@ -8,13 +8,14 @@
 #include "uav/shared/parameters.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    const uav::ParameterSet p = uav::ParameterSet::Parse(std::string(reinterpret_cast<const char*>(data), size), "fuzz.params");
-    try {
-      uav::IntrinsicsFromParameters(p);
-    } catch (const std::invalid_argument&) {
-    } catch (const std::out_of_range&) {
-    }
+    uav::ParameterSet::Parse(text, "fuzz.params", uav::VehicleParameterSchema()).WithAssignment("mass=2");
+  } catch (const std::invalid_argument&) {
+  } catch (const std::runtime_error&) {
+  }
+  try {
+    uav::IntrinsicsFromParameters(uav::ParameterSet::Parse(text, "fuzz.camera", uav::CameraParameterSchema()));
   } catch (const std::invalid_argument&) {
   } catch (const std::runtime_error&) {
   }

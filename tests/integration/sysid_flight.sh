@@ -18,7 +18,7 @@ result = json.load(open(sys.argv[1]))
 truth = {}
 for line in open(sys.argv[2]):
     f = line.split("#")[0].split()
-    if len(f) == 5: truth[f[0]] = float(f[1])
+    if len(f) == 2: truth[f[0]] = float(f[1])
 got = {}
 for m in result["models"]:
     got.update(m["params"])

@@ -31,7 +31,7 @@ class ClosedLoop : public ::testing::Test {
  protected:
   static constexpr int64_t kStep = 2000, kPeriod = 20000;
   static constexpr GeodeticPoint kHome{1.2966, 103.7764, 15.0};  // the stored paths are laid out here
-  static ParameterSet VehicleFile() { return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params"); }
+  static ParameterSet VehicleFile() { return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", uav::VehicleParameterSchema()); }
   ClosedLoop() : ClosedLoop(VehicleFile()) {}
   explicit ClosedLoop(const ParameterSet& params)
       : params_(params),
@@ -61,7 +61,7 @@ class ClosedLoop : public ::testing::Test {
     s.AddWorker("SVO", 2, kPeriod, [&](int64_t t) {
       svo_.Tick(t);
       for (const auto& r : board_.TakeReports()) {
-        if (r.seq != seq_) continue;
+        if (r.seq != seq_ || r.source != "test") continue;  // not a failsafe's own row
         last = r;
         if (r.result == control::AckResult::kCompleted || r.result == control::AckResult::kFailed ||
             r.result == control::AckResult::kRejected)
@@ -727,10 +727,10 @@ class LowBattery : public ClosedLoop {
  protected:
   static ParameterSet SmallBattery() {
     std::string text = ReadTextFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", "params");
-    const auto at = text.find("battery_capacity          5.0");
+    const auto at = text.find("battery_capacity            5.0");
     EXPECT_NE(at, std::string::npos);
-    text.replace(at, 29, "battery_capacity          1.0");
-    return ParameterSet::Parse(text, "x650 with a 1 Ah battery");
+    text.replace(at, 31, "battery_capacity            1.0");
+    return ParameterSet::Parse(text, "x650 with a 1 Ah battery", uav::VehicleParameterSchema());
   }
   LowBattery() : ClosedLoop(SmallBattery()) {}
 };
@@ -769,7 +769,7 @@ struct AccuracyCase {
 class Accuracy : public ClosedLoop, public ::testing::WithParamInterface<AccuracyCase> {
  protected:
   static ParameterSet Apply(const AccuracyCase& c, const std::vector<std::string>& more) {
-    ParameterSet p = ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/" + c.vehicle_file);
+    ParameterSet p = ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/" + c.vehicle_file, uav::VehicleParameterSchema());
     std::vector<std::string> overrides = c.overrides;
     overrides.insert(overrides.end(), more.begin(), more.end());
     for (const auto& o : overrides) p = p.WithAssignment(o);

@@ -14,7 +14,7 @@ namespace {
 
 using A = FailsafeAction;
 
-ParameterSet Params() { return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params"); }
+ParameterSet Params() { return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", uav::VehicleParameterSchema()); }
 
 class Failsafes : public ::testing::Test {
  protected:
@@ -128,13 +128,13 @@ TEST_F(Failsafes, ManualOverrideIsImmediateAndTheStrictestWins) {
 }
 
 TEST(FailsafeParams, InconsistentThresholdsAreRefused) {
-  const std::string base = "fs_link_hold_time 5 s 1 120\nfs_link_return_time 20 s 2 600\nfs_battery_return 0.25 - 0 1\n"
-                           "fs_battery_land 0.1 - 0 1\nfs_fence_radius 500 m 10 5000\nfs_fence_alt 120 m 5 500\nfs_nav_land_s 5 s 0 60\n";
-  EXPECT_NO_THROW(FailsafeParams::FromParameters(ParameterSet::Parse(base + "fs_fence_action 2 - 1 2\n", "t")));
-  EXPECT_THROW(FailsafeParams::FromParameters(ParameterSet::Parse(base + "fs_fence_action 1.5 - 1 2\n", "t")), std::invalid_argument);
+  const std::string base = "fs_link_hold_time 5\nfs_link_return_time 20\nfs_battery_return 0.25\n"
+                           "fs_battery_land 0.1\nfs_fence_radius 500\nfs_fence_alt 120\nfs_nav_land_s 5\n";
+  EXPECT_NO_THROW(FailsafeParams::FromParameters(ParameterSet::Parse(base + "fs_fence_action 2\n", "t", uav::VehicleParameterSchema())));
+  EXPECT_THROW(FailsafeParams::FromParameters(ParameterSet::Parse(base + "fs_fence_action 1.5\n", "t", uav::VehicleParameterSchema())), std::invalid_argument);
   std::string swapped = base;
   swapped.replace(swapped.find("fs_battery_land 0.1"), 19, "fs_battery_land 0.3");
-  EXPECT_THROW(FailsafeParams::FromParameters(ParameterSet::Parse(swapped + "fs_fence_action 2 - 1 2\n", "t")), std::invalid_argument);
+  EXPECT_THROW(FailsafeParams::FromParameters(ParameterSet::Parse(swapped + "fs_fence_action 2\n", "t", uav::VehicleParameterSchema())), std::invalid_argument);
 }
 
 TEST(CheckSetpoint, NonFiniteAndOutOfEnvelopeAreRejectedOnBothSidesOfEachLimit) {

@@ -111,6 +111,43 @@ TEST(GcsModel, AckStopsResendingAndOnlyOurAcksCount) {
   EXPECT_TRUE(m.commands().TakeOutgoing().empty());
 }
 
+// After "gps 0" the vehicle's failsafe landing reports as itself: a row of its own, while the
+// operator's completed takeoff stays closed, and a replaced command closes as replaced.
+TEST(GcsModel, AFailsafeGetsItsOwnRowAndNeverReopensTheLastCommand) {
+  GcsModel m("gcs", 100);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
+  m.SubmitCommand("takeoff 10", 0.0);
+  m.OnAck("UAV1", "gcs", {100, "takeoff", CommandResult::kCompleted, 100, ""}, 1.0);
+  m.SubmitCommand("goto 50 0 10", 2.0);
+  m.OnAck("UAV1", "gcs", {101, "goto", CommandResult::kAccepted, 0, ""}, 2.1);
+  m.SubmitCommand("hover", 3.0);
+  m.OnAck("UAV1", "gcs", {101, "goto", CommandResult::kReplaced, 20, "replaced by hover"}, 3.1);
+  m.OnAck("UAV1", "gcs", {102, "hover", CommandResult::kCompleted, 100, ""}, 3.1);
+  const std::string vehicle(kVehicleInitiatedSource);
+  m.OnAck("UAV1", vehicle, {1, "failsafe_land", CommandResult::kAccepted, 0, "no position source for 5 s"}, 4.0);
+  EXPECT_EQ(m.log().lines().back().severity, Severity::kWarning);
+  m.OnAck("UAV1", vehicle, {1, "failsafe_land", CommandResult::kInProgress, 97, ""}, 9.0);
+  const auto& sent = m.commands().sent();
+  ASSERT_EQ(sent.size(), 4u);
+  EXPECT_EQ(sent[0].last_ack->result, CommandResult::kCompleted);  // takeoff: closed, 100 %
+  EXPECT_EQ(sent[0].last_ack->percent, 100);
+  EXPECT_EQ(sent[1].last_ack->result, CommandResult::kReplaced);   // goto: replaced, not failed
+  EXPECT_FALSE(IsFailure(sent[1].last_ack->result));
+  EXPECT_TRUE(sent[3].vehicle_initiated);
+  EXPECT_EQ(sent[3].text, "failsafe_land");
+  EXPECT_EQ(sent[3].last_ack->percent, 97);
+  m.OnAck("UAV1", vehicle, {1, "failsafe_land", CommandResult::kCompleted, 100, ""}, 12.0);
+  EXPECT_EQ(sent.size(), 4u);
+  EXPECT_EQ(sent[3].last_ack->result, CommandResult::kCompleted);
+  // A vehicle row is never resent, and another GCS's rows still do not count.
+  m.Tick(20.0);
+  EXPECT_TRUE(m.commands().TakeOutgoing().empty());
+  m.OnAck("UAV1", vehicle, {2, "failsafe_return", CommandResult::kAccepted, 0, "battery 24 %"}, 13.0);
+  EXPECT_EQ(m.commands().sent().size(), 5u);
+  EXPECT_NE(m.log().lines().back().text.find("vehicle: failsafe_return accepted (battery 24 %)"), std::string::npos)
+      << m.log().lines().back().text;
+}
+
 TEST(GcsModel, VehiclesDoNotLeakIntoEachOther) {
   GcsModel m("gcs", 100);
   m.OnState("UAV1", 1, State(100.0, 5.0), 0.0);

@@ -17,7 +17,7 @@ namespace {
 
 constexpr GeodeticPoint kHome{1.2966, 103.7764, 15.0};
 
-ParameterSet VehicleFile() { return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params"); }
+ParameterSet VehicleFile() { return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", uav::VehicleParameterSchema()); }
 
 TEST(SimSensors, NoiseBiasAndRatesFollowTheVehicleFile) {
   const auto params = VehicleFile();

@@ -1,58 +1,88 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "uav/shared/parameters.hpp"
 
 namespace uav {
 namespace {
 
-std::string ErrorOf(const std::string& text) {
+// A small declaration of the program's kind: the limits live here, never in the file.
+const ParameterSchema& TestSchema() {
+  static const ParameterSchema kSchema{"test", {
+      {"mass", "kg", 1.37, 0.1, 50, "total mass"},
+      {"wind", "m/s", 0, 0, 20, "steady wind"},
+      {"focal", "mm", std::nullopt, 0.1, 1000, "lens focal length"},
+      {"cx", "px", std::nullopt, 0, 20000, "principal point", true},
+  }};
+  return kSchema;
+}
+
+std::string ErrorOf(const std::string& text, const ParameterSchema& schema = TestSchema()) {
   try {
-    ParameterSet::Parse(text, "t.params");
+    ParameterSet::Parse(text, "t.params", schema);
   } catch (const std::exception& e) {
     return e.what();
   }
   return "";
 }
 
-TEST(Parameters, ParsesValuesUnitsLimitsAndDescriptions) {
-  const auto p = ParameterSet::Parse(
-      "# comment\n\nmass 1.37 kg 0.1 50 # total mass\nl 0.325 m 0.05 5\n", "t.params");
-  EXPECT_DOUBLE_EQ(p.Get("mass"), 1.37);
+TEST(Parameters, FileSetsValuesTheProgramDeclaresUnitsLimitsAndDescriptions) {
+  const auto p = ParameterSet::Parse("# comment\n\nmass 2.5  # heavier\nfocal 3.8\n", "t.params", TestSchema());
+  EXPECT_DOUBLE_EQ(p.Get("mass"), 2.5);
   EXPECT_EQ(p.all().at("mass").unit, "kg");
   EXPECT_EQ(p.all().at("mass").description, "total mass");
-  EXPECT_DOUBLE_EQ(p.Get("l"), 0.325);
+  EXPECT_DOUBLE_EQ(p.all().at("mass").max, 50);
+  EXPECT_DOUBLE_EQ(p.Get("wind"), 0);  // left out: the declared default
+  EXPECT_FALSE(p.Has("cx"));          // optional, no default
 }
 
-TEST(Parameters, LimitsAreInclusive) {
-  EXPECT_EQ(ErrorOf("a 0.1 kg 0.1 50\nb 50 kg 0.1 50\n"), "");
-  EXPECT_NE(ErrorOf("a 0.0999 kg 0.1 50").find("t.params:1: a = 0.0999 is outside [0.1, 50] kg"),
+TEST(Parameters, LimitsAreTheProgramsAndInclusive) {
+  EXPECT_EQ(ErrorOf("mass 0.1\nwind 20\nfocal 1\n"), "");
+  EXPECT_NE(ErrorOf("mass 0.0999\nfocal 1").find("t.params:1: mass = 0.0999 is outside [0.1, 50] kg"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("\nb 50.01 kg 0.1 50").find("t.params:2:"), std::string::npos);
+  EXPECT_NE(ErrorOf("focal 1\n\nwind 20.01").find("t.params:3: wind = 20.01 is outside [0, 20] m/s"),
+            std::string::npos);
+}
+
+TEST(Parameters, AFileCannotRewriteItsLimits) {
+  // The old format carried limits; a file that "widens" mass to 1000 kg is refused either way.
+  EXPECT_NE(ErrorOf("mass 900 kg 0.1 1000\nfocal 1").find("t.params:1: expected 'name value'"), std::string::npos);
+  EXPECT_NE(ErrorOf("mass 900\nfocal 1").find("mass = 900 is outside [0.1, 50] kg"), std::string::npos);
+  const std::string vehicle = ErrorOf("mass 900\n", VehicleParameterSchema());
+  EXPECT_NE(vehicle.find("t.params:1: mass = 900 is outside [0.1, 50] kg"), std::string::npos) << vehicle;
+}
+
+TEST(Parameters, UnknownNamesAreRefusedNamingTheEntry) {
+  EXPECT_EQ(ErrorOf("focal 1\nmas 2"), "t.params:2: 'mas' is not a test parameter (did you mean 'mass'?)");
+  EXPECT_EQ(ErrorOf("focal 1\ncolour 2"), "t.params:2: 'colour' is not a test parameter");
+  EXPECT_NE(ErrorOf("fs_batery_land 0.1\n", VehicleParameterSchema()).find("did you mean 'fs_battery_land'?"),
+            std::string::npos);
 }
 
 TEST(Parameters, BadLinesNameThemselves) {
-  EXPECT_NE(ErrorOf("a nan kg 0 1").find("value 'nan' is not a finite number"), std::string::npos);
-  EXPECT_NE(ErrorOf("a 1 kg").find("expected 'name value unit min max'"), std::string::npos);
-  EXPECT_NE(ErrorOf("a 1 kg 0 2 extra").find("expected"), std::string::npos);
-  EXPECT_NE(ErrorOf("a 1 kg 2 0").find("min > max"), std::string::npos);
-  EXPECT_NE(ErrorOf("a 1 kg 0 2\na 1 kg 0 2").find("t.params:2: a is defined twice"),
-            std::string::npos);
+  EXPECT_NE(ErrorOf("mass nan").find("t.params:1: mass: value 'nan' is not a finite number"), std::string::npos);
+  EXPECT_NE(ErrorOf("mass 0x10").find("value '0x10' is not a finite number"), std::string::npos);
+  EXPECT_NE(ErrorOf("mass").find("expected 'name value'"), std::string::npos);
+  EXPECT_NE(ErrorOf("focal 1\nmass 1\nmass 2").find("t.params:3: mass is set twice"), std::string::npos);
+  EXPECT_EQ(ErrorOf("mass 1"), "t.params: focal is missing (lens focal length, mm)");
 }
 
 TEST(Parameters, MissingParameterNamesItAndTheSource) {
-  const auto p = ParameterSet::Parse("a 1 kg 0 2", "t.params");
+  const auto p = ParameterSet::Parse("focal 1", "t.params", TestSchema());
   try {
-    p.Get("b");
+    p.Get("cx");
     FAIL();
   } catch (const std::out_of_range& e) {
-    EXPECT_STREQ(e.what(), "parameter 'b' is missing from t.params");
+    EXPECT_STREQ(e.what(), "parameter 'cx' is missing from t.params");
   }
 }
 
-TEST(Parameters, OverridesAreCheckedAgainstTheLimitsOnBothSides) {
-  const auto p = ParameterSet::Parse("wind 0 m/s 0 20", "t.params");
+TEST(Parameters, OverridesAreCheckedAgainstTheDeclaredLimitsOnBothSides) {
+  const auto p = ParameterSet::Parse("focal 1", "t.params", TestSchema());
   EXPECT_DOUBLE_EQ(p.With("wind", 20).Get("wind"), 20);
   EXPECT_DOUBLE_EQ(p.WithAssignment("wind=5").Get("wind"), 5);
+  EXPECT_DOUBLE_EQ(p.WithAssignment("cx=320").Get("cx"), 320);  // an optional one may be set
   EXPECT_DOUBLE_EQ(p.Get("wind"), 0);  // the original is unchanged
   auto error = [&](const std::string& a) {
     try {
@@ -66,16 +96,40 @@ TEST(Parameters, OverridesAreCheckedAgainstTheLimitsOnBothSides) {
   EXPECT_EQ(error("wind=-0.001"), "parameter wind = -0.001 is outside [0, 20] m/s");
   EXPECT_EQ(error("gust=1"), "parameter 'gust' does not exist in t.params");
   EXPECT_NE(error("wind=nan").find("NAME=VALUE"), std::string::npos);
+  EXPECT_NE(error("wind=0x5").find("NAME=VALUE"), std::string::npos);
   EXPECT_NE(error("wind").find("NAME=VALUE"), std::string::npos);
 }
 
-TEST(Parameters, ShippedVehicleFileLoads) {
-  const auto p = ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params");
+TEST(Parameters, ShippedVehicleFilesLoadAndSetEveryDeclaredParameter) {
+  const auto p = ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", VehicleParameterSchema());
   EXPECT_DOUBLE_EQ(p.Get("thrust_gain"), 3.8738);        // Table 2.5
   EXPECT_DOUBLE_EQ(p.Get("thrust_time_constant"), 0.095583);
   EXPECT_DOUBLE_EQ(p.Get("induced_torque_coeff"), 0.013);
   EXPECT_DOUBLE_EQ(p.Get("mass"), 1.37);                 // Table 2.2
   EXPECT_DOUBLE_EQ(p.Get("inertia_zz"), 0.05423);
+  // The declared defaults are the X650 file's values.
+  const auto defaults = ParameterSet::Defaults(VehicleParameterSchema());
+  for (const auto& [name, param] : p.all()) EXPECT_DOUBLE_EQ(param.value, defaults.Get(name)) << name;
+  const auto heavy = ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650_heavy_gyro.params",
+                                            VehicleParameterSchema());
+  EXPECT_DOUBLE_EQ(heavy.Get("mass"), 1.80);
+  EXPECT_DOUBLE_EQ(heavy.Get("attitude_mode"), 2);
+}
+
+TEST(Parameters, ShippedCameraFilesLoad) {
+  int n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(std::string(UAV_RESOURCE_DIR) + "/cameras")) {
+    const auto p = ParameterSet::LoadFile(e.path().string(), CameraParameterSchema());
+    EXPECT_GT(p.Get("focal_length_mm"), 0) << e.path();
+    ++n;
+  }
+  EXPECT_GE(n, 3);
+}
+
+TEST(Parameters, DescribeSchemaListsEveryDeclaration) {
+  const std::string text = DescribeSchema(TestSchema());
+  EXPECT_NE(text.find("mass  1.37  kg  [0.1, 50]  total mass"), std::string::npos) << text;
+  EXPECT_NE(text.find("focal  (required)  mm"), std::string::npos) << text;
 }
 
 }  // namespace

@@ -11,7 +11,7 @@ namespace uav::sim {
 namespace {
 
 ParameterSet VehicleFile() {
-  return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params");
+  return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", uav::VehicleParameterSchema());
 }
 
 // The X650 with a perfectly balanced airframe (trims zero), for the rigid-body physics.

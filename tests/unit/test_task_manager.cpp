@@ -14,7 +14,7 @@ class TaskManagerTest : public ::testing::Test {
  protected:
   TaskManagerTest()
       : tm_(TaskParams::FromParameters(
-            ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params"))) {}
+            ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", uav::VehicleParameterSchema()))) {}
 
   std::vector<TaskReport> Send(const std::string& text) {
     std::vector<TaskReport> r;
@@ -87,11 +87,11 @@ TEST_F(TaskManagerTest, HoverTakesTheCurrentPositionAsReference) {
   est_.p_N = {1.5, -2.0, -7.0};
   est_.euler.psi = 0.5;
   auto r = Send("hover");
-  // The takeoff it replaced is reported failed (superseded), then hover completes.
+  // The takeoff it replaced closes as replaced (not failed), then hover completes.
   ASSERT_EQ(r.size(), 3u);
   EXPECT_EQ(r[0].command, "takeoff");
-  EXPECT_EQ(r[0].result, AckResult::kFailed);
-  EXPECT_EQ(r[0].reason, "superseded by hover");
+  EXPECT_EQ(r[0].result, AckResult::kReplaced);
+  EXPECT_EQ(r[0].reason, "replaced by hover");
   EXPECT_EQ(r[2].result, AckResult::kCompleted);
   Step();
   EXPECT_EQ(out_.setpoint.p_N, est_.p_N);
@@ -131,8 +131,8 @@ TEST_F(TaskManagerTest, ChirpOnlyWhileHoveringFollowsEq214AndEndsItself) {
   Step();
   EXPECT_EQ(out_.chirp_channel, ServoChannel::kElevator);
   r = Send("hover");
-  EXPECT_EQ(r[0].result, AckResult::kFailed);
-  EXPECT_EQ(r[0].reason, "superseded by hover");
+  EXPECT_EQ(r[0].result, AckResult::kReplaced);
+  EXPECT_EQ(r[0].reason, "replaced by hover");
   Step();
   EXPECT_EQ(out_.chirp_channel, ServoChannel::kNone);
 }
@@ -176,9 +176,15 @@ TEST_F(TaskManagerTest, AHoldFailsafeStopsAGotoButNotALanding) {
   Step();
   std::vector<TaskReport> r;
   tm_.EnforceFailsafe(FailsafeAction::kHold, "no position", est_, t_, &r);
-  ASSERT_EQ(r.size(), 1u);
+  // The goto fails naming the failsafe; the hold is the vehicle's own row (accepted, completed).
+  ASSERT_EQ(r.size(), 3u);
   EXPECT_EQ(r[0].result, AckResult::kFailed);
   EXPECT_EQ(r[0].reason, "failsafe hold: no position");
+  EXPECT_EQ(r[1].source, kVehicleInitiatedSource);
+  EXPECT_EQ(r[1].command, "failsafe_hold");
+  EXPECT_EQ(r[1].result, AckResult::kAccepted);
+  EXPECT_EQ(r[2].result, AckResult::kCompleted);
+  EXPECT_EQ(r[2].reason, "no position; holding position");
   Step();
   EXPECT_EQ(out_.task, Task::kHover);
   EXPECT_EQ(out_.setpoint.p_N, est_.p_N);
@@ -238,6 +244,68 @@ TEST_F(TaskManagerTest, UnreachableTargetFailsAndHolds) {
   EXPECT_EQ(tm_.task(), Task::kHover);
 }
 
+// A failsafe landing after a completed takeoff: its progress and touchdown are reported under
+// its own vehicle-numbered row, never under the takeoff (which had closed at 100 %).
+TEST_F(TaskManagerTest, AFailsafeLandingReportsAsItselfNotAsTheLastCommand) {
+  Send("arm");
+  const int64_t takeoff_seq = seq_ + 1;
+  Send("takeoff 10");
+  est_.p_N.z() = -10;
+  std::vector<TaskReport> all;
+  for (auto& x : Step()) all.push_back(x);
+  ASSERT_EQ(all.back().result, AckResult::kCompleted);
+  all.clear();
+  tm_.EnforceFailsafe(FailsafeAction::kLand, "no GPS fix", est_, t_, &all);
+  ASSERT_EQ(all.size(), 1u);  // the takeoff had ended: nothing more is said under it
+  EXPECT_EQ(all[0].source, kVehicleInitiatedSource);
+  EXPECT_EQ(all[0].command, "failsafe_land");
+  EXPECT_EQ(all[0].result, AckResult::kAccepted);
+  EXPECT_EQ(all[0].reason, "no GPS fix");
+  const int64_t own_seq = all[0].seq;
+  for (int i = 0; i < 400 && tm_.armed(); ++i) {
+    est_.p_N.z() = std::min(0.0, est_.p_N.z() + 0.05);
+    for (auto& x : Step(0.1)) all.push_back(x);
+  }
+  ASSERT_FALSE(tm_.armed());
+  int progress = 0;
+  for (const auto& x : all) {
+    EXPECT_NE(x.seq, takeoff_seq) << Name(x.result) << " " << x.reason;
+    EXPECT_EQ(x.seq, own_seq);
+    progress += x.result == AckResult::kInProgress;
+  }
+  EXPECT_GT(progress, 0);
+  EXPECT_EQ(all.back().result, AckResult::kCompleted);
+  // A second failsafe is numbered anew.
+  Send("arm");
+  Send("takeoff 10");
+  est_.p_N.z() = -10;
+  Step();
+  std::vector<TaskReport> again;
+  tm_.EnforceFailsafe(FailsafeAction::kReturn, "battery low", est_, t_, &again);
+  ASSERT_FALSE(again.empty());
+  EXPECT_GT(again.back().seq, own_seq);
+}
+
+// A goto replaced by hover closes as replaced and says nothing after.
+TEST_F(TaskManagerTest, AReplacedCommandsRowClosesAndStaysClosed) {
+  Send("arm");
+  Send("takeoff 10");
+  est_.p_N.z() = -10;
+  Step();
+  const int64_t goto_seq = seq_ + 1;
+  Send("goto 50 0 10");
+  Step(0.6);
+  auto r = Send("hover");
+  ASSERT_FALSE(r.empty());
+  EXPECT_EQ(r[0].seq, goto_seq);
+  EXPECT_EQ(r[0].result, AckResult::kReplaced);
+  std::vector<TaskReport> after;
+  tm_.EnforceFailsafe(FailsafeAction::kLand, "battery", est_, t_, &after);
+  for (int i = 0; i < 50; ++i)
+    for (auto& x : Step(0.1)) after.push_back(x);
+  for (const auto& x : after) EXPECT_NE(x.seq, goto_seq);
+}
+
 }  // namespace
 }  // namespace uav::control
 
@@ -270,7 +338,7 @@ class FollowTest : public TaskManagerTest {
   }
   TrackedTarget target_;
   const FollowParams follow_ = TaskParams::FromParameters(
-      ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params")).follow;
+      ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", uav::VehicleParameterSchema())).follow;
 };
 
 TEST_F(FollowTest, RefusedWithoutALockedTargetOnTheGround) {
@@ -351,7 +419,7 @@ TEST_F(FollowTest, HoldsOnALossFollowsAgainOnReacquisitionAndGivesUpAfterTheTime
 
 TEST_F(FollowTest, TrackingStoppedEndsItAndTheGeofenceWins) {
   const double fence = TaskParams::FromParameters(
-      ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params")).fence_radius;
+      ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", uav::VehicleParameterSchema())).fence_radius;
   See(fence + 50, 0);  // the target walks out of the fence: watched from inside
   Send("follow");
   Step();
@@ -360,8 +428,8 @@ TEST_F(FollowTest, TrackingStoppedEndsItAndTheGeofenceWins) {
   tm_.ObserveTarget(TrackedTarget{});  // the operator stopped tracking
   auto r = Step();
   ASSERT_EQ(r.size(), 1u);
-  EXPECT_EQ(r[0].result, AckResult::kFailed);
-  EXPECT_EQ(r[0].reason, "tracking stopped; holding position");
+  EXPECT_EQ(r[0].result, AckResult::kCompleted);  // the operator's own stop is not a failure
+  EXPECT_EQ(r[0].reason, "tracking stopped by the operator; holding position");
   EXPECT_EQ(out_.task, Task::kHover);
 }
 
@@ -371,8 +439,10 @@ TEST_F(FollowTest, AFailsafeTakesOverAndRefusesFollow) {
   Step();
   std::vector<TaskReport> r;
   tm_.EnforceFailsafe(FailsafeAction::kReturn, "GCS link lost", est_, t_, &r);
-  ASSERT_EQ(r.size(), 1u);
+  ASSERT_EQ(r.size(), 2u);
   EXPECT_EQ(r[0].result, AckResult::kFailed);
+  EXPECT_EQ(r[1].command, "failsafe_return");
+  EXPECT_EQ(r[1].result, AckResult::kAccepted);
   Step();
   EXPECT_EQ(out_.task, Task::kReturn);
   EXPECT_EQ(Send("follow")[0].result, AckResult::kRejected);

@@ -15,6 +15,7 @@
 
 #include "uav/shared/text_file.hpp"
 #include "uav/waypoints/mission_file.hpp"
+#include "uav/shared/decimal.hpp"
 
 namespace wp = uav::waypoints;
 
@@ -103,6 +104,9 @@ int main(int argc, char** argv) {
   wp::SurveyParams p;
   double front_pct = 75, side_pct = 60;
   bool portrait = false;
+  bool list_camera_params = false;
+  cli.add_flag("--list-camera-params", list_camera_params,
+               "print every camera-file parameter (name, default, unit, limits, description) and exit");
   cli.add_option("--polygon", polygon_text, "area vertices \"LAT,LON LAT,LON ...\" (degrees)");
   cli.add_option("--polygon-file", polygon_file, "file of LAT,LON vertices, one or more per line");
   cli.add_option("--home", home_text, "home LAT,LON,ALT (default: first vertex at 0 m)");
@@ -124,7 +128,12 @@ int main(int argc, char** argv) {
   cli.add_option("--wpl", wpl_out, "write a QGC WPL 110 file");
   cli.add_option("--captures", captures_out, "write the capture plan as CSV");
   cli.add_option("--picture", picture_out, "draw the plan as PNG");
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
+  if (list_camera_params) {
+    std::cout << uav::DescribeSchema(uav::CameraParameterSchema());
+    return 0;
+  }
 
   try {
     std::vector<uav::GeodeticPoint> area;
@@ -135,7 +144,7 @@ int main(int argc, char** argv) {
     if (p.altitude_m == 0 && p.gsd_cm_per_px == 0) throw std::invalid_argument("give --altitude or --gsd");
     const uav::GeodeticPoint home =
         home_text.empty() ? uav::GeodeticPoint{area[0].latitude_deg, area[0].longitude_deg, 0.0} : ParseHome(home_text);
-    p.camera = wp::CameraFromParameters(uav::ParameterSet::LoadFile(camera_file));
+    p.camera = wp::CameraFromParameters(uav::ParameterSet::LoadFile(camera_file, uav::CameraParameterSchema()));
     if (portrait) p.camera.landscape = false;
     p.front_overlap = front_pct / 100.0;
     p.side_overlap = side_pct / 100.0;

@@ -23,6 +23,7 @@
 #include "uav/gcs/script_input.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/time.hpp"
+#include "uav/shared/decimal.hpp"
 
 namespace {
 volatile std::sig_atomic_t g_stop = 0;
@@ -102,6 +103,7 @@ int main(int argc, char** argv) {
   cli.add_flag("--insecure", insecure, "send unsigned (only a vehicle started with --insecure obeys); shown in red")
       ->excludes(key_option);
   cli.add_option("--exit-after", exit_after, "quit after this many seconds (0: never)")->check(CLI::Range(0.0, 1e6));
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
 
   std::signal(SIGINT, OnSignal);

@@ -1,5 +1,8 @@
 #include "uav/gcs/commands.hpp"
 
+#include <algorithm>
+#include <iterator>
+
 #include "uav/shared/command_grammar.hpp"
 
 namespace uav::gcs {
@@ -27,28 +30,57 @@ bool CommandCenter::Submit(const std::string& text, const std::string& vehicle_i
   c.text = canonical;
   c.first_sent = c.last_sent = now;
   c.tries = 1;
-  sent_.push_back(c);
-  while (sent_.size() > kMaxSentKept) sent_.pop_front();
+  Keep(c);
   outgoing_.push_back({c.vehicle_id, c.command_seq, c.text});
   log.Add(now, vehicle_id, "sent: " + canonical, Severity::kInfo);
   return true;
 }
 
+void CommandCenter::Keep(SentCommand c) {
+  sent_.push_back(std::move(c));
+  while (sent_.size() > kMaxSentKept) sent_.pop_front();
+}
+
 void CommandCenter::OnAck(const std::string& vehicle_id, const std::string& source, const AckInfo& ack, double now,
                           MessageLog& log) {
+  if (source == kVehicleInitiatedSource) return OnVehicleReport(vehicle_id, ack, now, log);
   if (source != gcs_name_) return;  // another GCS's conversation
   for (auto& c : sent_) {
-    if (c.command_seq != ack.command_seq || c.vehicle_id != vehicle_id) continue;
+    if (c.vehicle_initiated || c.command_seq != ack.command_seq || c.vehicle_id != vehicle_id) continue;
     c.acknowledged = true;
     const bool changed = !c.last_ack || c.last_ack->result != ack.result;
     c.last_ack = ack;
     if (changed && ack.result != CommandResult::kInProgress) {
-      const bool bad = ack.result == CommandResult::kRejected || ack.result == CommandResult::kFailed;
       log.Add(now, vehicle_id,
               c.text + ": " + std::string(Name(ack.result)) + (ack.reason.empty() ? "" : " (" + ack.reason + ")"),
-              bad ? Severity::kWarning : Severity::kInfo);
+              IsFailure(ack.result) ? Severity::kWarning : Severity::kInfo);
     }
   }
+}
+
+void CommandCenter::OnVehicleReport(const std::string& vehicle_id, const AckInfo& ack, double now, MessageLog& log) {
+  auto row = std::find_if(sent_.begin(), sent_.end(), [&](const SentCommand& c) {
+    return c.vehicle_initiated && c.vehicle_id == vehicle_id && c.command_seq == ack.command_seq;
+  });
+  if (row == sent_.end()) {
+    SentCommand c;
+    c.command_seq = ack.command_seq;
+    c.vehicle_id = vehicle_id;
+    c.text = ack.command;
+    c.first_sent = c.last_sent = now;
+    c.acknowledged = true;
+    c.vehicle_initiated = true;
+    Keep(std::move(c));
+    row = std::prev(sent_.end());
+  }
+  const bool changed = !row->last_ack || row->last_ack->result != ack.result;
+  row->last_ack = ack;
+  if (!changed || ack.result == CommandResult::kInProgress) return;
+  // The vehicle taking over is a warning the operator must see; its end is news.
+  const bool warn = ack.result == CommandResult::kAccepted || IsFailure(ack.result);
+  log.Add(now, vehicle_id,
+          "vehicle: " + row->text + " " + std::string(Name(ack.result)) + (ack.reason.empty() ? "" : " (" + ack.reason + ")"),
+          warn ? Severity::kWarning : Severity::kInfo);
 }
 
 void CommandCenter::Tick(double now, MessageLog& log) {

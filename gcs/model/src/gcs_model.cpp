@@ -37,7 +37,7 @@ void GcsModel::OnState(const std::string& vehicle_id, int64_t seq, const Vehicle
 void GcsModel::OnAck(const std::string& vehicle_id, const std::string& source, const AckInfo& ack, double now) {
   if (replay_) {  // a recorded flight: every GCS's conversation with the vehicle, as it happened
     if (ack.result == CommandResult::kInProgress) return;
-    const bool bad = ack.result == CommandResult::kRejected || ack.result == CommandResult::kFailed;
+    const bool bad = IsFailure(ack.result);
     log_.Add(now, vehicle_id,
              ack.command + ": " + std::string(Name(ack.result)) + (ack.reason.empty() ? "" : " (" + ack.reason + ")") +
                  " [to " + source + "]",

@@ -61,11 +61,16 @@ std::vector<std::vector<std::string>> Clauses(const std::vector<std::string>& to
 bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* replay, double now, double* num,
             std::string* str, bool* is_number) {
   const VehicleModel* v = m.selected();
-  const SentCommand* last = m.commands().sent().empty() ? nullptr : &m.commands().sent().back();
+  // "ack": this GCS's newest command; "vehicle.ack": what the vehicle newest did on its own.
+  const bool own = name.rfind("vehicle.", 0) == 0;
+  const SentCommand* last = nullptr;
+  for (auto it = m.commands().sent().rbegin(); it != m.commands().sent().rend() && !last; ++it)
+    if (it->vehicle_initiated == own) last = &*it;
+  const std::string key = own ? name.substr(8) : name;
   *is_number = false;
-  if (name == "ack") return *str = last && last->last_ack ? std::string(Name(last->last_ack->result)) : "none", true;
-  if (name == "ack.reason") return *str = last && last->last_ack ? last->last_ack->reason : "", true;
-  if (name == "ack.command") return *str = last && last->last_ack ? last->last_ack->command : "", true;
+  if (key == "ack") return *str = last && last->last_ack ? std::string(Name(last->last_ack->result)) : "none", true;
+  if (key == "ack.reason") return *str = last && last->last_ack ? last->last_ack->reason : "", true;
+  if (key == "ack.command") return *str = last && last->last_ack ? last->last_ack->command : "", true;
   if (name == "error") return *str = m.commands().error(), true;
   if (name == "survey.problem") return *str = m.missions().planner().problem(), true;
   if (name == "upload") {
@@ -101,7 +106,7 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
     return true;
   }
   *is_number = true;
-  if (name == "ack.percent") return *num = last && last->last_ack ? last->last_ack->percent : -1, true;
+  if (key == "ack.percent") return *num = last && last->last_ack ? last->last_ack->percent : -1, true;
   if (name == "tries") return *num = last ? last->tries : 0, true;
   if (name == "survey.vertices") return *num = static_cast<double>(m.missions().planner().polygon().size()), true;
   if (name == "survey.images") return *num = m.missions().planner().plan() ? static_cast<double>(m.missions().planner().plan()->captures.size()) : 0.0, true;

@@ -17,7 +17,7 @@ SurveyPlanner::SurveyPlanner(const std::string& camera_dir, const GeodeticPoint&
   std::sort(files.begin(), files.end());
   for (const auto& f : files) {
     try {
-      cameras_.push_back({f.stem().string(), waypoints::CameraFromParameters(ParameterSet::LoadFile(f.string()))});
+      cameras_.push_back({f.stem().string(), waypoints::CameraFromParameters(ParameterSet::LoadFile(f.string(), uav::CameraParameterSchema()))});
     } catch (const std::exception&) {
       // A broken camera file is left out of the list; the others still work.
     }

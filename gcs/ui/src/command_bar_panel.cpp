@@ -120,14 +120,25 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
     const SentCommand& c = *it;
     std::string state = c.gave_up ? "no answer, gave up" : !c.last_ack ? "waiting for ack" : std::string(Name(c.last_ack->result));
     if (c.tries > 1 && !c.acknowledged) state += " (try " + std::to_string(c.tries) + ")";
-    const bool bad = c.gave_up || (c.last_ack && (c.last_ack->result == CommandResult::kRejected || c.last_ack->result == CommandResult::kFailed));
-    ImGui::TextColored(bad ? ImVec4(1, 0.45f, 0.35f, 1) : ImVec4(0.85f, 0.85f, 0.85f, 1), "%s  %-12s  %s",
-                       c.vehicle_id.c_str(), c.text.c_str(), state.c_str());
+    const bool bad = c.gave_up || (c.last_ack && IsFailure(c.last_ack->result));
+    // What the vehicle does on its own (a failsafe) is amber while it lasts, in a row of its own.
+    const bool vehicle_active = c.vehicle_initiated && c.last_ack &&
+                                (c.last_ack->result == CommandResult::kAccepted || c.last_ack->result == CommandResult::kInProgress);
+    const ImVec4 colour = bad ? ImVec4(1, 0.45f, 0.35f, 1) : vehicle_active ? ImVec4(1, 0.75f, 0.2f, 1) : ImVec4(0.85f, 0.85f, 0.85f, 1);
+    ImGui::TextColored(colour, "%s  %s%-12s  %s", c.vehicle_id.c_str(), c.vehicle_initiated ? "[vehicle] " : "",
+                       c.text.c_str(), state.c_str());
     if (c.last_ack && c.last_ack->result == CommandResult::kInProgress) {
       ImGui::SameLine();
       ImGui::ProgressBar(c.last_ack->percent / 100.0f, ImVec2(120, 0));
     }
-    if (c.last_ack && !c.last_ack->reason.empty()) ImGui::TextDisabled("    %s", c.last_ack->reason.c_str());
+    if (c.last_ack && !c.last_ack->reason.empty()) {
+      // The whole reason, wrapped: "failsafe land: ... (landing where it is)" must not end at "(landing".
+      ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+      ImGui::Indent();
+      ImGui::TextWrapped("%s", c.last_ack->reason.c_str());
+      ImGui::Unindent();
+      ImGui::PopStyleColor();
+    }
   }
   ImGui::End();
 }

@@ -27,6 +27,7 @@
 #include "uav/sim/sim_cameras.hpp"
 #include "uav/sim/sim_vehicle.hpp"
 #include "uav/world/scene.hpp"
+#include "uav/shared/decimal.hpp"
 
 namespace {
 
@@ -68,6 +69,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> param_overrides;
   std::string key_path;
   bool insecure = false;
+  bool list_params = false;
+  cli.add_flag("--list-params", list_params,
+               "print every vehicle parameter the program declares (name, default, unit, limits, description) and exit");
   cli.add_flag("--sim", sim, "run against the simulated quadrotor (thesis 2.4 model)");
   cli.add_option("--vehicle-id", vehicle_id, "vehicle id; channels are <ID>/<TOPIC>")->capture_default_str();
   cli.add_option("--lcm-url", lcm_url, "LCM URL")->capture_default_str();
@@ -91,7 +95,12 @@ int main(int argc, char** argv) {
       ->excludes(key_option);
   cli.add_option("--duration", duration_s, "stop after this many simulated seconds (0: run until signalled)")
       ->check(CLI::Range(0.0, 1e7));
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
+  if (list_params) {
+    std::cout << uav::DescribeSchema(uav::VehicleParameterSchema());
+    return 0;
+  }
 
   try {
     if (!sim) throw std::invalid_argument("no hardware backend in this build: use --sim");
@@ -103,7 +112,7 @@ int main(int argc, char** argv) {
                                   "commands from anyone on the network, --insecure");
     const double speed = ParseSpeed(speed_text);
     const uav::GeodeticPoint home = ParseHome(home_text);
-    uav::ParameterSet params = uav::ParameterSet::LoadFile(params_path);
+    uav::ParameterSet params = uav::ParameterSet::LoadFile(params_path, uav::VehicleParameterSchema());
     for (const auto& o : param_overrides) params = params.WithAssignment(o);
     const auto vehicle_params = uav::hal::VehicleParams::FromParameters(params);
 

@@ -24,7 +24,8 @@ TargetFollower::Output TargetFollower::Update(const TrackedTarget& target, const
   Output o;
   if (target.last_seen_utime < 0) {
     o.state = State::kGaveUp;
-    o.reason = "tracking stopped";
+    o.reason = "tracking stopped by the operator";
+    o.stopped_by_operator = true;
     return o;
   }
   const double unseen_s = t - target.last_seen_utime * 1e-6;

@@ -48,11 +48,28 @@ void TaskManager::EnforceFailsafe(FailsafeAction required, const std::string& re
   // rate) while the vehicle holds or flies home, until it lands or the operator commands again.
   if (path_.capture_interval_s || path_.capture_distance_m)
     carried_capture_ = {path_.capture_interval_s, path_.capture_distance_m};
+  const std::string what = "failsafe_" + std::string(Name(required));
   Finish(AckResult::kFailed, "failsafe " + std::string(Name(required)) + ": " + reason, reports);
+  // What the vehicle does now is its own task, reported as itself (thesis 2.3.2: the task
+  // manager reports every task): a row of its own in the GCS, closed when it ends.
+  active_ = {std::string(kVehicleInitiatedSource), ++vehicle_seq_, what};
+  active_report_ = true;
+  start_p_N_ = est.p_N;
+  start_t_ = t;
+  last_percent_ = 0;
+  last_progress_t_ = t;
+  still_since_ = -1.0;
+  Report(AckResult::kAccepted, 0, reason, reports);
   switch (required) {
     case FailsafeAction::kNone: break;
     case FailsafeAction::kManual:
-    case FailsafeAction::kHold: Hold(est); break;
+      Hold(est);
+      Finish(AckResult::kCompleted, reason + ": the pilot flies", reports);
+      break;
+    case FailsafeAction::kHold:
+      Hold(est);
+      Finish(AckResult::kCompleted, reason + "; holding position", reports);
+      break;
     case FailsafeAction::kReturn: {
       std::vector<waypoints::MissionStep> steps(1);
       steps[0].kind = waypoints::MissionStep::Kind::kReturnHome;
@@ -119,21 +136,26 @@ void TaskManager::StartLanding(const VehicleEstimate& est) {
   task_ = Task::kLand;
 }
 
+void TaskManager::Report(AckResult result, int percent, const std::string& reason,
+                         std::vector<TaskReport>* reports) const {
+  // Only the owner of the task in flight hears of it: a command that has ended (completed,
+  // replaced, cut short by a failsafe) never gets another report.
+  if (active_report_) reports->push_back({active_.source, active_.seq, active_.name, result, percent, reason});
+}
+
 void TaskManager::Finish(AckResult result, const std::string& reason,
                          std::vector<TaskReport>* reports) {
-  if (!active_report_) return;
-  reports->push_back({active_.source, active_.seq, active_.command.Name(), result,
-                      result == AckResult::kCompleted ? 100 : last_percent_, reason});
+  Report(result, result == AckResult::kCompleted ? 100 : last_percent_, reason, reports);
   active_report_ = false;
 }
 
 void TaskManager::Supersede(const std::string& by, std::vector<TaskReport>* reports) {
   if (task_ == Task::kFollow) {
-    if (active_report_) reports->push_back({active_.source, active_.seq, active_.command.Name(), AckResult::kCompleted, 100, "stopped by " + by});
+    Report(AckResult::kCompleted, 100, "stopped by " + by, reports);
     active_report_ = false;
     return;
   }
-  Finish(AckResult::kFailed, "superseded by " + by, reports);
+  Finish(AckResult::kReplaced, "replaced by " + by, reports);
 }
 
 void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstimate& est, double t,
@@ -143,7 +165,7 @@ void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstim
   carried_capture_.reset();
   if (task != Task::kTrack && task != Task::kMission && task != Task::kReturn) runner_.reset();
   task_ = task;
-  active_ = req;
+  active_ = {req.source, req.seq, req.command.Name()};
   active_report_ = true;
   start_p_N_ = est.p_N;
   start_t_ = t;
@@ -272,13 +294,14 @@ void TaskManager::UpdateFollow(const VehicleEstimate& est, double t, std::vector
   const TargetFollower::Output o = follower_->Update(target_, est, t);
   if (o.state == TargetFollower::State::kGaveUp) {
     Hold(est);
-    Finish(AckResult::kFailed, o.reason + "; holding position", reports);
+    // The operator stopping the tracker ends the follow as meant; losing the target is a failure.
+    Finish(o.stopped_by_operator ? AckResult::kCompleted : AckResult::kFailed, o.reason + "; holding position", reports);
     return;
   }
   if (o.state != follow_state_ && active_report_) {
     // Say when it starts holding and when it follows again.
-    reports->push_back({active_.source, active_.seq, active_.command.Name(), AckResult::kInProgress, 0,
-                        o.state == TargetFollower::State::kHolding ? o.reason + "; holding position" : "following"});
+    Report(AckResult::kInProgress, 0, o.state == TargetFollower::State::kHolding ? o.reason + "; holding position" : "following",
+           reports);
   }
   follow_state_ = o.state;
   setpoint_ = o.setpoint;
@@ -311,8 +334,7 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
     if (path_.percent != last_percent_ && t - last_progress_t_ >= 0.5 && path_.percent < 100) {
       last_percent_ = path_.percent;
       last_progress_t_ = t;
-      reports->push_back({active_.source, active_.seq, active_.command.Name(), AckResult::kInProgress,
-                          path_.percent, ""});
+      Report(AckResult::kInProgress, path_.percent, "", reports);
     }
     if (path_.land) {
       runner_.reset();
@@ -352,7 +374,7 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
       if (t - last_progress_t_ >= 0.5 && percent != last_percent_) {
         last_percent_ = percent;
         last_progress_t_ = t;
-        reports->push_back({active_.source, active_.seq, active_.command.Name(), AckResult::kInProgress, percent, ""});
+        Report(AckResult::kInProgress, percent, "", reports);
       }
     }
   }
@@ -362,8 +384,7 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
     if (t - last_progress_t_ >= 0.5 && percent != last_percent_ && percent < 100) {
       last_percent_ = percent;
       last_progress_t_ = t;
-      reports->push_back({active_.source, active_.seq, active_.command.Name(),
-                          AckResult::kInProgress, percent, ""});
+      Report(AckResult::kInProgress, percent, "", reports);
     }
     if (task_ == Task::kLand) {
       // Down when still at the ground's height, or when the vertical speed has stayed under a

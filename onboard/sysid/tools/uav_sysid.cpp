@@ -12,6 +12,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "uav/sysid/system_identification.hpp"
+#include "uav/shared/decimal.hpp"
 
 namespace {
 
@@ -74,9 +75,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   cli.add_option("--plot", plot_path, "PNG of measured against model output (default: LOG with _sysid.png)");
   cli.add_option("--json", json_path, "also write the JSON here");
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
-    const auto known = uav::sysid::KnownParams::FromParameters(uav::ParameterSet::LoadFile(params_path));
+    const auto known = uav::sysid::KnownParams::FromParameters(uav::ParameterSet::LoadFile(params_path, uav::VehicleParameterSchema()));
     std::fprintf(stderr, "uav-sysid: reading %s\n", log_path.c_str());
     const auto log = uav::sysid::LogTable::ReadCsv(log_path);
     std::fprintf(stderr, "uav-sysid: %zu rows, identifying\n", log.rows());

@@ -166,7 +166,7 @@ CameraSetup ReadCamera(const Reader& rd, const json& j, const std::string& path,
   std::string file = rd.String(j, path, "file", default_file);
   if (!file.empty() && file[0] != '/') file = camera_dir + file;
   try {
-    c.intrinsics = IntrinsicsFromParameters(ParameterSet::LoadFile(file));
+    c.intrinsics = IntrinsicsFromParameters(ParameterSet::LoadFile(file, uav::CameraParameterSchema()));
   } catch (const std::exception& e) {
     rd.Fail(path + ".file", e.what());
   }

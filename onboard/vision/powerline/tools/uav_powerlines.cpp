@@ -14,6 +14,7 @@
 #include "uav/shared/progress_bar.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/power_line_detector.hpp"
+#include "uav/shared/decimal.hpp"
 
 namespace {
 
@@ -54,6 +55,7 @@ int main(int argc, char** argv) {
   cli.add_option("--mode", mode, "any: wires at any angle; horizontal: the thesis's forward-camera mode")
       ->check(CLI::IsMember({"any", "horizontal"}))
       ->capture_default_str();
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
 
   uav::vision::PowerLineParams params;

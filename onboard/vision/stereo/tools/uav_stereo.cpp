@@ -25,6 +25,7 @@
 #include "uav/vision/point_cloud.hpp"
 #include "uav/vision/stereo_calibration.hpp"
 #include "uav/vision/stereo_obstacles.hpp"
+#include "uav/shared/decimal.hpp"
 
 namespace {
 
@@ -75,6 +76,7 @@ int main(int argc, char** argv) {
   cli.add_option("--obstacles", obstacles_out, "JSON obstacle cylinders, level camera frame (x fwd, y right, z down)");
   cli.add_option("--truth", truth_path, "ground-truth disparity image (0 unknown) to score against");
   cli.add_option("--truth-scale", truth_scale, "ground-truth pixel value per pixel of disparity")->capture_default_str();
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
   if (calib_path.empty() && !rectified) {
     std::fprintf(stderr, "uav-stereo: give --calib FILE for a raw pair or --rectified for a rectified one\n");

@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "uav/vision/stereo_calibration.hpp"
+#include "uav/shared/decimal.hpp"
 
 int main(int argc, char** argv) {
   CLI::App cli{"uav-stereo-calibrate: stereo calibration from chessboard pairs"};
@@ -22,6 +23,7 @@ int main(int argc, char** argv) {
   cli.add_option("--square", square_m, "square size [m]")->capture_default_str();
   cli.add_option("--out", out, "calibration file (.yml, .yaml, .json)")->required();
   cli.add_option("images", images, "LEFT RIGHT pairs")->required();
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
   uav::vision::ChessboardSpec board;
   board.square_m = square_m;

@@ -16,6 +16,7 @@
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/disparity.hpp"
 #include "uav/world/renderer.hpp"
+#include "uav/shared/decimal.hpp"
 
 namespace {
 
@@ -92,6 +93,7 @@ int main(int argc, char** argv) {
   cli.add_option("--material", material, "texture of the plane (a scene material name)")->capture_default_str();
   cli.add_option("--depths", depths, "plane depths [m]")->delimiter(',')->capture_default_str();
   cli.add_option("--out", out, "write the tables as JSON here");
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
   for (double z : depths)
     if (!(std::isfinite(z) && z >= 1.0 && z <= 50.0)) {

@@ -37,6 +37,7 @@
 #include "uav/vision/map_export.hpp"
 #include "uav/vision/map_stitcher.hpp"
 #include "uav/vision/photo_geotag.hpp"
+#include "uav/shared/decimal.hpp"
 
 namespace {
 
@@ -177,6 +178,7 @@ int main(int argc, char** argv) {
   cli.add_option("--detector", detector,
                  "gftt: good features + Lucas-Kanade (thesis); orb: FAST + ORB + brute force; sift: SIFT + FLANN")
       ->capture_default_str();
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
   const auto start = std::chrono::steady_clock::now();
   const auto since_start = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -225,7 +227,7 @@ int main(int argc, char** argv) {
       session.camera.cy = (first.rows - 1) / 2.0;
     }
     if (inputs.empty()) Fail(poses_path + ": no captures");
-    if (!camera_path.empty()) session.camera = uav::IntrinsicsFromParameters(uav::ParameterSet::LoadFile(camera_path));
+    if (!camera_path.empty()) session.camera = uav::IntrinsicsFromParameters(uav::ParameterSet::LoadFile(camera_path, uav::CameraParameterSchema()));
     params.registration.detector = uav::vision::ParseDetector(detector);
     params.live_map = false;  // only the adjusted map is written
     uav::vision::MapStitcher stitcher(session.camera, params);

@@ -22,6 +22,7 @@
 #include "uav/shared/image_files.hpp"
 #include "uav/shared/progress_bar.hpp"
 #include "uav/vision/target_tracker.hpp"
+#include "uav/shared/decimal.hpp"
 
 namespace {
 
@@ -79,6 +80,7 @@ int main(int argc, char** argv) {
   app.add_option("--window", window, "CamShift search window: adaptive or static")->capture_default_str();
   app.add_option("--out", out_path, "CSV of boxes, one row per frame");
   app.add_option("--overlay", overlay_dir, "folder for frames with the box drawn");
+  uav::RequireDecimalNumbers(app);
   CLI11_PARSE(app, argc, argv);
 
   uav::vision::TrackerParams params;

@@ -21,6 +21,7 @@
 #include "uav/shared/progress_bar.hpp"
 #include "uav/vision/kitti_odometry.hpp"
 #include "uav/vision/stereo_vo.hpp"
+#include "uav/shared/decimal.hpp"
 
 int main(int argc, char** argv) {
   CLI::App cli{"uav-vo: stereo visual odometry over a KITTI-layout sequence (thesis ch. 5)"};
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
   cli.add_option("--max-features", params.max_features, "features kept per keyframe")->capture_default_str();
   cli.add_option("--first", first, "first frame to use")->check(CLI::NonNegativeNumber)->capture_default_str();
   cli.add_option("--frames", frames, "frames to use (0: all)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
   params.method = *uav::vision::ParseVoMethod(method);
   try {

@@ -1,11 +1,34 @@
 #pragma once
-// Parameters are data (PX4 style): a text file with one parameter per line,
-//   name  value  unit  min  max  # description
-// Every value is checked against its own limits when the file is loaded.
+// Parameters are data (PX4 style). The program declares each parameter once, with its unit,
+// limits, default and description (a ParameterSchema); a file sets values only:
+//   name  value   # comment
+// Limits are the program's, never the file's: a file cannot widen them.
 #include <map>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace uav {
+
+struct ParameterSpec {
+  std::string name;
+  std::string unit;
+  std::optional<double> default_value;  // nullopt: the file must set it (unless `optional`)
+  double min;
+  double max;
+  std::string description;
+  bool optional = false;  // without a default: may be left out (ParameterSet::Has says)
+};
+
+struct ParameterSchema {
+  std::string kind;  // "vehicle", "camera": names the file kind in errors
+  std::vector<ParameterSpec> specs;
+  const ParameterSpec* Find(const std::string& name) const;
+};
+
+// The vehicle's parameters (defaults: the X650 of thesis 2.3-2.5) and a camera file's.
+const ParameterSchema& VehicleParameterSchema();
+const ParameterSchema& CameraParameterSchema();
 
 struct Parameter {
   double value;
@@ -17,17 +40,21 @@ struct Parameter {
 
 class ParameterSet {
  public:
-  // Throws std::runtime_error naming the file and line of the first bad entry (unknown syntax,
-  // non-numeric or non-finite value, min > max, value outside [min, max], duplicate name).
-  static ParameterSet LoadFile(const std::string& path);
-  static ParameterSet Parse(const std::string& text, const std::string& source_name);
+  // Throws std::runtime_error naming the file and line of the first bad entry (not 'name value',
+  // a name the schema does not declare, a value that is not a finite decimal number or is
+  // outside the declared limits, a duplicate) or the first required parameter left out.
+  // Declared parameters the file leaves out take their default.
+  static ParameterSet LoadFile(const std::string& path, const ParameterSchema& schema);
+  static ParameterSet Parse(const std::string& text, const std::string& source_name, const ParameterSchema& schema);
+  // Every parameter at its default (a schema whose parameters all have one).
+  static ParameterSet Defaults(const ParameterSchema& schema);
 
   // Throws std::out_of_range naming the parameter and the source when it is missing.
   double Get(const std::string& name) const;
   bool Has(const std::string& name) const { return params_.count(name) != 0; }
-  // A copy with one existing parameter changed (an override from the command line or a test).
-  // Throws std::invalid_argument naming the parameter when it is unknown, not finite or outside
-  // its limits.
+  // A copy with one declared parameter changed (an override from the command line or a test).
+  // Throws std::invalid_argument naming the parameter when it is undeclared, not finite or
+  // outside its limits.
   ParameterSet With(const std::string& name, double value) const;
   // Applies "name=value" (the --param option). Same errors as With, plus malformed text.
   ParameterSet WithAssignment(const std::string& assignment) const;
@@ -36,7 +63,11 @@ class ParameterSet {
 
  private:
   std::string source_;
+  const ParameterSchema* schema_ = nullptr;
   std::map<std::string, Parameter> params_;
 };
+
+// One line per declared parameter: name, default, unit, limits, description (--list-params).
+std::string DescribeSchema(const ParameterSchema& schema);
 
 }  // namespace uav

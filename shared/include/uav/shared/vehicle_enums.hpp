@@ -11,7 +11,12 @@ namespace uav {
 // What the task manager is doing (vehicle_state_t.TASK_*, heartbeat_t.task).
 enum class Task : int8_t { kIdle = 0, kTakeoff = 1, kHover = 2, kGoto = 3, kLand = 4, kTrack = 5, kMission = 6, kReturn = 7, kFollow = 8 };
 // Answer to a command (command_ack_t.RESULT_*).
-enum class CommandResult : int8_t { kAccepted = 0, kRejected = 1, kInProgress = 2, kCompleted = 3, kFailed = 4 };
+enum class CommandResult : int8_t { kAccepted = 0, kRejected = 1, kInProgress = 2, kCompleted = 3, kFailed = 4, kReplaced = 5 };
+// A result the operator must look at (red): refused, or started and not finished on its own.
+inline bool IsFailure(CommandResult r) { return r == CommandResult::kRejected || r == CommandResult::kFailed; }
+// The acknowledgement source of what the vehicle does on its own (a failsafe's hold, return or
+// landing): its own rows in the GCS command list, never under an operator's command.
+inline constexpr std::string_view kVehicleInitiatedSource = "vehicle";
 // Strictest failsafe action required now (vehicle_state_t.FAILSAFE_*), ordered by strictness.
 enum class FailsafeAction : int8_t { kNone = 0, kHold = 1, kReturn = 2, kLand = 3, kManual = 4 };
 // Syslog / MAVLink STATUSTEXT severity (status_text_t.SEVERITY_*).

@@ -31,6 +31,8 @@ struct SentCommand {
   int tries = 0;
   bool acknowledged = false;
   bool gave_up = false;
+  // What the vehicle did on its own (a failsafe): a row of its own, numbered by the vehicle.
+  bool vehicle_initiated = false;
   std::optional<AckInfo> last_ack;
 };
 
@@ -54,7 +56,8 @@ class CommandCenter {
   // Queues `text` for `vehicle_id`. Returns false and sets error() when the text is invalid, no
   // vehicle is selected (empty id), or sending is off (replay: `refusal` says why).
   bool Submit(const std::string& text, const std::string& vehicle_id, double now, MessageLog& log);
-  // Only answers to this GCS count; a changed result is logged.
+  // Only answers to this GCS count, and the vehicle's reports of what it does on its own (source
+  // kVehicleInitiatedSource), which get rows of their own; a changed result is logged.
   void OnAck(const std::string& vehicle_id, const std::string& source, const AckInfo& ack, double now, MessageLog& log);
   void Tick(double now, MessageLog& log);
   std::vector<OutgoingCommand> TakeOutgoing() { return std::exchange(outgoing_, {}); }
@@ -76,6 +79,9 @@ class CommandCenter {
   std::vector<std::string> history_;
   std::deque<SentCommand> sent_;
   std::vector<OutgoingCommand> outgoing_;
+
+  void OnVehicleReport(const std::string& vehicle_id, const AckInfo& ack, double now, MessageLog& log);
+  void Keep(SentCommand c);
 };
 
 }  // namespace uav::gcs

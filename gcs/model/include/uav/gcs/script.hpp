@@ -28,7 +28,8 @@
 //   echo TEXT
 // COND is "LHS OP RHS" clauses joined by "and"; OP is == != < <= > >= contains, or
 // "~ VALUE TOL" (|LHS - VALUE| <= TOL). LHS is a signal of the selected vehicle ("alt",
-// "STATE.x", "HEARTBEAT...") or one of: ack ack.reason ack.command ack.percent tries error task
+// "STATE.x", "HEARTBEAT...") or one of: ack ack.reason ack.command ack.percent (this GCS's newest
+// command; vehicle.ack ... for what the vehicle did on its own, a failsafe) tries error task
 // armed vehicles selected plots link sent gave_up log survey.vertices survey.images
 // survey.lines survey.altitude survey.ok survey.problem upload upload.reason mission.items
 // video.frames video.rejected video.frozen basemap.width livemap.tiles livemap.received download.offered

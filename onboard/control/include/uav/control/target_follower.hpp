@@ -35,6 +35,7 @@ class TargetFollower {
     Setpoint setpoint;
     State state = State::kFollowing;
     std::string reason;  // why it holds or gave up
+    bool stopped_by_operator = false;  // gave up because the operator stopped the tracker
   };
   // One control step: `target` is the tracker's newest (TrackedTarget times in us, `t` in s on
   // the same clock).

@@ -109,8 +109,8 @@ class TaskManager {
   void StartPath(Task task, std::vector<waypoints::MissionStep> steps, const VehicleEstimate& est, double t);
   void Hold(const VehicleEstimate& est);
   bool OutsideFence(const Eigen::Vector3d& p_N) const;
-  // Ends the active command because `by` replaces it: a follow ends as the operator meant it to,
-  // anything else has failed.
+  // Ends the active command because `by` replaces it: a follow ends as the operator meant it to
+  // (completed), anything else as replaced.
   void Supersede(const std::string& by, std::vector<TaskReport>* reports);
   void UpdateFollow(const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
 
@@ -127,9 +127,17 @@ class TaskManager {
   bool reset_pending_ = false;
   Task task_ = Task::kIdle;
   Setpoint setpoint_;
-  // The command that owns the current long task, for its progress and completion reports.
+  // Who owns the current long task, for its progress and completion reports: the operator's
+  // command, or the vehicle itself (a failsafe: source kVehicleInitiatedSource, numbered here).
+  struct ReportOwner {
+    std::string source;
+    int64_t seq = 0;
+    std::string name;
+  };
+  void Report(AckResult result, int percent, const std::string& reason, std::vector<TaskReport>* reports) const;
   bool active_report_ = false;
-  CommandRequest active_;
+  ReportOwner active_;
+  int64_t vehicle_seq_ = 0;
   Eigen::Vector3d start_p_N_ = Eigen::Vector3d::Zero();
   double start_t_ = 0.0;
   double deadline_ = 0.0;

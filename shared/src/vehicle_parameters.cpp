@@ -1,0 +1,217 @@
+// The parameters of the vehicle and of a camera file, declared once: name, unit, default, limits
+// and description. Files set values only (parameters.hpp). The vehicle's defaults are the X650
+// of thesis 2.3-2.5 (resources/vehicles/x650.params sets the same values, explicitly).
+#include "uav/shared/parameters.hpp"
+
+namespace uav {
+
+const ParameterSchema& VehicleParameterSchema() {
+  // {name, unit, default, min, max, description}
+  static const ParameterSchema kSchema{"vehicle", {
+    // --- Rigid body (thesis Eq. 2.1, Table 2.2) ---
+    {"mass", "kg", 1.37, 0.1, 50, "total platform mass m (Table 2.2)"},
+    {"inertia_xx", "kg.m2", 0.03356, 1e-4, 10, "rolling moment of inertia J_xx (Table 2.2)"},
+    {"inertia_yy", "kg.m2", 0.03122, 1e-4, 10, "pitching moment of inertia J_yy (Table 2.2)"},
+    {"inertia_zz", "kg.m2", 0.05423, 1e-4, 10, "yawing moment of inertia J_zz (Table 2.2)"},
+    {"arm_length", "m", 0.325, 0.05, 5, "rotor to CG distance l (Table 2.2)"},
+    {"gravity", "m/s2", 9.80665, 9.7, 9.9, "standard gravity g (Eq. 2.7)"},
+
+    // --- Rotors (thesis Eq. 2.5, 2.10, 2.13; flight-identified values of Table 2.5) ---
+    {"thrust_gain", "N", 3.8738, 0.1, 100, "K_f, thrust per unit of normalised rotor input (Table 2.5)"},
+    {"thrust_time_constant", "s", 0.095583, 0.001, 1, "tau_f, first-order rotor thrust lag (Table 2.5)"},
+    {"induced_torque_coeff", "N.m.s", 0.013, 0, 1, "d, reactive torque Q_i = d * Omega_i (Eq. 2.10, Table 2.5)"},
+    {"rotor_speed_gain", "rad/s", 9.2994, 0, 1000, "K_v, Omega_i = K_v * v_i (Eq. 2.5, Table 2.2)"},
+    // Eq. 2.13 is identified around the hover trim (thesis 2.4.5): thrust is linear in the
+    // normalised input and vanishes at this input. Chosen so that the throttle trim u_th0 = 0.18
+    // of Table 2.4 gives m*g/4 per rotor: 0.18 - 1.37*9.80665/(4*3.8738) = -0.687.
+    {"rotor_input_zero_thrust", "1", -0.687, -1, 1, "normalised input M_i at which thrust is zero"},
+    {"rotor_input_idle", "1", -0.80, -1, 1, "armed on the ground: rotors spin, no lift"},
+
+    // --- Body drag (thesis Eq. 2.6; the thesis neglects it at low speed, kept small) ---
+    {"air_density", "kg/m3", 1.225, 0.5, 1.5, "rho"},
+    {"drag_area", "m2", 0.04, 0, 2, "C_d times reference area"},
+
+    // --- Hover trim and gyro in the loop (thesis 2.4.5 Table 2.4, 2.5 Table 2.6) ---
+    // The airframe's imbalance: the servo inputs at which it hovers without turning (Table 2.4).
+    // The throttle trim u_th0 = 0.18 is built into rotor_input_zero_thrust above.
+    {"trim_aileron", "1", 0.066, -0.3, 0.3, "u_a0 (Table 2.4)"},
+    {"trim_elevator", "1", 0.066, -0.3, 0.3, "u_e0 (Table 2.4)"},
+    {"trim_rudder", "1", -0.013, -0.3, 0.3, "u_r0 (Table 2.4)"},
+    // 0: the servo board drives the rotors and the autopilot mixes (Eq. 2.11);
+    // 1: the gyro is in the loop in hover mode, it holds roll and pitch angles (Eq. 2.17-2.19);
+    // 2: the gyro is in the loop in cruise mode, it holds the body rates (Eq. 2.20-2.22).
+    {"attitude_mode", "-", 0, 0, 2, "wiring of the servo board outputs (thesis Fig. 2.21)"},
+    {"gyro_hover_roll_gain", "rad", -0.8628, -20, 20, "K_phi (Eq. 2.17, Table 2.6)"},
+    {"gyro_hover_roll_tau", "s", 0.076615, 0.005, 1, "tau_phi1 = tau_phi2 (Table 2.6)"},
+    {"gyro_hover_pitch_gain", "rad", -0.59151, -20, 20, "K_theta (Eq. 2.18, Table 2.6)"},
+    {"gyro_hover_pitch_tau", "s", 0.079119, 0.005, 1, "tau_theta1 = tau_theta2 (Table 2.6)"},
+    {"gyro_hover_delay", "s", 0.1, 0, 0.5, "T_phi = T_theta (Table 2.6)"},
+    {"gyro_yaw_rate_gain", "rad/s", -4.8121, -20, 20, "K_r, the same in both modes (Eq. 2.19, 2.22, Table 2.6)"},
+    {"gyro_yaw_rate_tau", "s", 0.37029, 0.005, 2, "tau_r (Table 2.6)"},
+    {"gyro_cruise_roll_rate_gain", "rad/s", -2.3167, -20, 20, "K_p (Eq. 2.20, Table 2.6)"},
+    {"gyro_cruise_roll_rate_tau", "s", 0.033855, 0.005, 1, "tau_p (Table 2.6)"},
+    {"gyro_cruise_pitch_rate_gain", "rad/s", -2.4967, -20, 20, "K_q (Eq. 2.21, Table 2.6)"},
+    {"gyro_cruise_pitch_rate_tau", "s", 0.046672, 0.005, 1, "tau_q (Table 2.6)"},
+
+    // --- Simulated sensors (thesis 2.3.2: ArduIMU with magnetometer, u-blox GPS, barometer, sonar) ---
+    // Noise figures are 1 sigma per sample. The INS uses the same figures as its noise model.
+    {"imu_gyro_noise", "rad/s", 0.001, 0, 1, "gyro white noise per 50 Hz sample (MPU-6000: 0.005 deg/s/sqrt(Hz), with vibration)"},
+    {"imu_gyro_bias", "rad/s", 0.01, 0, 0.5, "gyro turn-on bias per axis (each flight draws one)"},
+    {"imu_accel_noise", "m/s2", 0.03, 0, 5, "accelerometer white noise per sample (MPU-6000: 400 ug/sqrt(Hz), with vibration)"},
+    {"imu_accel_bias", "m/s2", 0.1, 0, 2, "accelerometer turn-on bias per axis"},
+    {"mag_noise", "1", 0.01, 0, 0.5, "magnetometer noise, in units of the field strength"},
+    {"mag_inclination", "rad", -0.30, -1.5, 1.5, "dip of Earth's field below the horizon (Singapore about -17 deg)"},
+    {"gps_rate", "Hz", 5, 1, 20, "u-blox navigation rate"},
+    {"gps_noise_h", "m", 0.5, 0, 20, "horizontal white noise per axis"},
+    {"gps_drift_h", "m", 1.0, 0, 20, "horizontal wander per axis (first-order Gauss-Markov)"},
+    {"gps_noise_v", "m", 1.5, 0, 50, "altitude white noise: GPS altitude is poor (thesis 2.3.2)"},
+    {"gps_drift_v", "m", 3.0, 0, 50, "altitude wander"},
+    {"gps_drift_time", "s", 60, 1, 3600, "correlation time of the wander"},
+    {"gps_vel_noise", "m/s", 0.05, 0, 5, "Doppler velocity noise per axis (u-blox 6: 0.1 m/s CEP50 in motion)"},
+    {"baro_noise", "m", 0.3, 0, 10, "barometric altitude white noise per sample"},
+    {"baro_drift", "m", 0.5, 0, 20, "barometric wander (weather, temperature)"},
+    {"baro_drift_time", "s", 300, 1, 36000, "correlation time of the barometric wander"},
+    {"sonar_rate", "Hz", 20, 1, 50, "sonar ping rate"},
+    {"sonar_range_min", "m", 0.05, 0, 1, "closer than this the echo is lost"},
+    {"sonar_range_max", "m", 5.0, 0.5, 20, "farther than this the echo is lost"},
+    {"sonar_noise", "m", 0.01, 0, 1, "sonar range noise"},
+    {"ins_gyro_bias_walk", "rad/s/sqrt(s)", 0.00001, 0, 0.1, "INS: how fast it lets the gyro bias wander"},
+    {"ins_accel_bias_walk", "m/s2/sqrt(s)", 0.0002, 0, 1, "INS: how fast it lets the accelerometer bias wander"},
+    {"sim_seed", "-", 1, 0, 1e9, "seed of the simulated sensor noise and wind (runs are repeatable)"},
+
+    // --- Simulated wind (thesis 2.2: urban canyons have large drafts) ---
+    {"wind_speed", "m/s", 0, 0, 20, "steady wind; 0 is calm air"},
+    {"wind_direction", "rad", 0, -3.1416, 3.1416, "where the wind comes from, clockwise from north"},
+    {"wind_turbulence", "-", 0.15, 0, 1, "turbulence 1 sigma per axis, as a fraction of wind_speed"},
+    {"wind_turbulence_time", "s", 2.0, 0.1, 60, "correlation time of the turbulence"},
+    {"wind_gust", "-", 0.6, 0, 2, "peak of an urban draft (1-cos gust), as a fraction of wind_speed"},
+    {"wind_gust_duration", "s", 3.0, 0.5, 30, "length of one draft"},
+    {"wind_gust_interval", "s", 15, 1, 600, "mean time between drafts (Poisson)"},
+
+    // --- Battery (3S LiPo; simple drain model for telemetry and later failsafes) ---
+    {"battery_capacity", "Ah", 5.0, 0.1, 100, "usable capacity"},
+    {"battery_voltage_full", "V", 12.6, 1, 60, "open-circuit voltage at 100 %"},
+    {"battery_voltage_empty", "V", 10.5, 1, 60, "open-circuit voltage at 0 %"},
+    {"battery_hover_current", "A", 18.0, 0, 300, "current drawn in hover"},
+    {"battery_idle_current", "A", 0.8, 0, 50, "avionics current, rotors off"},
+
+    // --- Position and attitude controller (onboard/control) ---
+    // The horizontal loops sit below the attitude loop. With the attitude loop at 4 rad/s,
+    // 0.9/1.8/0.4 limit-cycled at +-1 m around a goto target; with it at about 6 rad/s (below),
+    // 1.0/2.2/0.5 hold within 0.35 m in 5 m/s wind with drafts (0.74 m with 0.7/1.2/0.2).
+    {"ctl_pos_gain_xy", "1/s", 0.7, 0, 10, "horizontal position P gain (outer loop); 1.0 overshot a 3 m goto by 0.5 m"},
+    {"ctl_pos_gain_z", "1/s", 1.2, 0, 10, "vertical position P gain"},
+    {"ctl_vel_gain_xy", "1/s", 2.2, 0, 20, "horizontal velocity P gain"},
+    {"ctl_vel_int_xy", "1/s2", 0.5, 0, 20, "horizontal velocity I gain"},
+    {"ctl_vel_gain_z", "1/s", 3.0, 0, 20, "vertical velocity P gain"},
+    {"ctl_vel_int_z", "1/s2", 1.0, 0, 20, "vertical velocity I gain"},
+    {"ctl_vel_int_limit", "m/s2", 2.0, 0, 10, "anti-windup: integrator output limit"},
+    {"ctl_speed_max_xy", "m/s", 3.0, 0.1, 15, "horizontal speed limit"},
+    {"ctl_speed_max_up", "m/s", 2.0, 0.1, 10, "climb rate limit"},
+    {"ctl_speed_max_down", "m/s", 1.0, 0.1, 10, "descent rate limit"},
+    {"ctl_accel_max_xy", "m/s2", 4.0, 0.1, 20, "horizontal acceleration limit"},
+    {"ctl_tilt_max", "rad", 0.45, 0.05, 0.9, "roll/pitch limit (about 26 deg)"},
+    // Inner loop: tau = J*(K_att*e - K_rate*w). With the rotor lag tau_f the closed loop is
+    // tau_f s^3 + s^2 + K_rate s + K_att; stable while K_rate > tau_f K_att (6 > 1.5 here), with
+    // its slow pair near 5.5 rad/s.
+    {"ctl_att_gain", "1/s2", 16, 0, 100, "roll/pitch angle gain"},
+    {"ctl_rate_gain", "1/s", 6.0, 0, 100, "roll/pitch rate damping"},
+    {"ctl_yaw_gain", "1/s2", 3.0, 0, 100, "yaw angle gain"},
+    {"ctl_yaw_rate_gain", "1/s", 3.0, 0, 100, "yaw rate damping"},
+    // Attitude integrator in servo units: with J/k_rp = 0.023 it adds 1.3 rad/s^3 to the loop above
+    // (tau_f s^4 + s^3 + 6 s^2 + 16 s + 1.3). At 0.1 (4.3 rad/s^3) it fought the velocity
+    // integrator and the hover wandered 0.3 m RMS; 0.03 takes up an untrimmed airframe in seconds.
+    {"ctl_att_int", "1/(rad.s)", 0.03, 0, 2, "roll, pitch and yaw angle error integrator"},
+    {"ctl_att_int_limit", "1", 0.15, 0, 0.5, "anti-windup: integrator output limit"},
+
+    // Zero controller output flies the trim (thesis 2.4.5: "trim values correspond to the zero
+    // controller output"). uav-sysid's "trim" re-identifies them from a hover.
+    {"ctl_trim_aileron", "1", 0.066, -0.3, 0.3, "added to the aileron output"},
+    {"ctl_trim_elevator", "1", 0.066, -0.3, 0.3, "added to the elevator output"},
+    {"ctl_trim_rudder", "1", -0.013, -0.3, 0.3, "added to the rudder output"},
+    // Gyro in the loop: the gyro is the inner loop, the autopilot commands it through the
+    // identified models. Cruise mode: angle error to rate command, the tau_p = 0.034 s rate loop
+    // allows 6 rad/s with 10 deg phase loss. Hover mode: the angle command passes through K_phi.
+    {"ctl_gyro_att_gain", "1/s", 6.0, 0, 30, "cruise mode: roll/pitch angle error to rate command"},
+    {"ctl_gyro_yaw_gain", "1/s", 1.5, 0, 10, "gyro modes: yaw angle error to yaw-rate command"},
+
+    // --- Task manager ---
+    {"task_reached_radius", "m", 0.3, 0.05, 5, "target counts as reached within this distance"},
+    {"task_reached_speed", "m/s", 0.3, 0.05, 5, "... and below this speed"},
+    {"task_land_speed", "m/s", 0.7, 0.1, 3, "descent rate while landing"},
+    {"task_land_slow_alt", "m", 2.0, 0.5, 20, "below this altitude land at a third of the rate"},
+    {"task_path_accel", "m/s^2", 1.0, 0.1, 5, "acceleration of the path reference (track, mission)"},
+    {"task_path_leash", "m", 3.0, 0.5, 20, "the path reference never leads the vehicle by more"},
+    {"task_return_alt", "m", 15.0, 2, 120, "lowest altitude for the flight home (clears trees, thesis 6.5)"},
+    {"fs_link_hold_time", "s", 5.0, 1, 120, "no GCS heartbeat this long (once one was heard): hold position"},
+    {"fs_link_return_time", "s", 20.0, 2, 600, "... this long: return home (must exceed fs_link_hold_time)"},
+    {"fs_battery_return", "-", 0.25, 0.05, 0.9, "battery remaining below this: return home"},
+    {"fs_battery_land", "-", 0.10, 0.01, 0.5, "battery remaining below this: land where it is"},
+    {"fs_fence_radius", "m", 500, 10, 5000, "geofence: horizontal distance from home"},
+    {"fs_fence_alt", "m", 120, 5, 500, "geofence: altitude above home (legal ceiling)"},
+    {"fs_fence_action", "-", 2, 1, 2, "on a fence breach: 1 hold, 2 return home"},
+    {"task_stall_time", "s", 60.0, 5, 600, "a path task that makes no progress this long fails and holds"},
+    {"task_landed_alt", "m", 0.15, 0.01, 1, "landed when below this altitude ..."},
+    {"task_landed_time", "s", 0.5, 0.1, 10, "... and still for this long"},
+
+    // --- GCS link (CMM thread) ---
+    {"link_heartbeat_period", "s", 1.0, 0.1, 10, "vehicle heartbeat_t period"},
+    {"link_tile_period", "s", 0.2, 0.05, 5, "at most one live-map tile per period (~100 kB/s at 0.2 s)"},
+
+    // --- Power lines (STEREO thread, thesis 3.6) ---
+    {"pwl_enable", "-", 1, 0, 1, "detect power lines in the stereo pair and range them"},
+    {"pwl_min_range", "m", 1.5, 0.5, 20, "nearest wire searched for (largest disparity)"},
+    {"pwl_max_range", "m", 60, 5, 500, "farthest wire ranged (smallest disparity)"},
+
+    // --- Stereo obstacles (STEREO thread, thesis 3.2, 3.5) ---
+    {"obs_matcher", "-", 1, 0, 1, "disparity by 0: block matching, 1: semi-global matching"},
+    {"obs_max_sigma", "m", 0.3, 0.05, 2, "range gate: points deeper than where the depth error (Eq. 3.7) reaches this are dropped"},
+    {"obs_margin", "m", 0.5, 0, 5, "safety margin added to each obstacle cylinder's radius"},
+    {"obs_min_voxels", "-", 20, 3, 1000, "smallest cluster (5 cm voxels) reported as an obstacle"},
+    {"obs_cloud_rate", "Hz", 1, 0, 5, "decimated point cloud to the GCS (0: none)"},
+
+    // --- Target tracking and follow (TRK thread, thesis 3.7) ---
+    {"trk_tracker", "-", 0, 0, 2, "0: CamShift (thesis 3.7), 1: KCF, 2: CSRT (opencv-contrib, for comparison)"},
+    {"trk_window", "-", 0, 0, 1, "CamShift search window 0: adaptive (moments), 1: static (selection's size)"},
+    {"trk_gimbal_gain", "-", 0.5, 0, 1, "fraction of the target's vertical offset the gimbal corrects per frame (0: gimbal fixed)"},
+    {"gimbal_pitch", "deg", -20, -90, 20, "gimbal pitch before a target is locked (0 ahead, -90 straight down)"},
+    {"flw_distance", "m", 8, 2, 50, "follow: horizontal distance kept from the target"},
+    {"flw_height", "m", 5, 2, 50, "follow: height kept above the target's ground"},
+    {"flw_lost_timeout", "s", 10, 1, 120, "follow: hold this long after the target is lost, then give up"},
+    {"mdp_camera", "-", 1, 0, 2, "depth from motion (thesis 3.4) on 0: none, 1: the downward camera, 2: the gimbal camera"},
+    {"mdp_obstacle_depth", "m", 10, 0.5, 500, "depth from motion: a grid cell nearer than this is an obstacle, beyond it free"},
+    {"mdp_max_features", "-", 240, 12, 2000, "depth from motion: features tracked, spread over the 4x3 grid"},
+    {"asv_enable", "-", 0, 0, 1, "1: the stereo pair faces down with the laser dot projector (thesis ch. 4): height from the dots, no passive obstacles"},
+    {"asv_to_ins", "-", 1, 0, 1, "active stereo's height feeds the INS as a height sensor"},
+    {"asv_height_noise", "m", 0.02, 0.001, 1, "1 sigma the INS gives an active stereo height, at least"},
+    {"asv_threshold", "DN", 60, 5, 250, "a laser dot is this much brighter than the image's median"},
+    {"asv_min_points", "-", 20, 3, 1000, "fewer matched dots: no height"},
+    {"vo_enable", "-", 0, 0, 1, "1: the stereo pair runs visual odometry (thesis ch. 5): position while GPS is lost, no passive obstacles"},
+    {"vo_method", "-", 0, 0, 2, "motion from 0 PnP, 1 EPnP, 2 the rigid 3D-3D method (thesis 5.3)"},
+    {"vo_position_noise", "m", 0.05, 0.001, 10, "1 sigma the INS and the VO+IMU filter give a VO position"},
+    {"vo_max_features", "-", 400, 20, 5000, "corners detected per keyframe"},
+    {"fs_nav_land_s", "s", 5, 0, 60, "no position source (GPS lost, VO unhealthy): hold this long, then land"},
+  }};
+  return kSchema;
+}
+
+const ParameterSchema& CameraParameterSchema() {
+  static const ParameterSchema kSchema{"camera", {
+    {"sensor_width_mm", "mm", std::nullopt, 0.1, 100, "sensor extent along the image width"},
+    {"sensor_height_mm", "mm", std::nullopt, 0.1, 100, "sensor extent along the image height"},
+    {"focal_length_mm", "mm", std::nullopt, 0.1, 1000, "lens focal length"},
+    {"image_width_px", "px", std::nullopt, 16, 20000, "image width"},
+    {"image_height_px", "px", std::nullopt, 16, 20000, "image height"},
+    {"landscape", "-", 1, 0, 1, "1: image width across the flight direction"},
+    {"cx_px", "px", std::nullopt, 0, 20000, "principal point x (default: the image centre)", true},
+    {"cy_px", "px", std::nullopt, 0, 20000, "principal point y (default: the image centre)", true},
+    {"k1", "-", 0, -1, 1, "radial distortion (OpenCV k1)"},
+    {"k2", "-", 0, -1, 1, "radial distortion (OpenCV k2)"},
+    {"p1", "-", 0, -1, 1, "tangential distortion (OpenCV p1)"},
+    {"p2", "-", 0, -1, 1, "tangential distortion (OpenCV p2)"},
+    {"k3", "-", 0, -1, 1, "radial distortion (OpenCV k3)"},
+  }};
+  return kSchema;
+}
+
+}  // namespace uav
