@@ -367,3 +367,110 @@ TEST_F(Panels, LiveMapZoomsAboutTheCursorAndPans) {
 
 }  // namespace
 }  // namespace uav::gcs
+
+namespace uav::gcs {
+namespace {
+
+// A replay that only records what it is asked (the real one plays a log: test_log_replay).
+class FakeReplay : public ReplayControl {
+ public:
+  void Seek(double t) override { position_ = t; }
+  void Pause() override { paused_ = true; }
+  void Play() override { paused_ = false; }
+  bool SetSpeed(double s) override {
+    if (!(s >= 0.1 && s <= 10.0)) return false;
+    speed_ = s;
+    return true;
+  }
+  double speed() const override { return speed_; }
+  double position() const override { return position_; }
+  double duration() const override { return 100.0; }
+  bool paused() const override { return paused_; }
+  std::size_t dispatched() const override { return 0; }
+  std::size_t events() const override { return 10; }
+  std::string damage() const override { return ""; }
+  std::string path() const override { return "fake.lcmlog"; }
+
+ private:
+  double speed_ = 1.0, position_ = 0.0;
+  bool paused_ = false;
+};
+
+class ReplayPanels : public Panels {
+ protected:
+  ReplayPanels() {
+    model_.SetReplay(true);
+    ctx_.replay = &replay_;
+  }
+  FakeReplay replay_;
+};
+
+// A replay only watches: typing a command or pressing a command button is refused with the
+// reason, as a step that fails, and nothing is queued.
+TEST_F(ReplayPanels, TheCommandBarIsDisabledWithTheReason) {
+  Frames(3);
+  EXPECT_FALSE(driver_.StartType("arm", &err_));
+  EXPECT_EQ(err_, "'command' is disabled: replaying a log: nothing is sent to any vehicle");
+  EXPECT_FALSE(driver_.StartClick("button:arm", &err_));
+  EXPECT_NE(err_.find("is disabled: replaying a log"), std::string::npos) << err_;
+  ASSERT_TRUE(driver_.StartKey("h", true, &err_)) << err_;  // Ctrl+H asks nothing during a replay
+  RunUntilIdle();
+  EXPECT_TRUE(ctx_.state.pending_confirmation.empty());
+  EXPECT_TRUE(model_.commands().sent().empty());
+}
+
+TEST_F(ReplayPanels, SpeedIsSetByTypingAndByPresetsAndRefusedOutOfRange) {
+  Frames(3);
+  ASSERT_TRUE(driver_.StartSet("replay:speed", "5", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_DOUBLE_EQ(replay_.speed(), 5.0);
+  ASSERT_TRUE(driver_.StartSet("replay:speed", "50", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_DOUBLE_EQ(replay_.speed(), 5.0);
+  EXPECT_EQ(ctx_.state.replay_speed_error, "speed '50' refused: give 0.1 to 10");
+  ASSERT_TRUE(driver_.StartSet("replay:speed", "0x2", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_DOUBLE_EQ(replay_.speed(), 5.0);
+  ASSERT_TRUE(driver_.StartClick("replay:x0.5", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_DOUBLE_EQ(replay_.speed(), 0.5);
+  EXPECT_TRUE(ctx_.state.replay_speed_error.empty());
+}
+
+// The scripts' verbs: replay:speed from a script, and a verb that cannot act fails its step.
+TEST_F(ReplayPanels, ScriptsSetTheSpeedAndFailStepsThatCannotAct) {
+  Frames(3);
+  const Script s = Script::Parse("set replay:speed 2.5\nassert replay.speed == 2.5\ntype arm\n", "t.gcs");
+  std::FILE* out = std::tmpfile();
+  ScriptRunner runner(s, out);
+  runner.SetReplay(&replay_);
+  for (int i = 0; i < 400 && !runner.finished(); ++i) {
+    runner.Update(model_, driver_, now_);
+    Frames(1);
+  }
+  EXPECT_TRUE(runner.failed());
+  EXPECT_EQ(runner.passed(), 2);
+  EXPECT_DOUBLE_EQ(replay_.speed(), 2.5);
+  std::rewind(out);
+  char buf[4096] = {0};
+  const std::size_t n = std::fread(buf, 1, sizeof buf - 1, out);
+  const std::string text(buf, n);
+  EXPECT_NE(text.find("FAIL    3: type arm  -> 'command' is disabled: replaying a log"), std::string::npos) << text;
+  std::fclose(out);
+}
+
+// A long message is kept whole and wrapped in the Messages panel, not cut at its edge.
+TEST_F(Panels, LongMessagesWrapInFull) {
+  const std::string text =
+      "failsafe land: no position source for 5.0 s (GPS lost, visual odometry not healthy); landing where it is, "
+      "switch to manual with the RC fail-safe switch to take over";
+  model_.OnStatusText("UAV1", Severity::kError, text, now_);
+  Frames(3);
+  EXPECT_EQ(model_.log().lines().back().text, text);
+  const auto it = ctx_.widgets.find("messages:last");
+  ASSERT_NE(it, ctx_.widgets.end());
+  EXPECT_GT(it->second.y1 - it->second.y0, 1.5f * ImGui::GetTextLineHeight());  // more than one line
+}
+
+}  // namespace
+}  // namespace uav::gcs

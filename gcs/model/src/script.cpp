@@ -191,6 +191,7 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
   if (name == "replay.position") return replay ? (*num = replay->position(), true) : false;
   if (name == "replay.events") return replay ? (*num = static_cast<double>(replay->dispatched()), true) : false;
   if (name == "replay.paused") return replay ? (*num = replay->paused() ? 1.0 : 0.0, true) : false;
+  if (name == "replay.speed") return replay ? (*num = replay->speed(), true) : false;
   // A telemetry signal, through the signal tables: "alt" is STATE's, "HEARTBEAT.task" another group's.
   const auto signal = FindSignal(name);
   if (!signal) return false;

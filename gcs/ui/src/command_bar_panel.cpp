@@ -47,6 +47,8 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
     ImGui::SetKeyboardFocusHere();
     st.focus_command_bar = false;
   }
+  // A replay only watches: the bar and the buttons are off, and say why.
+  BeginDisabledBecause(ctx, model.replay(), model.commands().refusal());
   ImGui::SetNextItemWidth(-1);
   const bool entered = ImGui::InputTextWithHint(
       "##command", "command, e.g. takeoff 10  (tab completes, up/down recalls)", &st.command_text,
@@ -54,20 +56,20 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
           ImGuiInputTextFlags_CallbackHistory,
       OnInputEvent, &cb);
   RegisterLastItem(ctx, "command");
-  if (entered) {
+  if (entered && !model.replay()) {
     if (model.SubmitCommand(st.command_text, ctx.now)) st.command_text.clear();
     st.history_pos = -1;
     st.focus_command_bar = true;  // keep typing
   }
   // Live validation with the vehicle's own grammar.
-  if (!st.command_text.empty()) {
+  if (model.replay()) {
+    ImGui::TextColored(ImVec4(0.4f, 0.7f, 1, 1), "%s", model.commands().refusal().c_str());
+  } else if (!st.command_text.empty()) {
     const ParseResult r = ParseCommand(st.command_text);
     if (r.ok()) ImGui::TextColored(ImVec4(0.4f, 0.9f, 0.4f, 1), "ok: %s", r.command->Text().c_str());
     else ImGui::TextColored(ImVec4(1.0f, 0.5f, 0.3f, 1), "%s", r.error.c_str());
     const std::string hint = ArgumentHint(st.command_text);
     if (!hint.empty()) ImGui::TextDisabled("%s", hint.c_str());
-  } else if (model.replay()) {
-    ImGui::TextColored(ImVec4(0.4f, 0.7f, 1, 1), "%s", model.commands().refusal().c_str());
   } else if (!model.commands().error().empty()) {
     ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1), "not sent: %s", model.commands().error().c_str());
   } else {
@@ -89,7 +91,7 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
     if (ImGui::Button(a.text)) st.pending_confirmation = a.text;
     RegisterLastItem(ctx, std::string("button:") + a.text);
     if (a.key && ImGui::IsItemHovered()) ImGui::SetTooltip("Ctrl+%c", a.key);
-    if (a.key && io.KeyCtrl && ImGui::IsKeyPressed(a.key, false)) st.pending_confirmation = a.text;
+    if (a.key && !model.replay() && io.KeyCtrl && ImGui::IsKeyPressed(a.key, false)) st.pending_confirmation = a.text;
     ImGui::SameLine();
   }
   ImGui::NewLine();
@@ -112,6 +114,7 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
     if (ImGui::Button("Cancel (Esc)")) st.pending_confirmation.clear();
     RegisterLastItem(ctx, "cancel");
   }
+  EndDisabledBecause(ctx);
 
   ImGui::Separator();
   // Acknowledgements of the most recent commands, newest first.

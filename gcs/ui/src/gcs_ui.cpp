@@ -24,7 +24,18 @@ void RegisterLastItem(UiContext& ctx, const std::string& label) {
         w->Rect().Contains(centre))
       return;
   }
-  ctx.widgets[label] = {a.x, a.y, b.x, b.y};
+  const bool disabled = (g.LastItemData.InFlags & ImGuiItemFlags_Disabled) != 0;
+  ctx.widgets[label] = {a.x, a.y, b.x, b.y, disabled ? (ctx.disabled_because.empty() ? "disabled" : ctx.disabled_because) : ""};
+}
+
+void BeginDisabledBecause(UiContext& ctx, bool disabled, const std::string& why) {
+  ImGui::BeginDisabled(disabled);
+  ctx.disabled_because = disabled ? why : "";
+}
+
+void EndDisabledBecause(UiContext& ctx) {
+  ImGui::EndDisabled();
+  ctx.disabled_because.clear();
 }
 
 namespace {

@@ -8,13 +8,23 @@
 
 namespace uav::gcs {
 
-bool ImGuiScriptDriver::QueueClick(const std::string& label, std::string* error) {
+const WidgetRect* ImGuiScriptDriver::Usable(const std::string& label, std::string* error) const {
   auto it = ctx_.widgets.find(label);
   if (it == ctx_.widgets.end()) {
     *error = "no widget '" + label + "' on screen";
-    return false;
+    return nullptr;
   }
-  const float x = 0.5f * (it->second.x0 + it->second.x1), y = 0.5f * (it->second.y0 + it->second.y1);
+  if (!it->second.disabled.empty()) {  // a person's click would do nothing: say so, fail the step
+    *error = "'" + label + "' is disabled: " + it->second.disabled;
+    return nullptr;
+  }
+  return &it->second;
+}
+
+bool ImGuiScriptDriver::QueueClick(const std::string& label, std::string* error) {
+  const WidgetRect* w = Usable(label, error);
+  if (!w) return false;
+  const float x = 0.5f * (w->x0 + w->x1), y = 0.5f * (w->y0 + w->y1);
   events_.push_back({Event::kMove, x, y, {}});
   events_.push_back({Event::kDown, x, y, {}});
   events_.push_back({Event::kUp, x, y, {}});
@@ -79,12 +89,9 @@ bool ImGuiScriptDriver::StartMapZoom(double north, double east, int steps, std::
 
 bool ImGuiScriptDriver::StartGesture(const std::string& label, Gesture g, double fx1, double fy1, double fx2,
                                      double fy2, int steps, std::string* error) {
-  auto it = ctx_.widgets.find(label);
-  if (it == ctx_.widgets.end()) {
-    *error = "no widget '" + label + "' on screen";
-    return false;
-  }
-  const WidgetRect& r = it->second;
+  const WidgetRect* w = Usable(label, error);
+  if (!w) return false;
+  const WidgetRect& r = *w;
   auto at = [&](double fx, double fy) {
     return std::pair<float, float>(r.x0 + static_cast<float>(fx) * (r.x1 - r.x0 - 1),
                                    r.y0 + static_cast<float>(fy) * (r.y1 - r.y0 - 1));

@@ -78,6 +78,18 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
       ImGui::SameLine();
       ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| FAILSAFE %s%s", name.c_str(),
                          s.failsafe == FailsafeAction::kManual ? " (RC switch)" : "");
+      if (ImGui::IsItemHovered()) {  // the whole story on hover: the vehicle's newest failsafe message
+        const auto& lines = model.log().lines();
+        for (auto it = lines.rbegin(); it != lines.rend(); ++it) {
+          if (it->vehicle_id != v->id || it->text.find("failsafe") == std::string::npos) continue;
+          ImGui::BeginTooltip();
+          ImGui::PushTextWrapPos(ImGui::GetFontSize() * 35.0f);
+          ImGui::TextUnformatted(it->text.c_str());
+          ImGui::PopTextWrapPos();
+          ImGui::EndTooltip();
+          break;
+        }
+      }
     }
   }
   // A power line nearer than the warning distance, in red (the messages say when it started).

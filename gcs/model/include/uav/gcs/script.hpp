@@ -35,7 +35,7 @@
 // video.frames video.rejected video.frozen basemap.width livemap.tiles livemap.received download.offered
 // download.saved plot_panels plot.window plot.held plotN.signals plotN.right track.sent track.x
 // track.y track.w track.h track.method track.state track.cx track.cy track.error; in a replay
-// also replay.position replay.events replay.paused replay.damage.
+// also replay.position replay.events replay.paused replay.speed replay.damage.
 // '#' starts a comment.
 #include <cstdio>
 #include <string>

@@ -42,6 +42,7 @@ class ImGuiScriptDriver : public ScriptDriver {
     bool ctrl = false;
   };
   bool QueueClick(const std::string& label, std::string* error);
+  const WidgetRect* Usable(const std::string& label, std::string* error) const;
   bool QueueTyping(const std::string& label, const std::string& text, std::string* error);
   // Screen position of a map point; false (and *error) when the map is not on screen.
   bool MapToScreen(double north, double east, float* x, float* y, std::string* error) const;

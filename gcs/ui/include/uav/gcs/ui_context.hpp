@@ -17,6 +17,7 @@ namespace uav::gcs {
 
 struct WidgetRect {
   float x0, y0, x1, y1;
+  std::string disabled;  // why it does not respond now (empty: it does); scripts are told
 };
 
 struct UiState {
@@ -65,6 +66,8 @@ struct UiState {
   int64_t video_frames_shown = -1;
   void* video_texture = nullptr;
   float replay_seek = -1.0f;  // the seek slider while it is being dragged [s]; < 0: follows the replay
+  std::string replay_speed_text;   // the speed being typed
+  std::string replay_speed_error;  // why the typed speed was refused
 };
 
 // Where the map was drawn this frame: screen = centre + (east, -north) * px_per_m.
@@ -86,9 +89,15 @@ struct UiContext {
   std::function<void*(int slot, const uint8_t* rgba, int width, int height)> update_texture;
   // Set while replaying a log: the Replay panel's pause, seek slider and speed act on it.
   ReplayControl* replay = nullptr;
+  // Why the widgets drawn now are disabled (between BeginDisabledBecause and EndDisabled).
+  std::string disabled_because;
 };
 
-// Records the last ImGui item under `label` (call right after drawing it).
+// Records the last ImGui item under `label` (call right after drawing it), with why it is
+// disabled when it is drawn inside BeginDisabledBecause.
 void RegisterLastItem(UiContext& ctx, const std::string& label);
+// ImGui::BeginDisabled(disabled) that remembers why, for RegisterLastItem; pair with EndDisabledBecause.
+void BeginDisabledBecause(UiContext& ctx, bool disabled, const std::string& why);
+void EndDisabledBecause(UiContext& ctx);
 
 }  // namespace uav::gcs
