@@ -148,6 +148,41 @@ TEST(GcsModel, AFailsafeGetsItsOwnRowAndNeverReopensTheLastCommand) {
       << m.log().lines().back().text;
 }
 
+// A simulator that runs slow sends its 1 Hz heartbeat late in wall time: the link is judged on
+// the vehicle's clock and the GCS says the simulator is slow; a real silence is still LOST.
+TEST(GcsModel, ASlowSimulatorIsNotALostLink) {
+  GcsModel m("gcs", 100);
+  HeartbeatInfo slow = Hb(2, true);
+  slow.sim_rate_asked = 2.0;
+  slow.sim_rate = 0.37;
+  m.OnHeartbeat("UAV1", 1, slow, 0.0);
+  const VehicleModel& v = m.vehicles().at("UAV1");
+  EXPECT_TRUE(v.heartbeat->SimSlow());
+  EXPECT_NE(m.log().lines().back().text.find("simulator at 0.37x of the 2x asked"), std::string::npos)
+      << m.log().lines().back().text;
+  EXPECT_EQ(m.log().lines().back().severity, Severity::kWarning);
+  EXPECT_TRUE(v.LinkUp(3.6, m.telemetry_params()));   // 1.3 s of its own clock
+  EXPECT_TRUE(v.LinkUp(8.0, m.telemetry_params()));   // 2.96 s
+  EXPECT_FALSE(v.LinkUp(8.2, m.telemetry_params()));  // 3.03 s: silent for three of its seconds
+  // A real vehicle (or a simulator at pace) is LOST after 3 s of wall time, as before.
+  HeartbeatInfo real = Hb(2, true);
+  m.OnHeartbeat("UAV2", 1, real, 0.0);
+  EXPECT_FALSE(m.vehicles().at("UAV2").heartbeat->SimSlow());
+  EXPECT_FALSE(m.vehicles().at("UAV2").LinkUp(3.6, m.telemetry_params()));
+  // A simulator faster than real time is judged on wall time too.
+  HeartbeatInfo fast = Hb(2, true);
+  fast.sim_rate_asked = 0.0;
+  fast.sim_rate = 120.0;
+  m.OnHeartbeat("UAV3", 1, fast, 0.0);
+  EXPECT_FALSE(m.vehicles().at("UAV3").heartbeat->SimSlow());
+  EXPECT_TRUE(m.vehicles().at("UAV3").LinkUp(2.9, m.telemetry_params()));
+  EXPECT_FALSE(m.vehicles().at("UAV3").LinkUp(3.1, m.telemetry_params()));
+  // Back to pace is said once.
+  slow.sim_rate = 1.95;
+  m.OnHeartbeat("UAV1", 2, slow, 9.0);
+  EXPECT_NE(m.log().lines().back().text.find("back to pace"), std::string::npos);
+}
+
 TEST(GcsModel, VehiclesDoNotLeakIntoEachOther) {
   GcsModel m("gcs", 100);
   m.OnState("UAV1", 1, State(100.0, 5.0), 0.0);

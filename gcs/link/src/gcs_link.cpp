@@ -1,5 +1,6 @@
 #include "uav/gcs/gcs_link.hpp"
 
+#include <cmath>
 #include <functional>
 #include <map>
 #include <stdexcept>
@@ -61,8 +62,9 @@ const std::map<Topic, Decoder>& Decoders() {
          const auto task = TaskFromWire(m.task);
          const auto mode = FlightModeFromWire(m.flight_mode);
          if (!task || !mode) throw std::invalid_argument("unknown task or flight mode");
+         if (!std::isfinite(m.sim_rate) || !std::isfinite(m.sim_rate_asked)) throw std::invalid_argument("simulator rate is not finite");
          model.OnHeartbeat(id, m.header.seq, {*task, m.armed != 0, *mode, m.signing == uavmsg::heartbeat_t::SIGNING_ON,
-                                              m.signature_rejections}, now);
+                                              m.signature_rejections, m.sim_rate_asked, m.sim_rate}, now);
        }},
       {Topic::kState,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {

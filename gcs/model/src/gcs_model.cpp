@@ -1,5 +1,7 @@
 #include "uav/gcs/gcs_model.hpp"
 
+#include <cstdio>
+
 namespace uav::gcs {
 
 VehicleModel& GcsModel::Vehicle(const std::string& id) {
@@ -25,7 +27,14 @@ void GcsModel::OnHeartbeat(const std::string& vehicle_id, int64_t seq, const Hea
   const bool fresh = !vehicles_.count(vehicle_id);
   VehicleModel& v = Vehicle(vehicle_id);
   if (fresh) log_.Add(now, vehicle_id, "vehicle discovered", Severity::kInfo);
+  const bool was_slow = v.heartbeat && v.heartbeat->SimSlow();
   gcs::OnHeartbeat(v, seq, hb, now);
+  char pace[128];
+  std::snprintf(pace, sizeof pace, "simulator at %.2fx of the %.3gx asked", hb.sim_rate, hb.sim_rate_asked);
+  if (hb.SimSlow() && !was_slow)
+    log_.Add(now, vehicle_id, std::string(pace) + ": the vehicle's clock runs slow, not the link", Severity::kWarning);
+  else if (!hb.SimSlow() && was_slow)
+    log_.Add(now, vehicle_id, std::string(pace) + ": back to pace", Severity::kInfo);
 }
 
 void GcsModel::OnState(const std::string& vehicle_id, int64_t seq, const VehicleState& state, double now) {

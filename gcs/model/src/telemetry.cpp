@@ -14,6 +14,8 @@ const std::vector<Signal<HeartbeatInfo>>& HeartbeatSignals() {
        [](const HeartbeatInfo& h) { return h.signing ? 1.0 : 0.0; }},
       {{"rejected", "signature_rejections", "1", "refused by the signature check", SignalFormat::kInteger},
        [](const HeartbeatInfo& h) { return double(h.signature_rejections); }},
+      {{"sim_rate", "sim_rate", "1", "simulated seconds per wall second (measured; -1: a real vehicle)", SignalFormat::kNormalised},
+       [](const HeartbeatInfo& h) { return h.sim_rate; }},
   };
   return k;
 }

@@ -56,6 +56,16 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
                           signing ? "executes only messages signed with its key"
                                   : "was started with --insecure: it executes unsigned messages from anyone",
                           static_cast<long long>(veh.heartbeat->signature_rejections));
+      if (veh.heartbeat->SimSlow()) {  // the simulator, not the link, is slow
+        ImGui::SameLine();
+        ImGui::TextColored(amber, "SIM %.2fx", veh.heartbeat->sim_rate);
+        RegisterLastItem(ctx, "status:sim:" + id);
+        if (ImGui::IsItemHovered())
+          ImGui::SetTooltip("%s's simulator runs at %.2fx where %.3gx was asked: its clock is slow, its link is judged on "
+                            "its clock (heartbeat %.1f s old in simulated time)",
+                            id.c_str(), veh.heartbeat->sim_rate, veh.heartbeat->sim_rate_asked,
+                            veh.HeartbeatAgeOnVehicleClock(ctx.now));
+      }
     }
     ImGui::SameLine();
     ImGui::TextDisabled("|");

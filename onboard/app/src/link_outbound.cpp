@@ -4,12 +4,17 @@
 
 #include <algorithm>
 #include <climits>
+#include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "uav/app/reported_state.hpp"
 #include "uavmsg/file_chunk_t.hpp"
 #include "uavmsg/file_offer_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
+
+#include <chrono>
+#include <optional>
 #include "uavmsg/map_tile_t.hpp"
 #include "uavmsg/active_stereo_t.hpp"
 #include "uavmsg/visual_odometry_t.hpp"
@@ -88,12 +93,24 @@ class HeartbeatTranslator : public Translator {
     hb.armed = d.armed;
     hb.flight_mode = static_cast<int8_t>(d.sample.rc_manual ? FlightMode::kManual : FlightMode::kAuto);
     hb.task = static_cast<int8_t>(d.task);
+    // The simulator's pace, measured: simulated time over wall time since the last heartbeat.
+    const auto wall = std::chrono::steady_clock::now();
+    hb.sim_rate_asked = static_cast<float>(c_.params.sim_rate_asked);
+    hb.sim_rate = hb.sim_rate_asked;
+    if (c_.params.sim_rate_asked >= 0 && last_wall_) {
+      const double wall_s = std::chrono::duration<double>(wall - *last_wall_).count();
+      if (wall_s > 0 && last_sim_ >= 0) hb.sim_rate = static_cast<float>((utime - last_sim_) * 1e-6 / wall_s);
+    }
+    last_wall_ = wall;
+    last_sim_ = utime;
     c_.Publish(Topic::kHeartbeat, hb);
   }
 
  private:
   LinkContext& c_;
   int64_t start_ = -1, last_ = -1;
+  std::optional<std::chrono::steady_clock::time_point> last_wall_;
+  int64_t last_sim_ = -1;
 };
 
 class VideoTranslator : public Translator {

@@ -45,11 +45,10 @@ uav::GeodeticPoint ParseHome(const std::string& text) {
 
 double ParseSpeed(const std::string& text) {
   if (text == "max") return 0.0;
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || !(v >= 0.1 && v <= 1000.0))
+  const std::optional<double> v = uav::ParseDecimal(text);
+  if (!v || !(*v >= 0.1 && *v <= 1000.0))
     throw std::invalid_argument("--speed must be 'max' or a factor in [0.1, 1000], got '" + text + "'");
-  return v;
+  return *v;
 }
 
 }  // namespace
@@ -143,6 +142,7 @@ int main(int argc, char** argv) {
     if (!log_dir.empty()) events = std::make_unique<uav::app::EventLog>(log_dir, start);
     const std::string events_path = events ? events->path() : "";
     auto link_params = uav::app::LinkParams::FromParameters(params, vehicle_params.attitude_mode);
+    link_params.sim_rate_asked = speed;
     if (!key_path.empty()) {
       link_params.signing_key = uav::SigningKey::LoadFile(key_path);
       link_params.signing_state_file = key_path + ".last";

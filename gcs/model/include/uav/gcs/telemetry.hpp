@@ -3,6 +3,7 @@
 // signal of the signal tables (uav/shared/vehicle_state.hpp for STATE; the heartbeat and tracker
 // groups below). A signal is addressed by its group and its row in the group's table.
 #include <cstdint>
+#include <algorithm>
 #include <deque>
 #include <optional>
 #include <string>
@@ -41,6 +42,13 @@ struct HeartbeatInfo {
   FlightMode flight_mode = FlightMode::kAuto;
   bool signing = false;               // the vehicle executes only messages signed with its key
   int64_t signature_rejections = 0;   // messages it refused by the signature check since start
+  // The simulator's pace (simulated seconds per wall second): asked (0: as fast as it goes) and
+  // measured; both < 0 for a real vehicle.
+  double sim_rate_asked = -1.0;
+  double sim_rate = -1.0;
+  // A simulator running below 80 % of the pace asked ("max" asks for none): the GCS says
+  // "SIM 0.37x", and judges the link on the vehicle's clock (LinkUp).
+  bool SimSlow() const { return sim_rate_asked > 0 && sim_rate >= 0 && sim_rate < 0.8 * sim_rate_asked; }
 };
 
 // What the vehicle's tracker reports (track_status_t), image coordinates normalised to 0..1.
@@ -103,7 +111,13 @@ struct VehicleTelemetry {
   const SignalSeries* History(SignalRef s) const;
   double HeartbeatAge(double now) const { return last_heartbeat < 0 ? 1e9 : now - last_heartbeat; }
   double MessageRate(double now) const;
-  bool LinkUp(double now, const TelemetryParams& p = {}) const { return HeartbeatAge(now) < p.link_up_age_s; }
+  // The heartbeat's age on the vehicle's clock: a simulator slower than real time sends its 1 Hz
+  // heartbeat less often in wall time, which is not a lost link.
+  double HeartbeatAgeOnVehicleClock(double now) const {
+    const double rate = heartbeat && heartbeat->sim_rate > 0 ? heartbeat->sim_rate : 1.0;
+    return HeartbeatAge(now) * std::min(rate, 1.0);
+  }
+  bool LinkUp(double now, const TelemetryParams& p = {}) const { return HeartbeatAgeOnVehicleClock(now) < p.link_up_age_s; }
 };
 
 // Telemetry inputs; each updates the link statistics and the group's values and histories.

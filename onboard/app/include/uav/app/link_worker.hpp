@@ -21,6 +21,9 @@ namespace uav::app {
 struct LinkParams {
   double heartbeat_period_s = 1.0;  // link_heartbeat_period
   double tile_period_s = 0.2;       // link_tile_period: at most one live-map tile per period
+  // The simulator's asked pace (--speed; 0: as fast as it goes; < 0: real hardware), reported
+  // in the heartbeat with the measured one.
+  double sim_rate_asked = -1.0;
   AttitudeMode attitude_mode = AttitudeMode::kDirect;  // reported in the state
   // Message signing (shared/signing.hpp): without a key (--insecure) unsigned messages are
   // executed. The newest accepted timestamp is kept in `signing_state_file` across restarts.
