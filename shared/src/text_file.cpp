@@ -47,4 +47,14 @@ void WriteFileAtomically(const std::string& path, const std::string& contents) {
   if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("rename a temporary file onto");
 }
 
+std::string JsonString(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') q += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20) q += c;
+    else if (c == '\n') q += "\\n";
+  }
+  return q + "\"";
+}
+
 }  // namespace uav

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
@@ -115,6 +116,16 @@ TEST(UavMonodepth, GridPerFrameFromACaptureFolderAgainstTheExactDepth) {
   EXPECT_GT(known_after_first_second, 0.9 * cells_after_first_second);
   EXPECT_LT(median, 0.03);
   EXPECT_LT(p95, 0.15);  // a cell half on a roof: its features' mean against the area's median
+
+  // One truncated capture: named and skipped (a dropped frame), the folder is still measured.
+  const std::string victim = dir + "/captures/IMG_000020.jpg";
+  const std::string whole = Slurp(victim);
+  std::ofstream(victim, std::ios::binary | std::ios::trunc) << whole.substr(0, whole.size() / 3);
+  ASSERT_EQ(std::system(command.c_str()), 0) << Slurp(dir + "/stderr.txt");
+  const std::string again = Slurp(dir + "/stdout.txt");
+  EXPECT_NE(again.find("\"frames\": 79"), std::string::npos) << again;
+  EXPECT_NE(again.find("IMG_000020.jpg: corrupt JPEG (Premature end of JPEG file)"), std::string::npos) << again;
+  EXPECT_NE(Slurp(dir + "/stderr.txt").find("skipped " + victim), std::string::npos);
   if (!HasFailure()) std::filesystem::remove_all(dir);
 }
 

@@ -80,6 +80,12 @@ TEST(UavStitch, StitchesACaptureFolderIntoGeoreferencedFiles) {
     std::filesystem::copy_file(dir + "/captures/" + name, plain + "/" + name);
   }
   std::ofstream(plain + "/IMG_000010b.jpg") << "not a jpeg";
+  // A truncated copy and a garbled copy: named and left out, never stitched as a grey smear.
+  const std::string whole = Slurp(dir + "/captures/IMG_000005.jpg");
+  std::ofstream(plain + "/IMG_000005t.jpg", std::ios::binary) << whole.substr(0, whole.size() / 2);
+  std::string garbled = whole;
+  for (std::size_t i = 0; i < 2000; ++i) garbled[garbled.size() / 2 + i] = static_cast<char>((i * 37 + 11) & 0xFF);
+  std::ofstream(plain + "/IMG_000006g.jpg", std::ios::binary) << garbled;
   cv::imwrite(plain + "/IMG_000015b.jpg", cv::Mat(240, 320, CV_8UC3, cv::Scalar(90, 120, 60)));
   const std::string plain_command = std::string(UAV_STITCH_BIN) + " " + plain + " --out " + dir + "/pixels --report " +
                                     dir + "/plain.json > " + dir + "/plain.txt 2>&1";
@@ -87,9 +93,13 @@ TEST(UavStitch, StitchesACaptureFolderIntoGeoreferencedFiles) {
   const nlohmann::json p = nlohmann::json::parse(Slurp(dir + "/plain.json"));
   EXPECT_EQ(p["placed"], 20);
   EXPECT_FALSE(p["georeferenced"].get<bool>());
-  ASSERT_EQ(p["skipped"].size(), 2u) << p["skipped"];
-  EXPECT_NE(p["skipped"][0].get<std::string>().find("IMG_000010b.jpg: map stitcher: not an image"), std::string::npos);
-  EXPECT_NE(p["skipped"][1].get<std::string>().find("320x240, the camera's is 640x480"), std::string::npos);
+  ASSERT_EQ(p["skipped"].size(), 4u) << p["skipped"];
+  EXPECT_NE(p["skipped"][0].get<std::string>().find("IMG_000005t.jpg: corrupt JPEG (Premature end of JPEG file)"),
+            std::string::npos) << p["skipped"][0];
+  EXPECT_NE(p["skipped"][1].get<std::string>().find("IMG_000006g.jpg: corrupt JPEG (Corrupt JPEG data"), std::string::npos)
+      << p["skipped"][1];
+  EXPECT_NE(p["skipped"][2].get<std::string>().find("IMG_000010b.jpg: map stitcher: not an image"), std::string::npos);
+  EXPECT_NE(p["skipped"][3].get<std::string>().find("320x240, the camera's is 640x480"), std::string::npos);
   const cv::Mat pixels = cv::imread(dir + "/pixels.png", cv::IMREAD_UNCHANGED);
   ASSERT_EQ(pixels.channels(), 4);
   // 20 frames 1 m apart, north up, at 30 m (the 640 px footprint is 40 m wide: 16 px per metre):

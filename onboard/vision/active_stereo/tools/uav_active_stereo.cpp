@@ -47,6 +47,8 @@ std::vector<std::string> ImagesOf(const std::string& path, const char* which) {
 }
 
 cv::Mat Read(const std::string& path) {
+  if (const std::string problem = uav::ImageFileProblem(path); !problem.empty())
+    throw std::invalid_argument(fs::path(path).filename().string() + ": " + problem);
   cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
   if (image.empty()) throw std::invalid_argument(fs::path(path).filename().string() + ": cannot read it as an image");
   return image;

@@ -17,6 +17,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "uav/shared/capture_folder.hpp"
+#include "uav/shared/image_files.hpp"
 #include "uav/shared/progress_bar.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/mono_depth.hpp"
@@ -75,11 +76,19 @@ int main(int argc, char** argv) {
     csv << "frame,utime,file,row,col,state,depth_m,sigma_m,features,confidence,reason\n";
     std::vector<double> ms;
     int healthy = 0, known_cells = 0, first_all_known = -1;
+    std::vector<std::string> skipped;  // named and left out, as a camera's dropped frame
     uav::ProgressBar progress(rows.size());
     for (size_t i = 0; i < rows.size(); ++i) {
       const uav::CaptureRow& c = rows[i];
-      const cv::Mat image = cv::imread(dir + "/" + c.file, cv::IMREAD_COLOR);
-      if (image.empty()) throw std::invalid_argument(dir + "/" + c.file + ": missing or not an image");
+      const std::string path = dir + "/" + c.file;
+      std::string problem = uav::ImageFileProblem(path);
+      cv::Mat image;
+      if (problem.empty() && (image = cv::imread(path, cv::IMREAD_COLOR)).empty()) problem = "not an image OpenCV reads";
+      if (!problem.empty()) {
+        skipped.push_back(path + ": " + problem);
+        std::fprintf(stderr, "\nuav-monodepth: skipped %s: %s\n", path.c_str(), problem.c_str());
+        continue;
+      }
       std::optional<Eigen::Isometry3d> T_NC;
       if (c.T_NB_estimate) T_NC = *c.T_NB_estimate * session.T_BC;
       const auto t0 = std::chrono::steady_clock::now();
@@ -107,13 +116,16 @@ int main(int argc, char** argv) {
       progress.Update(i + 1);
     }
     progress.Finish(rows.size());
+    if (ms.empty()) throw std::invalid_argument(dir + ": no frame could be read (" + std::to_string(skipped.size()) + " skipped)");
     uav::WriteFileAtomically(out, csv.str());
     std::sort(ms.begin(), ms.end());
     const int cells = estimator.params().grid_cols * estimator.params().grid_rows;
+    std::string skipped_json;
+    for (const std::string& s : skipped) skipped_json += (skipped_json.empty() ? "" : ", ") + uav::JsonString(s);
     std::printf("{\"frames\": %zu, \"healthy_frames\": %d, \"known_cell_fraction\": %.3f, \"first_frame_all_known\": %d, "
-                "\"ms_per_frame_median\": %.2f, \"ms_per_frame_max\": %.2f}\n",
-                rows.size(), healthy, static_cast<double>(known_cells) / (cells * rows.size()), first_all_known,
-                ms[ms.size() / 2], ms.back());
+                "\"ms_per_frame_median\": %.2f, \"ms_per_frame_max\": %.2f, \"skipped\": [%s]}\n",
+                ms.size(), healthy, static_cast<double>(known_cells) / (cells * ms.size()), first_all_known,
+                ms[ms.size() / 2], ms.back(), skipped_json.c_str());
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "uav-monodepth: %s\n", e.what());

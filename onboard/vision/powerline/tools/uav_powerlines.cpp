@@ -75,6 +75,7 @@ int main(int argc, char** argv) {
     progress.Update(i, std::filesystem::path(path).filename().string());
     const std::string stem = std::filesystem::path(path).stem().string();
     try {
+      if (const std::string problem = uav::ImageFileProblem(path); !problem.empty()) throw std::invalid_argument(problem);
       const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
       if (image.empty()) throw std::invalid_argument("cannot read it as an image");
       const auto t0 = std::chrono::steady_clock::now();

@@ -26,6 +26,7 @@
 #include "uav/vision/stereo_calibration.hpp"
 #include "uav/vision/stereo_obstacles.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/image_files.hpp"
 
 namespace {
 
@@ -33,6 +34,8 @@ using uav::vision::DisparityErrors;
 
 cv::Mat ReadImage(const std::string& path, const char* which) {
   if (!std::filesystem::is_regular_file(path)) throw std::invalid_argument(std::string(which) + " image " + path + ": no such file");
+  if (const std::string problem = uav::ImageFileProblem(path); !problem.empty())
+    throw std::invalid_argument(std::string(which) + " image " + path + ": " + problem);
   cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
   if (image.empty()) throw std::invalid_argument(std::string(which) + " image " + path + ": cannot read it as an image");
   return image;

@@ -13,6 +13,7 @@
 
 #include "uav/vision/stereo_calibration.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/image_files.hpp"
 
 int main(int argc, char** argv) {
   CLI::App cli{"uav-stereo-calibrate: stereo calibration from chessboard pairs"};
@@ -37,11 +38,27 @@ int main(int argc, char** argv) {
   }
   try {
     std::vector<cv::Mat> left, right;
-    for (std::size_t i = 0; i < images.size(); ++i) {
-      cv::Mat m = cv::imread(images[i], cv::IMREAD_GRAYSCALE);
-      if (m.empty()) throw std::invalid_argument(images[i] + ": cannot read it as an image");
-      (i % 2 == 0 ? left : right).push_back(m);
+    std::vector<std::string> kept;  // the pairs read whole, as LEFT RIGHT
+    for (std::size_t i = 0; i + 1 < images.size(); i += 2) {
+      cv::Mat pair[2];
+      std::string problem;
+      for (int k = 0; k < 2 && problem.empty(); ++k) {
+        problem = uav::ImageFileProblem(images[i + k]);
+        if (problem.empty() && (pair[k] = cv::imread(images[i + k], cv::IMREAD_GRAYSCALE)).empty())
+          problem = "cannot read it as an image";
+        if (!problem.empty()) problem = images[i + k] + ": " + problem;
+      }
+      if (!problem.empty()) {  // one bad file costs its pair, not the calibration
+        std::fprintf(stderr, "uav-stereo-calibrate: skipped pair %s %s: %s\n", images[i].c_str(), images[i + 1].c_str(),
+                     problem.c_str());
+        continue;
+      }
+      left.push_back(pair[0]);
+      right.push_back(pair[1]);
+      kept.push_back(images[i]);
+      kept.push_back(images[i + 1]);
     }
+    images = kept;
     const uav::vision::StereoCalibration c = uav::vision::CalibrateStereo(left, right, board);
     std::vector<bool> used(left.size(), false);
     for (int i : c.used_pairs) used[static_cast<std::size_t>(i)] = true;

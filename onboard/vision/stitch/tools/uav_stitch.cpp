@@ -218,8 +218,12 @@ int main(int argc, char** argv) {
       if (inputs.empty()) Fail(dir + ": no images (and no session.json)");
       // Without a camera file, a pinhole without distortion over the first image's size: enough
       // for a map in pixels.
-      const cv::Mat first = cv::imread(inputs[0].path, cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
-      if (first.empty()) Fail(inputs[0].path + ": not an image");
+      cv::Mat first;
+      for (const Input& in : inputs)  // the first good one
+        if (uav::ImageFileProblem(in.path).empty() &&
+            !(first = cv::imread(in.path, cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION)).empty())
+          break;
+      if (first.empty()) Fail(dir + ": no readable image");
       session.camera.width = first.cols;
       session.camera.height = first.rows;
       session.camera.fx = session.camera.fy = first.cols;
@@ -249,6 +253,8 @@ int main(int argc, char** argv) {
         r.problem = "missing or empty";
         return r;
       }
+      // Truncated or garbled: named and skipped, never stitched as a grey smear.
+      if (r.problem = uav::EncodedImageProblem(bytes.data(), bytes.size()); !r.problem.empty()) return r;
       try {
         r.frame = stitcher.Prepare({cv::Mat(), inputs[i].utime, inputs[i].T_NC, std::move(bytes)});
       } catch (const std::invalid_argument& e) {

@@ -21,12 +21,15 @@
 
 #include "uav/shared/image_files.hpp"
 #include "uav/shared/progress_bar.hpp"
+#include "uav/shared/text_file.hpp"
 #include "uav/vision/target_tracker.hpp"
 #include "uav/shared/decimal.hpp"
 
 namespace {
 
-// Frames from a video file or a folder of images.
+// Frames from a video file or a folder of images. A file that cannot be read whole is named and
+// skipped (as a camera's dropped frame); a video that ends before the frames its container
+// declares is reported as damaged.
 class FrameSource {
  public:
   explicit FrameSource(const std::string& path) {
@@ -43,17 +46,30 @@ class FrameSource {
   }
   int count() const { return count_; }  // 0 when the container does not say
   bool Next(cv::Mat* bgr) {
-    if (!files_.empty()) {
-      if (next_ >= files_.size()) return false;
+    while (!files_.empty() && next_ < files_.size()) {
       const std::string& f = files_[next_++];
-      *bgr = cv::imread(f, cv::IMREAD_COLOR);
-      if (bgr->empty()) throw std::runtime_error(f + ": not an image OpenCV can read");
-      return true;
+      std::string problem = uav::ImageFileProblem(f);
+      if (problem.empty() && (*bgr = cv::imread(f, cv::IMREAD_COLOR)).empty()) problem = "not an image OpenCV can read";
+      if (problem.empty()) return true;
+      skipped_.push_back(f + ": " + problem);
+      std::fprintf(stderr, "\nuav-track: skipped %s: %s\n", f.c_str(), problem.c_str());
     }
-    return video_.read(*bgr) && !bgr->empty();
+    if (!files_.empty()) return false;
+    if (video_.read(*bgr) && !bgr->empty()) return ++read_, true;
+    // Containers' counts can be estimates (from duration and rate): a shortfall of more than two
+    // frames is a truncated or damaged file.
+    if (count_ > 0 && read_ + 2 < count_)
+      damaged_ = "the video ends at frame " + std::to_string(read_) + " of the " + std::to_string(count_) +
+                 " it declares (truncated or damaged)";
+    return false;
   }
+  const std::vector<std::string>& skipped() const { return skipped_; }
+  const std::string& damaged() const { return damaged_; }
 
  private:
+  std::vector<std::string> skipped_;
+  std::string damaged_;
+  int read_ = 0;
   std::vector<std::string> files_;
   std::size_t next_ = 0;
   cv::VideoCapture video_;
@@ -76,8 +92,8 @@ int main(int argc, char** argv) {
   std::string input, box_text, tracker = "camshift", window = "adaptive", out_path, overlay_dir;
   app.add_option("input", input, "video file or folder of images")->required();
   app.add_option("--box", box_text, "X,Y,W,H of the target in the first frame, pixels")->required();
-  app.add_option("--tracker", tracker, "camshift, kcf or csrt")->capture_default_str();
-  app.add_option("--window", window, "CamShift search window: adaptive or static")->capture_default_str();
+  app.add_option("--tracker", tracker, "camshift, kcf or csrt")->capture_default_str()->check(CLI::IsMember({"camshift", "kcf", "csrt"}));
+  app.add_option("--window", window, "CamShift search window: adaptive or static")->capture_default_str()->check(CLI::IsMember({"adaptive", "static"}));
   app.add_option("--out", out_path, "CSV of boxes, one row per frame");
   app.add_option("--overlay", overlay_dir, "folder for frames with the box drawn");
   uav::RequireDecimalNumbers(app);
@@ -88,13 +104,18 @@ int main(int argc, char** argv) {
   try {
     params.kind = uav::vision::ParseTrackerKind(tracker);
     params.window = uav::vision::ParseSearchWindowMode(window);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "uav-track: %s\n", e.what());
+    return 2;
+  }
+  try {
     std::vector<double> v;
     std::stringstream ss(box_text);
     std::string item;
     while (std::getline(ss, item, ',')) {
-      std::size_t used = 0;
-      v.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
+      const std::optional<double> x = uav::ParseDecimal(item);
+      if (!x) throw std::invalid_argument("'" + item + "' is not a finite decimal number");
+      v.push_back(*x);
     }
     if (v.size() != 4) throw std::invalid_argument("need four numbers");
     box = cv::Rect2d(v[0], v[1], v[2], v[3]);
@@ -164,11 +185,15 @@ int main(int argc, char** argv) {
     }
     std::sort(ms.begin(), ms.end());
     const double median = ms.empty() ? 0.0 : ms[ms.size() / 2];
-    std::printf("{\"input\": \"%s\", \"tracker\": \"%s\", \"window\": \"%s\", \"frames\": %d, \"losses\": %d, "
-                "\"median_ms_per_frame\": %.3f, \"final_state\": \"%s\"}\n",
-                input.c_str(), uav::vision::Name(params.kind), uav::vision::Name(params.window), n, losses, median,
-                StateName(last));
-    return 0;
+    std::string skipped;
+    for (const std::string& s : source.skipped()) skipped += (skipped.empty() ? "" : ", ") + uav::JsonString(s);
+    if (!source.damaged().empty()) std::fprintf(stderr, "\nuav-track: %s: %s\n", input.c_str(), source.damaged().c_str());
+    std::printf("{\"input\": %s, \"tracker\": \"%s\", \"window\": \"%s\", \"frames\": %d, \"losses\": %d, "
+                "\"median_ms_per_frame\": %.3f, \"final_state\": \"%s\", \"skipped\": [%s], \"damaged\": %s}\n",
+                uav::JsonString(input).c_str(), uav::vision::Name(params.kind), uav::vision::Name(params.window), n, losses, median,
+                StateName(last), skipped.c_str(), uav::JsonString(source.damaged()).c_str());
+    // The boxes are written for the frames that were read; the exit status says not all were.
+    return source.skipped().empty() && source.damaged().empty() ? 0 : 1;
   } catch (const std::exception& e) {
     if (!out_path.empty()) std::filesystem::remove(out_path + ".part");
     std::fprintf(stderr, "\nuav-track: %s\n", e.what());

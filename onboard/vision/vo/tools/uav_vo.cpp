@@ -22,6 +22,7 @@
 #include "uav/vision/kitti_odometry.hpp"
 #include "uav/vision/stereo_vo.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/image_files.hpp"
 
 int main(int argc, char** argv) {
   CLI::App cli{"uav-vo: stereo visual odometry over a KITTI-layout sequence (thesis ch. 5)"};
@@ -57,13 +58,25 @@ int main(int argc, char** argv) {
     std::vector<double> ms;
     std::map<std::string, int> reasons;
     int healthy = 0, segments = 0, last_segment = -1;
+    std::vector<std::string> skipped;
     uav::ProgressBar progress(last - first);
     for (int i = first; i < last; ++i) {
       uav::vision::RectifiedPair pair;
-      pair.left = cv::imread(seq.left[i], cv::IMREAD_GRAYSCALE);
-      pair.right = cv::imread(seq.right[i], cv::IMREAD_GRAYSCALE);
-      if (pair.left.empty()) throw std::runtime_error(seq.left[i] + ": cannot read it as an image");
-      if (pair.right.empty()) throw std::runtime_error(seq.right[i] + ": cannot read it as an image");
+      std::string problem;
+      for (const std::string* f : {&seq.left[i], &seq.right[i]}) {
+        cv::Mat& m = f == &seq.left[i] ? pair.left : pair.right;
+        std::string p = problem.empty() ? uav::ImageFileProblem(*f) : "";
+        if (problem.empty() && p.empty() && (m = cv::imread(*f, cv::IMREAD_GRAYSCALE)).empty()) p = "cannot read it as an image";
+        if (!p.empty()) problem = *f + ": " + p;
+      }
+      if (!problem.empty()) {  // a dropped frame: named, counted, the sequence goes on
+        skipped.push_back(problem);
+        std::fprintf(stderr, "\nuav-vo: skipped frame %d: %s\n", i, problem.c_str());
+        // One pose per frame (KITTI's format): a dropped frame holds the last estimate.
+        poses.push_back(poses.empty() ? Eigen::Isometry3d::Identity() : poses.back());
+        progress.Update(i - first + 1);
+        continue;
+      }
       pair.left_utime = pair.right_utime = static_cast<int64_t>(seq.times_s[i] * 1e6);
       const auto t0 = std::chrono::steady_clock::now();
       const uav::vision::VoResult r = vo.Process(pair);
@@ -80,6 +93,7 @@ int main(int argc, char** argv) {
     }
     progress.Finish(last - first);
     uav::vision::WriteKittiPoses(out, poses);
+    if (ms.empty()) throw std::runtime_error(dir + ": no frame could be read");
     std::vector<double> sorted = ms;
     std::sort(sorted.begin(), sorted.end());
     const double median = sorted[sorted.size() / 2], p95 = sorted[std::min(sorted.size() - 1, sorted.size() * 95 / 100)];
@@ -89,6 +103,7 @@ int main(int argc, char** argv) {
                              {"healthy_frames", healthy},
                              {"segments", segments},
                              {"unhealthy_reasons", reasons},
+                             {"skipped", skipped},
                              {"image_size", {seq.geometry.width, seq.geometry.height}},
                              {"ms_per_frame_median", median},
                              {"ms_per_frame_p95", p95},

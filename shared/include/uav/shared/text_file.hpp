@@ -11,4 +11,7 @@ std::string ReadTextFile(const std::string& path, const std::string& what);
 // std::runtime_error naming the path when any step fails (the temporary is removed).
 void WriteFileAtomically(const std::string& path, const std::string& contents);
 
+// `s` as a JSON string literal, quoted and escaped (the CLIs' one-line JSON reports).
+std::string JsonString(const std::string& s);
+
 }  // namespace uav
