@@ -44,6 +44,20 @@ std::optional<double> ParseDecimal(std::string_view text) {
   return v;
 }
 
+std::optional<std::vector<double>> ParseDecimalList(std::string_view text, std::size_t count, char separator) {
+  std::vector<double> out;
+  while (true) {
+    const std::size_t end = text.find(separator);
+    const std::optional<double> v = ParseDecimal(text.substr(0, end));
+    if (!v) return std::nullopt;
+    out.push_back(*v);
+    if (end == std::string_view::npos) break;
+    text.remove_prefix(end + 1);
+  }
+  if (out.size() != count) return std::nullopt;
+  return out;
+}
+
 void RequireDecimalNumbers(CLI::App& app) {
   for (CLI::Option* opt : app.get_options(std::function<bool(CLI::Option*)>{})) {
     const std::string type = opt->get_type_name();

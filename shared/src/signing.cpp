@@ -103,7 +103,7 @@ SigningTag SignatureTag(const SigningKey& key, const std::string& vehicle_id, in
   return HmacSha256(key.bytes.data(), key.bytes.size(), data.data(), data.size());
 }
 
-MessageSigner::MessageSigner(const SigningKey& key, int link_id) : key_(key), link_id_(link_id) {
+MessageSigner::MessageSigner(const SigningKey& key, int link_id) : key_(key), key_id_(key.Id()), link_id_(link_id) {
   if (link_id < 0 || link_id > 255) throw std::invalid_argument("link id must be 0..255, got " + std::to_string(link_id));
 }
 

@@ -1,6 +1,7 @@
 // Simulated world and cameras (issue 4): rendered truth against analytic geometry, reprojection,
 // chessboard detection and stereo calibration, laser dots, determinism, scene files.
 #include <cmath>
+#include <filesystem>
 #include <map>
 
 #include <gtest/gtest.h>
@@ -492,6 +493,28 @@ TEST(WorldScene, BadScenesAreRejectedNamingTheEntry) {
                 .find("$.cameras.downward.file"), std::string::npos);
   EXPECT_NE(ParseError(R"({"objects": [{"type": "power_line", "poles_ne": [[0, 0], [3, 0]], "pole_height_m": 8,
       "sag_m": 2}]})").find("sag_m"), std::string::npos);
+}
+
+// A scene copied to another folder: its relative camera file is looked for beside it, then in
+// the shipped cameras folder; when neither holds it the error says where it looked and what to do.
+TEST(WorldScene, ACopiedSceneSaysWhereItsCameraFileIsMissing) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "uav_test_scene_copy";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::copy_file(std::string(UAV_RESOURCE_DIR) + "/scenes/tracking.scene.json", dir / "tracking.scene.json");
+  std::string error;
+  try {
+    Scene::LoadFile((dir / "tracking.scene.json").string());
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error.find("is in neither " + (dir / "sim_downward_640x480.camera").string()), std::string::npos) << error;
+  EXPECT_NE(error.find("copy it beside the scene, or give its absolute path"), std::string::npos) << error;
+  for (const char* f : {"sim_downward_640x480.camera", "sim_stereo_640x480.camera"})
+    fs::copy_file(std::string(UAV_RESOURCE_DIR) + "/cameras/" + f, dir / f);
+  EXPECT_NO_THROW(Scene::LoadFile((dir / "tracking.scene.json").string()));
+  fs::remove_all(dir);
 }
 
 // The stereo rig's mount angles: pitched down 90 degrees its optical axis is the body's down axis;

@@ -35,24 +35,20 @@ std::vector<uav::GeodeticPoint> ParseVertices(const std::string& text, const std
     std::istringstream words(line);
     std::string word;
     while (words >> word) {
-      const auto comma = word.find(',');
-      char* end_lat = nullptr;
-      char* end_lon = nullptr;
-      const std::string lat_s = word.substr(0, comma), lon_s = comma == std::string::npos ? "" : word.substr(comma + 1);
-      const double lat = std::strtod(lat_s.c_str(), &end_lat), lon = std::strtod(lon_s.c_str(), &end_lon);
-      if (comma == std::string::npos || lat_s.empty() || lon_s.empty() || *end_lat || *end_lon)
+      const auto lat_lon = uav::ParseDecimalList(word, 2);
+      if (!lat_lon)
         throw std::invalid_argument(origin + ":" + std::to_string(line_no) + ": \"" + word +
-                                    "\" is not LAT,LON");
-      out.push_back({lat, lon, 0.0});
+                                    "\" is not LAT,LON (decimal degrees)");
+      out.push_back({(*lat_lon)[0], (*lat_lon)[1], 0.0});
     }
   }
   return out;
 }
 
 uav::GeodeticPoint ParseHome(const std::string& s) {
-  uav::GeodeticPoint g;
-  if (std::sscanf(s.c_str(), "%lf,%lf,%lf", &g.latitude_deg, &g.longitude_deg, &g.altitude_m) != 3)
-    throw std::invalid_argument("--home must be LAT,LON,ALT, got '" + s + "'");
+  const auto v = uav::ParseDecimalList(s, 3);
+  if (!v) throw std::invalid_argument("--home must be LAT,LON,ALT in decimal degrees and metres, got '" + s + "'");
+  uav::GeodeticPoint g{(*v)[0], (*v)[1], (*v)[2]};
   uav::ValidateGeodetic(g);
   return g;
 }

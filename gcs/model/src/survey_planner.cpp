@@ -156,7 +156,10 @@ bool SurveyPlanner::Import(const std::string& path, std::string* message) {
   try {
     const waypoints::Mission m = waypoints::ReadMissionFile(path);
     if (!m.survey) {
-      *message = path + " has no survey (polygon and camera) to edit";
+      // A QGC WPL .waypoints file, or a .plan of waypoints only, holds no survey polygon.
+      *message = path + " has no survey (polygon and camera) to edit: this planner imports survey missions only "
+                 "(a .plan with a survey); a list of waypoints (" + std::to_string(m.items.size()) +
+                 " items) cannot be edited or flown from here";
       return false;
     }
     polygon_ = m.survey->polygon;

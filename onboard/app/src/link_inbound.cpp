@@ -39,7 +39,7 @@ void SubscribeCommands(LinkContext& c) {
                                          ack.command_seq = m.command_seq;
                                          ack.command = m.text.substr(0, 256);
                                          ack.result = uavmsg::command_ack_t::RESULT_REJECTED;
-                                         ack.reason = SignatureRefusal(v);
+                                         ack.reason = c.signatures.Refusal(v, m);
                                          c.Publish(Topic::kCommandAck, ack);
                                          return;
                                        }
@@ -62,7 +62,7 @@ void SubscribeMissionUploads(LinkContext& c) {
         if (v != SignatureVerdict::kAccepted) {
           ack.upload_id = m.upload_id;
           ack.result = Result::kRejected;
-          ack.reason = SignatureRefusal(v);
+          ack.reason = c.signatures.Refusal(v, m);
         } else try {
           ack = (*uploads)[m.source].Receive(waypoints::FromMessage(m), [&c](const waypoints::Mission& mission) {
             return c.missions.AcceptUpload(mission);
@@ -120,7 +120,7 @@ void SubscribeTrackTargets(LinkContext& c) {
         const SignatureVerdict v = c.signatures.Check(Topic::kTrackTarget, m, m.source);
         if (v == SignatureVerdict::kReplay) return;
         if (v != SignatureVerdict::kAccepted) {
-          reject(SignatureRefusal(v));
+          reject(c.signatures.Refusal(v, m));
           return;
         }
         if (c.board.Snapshot().tracking_camera.empty()) {

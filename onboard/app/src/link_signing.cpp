@@ -27,7 +27,18 @@ int64_t LoadNewest(const std::string& path) {
 
 }  // namespace
 
-std::string SignatureRefusal(SignatureVerdict v) { return std::string("signature check: ") + SignatureVerdictName(v); }
+std::string SignatureRefusal(SignatureVerdict v, const std::string& sender_key_id, const std::string& own_key_id) {
+  std::string text = std::string("signature check: ") + SignatureVerdictName(v);
+  if (v != SignatureVerdict::kBadTag || own_key_id.empty()) return text;
+  // Key ids are printable hex from a well-behaved sender; anything else is shown as not given.
+  const bool named = sender_key_id.size() == own_key_id.size() &&
+                     sender_key_id.find_first_not_of("0123456789abcdef") == std::string::npos;
+  if (!named) return text + " (the sender names no key; this vehicle holds key " + own_key_id + ")";
+  if (sender_key_id != own_key_id)
+    return text + ": the keys differ: the sender signs with key " + sender_key_id + ", this vehicle holds key " +
+           own_key_id + " (give both the same key file)";
+  return text + ": the same key (" + own_key_id + "), so the message was altered or damaged on the way";
+}
 
 SignatureGate::SignatureGate(const LinkParams& p, const std::string& vehicle_id, Blackboard& board)
     : state_file_(p.signing_state_file), board_(board) {
@@ -36,18 +47,20 @@ SignatureGate::SignatureGate(const LinkParams& p, const std::string& vehicle_id,
   int64_t floor = SigningTimestamp(WallTimeMicros());
   if (!state_file_.empty()) floor = std::max(floor, LoadNewest(state_file_));
   verifier_.emplace(*p.signing_key, vehicle_id, floor);
+  key_id_ = p.signing_key->Id();
   saved_ = floor;
 }
 
-void SignatureGate::Refused(SignatureVerdict v, Topic topic, const std::string& source) {
+void SignatureGate::Refused(SignatureVerdict v, Topic topic, const std::string& source, const std::string& why) {
   ++rejections_;
   Pending& p = pending_[v];
   ++p.count;
   p.last = std::string(TopicName(topic)) + " from '" + source.substr(0, 64) + "'";
+  p.why = why;
   const int64_t now = MonotonicMicros();
   if (p.last_report_us < 0 || now - p.last_report_us >= kReportPeriodUs) {
     board_.PushStatus(Severity::kWarning, "refused " + std::to_string(p.count) + " message" + (p.count > 1 ? "s" : "") +
-                                              " (" + SignatureRefusal(v) + "), the last: " + p.last);
+                                              " (" + p.why + "), the last: " + p.last);
     p.count = 0;
     p.last_report_us = now;
   }
@@ -58,8 +71,7 @@ void SignatureGate::Tick() {
   for (auto& [v, p] : pending_) {
     if (p.count == 0 || now - p.last_report_us < kReportPeriodUs) continue;
     board_.PushStatus(Severity::kWarning, "refused " + std::to_string(p.count) + " more message" +
-                                              (p.count > 1 ? "s" : "") + " (" + SignatureRefusal(v) +
-                                              "), the last: " + p.last);
+                                              (p.count > 1 ? "s" : "") + " (" + p.why + "), the last: " + p.last);
     p.count = 0;
     p.last_report_us = now;
   }

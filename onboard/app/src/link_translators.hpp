@@ -37,16 +37,23 @@ class SignatureGate {
   SignatureVerdict Check(Topic topic, const Msg& m, const std::string& source) {
     if (!verifier_) return SignatureVerdict::kAccepted;
     const SignatureVerdict v = VerifyMessage(*verifier_, m, source, SigningTimestamp(WallTimeMicros()));
-    if (v != SignatureVerdict::kAccepted) Refused(v, topic, source);
+    if (v != SignatureVerdict::kAccepted) Refused(v, topic, source, Refusal(v, m));
     return v;
+  }
+  // Why `m` was refused, as the sender is told: for a bad tag, whether the keys differ (and
+  // which key id each side holds) or the message was altered.
+  template <class Msg>
+  std::string Refusal(SignatureVerdict v, const Msg& m) const {
+    return SignatureRefusal(v, m.signature.key_id, key_id_);
   }
   // Reports refusals not yet reported, and saves the newest timestamp; once a tick.
   void Tick();
 
  private:
-  void Refused(SignatureVerdict v, Topic topic, const std::string& source);
+  void Refused(SignatureVerdict v, Topic topic, const std::string& source, const std::string& why);
   void Save();
   std::optional<SignatureVerifier> verifier_;
+  std::string key_id_;  // this vehicle's key (SigningKey::Id())
   std::string state_file_;
   Blackboard& board_;
   int64_t rejections_ = 0;
@@ -54,6 +61,7 @@ class SignatureGate {
     int64_t count = 0;
     int64_t last_report_us = -1;  // wall clock
     std::string last;             // what the latest refused message was
+    std::string why;              // and why it was refused
   };
   std::map<SignatureVerdict, Pending> pending_;
   int64_t saved_ = -1;        // newest timestamp in the state file
@@ -62,7 +70,9 @@ class SignatureGate {
 };
 
 // Reason text for a refusal, as acknowledgements and status texts say it.
-std::string SignatureRefusal(SignatureVerdict v);
+// "signature check: bad tag: ..." naming both key ids when they differ (`sender_key_id` is what
+// the message names; empty for an unsigned sender).
+std::string SignatureRefusal(SignatureVerdict v, const std::string& sender_key_id = "", const std::string& own_key_id = "");
 
 // What every translator shares: the bus, the vehicle's channels and their sequence numbers.
 struct LinkContext {

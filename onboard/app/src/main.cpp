@@ -32,13 +32,11 @@
 namespace {
 
 uav::GeodeticPoint ParseHome(const std::string& text) {
-  uav::GeodeticPoint g;
-  char c1 = 0, c2 = 0;
-  std::istringstream in(text);
-  if (!(in >> g.latitude_deg >> c1 >> g.longitude_deg >> c2 >> g.altitude_m) || c1 != ',' ||
-      c2 != ',' || !in.eof())
+  const auto v = uav::ParseDecimalList(text, 3);
+  if (!v)
     throw std::invalid_argument("--home must be LAT,LON,ALT (degrees, degrees, metres), got '" +
                                 text + "'");
+  uav::GeodeticPoint g{(*v)[0], (*v)[1], (*v)[2]};
   uav::ValidateGeodetic(g);
   return g;
 }

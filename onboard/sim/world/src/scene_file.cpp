@@ -1,5 +1,6 @@
 // Scene files (resources/scenes/*.scene.json): objects, procedural generators, lighting,
 // cameras and the seed. Every error names the file and the JSON path of the bad entry.
+#include <filesystem>
 #include <cmath>
 #include <stdexcept>
 
@@ -158,13 +159,24 @@ bool Free(const std::vector<Footprint>& taken, const Eigen::Vector2d& c, double 
   return true;
 }
 
-CameraSetup ReadCamera(const Reader& rd, const json& j, const std::string& path, const std::string& camera_dir,
+CameraSetup ReadCamera(const Reader& rd, const json& j, const std::string& path, const std::string& scene_dir,
                        const std::string& name, const std::string& default_file, double default_rate,
                        double default_preview_rate) {
   CameraSetup c;
   c.name = name;
   std::string file = rd.String(j, path, "file", default_file);
-  if (!file.empty() && file[0] != '/') file = camera_dir + file;
+  if (!file.empty() && file[0] != '/') {
+    // A relative camera file is looked for beside the scene, then in the cameras folder beside
+    // the scenes folder (the shipped layout, resources/scenes and resources/cameras).
+    const std::string beside = scene_dir + "/" + file, shipped = scene_dir + "/../cameras/" + file;
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(beside, ec)) file = beside;
+    else if (std::filesystem::is_regular_file(shipped, ec)) file = shipped;
+    else
+      rd.Fail(path + ".file", "camera file '" + file + "' is in neither " + beside + " nor " + shipped +
+                                  ": copy it beside the scene, or give its absolute path (a scene copied to another "
+                                  "folder takes its cameras along)");
+  }
   try {
     c.intrinsics = IntrinsicsFromParameters(ParameterSet::LoadFile(file, uav::CameraParameterSchema()));
   } catch (const std::exception& e) {
@@ -198,7 +210,6 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
   Scene scene(static_cast<uint64_t>(seed_value));
   scene.SetName(rd.String(root, "$", "name", "unnamed"));
   const std::string dir = source.find('/') == std::string::npos ? "." : source.substr(0, source.rfind('/'));
-  const std::string camera_dir = dir + "/../cameras/";
 
   try {
     scene.SetSky(rd.Bool(root, "$", "sky", true));
@@ -421,7 +432,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
       if (cams.contains("downward")) {
         const json& j = cams["downward"];
         const std::string p = "$.cameras.downward";
-        CameraSetup c = ReadCamera(rd, j, p, camera_dir, "downward", "sim_downward_640x480.camera", 5.0, 5.0);
+        CameraSetup c = ReadCamera(rd, j, p, dir, "downward", "sim_downward_640x480.camera", 5.0, 5.0);
         const Eigen::Vector3d mount = j.contains("mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0, 0, 0.1);
         const double yaw = rd.Number(j, p, "mount_yaw_deg", -360, 360, 0) * M_PI / 180;
         c.T_BC = Eigen::Isometry3d::Identity();
@@ -432,7 +443,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
       if (cams.contains("gimbal")) {
         const json& j = cams["gimbal"];
         const std::string p = "$.cameras.gimbal";
-        CameraSetup c = ReadCamera(rd, j, p, camera_dir, "gimbal", "sim_downward_640x480.camera", 10.0, 5.0);
+        CameraSetup c = ReadCamera(rd, j, p, dir, "gimbal", "sim_downward_640x480.camera", 10.0, 5.0);
         c.T_BC = Eigen::Isometry3d::Identity();
         c.T_BC.linear() = RotationBCForward();
         c.T_BC.translation() = j.contains("mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0.1, 0, 0.15);
@@ -441,7 +452,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
       if (cams.contains("stereo")) {
         const json& j = cams["stereo"];
         const std::string p = "$.cameras.stereo";
-        const CameraSetup c = ReadCamera(rd, j, p, camera_dir, "stereo", "sim_stereo_640x480.camera", 10.0,
+        const CameraSetup c = ReadCamera(rd, j, p, dir, "stereo", "sim_stereo_640x480.camera", 10.0,
                                            scene.downward_camera() ? 0.0 : 5.0);
         const Eigen::Vector3d mount = j.contains("mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0.15, 0, 0);
         // Mount angles: the optical axis pitched up from the body x axis (-90: facing down), and

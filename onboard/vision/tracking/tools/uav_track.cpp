@@ -109,15 +109,12 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    std::vector<double> v;
     std::stringstream ss(box_text);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-      const std::optional<double> x = uav::ParseDecimal(item);
-      if (!x) throw std::invalid_argument("'" + item + "' is not a finite decimal number");
-      v.push_back(*x);
-    }
-    if (v.size() != 4) throw std::invalid_argument("need four numbers");
+    for (std::string item; std::getline(ss, item, ',');)
+      if (!uav::ParseDecimal(item)) throw std::invalid_argument("'" + item + "' is not a finite decimal number");
+    const auto parsed = uav::ParseDecimalList(box_text, 4);
+    if (!parsed) throw std::invalid_argument("need four numbers");
+    const std::vector<double>& v = *parsed;
     box = cv::Rect2d(v[0], v[1], v[2], v[3]);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "uav-track: --box must be X,Y,W,H in pixels (%s)\n", e.what());

@@ -29,6 +29,7 @@ void SignMessage(MessageSigner& signer, int64_t unix_us, Msg& m) {
   m.signature.version = uavmsg::signature_t::VERSION_HMAC_SHA256;
   m.signature.link_id = static_cast<int16_t>(s.link_id);
   m.signature.timestamp = s.timestamp;
+  m.signature.key_id = signer.key_id();
   const std::vector<uint8_t> bytes = signing_detail::EncodeWithZeroTag(m);
   const SigningTag tag = signer.Tag(m.header.vehicle_id, s, bytes.data(), bytes.size());
   std::copy(tag.begin(), tag.end(), std::begin(m.signature.tag));

@@ -54,9 +54,11 @@ class MessageSigner {
   // and calls Tag().
   Signature Next(int64_t unix_us);
   SigningTag Tag(const std::string& vehicle_id, const Signature& s, const void* bytes, size_t size) const;
+  const std::string& key_id() const { return key_id_; }
 
  private:
   SigningKey key_;
+  std::string key_id_;
   int link_id_;
   int64_t last_ = 0;
 };
