@@ -134,7 +134,14 @@ ParseResult ParseCommand(std::string_view line) {
     const std::string& w = words[i + 1];
     const std::optional<double> parsed = ParseDecimal(w);
     if (!parsed) {
-      r.error = name + ": argument " + a.name + " is not a finite number (decimal digits only): '" + w + "'";
+      // strtod would take "nan", "inf", "1e400" and "0x10": say why those are refused too.
+      char* end = nullptr;
+      const double v = std::strtod(w.c_str(), &end);
+      const bool numeric = end != w.c_str() && *end == '\0';
+      r.error = name + ": argument " + a.name +
+                (!numeric ? " is not a number: '" : !std::isfinite(v) ? " is not a finite number: '"
+                                                                      : " is not a decimal number (digits only, no hexadecimal): '") +
+                w + "'";
       return r;
     }
     const double v = *parsed;

@@ -39,7 +39,7 @@ std::string JpegProblem(const uint8_t* data, std::size_t size) {
     char message[JMSG_LENGTH_MAX];
     error.manager.format_message(reinterpret_cast<j_common_ptr>(&info), message);
     jpeg_destroy_decompress(&info);
-    return std::string("not a readable JPEG: ") + message;
+    return std::string("corrupt JPEG (") + message + ")";
   }
   jpeg_create_decompress(&info);
   jpeg_mem_src(&info, data, static_cast<unsigned long>(size));

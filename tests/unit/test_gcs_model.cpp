@@ -139,7 +139,8 @@ TEST(GcsModel, AFailsafeGetsItsOwnRowAndNeverReopensTheLastCommand) {
   m.OnAck("UAV1", vehicle, {1, "failsafe_land", CommandResult::kCompleted, 100, ""}, 12.0);
   EXPECT_EQ(sent.size(), 4u);
   EXPECT_EQ(sent[3].last_ack->result, CommandResult::kCompleted);
-  // A vehicle row is never resent, and another GCS's rows still do not count.
+  // A vehicle row is never resent (the operator's were answered: nothing goes out again).
+  m.commands().TakeOutgoing();
   m.Tick(20.0);
   EXPECT_TRUE(m.commands().TakeOutgoing().empty());
   m.OnAck("UAV1", vehicle, {2, "failsafe_return", CommandResult::kAccepted, 0, "battery 24 %"}, 13.0);

@@ -276,6 +276,8 @@ TEST_F(TaskManagerTest, AFailsafeLandingReportsAsItselfNotAsTheLastCommand) {
   EXPECT_GT(progress, 0);
   EXPECT_EQ(all.back().result, AckResult::kCompleted);
   // A second failsafe is numbered anew.
+  std::vector<TaskReport> cleared;
+  tm_.EnforceFailsafe(FailsafeAction::kNone, "", est_, t_, &cleared);
   Send("arm");
   Send("takeoff 10");
   est_.p_N.z() = -10;

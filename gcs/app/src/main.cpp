@@ -24,6 +24,7 @@
 #include "uav/shared/channels.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/vehicle_enums.hpp"
 
 namespace {
 volatile std::sig_atomic_t g_stop = 0;
@@ -124,6 +125,8 @@ int main(int argc, char** argv) {
     else if (!script_path.empty())
       runner = std::make_unique<uav::gcs::ScriptRunner>(uav::gcs::Script::LoadFile(script_path), stdout, timeout_scale);
 
+    if (name == uav::kVehicleInitiatedSource)
+      throw std::invalid_argument("--name '" + name + "' is the vehicle's own name for what it does on its own: pick another");
     const bool replaying = !replay_path.empty();
     if (!replaying && key_path.empty() && !insecure)
       throw std::invalid_argument("give --key FILE (the vehicle's key; uav-keygen FILE makes one) or, to send "

@@ -18,6 +18,8 @@ CommandIntake::Result CommandIntake::Receive(const std::string& addressed_to,
     return r;
   }
   if (source.empty()) return reject(text, "command has no source"), r;
+  if (source == kVehicleInitiatedSource)  // its acknowledgements would read as the vehicle's own rows
+    return reject(text, "a GCS may not be named '" + source + "': that is the vehicle's own name for what it does on its own"), r;
   const ParseResult parsed = ParseCommand(text);
   if (!parsed.ok()) return reject(text, parsed.error), r;
   // Mark as seen now so a resend arriving before the task manager answers is not run twice.

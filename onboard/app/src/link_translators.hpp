@@ -21,6 +21,10 @@
 
 namespace uav::app {
 
+// "signature check: bad tag: ..." naming both key ids when they differ (`sender_key_id` is what
+// the message names; empty for an unsigned sender).
+std::string SignatureRefusal(SignatureVerdict v, const std::string& sender_key_id = "", const std::string& own_key_id = "");
+
 // The signature check of every inbound message that changes what the vehicle does: counts and
 // reports refusals by reason (at most one status text a second per reason, with the count), and
 // keeps the newest accepted timestamp in a file for the next start.
@@ -70,9 +74,6 @@ class SignatureGate {
 };
 
 // Reason text for a refusal, as acknowledgements and status texts say it.
-// "signature check: bad tag: ..." naming both key ids when they differ (`sender_key_id` is what
-// the message names; empty for an unsigned sender).
-std::string SignatureRefusal(SignatureVerdict v, const std::string& sender_key_id = "", const std::string& own_key_id = "");
 
 // What every translator shares: the bus, the vehicle's channels and their sequence numbers.
 struct LinkContext {

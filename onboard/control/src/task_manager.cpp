@@ -52,13 +52,7 @@ void TaskManager::EnforceFailsafe(FailsafeAction required, const std::string& re
   Finish(AckResult::kFailed, "failsafe " + std::string(Name(required)) + ": " + reason, reports);
   // What the vehicle does now is its own task, reported as itself (thesis 2.3.2: the task
   // manager reports every task): a row of its own in the GCS, closed when it ends.
-  active_ = {std::string(kVehicleInitiatedSource), ++vehicle_seq_, what};
-  active_report_ = true;
-  start_p_N_ = est.p_N;
-  start_t_ = t;
-  last_percent_ = 0;
-  last_progress_t_ = t;
-  still_since_ = -1.0;
+  Own({std::string(kVehicleInitiatedSource), ++vehicle_seq_, what}, est, t);
   Report(AckResult::kAccepted, 0, reason, reports);
   switch (required) {
     case FailsafeAction::kNone: break;
@@ -143,6 +137,16 @@ void TaskManager::Report(AckResult result, int percent, const std::string& reaso
   if (active_report_) reports->push_back({active_.source, active_.seq, active_.name, result, percent, reason});
 }
 
+void TaskManager::Own(ReportOwner owner, const VehicleEstimate& est, double t) {
+  active_ = std::move(owner);
+  active_report_ = true;
+  start_p_N_ = est.p_N;
+  start_t_ = t;
+  last_percent_ = 0;
+  last_progress_t_ = t;
+  still_since_ = -1.0;
+}
+
 void TaskManager::Finish(AckResult result, const std::string& reason,
                          std::vector<TaskReport>* reports) {
   Report(result, result == AckResult::kCompleted ? 100 : last_percent_, reason, reports);
@@ -165,13 +169,7 @@ void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstim
   carried_capture_.reset();
   if (task != Task::kTrack && task != Task::kMission && task != Task::kReturn) runner_.reset();
   task_ = task;
-  active_ = {req.source, req.seq, req.command.Name()};
-  active_report_ = true;
-  start_p_N_ = est.p_N;
-  start_t_ = t;
-  last_percent_ = 0;
-  last_progress_t_ = t;
-  still_since_ = -1.0;
+  Own({req.source, req.seq, req.command.Name()}, est, t);
   // Deadline: three times the time the move needs at the speed limits, plus margin.
   const double dist_xy = (setpoint_.p_N - est.p_N).head<2>().norm();
   const double dist_z = std::abs(setpoint_.p_N.z() - est.p_N.z());

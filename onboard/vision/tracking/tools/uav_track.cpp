@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <optional>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -23,6 +24,7 @@
 #include "uav/shared/progress_bar.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/target_tracker.hpp"
+#include "uav/vision/tracking_score.hpp"
 #include "uav/shared/decimal.hpp"
 
 namespace {
@@ -63,6 +65,8 @@ class FrameSource {
                  " it declares (truncated or damaged)";
     return false;
   }
+  // Position in the sequence of the frame Next() returned last (skipped files count).
+  int index() const { return files_.empty() ? read_ - 1 : static_cast<int>(next_) - 1; }
   const std::vector<std::string>& skipped() const { return skipped_; }
   const std::string& damaged() const { return damaged_; }
 
@@ -96,6 +100,10 @@ int main(int argc, char** argv) {
   app.add_option("--window", window, "CamShift search window: adaptive or static")->capture_default_str()->check(CLI::IsMember({"adaptive", "static"}));
   app.add_option("--out", out_path, "CSV of boxes, one row per frame");
   app.add_option("--overlay", overlay_dir, "folder for frames with the box drawn");
+  std::string truth_path;
+  app.add_option("--truth", truth_path,
+                 "ground-truth boxes, one x,y,w,h per frame (OTB's groundtruth_rect.txt): scores the run (success AUC, "
+                 "precision at 20 px)");
   uav::RequireDecimalNumbers(app);
   CLI11_PARSE(app, argc, argv);
 
@@ -137,6 +145,8 @@ int main(int argc, char** argv) {
     uav::ProgressBar progress(source.count());
     std::vector<double> ms;
     uav::vision::TrackState last = uav::vision::TrackState::kTracking;
+    const std::vector<cv::Rect2d> truth = truth_path.empty() ? std::vector<cv::Rect2d>{} : uav::vision::ReadOtbBoxes(truth_path);
+    std::vector<std::optional<cv::Rect2d>> reported;  // per sequence position, for the score
     while (source.Next(&frame)) {
       uav::vision::TrackResult r;
       const auto t0 = std::chrono::steady_clock::now();
@@ -154,6 +164,8 @@ int main(int argc, char** argv) {
       if (r.state == uav::vision::TrackState::kLost && last != uav::vision::TrackState::kLost) ++losses;
       last = r.state;
       const cv::Rect2f b = r.box.boundingRect2f();
+      if (reported.size() <= static_cast<std::size_t>(source.index())) reported.resize(source.index() + 1);
+      if (r.state == uav::vision::TrackState::kTracking) reported[source.index()] = cv::Rect2d(b);
       if (csv.is_open()) {
         char row[200];
         std::snprintf(row, sizeof row, "%d,%.2f,%.2f,%.2f,%.2f,%.2f,%s,%.3f\n", n, b.x, b.y, b.width, b.height, r.box.angle,
@@ -182,13 +194,24 @@ int main(int argc, char** argv) {
     }
     std::sort(ms.begin(), ms.end());
     const double median = ms.empty() ? 0.0 : ms[ms.size() / 2];
+    std::string score;
+    if (!truth.empty()) {
+      const uav::vision::TrackingScore sc = uav::vision::ScoreTracking(reported, truth);
+      char buf[256];
+      std::snprintf(buf, sizeof buf,
+                    ", \"truth\": {\"frames\": %d, \"success_auc\": %.1f, \"precision_20px\": %.1f, \"mean_iou\": %.3f}", sc.frames,
+                    100 * sc.success_auc, 100 * sc.precision_20px, sc.mean_iou);
+      score = buf;
+    }
     std::string skipped;
     for (const std::string& s : source.skipped()) skipped += (skipped.empty() ? "" : ", ") + uav::JsonString(s);
     if (!source.damaged().empty()) std::fprintf(stderr, "\nuav-track: %s: %s\n", input.c_str(), source.damaged().c_str());
     std::printf("{\"input\": %s, \"tracker\": \"%s\", \"window\": \"%s\", \"frames\": %d, \"losses\": %d, "
-                "\"median_ms_per_frame\": %.3f, \"final_state\": \"%s\", \"skipped\": [%s], \"damaged\": %s}\n",
+                "\"median_ms_per_frame\": %.3f, \"frames_per_s_median\": %.1f, \"final_state\": \"%s\", \"skipped\": [%s], "
+                "\"damaged\": %s%s}\n",
                 uav::JsonString(input).c_str(), uav::vision::Name(params.kind), uav::vision::Name(params.window), n, losses, median,
-                StateName(last), skipped.c_str(), uav::JsonString(source.damaged()).c_str());
+                median > 0 ? 1000.0 / median : 0.0, StateName(last), skipped.c_str(), uav::JsonString(source.damaged()).c_str(),
+                score.c_str());
     // The boxes are written for the frames that were read; the exit status says not all were.
     return source.skipped().empty() && source.damaged().empty() ? 0 : 1;
   } catch (const std::exception& e) {

@@ -135,6 +135,8 @@ class TaskManager {
     std::string name;
   };
   void Report(AckResult result, int percent, const std::string& reason, std::vector<TaskReport>* reports) const;
+  // `owner` now owns the task: its progress is measured from here and now.
+  void Own(ReportOwner owner, const VehicleEstimate& est, double t);
   bool active_report_ = false;
   ReportOwner active_;
   int64_t vehicle_seq_ = 0;
