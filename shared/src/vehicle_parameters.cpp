@@ -171,7 +171,7 @@ const ParameterSchema& VehicleParameterSchema() {
     {"obs_cloud_rate", "Hz", 1, 0, 5, "decimated point cloud to the GCS (0: none)"},
 
     // --- Target tracking and follow (TRK thread, thesis 3.7) ---
-    {"trk_tracker", "-", 0, 0, 2, "0: CamShift (thesis 3.7), 1: KCF, 2: CSRT (opencv-contrib, for comparison)"},
+    {"trk_tracker", "-", 3, 0, 3, "0: CamShift (thesis 3.7), 1: KCF, 2: CSRT (opencv-contrib), 3: auto (CamShift where the target's colour stands out, else CSRT)"},
     {"trk_window", "-", 0, 0, 1, "CamShift search window 0: adaptive (moments), 1: static (selection's size)"},
     {"trk_gimbal_gain", "-", 0.5, 0, 1, "fraction of the target's vertical offset the gimbal corrects per frame (0: gimbal fixed)"},
     {"gimbal_pitch", "deg", -20, -90, 20, "gimbal pitch before a target is locked (0 ahead, -90 straight down)"},

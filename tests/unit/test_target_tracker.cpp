@@ -190,8 +190,10 @@ TEST(TrackerLoss, TargetLeavingIsLostAndFoundAgain) {
 TEST(TrackerBadInput, SelectionsAreRefusedNamingWhy) {
   const Sequence& s = Cached(Target::kBall);
   const cv::Mat& image = s.images[0];
-  auto refusal = [&](const cv::Rect2d& box, const cv::Mat& img) {
-    TargetTracker t(TrackerParams{});
+  auto refusal = [&](const cv::Rect2d& box, const cv::Mat& img, TrackerKind kind = TrackerKind::kAuto) {
+    TrackerParams p;
+    p.kind = kind;
+    TargetTracker t(p);
     try {
       t.Start(img, box);
     } catch (const std::invalid_argument& e) {
@@ -204,9 +206,11 @@ TEST(TrackerBadInput, SelectionsAreRefusedNamingWhy) {
   EXPECT_NE(refusal(cv::Rect2d(100, 100, 2, 40), image).find("smaller"), std::string::npos);
   EXPECT_NE(refusal(cv::Rect2d(std::nan(""), 100, 20, 20), image).find("not finite"), std::string::npos);
   EXPECT_NE(refusal(cv::Rect2d(10, 10, 20, 20), cv::Mat()).find("empty"), std::string::npos);
-  // A grey patch has no hue to track.
-  const cv::Mat grey(480, 640, CV_8UC3, cv::Scalar(120, 124, 126));
-  EXPECT_NE(refusal(cv::Rect2d(100, 100, 40, 20), grey).find("too little colour"), std::string::npos);
+  // A grey patch has no hue for CamShift to track; the default (auto) tracks it with CSRT.
+  cv::Mat grey(480, 640, CV_8UC3, cv::Scalar(120, 124, 126));
+  EXPECT_NE(refusal(cv::Rect2d(100, 100, 40, 20), grey, TrackerKind::kCamShift).find("too little colour"), std::string::npos);
+  cv::rectangle(grey, cv::Rect(100, 100, 40, 20), cv::Scalar(60, 62, 64), -1);
+  EXPECT_EQ(refusal(cv::Rect2d(100, 100, 40, 20), grey), "accepted");
   EXPECT_EQ(refusal(s.truth[0], image), "accepted");
   TargetTracker t(TrackerParams{});
   t.Start(image, s.truth[0]);
@@ -217,6 +221,31 @@ TEST(TrackerBadInput, SelectionsAreRefusedNamingWhy) {
   bad.hue_bins = 0;
   EXPECT_THROW(TargetTracker{bad}, std::invalid_argument);
   EXPECT_THROW(ParseTrackerKind("meanshift"), std::invalid_argument);
+}
+
+// The default tracker picks CamShift where the target's colour stands out (the rendered red ball
+// and blue car on grass), CSRT where it does not (a dark grey box on grey), and says why.
+TEST(TrackerAuto, PicksCamShiftForColourAndCsrtWithout) {
+  for (Target target : {Target::kBall, Target::kCar}) {
+    const Sequence& s = Cached(target);
+    TargetTracker t(TrackerParams{});
+    t.Start(s.images[0], s.truth[0]);
+    EXPECT_EQ(t.method(), TrackerKind::kCamShift) << TargetName(target) << ": " << t.method_reason();
+    EXPECT_NE(t.method_reason().find("the target's colour stands out"), std::string::npos);
+    std::printf("[ auto ] %s: %s\n", TargetName(target), t.method_reason().c_str());
+  }
+  cv::Mat grey(240, 320, CV_8UC3, cv::Scalar(120, 124, 126));
+  cv::rectangle(grey, cv::Rect(100, 100, 40, 20), cv::Scalar(60, 62, 64), -1);
+  TargetTracker t(TrackerParams{});
+  t.Start(grey, cv::Rect2d(100, 100, 40, 20));
+  EXPECT_EQ(t.method(), TrackerKind::kCsrt);
+  EXPECT_NE(t.method_reason().find("too little colour"), std::string::npos) << t.method_reason();
+  cv::Mat moved = cv::Mat(240, 320, CV_8UC3, cv::Scalar(120, 124, 126));
+  cv::rectangle(moved, cv::Rect(104, 102, 40, 20), cv::Scalar(60, 62, 64), -1);
+  const TrackResult r = t.Update(moved);
+  EXPECT_EQ(r.state, TrackState::kTracking);
+  EXPECT_NEAR(r.box.center.x, 124, 2.0);
+  EXPECT_NEAR(r.box.center.y, 112, 2.0);
 }
 
 }  // namespace

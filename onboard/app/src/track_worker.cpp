@@ -12,7 +12,10 @@ namespace uav::app {
 TrackWorkerParams TrackWorkerParams::FromParameters(const ParameterSet& p) {
   TrackWorkerParams t;
   const int kind = static_cast<int>(p.Get("trk_tracker"));
-  t.tracker.kind = kind == 0 ? vision::TrackerKind::kCamShift : kind == 1 ? vision::TrackerKind::kKcf : vision::TrackerKind::kCsrt;
+  t.tracker.kind = kind == 0   ? vision::TrackerKind::kCamShift
+                   : kind == 1 ? vision::TrackerKind::kKcf
+                   : kind == 2 ? vision::TrackerKind::kCsrt
+                               : vision::TrackerKind::kAuto;
   t.tracker.window = p.Get("trk_window") != 0.0 ? vision::SearchWindowMode::kStatic : vision::SearchWindowMode::kAdaptive;
   t.tracker.Validate();
   t.gimbal_pitch_rad = p.Get("gimbal_pitch") * M_PI / 180.0;
@@ -66,7 +69,7 @@ TrackReport TrackWorker::NewReport(int64_t utime, int64_t target_seq, TrackRepor
   rep.utime = utime;
   rep.target_seq = target_seq;
   rep.camera = camera_.info().name;
-  rep.tracker = vision::Name(params_.tracker.kind);
+  rep.tracker = vision::Name(tracker_.state() == vision::TrackState::kIdle ? params_.tracker.kind : tracker_.method());
   rep.state = state;
   return rep;
 }
@@ -127,8 +130,9 @@ bool TrackWorker::Handle(const TrackRequest& request) {
   tracker_ = std::move(fresh);
   last_result_ = r;
   target_seq_ = request.target_seq;
+  const std::string how = tracker_.method_reason().empty() ? "" : ": " + tracker_.method_reason();
   board_.PushStatus(Severity::kInfo, "tracking target " + std::to_string(request.target_seq) + " (" +
-                                         vision::Name(params_.tracker.kind) + ")");
+                                         vision::Name(tracker_.method()) + how + ")");
   return true;
 }
 

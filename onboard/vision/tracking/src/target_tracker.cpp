@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
@@ -71,7 +72,8 @@ TrackerKind ParseTrackerKind(const std::string& name) {
   if (name == "camshift") return TrackerKind::kCamShift;
   if (name == "kcf") return TrackerKind::kKcf;
   if (name == "csrt") return TrackerKind::kCsrt;
-  throw std::invalid_argument("unknown tracker '" + name + "' (camshift, kcf, csrt)");
+  if (name == "auto") return TrackerKind::kAuto;
+  throw std::invalid_argument("unknown tracker '" + name + "' (auto, camshift, kcf, csrt)");
 }
 SearchWindowMode ParseSearchWindowMode(const std::string& name) {
   if (name == "adaptive") return SearchWindowMode::kAdaptive;
@@ -83,6 +85,7 @@ const char* Name(TrackerKind kind) {
     case TrackerKind::kCamShift: return "camshift";
     case TrackerKind::kKcf: return "kcf";
     case TrackerKind::kCsrt: return "csrt";
+    case TrackerKind::kAuto: return "auto";
   }
   return "?";
 }
@@ -99,11 +102,15 @@ void TrackerParams::Validate() const {
   Require(std::isfinite(reacquire_confidence) && reacquire_confidence >= lost_confidence && reacquire_confidence <= 1,
           "reacquire_confidence must be in [lost_confidence, 1]");
   Require(std::isfinite(min_side_px) && min_side_px >= 1, "min_side_px must be at least 1");
+  Require(std::isfinite(auto_min_colour_coverage) && auto_min_colour_coverage >= 0 && auto_min_colour_coverage <= 1,
+          "auto_min_colour_coverage must be in [0, 1]");
 }
 
 struct TargetTracker::Impl {
   TrackerParams p;
   TrackState state = TrackState::kIdle;
+  TrackerKind method = TrackerKind::kCamShift;  // what tracks now (kAuto's choice)
+  std::string method_reason;
   cv::Size image_size;
   // CamShift.
   cv::Mat histogram;
@@ -114,6 +121,69 @@ struct TargetTracker::Impl {
   cv::Mat hsv, mask, probability;
   // KCF / CSRT.
   cv::Ptr<cv::Tracker> opencv;
+  double colour_coverage = 0.0;  // share of the selection CamShift's probability image covers
+
+  // CamShift's model of the target (thesis 3.7): the background-weighted hue histogram, the
+  // reference density and the first window. "" on success, else why it cannot track.
+  std::string TrainCamShift(const cv::Mat& bgr, const cv::Rect& roi, const std::vector<cv::Point2f>& polygon) {
+    cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+    cv::inRange(hsv, cv::Scalar(0, p.min_saturation, p.min_value), cv::Scalar(180, 255, p.max_value), mask);
+    cv::Mat selection = cv::Mat::zeros(bgr.size(), CV_8U);
+    selection(roi).setTo(255);
+    if (polygon.size() >= 3) {
+      std::vector<cv::Point> corners;
+      for (const cv::Point2f& q : polygon) corners.emplace_back(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y)));
+      cv::Mat clicked = cv::Mat::zeros(bgr.size(), CV_8U);
+      cv::fillConvexPoly(clicked, corners, cv::Scalar(255));
+      selection &= clicked;
+    }
+    cv::Mat train = mask & selection;
+    const int usable = cv::countNonZero(train);
+    if (usable < std::max(16.0, 0.1 * roi.area()))
+      return "the target has too little colour to track (" + std::to_string(usable) + " of " +
+             std::to_string(roi.area()) + " pixels saturated and bright enough)";
+    const int channels[] = {0};
+    const int bins[] = {p.hue_bins};
+    const float hue_range[] = {0, 180};
+    const float* ranges[] = {hue_range};
+    cv::calcHist(&hsv, 1, channels, train, histogram, 1, bins, ranges);
+    // Background-weighted histogram (Comaniciu, Ramesh and Meer 2003): hues common in a ring
+    // around the selection (the box's corners hold some of them too) are scaled down by
+    // min(1, h_min / h_background), so the probability image does not pull the window into the
+    // surroundings.
+    cv::Mat ring = cv::Mat::zeros(bgr.size(), CV_8U);
+    const cv::Rect around = Clip(cv::Rect(roi.x - roi.width, roi.y - roi.height, 3 * roi.width, 3 * roi.height), image_size);
+    ring(around).setTo(255);
+    ring(roi).setTo(0);
+    ring &= mask;
+    if (cv::countNonZero(ring) > 0) {
+      cv::Mat background;
+      cv::calcHist(&hsv, 1, channels, ring, background, 1, bins, ranges);
+      float smallest = std::numeric_limits<float>::infinity();
+      for (int b = 0; b < p.hue_bins; ++b)
+        if (background.at<float>(b) > 0) smallest = std::min(smallest, background.at<float>(b));
+      for (int b = 0; b < p.hue_bins; ++b)
+        if (background.at<float>(b) > 0) histogram.at<float>(b) *= std::min(1.0f, smallest / background.at<float>(b));
+    }
+    if (!(cv::norm(histogram, cv::NORM_INF) > 0)) return "the target's colours are those of its surroundings";
+    cv::normalize(histogram, histogram, 0, 255, cv::NORM_MINMAX);
+    Probability(bgr);
+    // The target inside the selection: the moments' box there (a loose selection shrinks to the
+    // coloured object), and its density, which later frames' confidence is measured against.
+    const Moments m = WindowMoments(probability, roi);
+    const double area = static_cast<double>(m.box.size.width) * m.box.size.height;
+    if (!(m.m00 > 0 && area >= 1.0)) return "the selection holds none of the colours that tell the target from its surroundings";
+    reference_density = m.m00 / area;
+    const cv::Rect target = Clip(m.box.boundingRect(), image_size);
+    reference_size = cv::Size2f(static_cast<float>(std::max(target.width, 1)), static_cast<float>(std::max(target.height, 1)));
+    window = Clip(Centred(m.box.center, cv::Size2f(target.width * (1 + 2 * kWindowMargin), target.height * (1 + 2 * kWindowMargin))),
+                    image_size);
+    // kAuto's test: the share of the selection whose hue, after the background weighting, still
+    // says "target". A ball or a painted car fills most of its box; a runner whose only
+    // distinct colour is a shirt, or jeans among blue signs, fills little of it.
+    colour_coverage = static_cast<double>(cv::countNonZero(probability(roi))) / roi.area();
+    return "";
+  }
 
   void Probability(const cv::Mat& bgr) {
     cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
@@ -217,67 +287,36 @@ void TargetTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box, const std::
                      cv::Point(static_cast<int>(std::ceil(inside.x + inside.width)), static_cast<int>(std::ceil(inside.y + inside.height))));
   s.image_size = bgr.size();
   s.low_frames = 0;
-  if (s.p.kind != TrackerKind::kCamShift) {
-    if (s.p.kind == TrackerKind::kKcf)
+  s.method_reason.clear();
+  s.method = s.p.kind;
+  if (s.p.kind == TrackerKind::kCamShift) {
+    const std::string refused = s.TrainCamShift(bgr, roi, polygon);
+    Require(refused.empty(), refused);
+  } else if (s.p.kind == TrackerKind::kAuto) {
+    // CamShift where the selection's colour stands out, CSRT where it does not.
+    std::string refused = s.TrainCamShift(bgr, roi, polygon);
+    if (refused.empty() && s.colour_coverage < s.p.auto_min_colour_coverage) {
+      char why[160];
+      std::snprintf(why, sizeof why, "its distinct colour covers %.0f %% of the box (CamShift needs %.0f %%)",
+                    100 * s.colour_coverage, 100 * s.p.auto_min_colour_coverage);
+      refused = why;
+    }
+    s.method = refused.empty() ? TrackerKind::kCamShift : TrackerKind::kCsrt;
+    if (refused.empty()) {
+      char why[120];
+      std::snprintf(why, sizeof why, "the target's colour stands out (it covers %.0f %% of the box)", 100 * s.colour_coverage);
+      s.method_reason = why;
+    } else {
+      s.method_reason = refused;
+    }
+  }
+  if (s.method != TrackerKind::kCamShift) {
+    if (s.method == TrackerKind::kKcf)
       s.opencv = cv::TrackerKCF::create();
     else
       s.opencv = cv::TrackerCSRT::create();
     s.opencv->init(bgr, roi);
-    s.state = TrackState::kTracking;
-    return;
   }
-  cv::cvtColor(bgr, s.hsv, cv::COLOR_BGR2HSV);
-  cv::inRange(s.hsv, cv::Scalar(0, s.p.min_saturation, s.p.min_value), cv::Scalar(180, 255, s.p.max_value), s.mask);
-  cv::Mat selection = cv::Mat::zeros(bgr.size(), CV_8U);
-  selection(roi).setTo(255);
-  if (polygon.size() >= 3) {
-    std::vector<cv::Point> corners;
-    for (const cv::Point2f& q : polygon) corners.emplace_back(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y)));
-    cv::Mat clicked = cv::Mat::zeros(bgr.size(), CV_8U);
-    cv::fillConvexPoly(clicked, corners, cv::Scalar(255));
-    selection &= clicked;
-  }
-  cv::Mat train = s.mask & selection;
-  const int usable = cv::countNonZero(train);
-  Require(usable >= std::max(16.0, 0.1 * roi.area()),
-          "the target has too little colour to track (" + std::to_string(usable) + " of " + std::to_string(roi.area()) +
-              " pixels saturated and bright enough)");
-  const int channels[] = {0};
-  const int bins[] = {s.p.hue_bins};
-  const float hue_range[] = {0, 180};
-  const float* ranges[] = {hue_range};
-  cv::calcHist(&s.hsv, 1, channels, train, s.histogram, 1, bins, ranges);
-  // Background-weighted histogram (Comaniciu, Ramesh and Meer 2003): hues common in a ring
-  // around the selection (the box's corners hold some of them too) are scaled down by
-  // min(1, h_min / h_background), so the probability image does not pull the window into the
-  // surroundings.
-  cv::Mat ring = cv::Mat::zeros(bgr.size(), CV_8U);
-  const cv::Rect around = Clip(cv::Rect(roi.x - roi.width, roi.y - roi.height, 3 * roi.width, 3 * roi.height), s.image_size);
-  ring(around).setTo(255);
-  ring(roi).setTo(0);
-  ring &= s.mask;
-  if (cv::countNonZero(ring) > 0) {
-    cv::Mat background;
-    cv::calcHist(&s.hsv, 1, channels, ring, background, 1, bins, ranges);
-    float smallest = std::numeric_limits<float>::infinity();
-    for (int b = 0; b < s.p.hue_bins; ++b)
-      if (background.at<float>(b) > 0) smallest = std::min(smallest, background.at<float>(b));
-    for (int b = 0; b < s.p.hue_bins; ++b)
-      if (background.at<float>(b) > 0) s.histogram.at<float>(b) *= std::min(1.0f, smallest / background.at<float>(b));
-  }
-  Require(cv::norm(s.histogram, cv::NORM_INF) > 0, "the target's colours are those of its surroundings");
-  cv::normalize(s.histogram, s.histogram, 0, 255, cv::NORM_MINMAX);
-  s.Probability(bgr);
-  // The target inside the selection: the moments' box there (a loose selection shrinks to the
-  // coloured object), and its density, which later frames' confidence is measured against.
-  const Moments m = WindowMoments(s.probability, roi);
-  const double area = static_cast<double>(m.box.size.width) * m.box.size.height;
-  Require(m.m00 > 0 && area >= 1.0, "the selection holds none of the colours that tell the target from its surroundings");
-  s.reference_density = m.m00 / area;
-  const cv::Rect target = Clip(m.box.boundingRect(), s.image_size);
-  s.reference_size = cv::Size2f(static_cast<float>(std::max(target.width, 1)), static_cast<float>(std::max(target.height, 1)));
-  s.window = Clip(Centred(m.box.center, cv::Size2f(target.width * (1 + 2 * kWindowMargin), target.height * (1 + 2 * kWindowMargin))),
-                  s.image_size);
   s.state = TrackState::kTracking;
 }
 
@@ -288,7 +327,7 @@ TrackResult TargetTracker::Update(const cv::Mat& bgr) {
   Require(bgr.size() == s.image_size, "the image is " + std::to_string(bgr.cols) + " x " + std::to_string(bgr.rows) +
                                           ", the target was picked in " + std::to_string(s.image_size.width) + " x " +
                                           std::to_string(s.image_size.height));
-  return s.p.kind == TrackerKind::kCamShift ? s.UpdateCamShift(bgr) : s.UpdateOpenCv(bgr);
+  return s.method == TrackerKind::kCamShift ? s.UpdateCamShift(bgr) : s.UpdateOpenCv(bgr);
 }
 
 void TargetTracker::Stop() {
@@ -296,6 +335,8 @@ void TargetTracker::Stop() {
   impl_->opencv.release();
 }
 TrackState TargetTracker::state() const { return impl_->state; }
+TrackerKind TargetTracker::method() const { return impl_->method; }
+const std::string& TargetTracker::method_reason() const { return impl_->method_reason; }
 const TrackerParams& TargetTracker::params() const { return impl_->p; }
 
 }  // namespace uav::vision

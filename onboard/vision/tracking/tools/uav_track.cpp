@@ -93,10 +93,12 @@ const char* StateName(uav::vision::TrackState s) {
 
 int main(int argc, char** argv) {
   CLI::App app{"Track a target box through a video or an image folder (CamShift, thesis 3.7; KCF, CSRT)"};
-  std::string input, box_text, tracker = "camshift", window = "adaptive", out_path, overlay_dir;
+  std::string input, box_text, tracker = "auto", window = "adaptive", out_path, overlay_dir;
   app.add_option("input", input, "video file or folder of images")->required();
   app.add_option("--box", box_text, "X,Y,W,H of the target in the first frame, pixels")->required();
-  app.add_option("--tracker", tracker, "camshift, kcf or csrt")->capture_default_str()->check(CLI::IsMember({"camshift", "kcf", "csrt"}));
+  app.add_option("--tracker", tracker, "auto (CamShift where the target's colour stands out, else CSRT), camshift, kcf or csrt")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "camshift", "kcf", "csrt"}));
   app.add_option("--window", window, "CamShift search window: adaptive or static")->capture_default_str()->check(CLI::IsMember({"adaptive", "static"}));
   app.add_option("--out", out_path, "CSV of boxes, one row per frame");
   app.add_option("--overlay", overlay_dir, "folder for frames with the box drawn");
@@ -206,10 +208,11 @@ int main(int argc, char** argv) {
     std::string skipped;
     for (const std::string& s : source.skipped()) skipped += (skipped.empty() ? "" : ", ") + uav::JsonString(s);
     if (!source.damaged().empty()) std::fprintf(stderr, "\nuav-track: %s: %s\n", input.c_str(), source.damaged().c_str());
-    std::printf("{\"input\": %s, \"tracker\": \"%s\", \"window\": \"%s\", \"frames\": %d, \"losses\": %d, "
+    std::printf("{\"input\": %s, \"tracker\": \"%s\", \"method\": \"%s\", \"method_reason\": %s, \"window\": \"%s\", \"frames\": %d, \"losses\": %d, "
                 "\"median_ms_per_frame\": %.3f, \"frames_per_s_median\": %.1f, \"final_state\": \"%s\", \"skipped\": [%s], "
                 "\"damaged\": %s%s}\n",
-                uav::JsonString(input).c_str(), uav::vision::Name(params.kind), uav::vision::Name(params.window), n, losses, median,
+                uav::JsonString(input).c_str(), uav::vision::Name(params.kind), uav::vision::Name(tracker_.method()),
+                uav::JsonString(tracker_.method_reason()).c_str(), uav::vision::Name(params.window), n, losses, median,
                 median > 0 ? 1000.0 / median : 0.0, StateName(last), skipped.c_str(), uav::JsonString(source.damaged()).c_str(),
                 score.c_str());
     // The boxes are written for the frames that were read; the exit status says not all were.

@@ -15,7 +15,10 @@ class Mat;
 
 namespace uav::vision {
 
-enum class TrackerKind { kCamShift, kKcf, kCsrt };
+// kAuto: CamShift where the selection's colour stands out from its surroundings (fast, thesis
+// 3.7), CSRT where it does not (grey cars, people in dark clothes, buildings): never a refusal
+// for a box of reasonable size. The method chosen is reported (TargetTracker::method()).
+enum class TrackerKind { kCamShift, kKcf, kCsrt, kAuto };
 // CamShift's search window: adaptive follows the target's size and orientation from its moments
 // (thesis 3.7.1); static keeps the selection's size and only moves (thesis 3.7.3 compares both).
 enum class SearchWindowMode { kAdaptive, kStatic };
@@ -28,7 +31,7 @@ const char* Name(TrackerKind kind);
 const char* Name(SearchWindowMode mode);
 
 struct TrackerParams {
-  TrackerKind kind = TrackerKind::kCamShift;
+  TrackerKind kind = TrackerKind::kAuto;
   SearchWindowMode window = SearchWindowMode::kAdaptive;
   int hue_bins = 30;              // histogram bins over OpenCV's hue range 0..180
   int min_saturation = 60;        // pixels greyer than this carry no reliable hue: masked out
@@ -40,6 +43,10 @@ struct TrackerParams {
   int lost_frames = 3;            // consecutive low-confidence frames before LOST
   double reacquire_confidence = 0.5;  // a whole-image candidate must reach this to lock again
   double min_side_px = 4.0;       // a selection or box smaller than this each way is rejected/lost
+  // kAuto takes CamShift when at least this share of the selection keeps a hue that tells the
+  // target from its surroundings (CamShift's probability image after background weighting);
+  // below it, the colour does not hold the target and CSRT tracks.
+  double auto_min_colour_coverage = 0.5;
   // Throws std::invalid_argument naming the first value out of range.
   void Validate() const;
 };
@@ -71,6 +78,9 @@ class TargetTracker {
   TrackResult Update(const cv::Mat& bgr);
   void Stop();
   TrackState state() const;
+  // The method tracking now (kAuto's choice), and why it was chosen ("" when it was asked for).
+  TrackerKind method() const;
+  const std::string& method_reason() const;
   const TrackerParams& params() const;
 
  private:
