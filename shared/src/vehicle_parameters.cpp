@@ -190,6 +190,18 @@ const ParameterSchema& VehicleParameterSchema() {
     {"vo_method", "-", 0, 0, 2, "motion from 0 PnP, 1 EPnP, 2 the rigid 3D-3D method (thesis 5.3)"},
     {"vo_position_noise", "m", 0.05, 0.001, 10, "1 sigma the INS and the VO+IMU filter give a VO position"},
     {"vo_max_features", "-", 400, 20, 5000, "corners detected per keyframe"},
+    // --- Vision timing (thesis Table 2.1's vision threads, off the control path) ---
+    // Each result reaches the rest of the vehicle this long after its frame was exposed. On a
+    // simulated clock these fixed figures keep a run repeatable; at --speed 1 (or with
+    // vis_measured 1) the measured compute time is used instead. 0: when the work is done.
+    {"vis_measured", "-", 0, 0, 1, "1: every vision result visible when its work is done (measured), even on a simulated clock"},
+    {"cam_latency", "ms", 20, 0, 1000, "downward camera frame to its preview, shared frame and survey capture"},
+    {"obs_latency", "ms", 60, 0, 1000, "stereo pair to its obstacles, nearest range and wires"},
+    {"vo_latency", "ms", 50, 0, 1000, "stereo pair to its visual odometry position"},
+    {"asv_latency", "ms", 30, 0, 1000, "active stereo pair to its height"},
+    {"trk_latency", "ms", 40, 0, 1000, "gimbal frame to its tracked target"},
+    {"mdp_latency", "ms", 60, 0, 1000, "frame to its depth-from-motion grid"},
+    {"map_latency", "ms", 0, 0, 10000, "survey captures to their live map tiles (0: when stitched)"},
     {"fs_nav_land_s", "s", 5, 0, 60, "no position source (GPS lost, VO unhealthy): hold this long, then land"},
   }};
   return kSchema;

@@ -87,7 +87,7 @@ void FlySurvey(const uav::world::Scene& scene, int frames, int line_frames, cons
   options.home.latitude_deg = 52.2383;
   options.home.longitude_deg = 4.5234;
   Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
-  uav::sim::SimCamera camera(scene, setup, [&] { return T_NB; });
+  uav::sim::SimCamera camera(scene, setup, [&](int64_t) { return T_NB; });
   uav::app::CameraWorker worker(camera, board, options);
   const int turn_frames = 8;  // 24 m across at 3 m per frame
   Eigen::Vector2d p(-0.5 * line_frames, -120);

@@ -54,7 +54,7 @@ TEST(CameraWorker, PreviewRateIsIndependentOfFrameAndCaptureRates) {
   board.Update([](BlackboardData& d) { d.capture_interval_s = 0.2; });
   CameraWorker::Options options;
   options.capture_dir = dir;
-  sim::SimCamera sim_camera(scene, camera, [] { return Pose(0, 0, -20); });
+  sim::SimCamera sim_camera(scene, camera, [](int64_t) { return Pose(0, 0, -20); });
   CameraWorker worker(sim_camera, board, options);
   int previews_taken = 0;
   for (int i = 0; i < 50; ++i) {  // 5 s at 10 Hz
@@ -74,7 +74,7 @@ TEST(CameraWorker, ZeroPreviewRateSendsNoPreview) {
   world::CameraSetup camera = *scene.downward_camera();
   camera.preview_rate_hz = 0;
   Blackboard board;
-  sim::SimCamera sim_camera(scene, camera, [] { return Pose(0, 0, -20); });
+  sim::SimCamera sim_camera(scene, camera, [](int64_t) { return Pose(0, 0, -20); });
   CameraWorker worker(sim_camera, board, CameraWorker::Options());
   for (int i = 0; i < 5; ++i) worker.Tick(1'000'000 + i * 200'000);
   EXPECT_EQ(worker.previews(), 0);
@@ -85,7 +85,7 @@ TEST(StereoWorker, PostsTheObstacleRangeAhead) {
   const world::Scene scene = LoadScene("forest");
   Blackboard board;
   Eigen::Isometry3d T_NB = Pose(4, 3, -1.5);  // the pole at (8, 3) 4 m ahead
-  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return T_NB; });
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&](int64_t) { return T_NB; });
   StereoWorker worker(sim_pair, board, StereoWorkerParams());
   worker.Tick(1'000'000);
   EXPECT_NEAR(board.Snapshot().obstacle_range_m, 3.7, 0.15);  // truth 3.70 m (test_vision)
@@ -103,7 +103,7 @@ TEST(ActiveStereoWorker, PostsTheHeightForTheLinkAndTheInsAndNoneOverATable) {
   Blackboard board;
   Eigen::Isometry3d T_NB = Pose(0.5, -1.5, -1.2);
   board.Update([&](BlackboardData& d) { d.estimate.p_N = T_NB.translation(); });
-  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return T_NB; });
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&](int64_t) { return T_NB; });
   ActiveStereoWorkerParams params;
   params.enabled = true;
   ActiveStereoWorker worker(sim_pair, board, params);
@@ -140,7 +140,7 @@ TEST(StereoWorker, ReportsPowerLinesInNedAndTheNearestWire) {
     d.estimate.p_N = T_NB.translation();
     d.estimate.euler = {0.0, 0.0, 0.0};
   });
-  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return T_NB; });
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&](int64_t) { return T_NB; });
   StereoWorker worker(sim_pair, board, StereoWorkerParams());
   // The reported nearest wire is the median of three pairs: one pair alone does not make it.
   worker.Tick(1'000'000);
@@ -178,7 +178,7 @@ TEST(StereoWorker, ReportsPowerLinesInNedAndTheNearestWire) {
 TEST(StereoWorker, PowerLinesOffSendsNone) {
   const world::Scene scene = LoadScene("power_lines");
   Blackboard board;
-  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return Pose(5, 0, -7); });
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&](int64_t) { return Pose(5, 0, -7); });
   StereoWorkerParams params;
   params.power_lines = false;
   StereoWorker worker(sim_pair, board, params);
@@ -198,7 +198,7 @@ TEST(StereoWorker, ReportsObstacleCylindersInNed) {
     d.estimate.p_N = T_NB.translation();
     d.estimate.euler = {0.0, 0.0, 0.0};
   });
-  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return T_NB; });
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&](int64_t) { return T_NB; });
   StereoWorker worker(sim_pair, board, StereoWorkerParams());
   worker.Tick(1'000'000);
   const auto report = board.TakeObstacles();
@@ -231,7 +231,7 @@ TEST(StereoWorker, ReportsObstacleCylindersInNed) {
 TEST(StereoWorker, BlankCameraReportsUnhealthyAndNoObstacles) {
   const world::Scene scene = LoadScene("forest");
   Blackboard board;
-  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&] { return Pose(3, 0, -1.5); });
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&](int64_t) { return Pose(3, 0, -1.5); });
   struct Failing : hal::StereoCamera {
     explicit Failing(hal::StereoCamera& c) : inner(c) {}
     const hal::CameraInfo& left() const override { return inner.left(); }
@@ -281,7 +281,7 @@ TEST(TrackWorker, TracksThePickedTargetCentresItAndPlacesItOnTheGround) {
     d.estimate.p_N = T_NB.translation();
     d.estimate.q_NB = Eigen::Quaterniond::Identity();
   });
-  sim::SimGimbalCamera camera(scene, cam, [&] { return T_NB; }, -15 * M_PI / 180);
+  sim::SimGimbalCamera camera(scene, cam, [&](int64_t) { return T_NB; }, -15 * M_PI / 180);
   TrackWorkerParams params;
   params.gimbal_pitch_rad = -15 * M_PI / 180;
   // CamShift, whose box shrinks from a loose selection to the coloured object (asserted below);

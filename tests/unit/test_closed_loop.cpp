@@ -413,7 +413,7 @@ class Follow : public ClosedLoop {
         setup_(*scene_.gimbal_camera()),
         truth_renderer_(scene_, setup_),
         params_trk_(TrackWorkerParams::FromParameters(params_)),
-        gimbal_(scene_, setup_, [this] { return TruthPose(); }, params_trk_.gimbal_pitch_rad),
+        gimbal_(scene_, setup_, [this](int64_t) { return TruthPose(); }, params_trk_.gimbal_pitch_rad),
         trk_(gimbal_, board_, params_trk_) {
     for (int id : scene_.MovingObjects())
       for (const world::Obstacle& o : scene_.obstacles())
@@ -568,7 +568,7 @@ class MonoDepthFlight : public ClosedLoop {
       : scene_(world::Scene::LoadFile(std::string(UAV_RESOURCE_DIR) + "/scenes/survey_village.scene.json")),
         setup_(TenHertz(*scene_.downward_camera())),
         truth_renderer_(scene_, setup_),
-        camera_(scene_, setup_, [this] { return TruthPose(); }),
+        camera_(scene_, setup_, [this](int64_t) { return TruthPose(); }),
         cam_(camera_, board_, CameraWorker::Options{}),
         mdepth_(camera_.info(), board_, MonoDepthWorkerParams::FromParameters(params_).estimator) {
     camera_period_ = static_cast<int64_t>(std::llround(1e6 / setup_.rate_hz));
@@ -989,7 +989,7 @@ class VoRectangle : public ClosedLoop, public ::testing::WithParamInterface<Rect
   }
   VoRectangle()
       : scene_(world::Scene::LoadFile(std::string(UAV_RESOURCE_DIR) + "/scenes/vo_lab.scene.json")),
-        camera_(scene_, *scene_.stereo_camera(), [this] { return TruthPose(); }),
+        camera_(scene_, *scene_.stereo_camera(), [this](int64_t) { return TruthPose(); }),
         vo_(camera_, board_, LabVo(GetParam().vo_method)) {
     vehicle_.SetGpsEnabled(false);
     camera_period_ = static_cast<int64_t>(std::llround(1e6 / scene_.stereo_camera()->left.rate_hz));

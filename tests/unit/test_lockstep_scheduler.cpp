@@ -4,6 +4,8 @@
 #include <chrono>
 #include <mutex>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "uav/app/lockstep_scheduler.hpp"
@@ -69,6 +71,97 @@ TEST(LockstepScheduler, StopFromAWorkerEndsTheRun) {
   });
   s.Run([](int64_t) {});
   EXPECT_EQ(s.now(), 202000);
+}
+
+// A vision result is visible exactly its latency after its frame, never before, whatever the
+// work's wall time: the control worker reads the previous result until then.
+TEST(LockstepScheduler, AVisionResultIsVisibleAtCapturePlusLatency) {
+  LockstepScheduler s({0, 2000, 0.0, 400000});
+  std::atomic<int64_t> shared{-1};  // the newest visible result: its frame's time
+  int64_t begun = -1, worked = -1;
+  std::vector<std::pair<int64_t, int64_t>> seen;  // (control tick, result it saw) when it changed
+  s.AddWorker("CTL", 0, 20000, [&](int64_t t) {
+    if (seen.empty() || seen.back().second != shared.load()) seen.emplace_back(t, shared.load());
+  });
+  s.AddVisionWorker("STEREO", {100000, 0, 60000, true, 1'000'000, "pair"},
+                    {[&](int64_t t) { begun = t; }, [&] { worked = begun; },
+                     [&] { shared.store(worked); }});
+  s.Run([](int64_t) {});
+  const std::vector<std::pair<int64_t, int64_t>> expected = {{0, -1}, {60000, 0}, {160000, 100000}, {260000, 200000}, {360000, 300000}};
+  EXPECT_EQ(seen, expected);
+  const auto health = s.VisionHealth();
+  ASSERT_EQ(health.size(), 1u);
+  EXPECT_EQ(health[0].results, 4);
+  EXPECT_EQ(health[0].dropped, 0);
+  EXPECT_DOUBLE_EQ(health[0].latency_p50_ms, 60.0);
+  EXPECT_TRUE(health[0].healthy) << health[0].reason;
+}
+
+// A worker busy longer than its frame period: the frames that come meanwhile are dropped and
+// counted (every third is processed at 50 ms latency and a 20 ms period), deterministically.
+TEST(LockstepScheduler, FramesThatComeWhileTheWorkerIsBusyAreDroppedAndCounted) {
+  LockstepScheduler s({0, 2000, 0.0, 3'000'000});
+  std::vector<int64_t> processed;
+  int64_t frame = 0;
+  s.AddVisionWorker("VO", {20000, 0, 50000, true, 1'000'000, "pair"},
+                    {[&](int64_t t) { frame = t; }, [] {}, [&] { processed.push_back(frame); }});
+  s.Run([](int64_t) {});
+  ASSERT_GE(processed.size(), 3u);
+  EXPECT_EQ(processed[1] - processed[0], 60000);
+  const auto health = s.VisionHealth();
+  EXPECT_EQ(health[0].results, 50);  // frames 0, 60, ..., 2940 ms
+  EXPECT_EQ(health[0].dropped, 100);
+  EXPECT_FALSE(health[0].healthy);
+  EXPECT_NE(health[0].reason.find("behind: 17.0 of 50.0 Hz, 100 frames dropped"), std::string::npos) << health[0].reason;
+}
+
+// At real time a slow worker (70 ms a frame at 20 Hz) neither slows the clock nor the control
+// loop: control keeps its 20 ms period while the worker drops every other frame.
+TEST(LockstepScheduler, ASlowVisionWorkerDoesNotDelayControl) {
+  LockstepScheduler s({0, 2000, 1.0, 1'000'000});
+  std::atomic<int> control_ticks{0};
+  s.AddWorker("CTL", 1, 20000, [&](int64_t) { ++control_ticks; });
+  s.AddVisionWorker("STEREO", {50000, 0, 0, true, 1'000'000, "pair"},
+                    {[](int64_t) {}, [] { std::this_thread::sleep_for(std::chrono::milliseconds(70)); }, [] {}});
+  const auto start = std::chrono::steady_clock::now();
+  s.Run([](int64_t) {});
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(control_ticks.load(), 50);
+  EXPECT_LT(wall_s, 1.5) << "the clock waited for the vision worker";
+  const PeriodStats control = s.Period("CTL");
+  EXPECT_EQ(control.samples, 49);
+  EXPECT_NEAR(control.p50_ms, 20.0, 2.0);
+  const auto health = s.VisionHealth();
+  EXPECT_GE(health[0].dropped, 5);
+  EXPECT_GT(health[0].latency_p50_ms, 65.0);
+}
+
+// A worker that hangs: at a fixed latency the clock waits for it a second of wall time, then calls
+// it stalled and carries on; control keeps running and later frames are dropped.
+TEST(LockstepScheduler, AStalledWorkerIsReportedAndTheClockCarriesOn) {
+  LockstepScheduler s({0, 2000, 0.0, 600000});
+  std::atomic<bool> release{false};
+  std::atomic<int> control_ticks{0};
+  std::vector<SensingWorker> during;
+  s.AddWorker("CTL", 0, 20000, [&](int64_t t) {
+    ++control_ticks;
+    if (t == 500000) during = s.VisionHealth();
+  });
+  s.AddVisionWorker("TRK", {100000, 0, 40000, true, 1'000'000, "gimbal"},
+                    {[](int64_t) {}, [&] { while (!release.load()) std::this_thread::sleep_for(std::chrono::milliseconds(5)); },
+                     [] {}});
+  std::thread releaser([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+    release.store(true);
+  });
+  s.Run([](int64_t) {});
+  releaser.join();
+  EXPECT_EQ(control_ticks.load(), 30);
+  ASSERT_EQ(during.size(), 1u);
+  EXPECT_FALSE(during[0].healthy);
+  EXPECT_NE(during[0].reason.find("stalled"), std::string::npos) << during[0].reason;
+  EXPECT_EQ(during[0].results, 0);
+  EXPECT_GE(during[0].dropped, 4);
 }
 
 }  // namespace

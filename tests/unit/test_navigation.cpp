@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <deque>
 
 #include "uav/nav/ins.hpp"
 #include "uav/shared/frames.hpp"
@@ -162,15 +163,15 @@ TEST(Ins, VisionHeightIsGatedLikeTheSonar) {
   run(10);
   const double truth = std::max(0.0, -vehicle.TruthState().p_N.z());
   for (int i = 0; i < 20; ++i) {
-    ins.QueueHeight(truth, 0.02);
+    ins.QueueHeight(vehicle.utime(), truth, 0.02);
     run(0.1);
   }
   EXPECT_EQ(ins.health().vision_height_used, 20);
-  ins.QueueHeight(truth + 0.75, 0.02);  // a table under the vehicle
+  ins.QueueHeight(vehicle.utime(), truth + 0.75, 0.02);  // a table under the vehicle
   run(0.1);
   EXPECT_EQ(ins.health().vision_height_rejected, 1);
-  ins.QueueHeight(std::nan(""), 0.02);
-  ins.QueueHeight(-1.0, 0.02);
+  ins.QueueHeight(vehicle.utime(), std::nan(""), 0.02);
+  ins.QueueHeight(vehicle.utime(), -1.0, 0.02);
   run(0.1);
   EXPECT_EQ(ins.health().vision_height_rejected, 3);
   EXPECT_EQ(ins.health().vision_height_used, 20);
@@ -188,7 +189,7 @@ TEST(Ins, AJumpOfTheOdometryIsRefusedThenTheOdometryIsTiedAgain) {
   auto run = [&](double seconds, const Eigen::Vector3d& vo_offset_N) {
     for (int i = 0; i < seconds * 50; ++i) {
       for (int k = 0; k < 10; ++k) vehicle.Step(2000);
-      if (i % 5 == 0) ins.QueueVisualPosition(vehicle.TruthState().p_N + vo_offset_N, 0.05, 0);
+      if (i % 5 == 0) ins.QueueVisualPosition(vehicle.utime(), vehicle.TruthState().p_N + vo_offset_N, 0.05, 0);
       ins.Update(vehicle.ReadSensors(), true);
       ASSERT_NE(ins.position_source(), PositionSource::kInertial) << "at " << vehicle.utime() * 1e-6 << " s";
     }
@@ -207,6 +208,52 @@ TEST(Ins, AJumpOfTheOdometryIsRefusedThenTheOdometryIsTiedAgain) {
   EXPECT_GE(ins.health().vision_position_rejected, 5);
   EXPECT_GT(ins.health().vision_position_used, used + 10);
   EXPECT_LT((ins.estimate().p_N - vehicle.TruthState().p_N - error_before_N).head<2>().norm(), 0.2);
+}
+
+// Vision positions reach the INS 100 ms after their exposure (the odometry's compute time; the
+// vision workers are off the control path). Fused against where the INS was at the exposure, the
+// estimate matches the one that had each position at once; taken as measured on arrival (what the
+// INS did before), it would lag the vehicle by its speed times the delay: 1 m at 10 m/s.
+TEST(Ins, ALateVisualPositionIsFusedAtItsExposure) {
+  const nav::InsParams ins_params = nav::InsParams::FromParameters(VehicleFile());
+  nav::Ins on_time(ins_params, kHome), late(ins_params, kHome), as_if_now(ins_params, kHome);
+  constexpr int64_t kPeriodUs = 20'000, kDelayUs = 100'000, kStartUs = 1'000'000, kEndUs = 11'000'000;
+  // At rest for a second, then 1 m/s^2 north, level: 10 m/s after 10 s, no GPS.
+  auto truth_N = [](int64_t t) {
+    const double s = std::max(0.0, (t - kStartUs) * 1e-6);
+    return Eigen::Vector3d(0.5 * s * s, 0, 0);
+  };
+  std::deque<std::pair<int64_t, Eigen::Vector3d>> in_flight;
+  double worst_late_m = 0.0, worst_as_if_now_m = 0.0;
+  for (int64_t t = kPeriodUs; t <= kEndUs; t += kPeriodUs) {
+    const bool moving = t > kStartUs;
+    hal::SensorSample s;
+    s.utime = t;
+    s.accel_B = Eigen::Vector3d(moving ? 1.0 : 0.0, 0.0, -ins_params.gravity);
+    s.mag_B = Eigen::Vector3d::UnitX();
+    if (moving && t % 100'000 == 0) {  // 10 Hz odometry
+      on_time.QueueVisualPosition(t, truth_N(t), 0.05, 0);
+      in_flight.emplace_back(t, truth_N(t));
+    }
+    while (!in_flight.empty() && in_flight.front().first + kDelayUs <= t) {
+      late.QueueVisualPosition(in_flight.front().first, in_flight.front().second, 0.05, 0);
+      as_if_now.QueueVisualPosition(t, in_flight.front().second, 0.05, 0);
+      in_flight.pop_front();
+    }
+    on_time.Update(s, !moving);
+    late.Update(s, !moving);
+    as_if_now.Update(s, !moving);
+    if (t > kStartUs + 2 * kDelayUs) {
+      worst_late_m = std::max(worst_late_m, (late.estimate().p_N - on_time.estimate().p_N).norm());
+      worst_as_if_now_m = std::max(worst_as_if_now_m, (as_if_now.estimate().p_N - truth_N(t)).norm());
+    }
+  }
+  EXPECT_EQ(late.position_source(), PositionSource::kVision);
+  EXPECT_LT((on_time.estimate().p_N - truth_N(kEndUs)).norm(), 0.05);
+  EXPECT_LT(worst_late_m, 0.05) << "the late positions moved the estimate away from the on-time one";
+  EXPECT_LT((late.estimate().p_N - truth_N(kEndUs)).norm(), 0.05);
+  EXPECT_GT(worst_as_if_now_m, 0.5) << "taken as measured on arrival, the positions should lag";
+  EXPECT_EQ(late.health().vision_position_rejected, 0);
 }
 
 }  // namespace

@@ -52,7 +52,7 @@ TEST(UavMonodepth, GridPerFrameFromACaptureFolderAgainstTheExactDepth) {
   Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
   world::CameraSetup setup = *scene.downward_camera();
   setup.rate_hz = 10;
-  sim::SimCamera camera(scene, setup, [&] { return T_NB; });
+  sim::SimCamera camera(scene, setup, [&](int64_t) { return T_NB; });
   world::Renderer truth(scene, setup);
   CameraWorker worker(camera, board, options);
   const int frames = 80, bad_frame = 50;

@@ -45,7 +45,7 @@ TEST(UavStitch, StitchesACaptureFolderIntoGeoreferencedFiles) {
   options.capture_dir = dir + "/captures";
   options.home = home;
   Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
-  sim::SimCamera camera(scene, *scene.downward_camera(), [&] { return T_NB; });
+  sim::SimCamera camera(scene, *scene.downward_camera(), [&](int64_t) { return T_NB; });
   CameraWorker worker(camera, board, options);
   for (int i = 0; i < 60; ++i) {  // north at 5 m/s, 5 Hz
     T_NB.translation() = Eigen::Vector3d(-30 + i, 10, -30);

@@ -18,15 +18,21 @@ ActiveStereoWorkerParams ActiveStereoWorkerParams::FromParameters(const Paramete
 }
 
 ActiveStereoWorker::ActiveStereoWorker(hal::StereoCamera& camera, Blackboard& board, const ActiveStereoWorkerParams& params)
-    : camera_(camera),
-      board_(board),
+    : VisionWorker(board),
+      camera_(camera),
       params_(params),
       stereo_({camera.left().intrinsics, camera.right().intrinsics, camera.T_LR()}, params.stereo),
       preview_(camera.left().name, camera.left().preview_rate_hz) {}
 
-void ActiveStereoWorker::Tick(int64_t utime) {
+void ActiveStereoWorker::Begin(int64_t utime) {
+  utime_ = utime;
+  at_begin_ = board_.Snapshot();
+}
+
+void ActiveStereoWorker::Work(Outbox& out) {
+  const int64_t utime = utime_;
+  const BlackboardData& d = at_begin_;
   const hal::StereoImages pair = camera_.Capture(utime, hal::Emitter::kOn);
-  const BlackboardData d = board_.Snapshot();
   vision::ActiveStereoResult r = stereo_.Process(pair.left, pair.right, camera_.left().T_BC, RotationNBFromEuler(d.estimate.euler));
   ground_.Apply(&r, d.estimate.p_N.z(), utime);
   ActiveStereoReport report;
@@ -44,12 +50,13 @@ void ActiveStereoWorker::Tick(int64_t utime) {
     for (const vision::LaserPoint& p : r.points) report.dots.push_back({p.left_px.x / w, p.left_px.y / h, p.down_m, p.cluster});
     report.clusters = r.clusters;
   }
-  board_.PutActiveStereo(report);
-  if (r.healthy && params_.to_ins)
-    board_.Update([&](BlackboardData& b) {
-      b.vision_height = BlackboardData::VisionHeight{utime, r.height_m, std::max(r.height_sigma_m, params_.height_noise_m)};
-    });
-  if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
+  out.Post([report](Blackboard& b) { b.PutActiveStereo(report); });
+  if (r.healthy && params_.to_ins) {
+    // Stamped with its capture time: the INS fuses it against where it was then.
+    const BlackboardData::VisionHeight height{utime, r.height_m, std::max(r.height_sigma_m, params_.height_noise_m)};
+    out.Post([height](Blackboard& b) { b.Update([&](BlackboardData& data) { data.vision_height = height; }); });
+  }
+  if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.PutPreview(f); });
   ++frames_;
   unhealthy_ += !r.healthy;
 }

@@ -17,8 +17,8 @@
 namespace uav::app {
 
 CameraWorker::CameraWorker(hal::Camera& camera_in, Blackboard& board, const Options& options)
-    : camera_(camera_in),
-      board_(board),
+    : VisionWorker(board),
+      camera_(camera_in),
       options_(options),
       preview_(camera_in.info().name, camera_in.info().preview_rate_hz, options.preview_width, options.preview_quality) {
   const hal::CameraInfo& camera = camera_.info();
@@ -57,19 +57,25 @@ CameraWorker::~CameraWorker() {
   if (csv_) std::fclose(csv_);
 }
 
-void CameraWorker::Tick(int64_t utime) {
+void CameraWorker::Begin(int64_t utime) {
+  utime_ = utime;
+  at_begin_ = board_.Snapshot();
+}
+
+void CameraWorker::Work(Outbox& out) {
+  const int64_t utime = utime_;
+  const BlackboardData& d = at_begin_;
   const hal::CameraFrame frame = camera_.Capture(utime);
-  const BlackboardData d = board_.Snapshot();
   Eigen::Isometry3d T_NB_estimate = Eigen::Isometry3d::Identity();
   T_NB_estimate.linear() = RotationNBFromEuler(d.estimate.euler);
   T_NB_estimate.translation() = d.estimate.p_N;
 
   if (EstimateMatchesFrame(d.estimate, utime))
-    ShareFrame(board_, d, camera_.info().name, utime, frame.image, d.estimate.T_NB() * camera_.info().T_BC);
+    ShareFrame(out, d, camera_.info().name, utime, frame.image, d.estimate.T_NB() * camera_.info().T_BC);
   else
-    ShareFrame(board_, d, camera_.info().name, utime, frame.image, std::nullopt);
+    ShareFrame(out, d, camera_.info().name, utime, frame.image, std::nullopt);
   if (preview_.Due(utime)) {
-    board_.PutPreview(preview_.Encode(utime, frame.image));
+    out.Post([f = preview_.Encode(utime, frame.image)](Blackboard& b) { b.PutPreview(f); });
     ++previews_;
   }
 
@@ -89,7 +95,7 @@ void CameraWorker::Tick(int64_t utime) {
     c.height = frame.image.rows;
     c.bgr.assign(frame.image.data, frame.image.data + frame.image.total() * 3);
     c.T_NC_estimate = T_NB_estimate * camera_.info().T_BC;
-    board_.PushCapture(std::move(c));
+    out.Post([c = std::move(c)](Blackboard& b) { b.PushCapture(c); });
     if (csv_) Record(utime, frame, d);
     ++captures_;
     last_capture_utime_ = utime;

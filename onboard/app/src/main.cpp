@@ -9,22 +9,15 @@
 
 #include <CLI/CLI.hpp>
 
-#include "uav/app/camera_worker.hpp"
 #include "uav/app/link_worker.hpp"
 #include "uav/app/mission_store.hpp"
-#include "uav/app/active_stereo_worker.hpp"
-#include "uav/app/vo_worker.hpp"
-#include "uav/app/stereo_worker.hpp"
-#include "uav/app/stitch_worker.hpp"
-#include "uav/app/mono_depth_worker.hpp"
-#include "uav/app/track_worker.hpp"
 #include "uav/waypoints/stored_paths.hpp"
 #include "uav/app/lockstep_scheduler.hpp"
+#include "uav/app/sensing.hpp"
 #include "uav/app/workers.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/time.hpp"
-#include "uav/sim/sim_cameras.hpp"
 #include "uav/sim/sim_vehicle.hpp"
 #include "uav/world/scene.hpp"
 #include "uav/shared/decimal.hpp"
@@ -148,67 +141,22 @@ int main(int argc, char** argv) {
     uav::app::LinkWorker cmm(vehicle_id, lcm_url, link_params, board, missions, std::move(events));
 
     std::unique_ptr<uav::world::Scene> scene;
-    std::unique_ptr<uav::sim::SimCamera> downward_camera;
-    std::unique_ptr<uav::sim::SimStereoCamera> stereo_camera;
-    std::unique_ptr<uav::app::CameraWorker> cam;
-    std::unique_ptr<uav::app::StereoWorker> stereo;
-    std::unique_ptr<uav::app::ActiveStereoWorker> active_stereo;
-    std::unique_ptr<uav::app::VoWorker> vo;
-    std::unique_ptr<uav::app::StitchWorker> stitch;
-    std::unique_ptr<uav::sim::SimGimbalCamera> gimbal_camera;
-    std::unique_ptr<uav::app::TrackWorker> trk;
-    std::unique_ptr<uav::app::MonoDepthWorker> mdepth;
+    std::unique_ptr<uav::app::Sensing> sensing;
     if (!scene_path.empty()) {
       scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(scene_path));
-      if (!scene->downward_camera() && !scene->stereo_camera() && !scene->gimbal_camera())
-        throw std::invalid_argument(scene_path + ": the scene declares no camera");
-      // Cameras see the world from the true pose, as real ones do.
-      auto truth_T_NB = [&vehicle] {
-        const auto s = vehicle.TruthState();
-        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-        T.linear() = s.q_NB.toRotationMatrix();
-        T.translation() = s.p_N;
-        return T;
-      };
-      if (scene->downward_camera()) {
-        uav::app::CameraWorker::Options cam_options;
-        if (!log_dir.empty()) cam_options.capture_dir = log_dir + "/captures_" + std::to_string(start);
-        cam_options.home = home;
-        downward_camera = std::make_unique<uav::sim::SimCamera>(*scene, *scene->downward_camera(), truth_T_NB);
-        cam = std::make_unique<uav::app::CameraWorker>(*downward_camera, board, cam_options);
-        if (!log_dir.empty())
-          stitch = std::make_unique<uav::app::StitchWorker>(
-              scene->downward_camera()->intrinsics, board,
-              uav::app::StitchWorker::Options{log_dir + "/maps_" + std::to_string(start), home});
-      }
-      if (scene->gimbal_camera()) {
-        const auto trk_params = uav::app::TrackWorkerParams::FromParameters(params);
-        gimbal_camera = std::make_unique<uav::sim::SimGimbalCamera>(*scene, *scene->gimbal_camera(), truth_T_NB,
-                                                                    trk_params.gimbal_pitch_rad);
-        trk = std::make_unique<uav::app::TrackWorker>(*gimbal_camera, board, trk_params);
-      }
-      // Depth from motion on the chosen camera, when the scene has it.
-      const auto mdp = uav::app::MonoDepthWorkerParams::FromParameters(params);
-      if (mdp.camera == 1 && downward_camera)
-        mdepth = std::make_unique<uav::app::MonoDepthWorker>(downward_camera->info(), board, mdp.estimator);
-      if (mdp.camera == 2 && gimbal_camera)
-        mdepth = std::make_unique<uav::app::MonoDepthWorker>(gimbal_camera->info(), board, mdp.estimator);
-      // The stereo pair: passive (obstacles and wires ahead), or the downward active rig whose
-      // laser dots give the height (asv_enable), or visual odometry (vo_enable), or both of the
-      // last two on alternate exposures, the projector on for one and off for the next.
-      if (scene->stereo_camera()) {
-        stereo_camera = std::make_unique<uav::sim::SimStereoCamera>(*scene, *scene->stereo_camera(), truth_T_NB);
-        const auto asv = uav::app::ActiveStereoWorkerParams::FromParameters(params);
-        auto vop = uav::app::VoWorkerParams::FromParameters(params);
-        if (asv.enabled) active_stereo = std::make_unique<uav::app::ActiveStereoWorker>(*stereo_camera, board, asv);
-        // The video shows the lit pairs, with the dots the GCS draws over them.
-        vop.stream_video = !asv.enabled;
-        if (vop.enabled) vo = std::make_unique<uav::app::VoWorker>(*stereo_camera, board, vop);
-        if (!asv.enabled && !vop.enabled)
-          stereo = std::make_unique<uav::app::StereoWorker>(*stereo_camera, board,
-                                                            uav::app::StereoWorkerParams::FromParameters(params));
-      }
+      // At real time the vision results are as late as their work takes; on a simulated clock
+      // the vehicle file's latencies keep a run repeatable.
+      sensing = std::make_unique<uav::app::Sensing>(*scene, params, board,
+                                                    uav::app::Sensing::Options{log_dir, start, home, speed == 1.0});
     }
+    auto truth_T_NB = [&vehicle] {
+      const auto s = vehicle.TruthState();
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.linear() = s.q_NB.toRotationMatrix();
+      T.translation() = s.p_N;
+      return T;
+    };
+    if (sensing) sensing->RecordTruth(start, truth_T_NB());
 
     uav::app::LockstepScheduler scheduler(
         {start, kStepUs, speed, static_cast<int64_t>(duration_s * 1e6)});
@@ -217,27 +165,7 @@ int main(int argc, char** argv) {
     scheduler.AddWorker("SVO", 2, kPeriodUs, [&](int64_t t) { svo.Tick(t); });
     scheduler.AddWorker("DLG", 3, kPeriodUs, [&](int64_t t) { dlg.Tick(t); });
     scheduler.AddWorker("CMM", 3, kPeriodUs, [&](int64_t t) { cmm.Tick(t); });
-    // Camera periods on the physics grid (5 Hz -> 200 ms).
-    auto camera_period = [&](double rate_hz) {
-      return std::max<int64_t>(kStepUs, static_cast<int64_t>(std::lround(1e6 / rate_hz / kStepUs)) * kStepUs);
-    };
-    if (cam) scheduler.AddWorker("CAM", 2, camera_period(downward_camera->info().rate_hz), [&](int64_t t) { cam->Tick(t); });
-    // STITCH after CAM (stage 3): this tick's capture is stitched in the same tick.
-    if (stitch) scheduler.AddWorker("STITCH", 3, kPeriodUs * 5, [&](int64_t t) { stitch->Tick(t); });
-    if (trk) scheduler.AddWorker("TRK", 2, camera_period(gimbal_camera->info().rate_hz), [&](int64_t t) { trk->Tick(t); });
-    // MDEPTH after the camera's thread (stage 3): this tick's frame is processed in the same tick.
-    if (mdepth) scheduler.AddWorker("MDEPTH", 3, camera_period(mdepth->rate_hz()), [&](int64_t t) { mdepth->Tick(t); });
-    if (stereo)
-      scheduler.AddWorker("STEREO", 2, camera_period(stereo_camera->left().rate_hz),
-                          [&](int64_t t) { stereo->Tick(t); });
-    if (vo || active_stereo) {
-      // Sharing the pair, each takes every other exposure: the dots on one, dark on the next.
-      const int64_t frame = camera_period(stereo_camera->left().rate_hz);
-      const int64_t period = vo && active_stereo ? 2 * frame : frame;
-      if (active_stereo)
-        scheduler.AddWorker("ASTEREO", 2, period, [&](int64_t t) { active_stereo->Tick(t); });
-      if (vo) scheduler.AddWorker("VO", 2, period, [&](int64_t t) { vo->Tick(t); }, period - frame);
-    }
+    if (sensing) sensing->AddTo(scheduler, kStepUs);
 
     std::thread signal_waiter([&] {
       int sig = 0;
@@ -268,19 +196,13 @@ int main(int argc, char** argv) {
                          want ? "simulator: GPS fix restored" : "simulator: GPS fix lost");
       }
       vehicle.Step(dt);
+      if (sensing) {
+        // The state after the step is the truth at the next tick, recorded before any camera asks.
+        sensing->RecordTruth(scheduler.now() + dt, truth_T_NB());
+        sensing->Monitor(scheduler.now(), scheduler);
+      }
     });
-    std::string cameras;
-    if (cam) cameras += ", " + std::to_string(cam->captures()) + " survey images captured, " +
-                        std::to_string(cam->previews()) + " previews";
-    if (stereo) cameras += ", " + std::to_string(stereo->frames()) + " stereo pairs";
-    if (active_stereo)
-      cameras += ", " + std::to_string(active_stereo->frames()) + " active stereo pairs (" +
-                 std::to_string(active_stereo->unhealthy()) + " without a height)";
-    if (vo)
-      cameras += ", " + std::to_string(vo->frames()) + " visual odometry pairs (" + std::to_string(vo->unhealthy()) +
-                 " unhealthy" + (vo->unhealthy() ? ": " + vo->UnhealthySummary(3) : "") + ")";
-    if (trk) cameras += ", " + std::to_string(trk->frames()) + " gimbal frames";
-    if (stitch && stitch->maps_written() > 0) cameras += ", map " + stitch->last_map() + ".tif";
+    const std::string cameras = sensing ? sensing->Summary() : "";
     std::printf("uav-onboard: stopped after %.1f s simulated%s\n", (scheduler.now() - start) * 1e-6, cameras.c_str());
     return 0;
   } catch (const std::exception& e) {

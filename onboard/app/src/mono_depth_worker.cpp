@@ -11,7 +11,7 @@ bool EstimateMatchesFrame(const hal::VehicleEstimate& estimate, int64_t frame_ut
   return estimate.utime > 0 && std::llabs(estimate.utime - frame_utime) <= kMatchUs;
 }
 
-void ShareFrame(Blackboard& board, const BlackboardData& d, const std::string& camera, int64_t utime, const cv::Mat& image,
+void ShareFrame(Outbox& out, const BlackboardData& d, const std::string& camera, int64_t utime, const cv::Mat& image,
                 const std::optional<Eigen::Isometry3d>& T_NC_estimate) {
   if (d.depth_camera != camera || image.empty()) return;
   SharedFrame f;
@@ -23,7 +23,7 @@ void ShareFrame(Blackboard& board, const BlackboardData& d, const std::string& c
   f.bgr.assign(bgr.data, bgr.data + bgr.total() * bgr.elemSize());
   f.T_NC_estimate = T_NC_estimate;
   if (T_NC_estimate) f.v_N_estimate = d.estimate.v_N;
-  board.PutFrame(std::move(f));
+  out.Post([f = std::move(f)](Blackboard& b) { b.PutFrame(f); });
 }
 
 MonoDepthWorkerParams MonoDepthWorkerParams::FromParameters(const ParameterSet& p) {
@@ -36,18 +36,21 @@ MonoDepthWorkerParams MonoDepthWorkerParams::FromParameters(const ParameterSet& 
 }
 
 MonoDepthWorker::MonoDepthWorker(const hal::CameraInfo& camera, Blackboard& board, const vision::MonoDepthParams& params)
-    : camera_(camera.name), rate_hz_(camera.rate_hz), board_(board), estimator_(camera.intrinsics, params) {
+    : VisionWorker(board), camera_(camera.name), rate_hz_(camera.rate_hz), estimator_(camera.intrinsics, params) {
   board_.Update([&](BlackboardData& b) { b.depth_camera = camera_; });
 }
 
-void MonoDepthWorker::Tick(int64_t) {
-  const std::optional<SharedFrame> f = board_.TakeFrame();
+void MonoDepthWorker::Begin(int64_t) { frame_ = board_.TakeFrame(); }
+
+void MonoDepthWorker::Work(Outbox& out) {
+  const std::optional<SharedFrame> f = std::move(frame_);
+  frame_.reset();
   if (!f || f->camera != camera_) return;
   const cv::Mat image(f->height, f->width, CV_8UC3, const_cast<uint8_t*>(f->bgr.data()));
   DepthGrid g = estimator_.Update(image, f->utime, f->T_NC_estimate, f->v_N_estimate);
   g.camera = camera_;
   ++frames_;
-  board_.PutDepthGrid(std::move(g));
+  out.Post([g = std::move(g)](Blackboard& b) { b.PutDepthGrid(g); });
 }
 
 }  // namespace uav::app

@@ -40,21 +40,26 @@ StereoWorkerParams StereoWorkerParams::FromParameters(const ParameterSet& p) {
 }
 
 StereoWorker::StereoWorker(hal::StereoCamera& camera, Blackboard& board, const StereoWorkerParams& params)
-    : camera_(camera),
+    : VisionWorker(board),
+      camera_(camera),
       rectifier_(RigOf(camera)),
       obstacles_(rectifier_.geometry(), params.obstacles),
       cloud_rate_hz_(params.cloud_rate_hz),
-      board_(board),
       preview_(camera.left().name, camera.left().preview_rate_hz) {
   if (params.power_lines) power_lines_.emplace(RigOf(camera), vision::PowerLineParams(), params.ranging);
 }
 
-void StereoWorker::Tick(int64_t utime) {
-  const hal::StereoImages pair = camera_.Capture(utime, hal::Emitter::kOn);
+void StereoWorker::Begin(int64_t utime) {
   const BlackboardData d = board_.Snapshot();
-  Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
-  T_NB.linear() = RotationNBFromEuler(d.estimate.euler);
-  T_NB.translation() = d.estimate.p_N;
+  utime_ = utime;
+  T_NB_.linear() = RotationNBFromEuler(d.estimate.euler);
+  T_NB_.translation() = d.estimate.p_N;
+}
+
+void StereoWorker::Work(Outbox& out) {
+  const int64_t utime = utime_;
+  const Eigen::Isometry3d T_NB = T_NB_;
+  const hal::StereoImages pair = camera_.Capture(utime, hal::Emitter::kOn);
   // One rectification of the pair for every algorithm that reads it. A pair that cannot be used
   // (a camera gone blank, a wrong size, a navigation solution gone non-finite) leaves the
   // channel unhealthy: nothing stale is reported and the thread keeps running.
@@ -64,24 +69,28 @@ void StereoWorker::Tick(int64_t utime) {
     rectifier_.Rectify(pair.left, pair.right, &left_rect, &right_rect);
     found = obstacles_.Process(left_rect, right_rect, T_NB * camera_.left().T_BC);
   } catch (const std::exception& e) {
-    ReportUnhealthy(utime, e.what());
+    ReportUnhealthy(utime, e.what(), out);
     return;
   }
   // The corridor ahead from the same points (one disparity per pair).
   const vision::StereoRangeResult corridor = vision::StereoRange::RangeFromPoints(found.points_L, vision::StereoRangeParams());
-  board_.Update([&](BlackboardData& b) { b.obstacle_range_m = corridor.obstacle ? corridor.range_m : -1.0; });
-  ReportObstacles(utime, found, T_NB);
-  if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
-  if (power_lines_) ReportPowerLines(power_lines_->ProcessRectified(left_rect, right_rect), pair.left.size(), utime, T_NB);
+  const double range_m = corridor.obstacle ? corridor.range_m : -1.0;
+  out.Post([range_m](Blackboard& b) { b.Update([&](BlackboardData& d) { d.obstacle_range_m = range_m; }); });
+  ReportObstacles(utime, found, T_NB, out);
+  if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.PutPreview(f); });
+  if (power_lines_)
+    ReportPowerLines(power_lines_->ProcessRectified(left_rect, right_rect), pair.left.size(), utime, T_NB, out);
   ++frames_;
 }
 
-void StereoWorker::ReportUnhealthy(int64_t utime, const std::string& reason) {
-  board_.Update([&](BlackboardData& b) {
-    b.obstacle_range_m = -1.0;
-    b.obstacle_count = 0;
-    b.nearest_obstacle_m = -1.0;
-    b.nearest_wire_m = -1.0;
+void StereoWorker::ReportUnhealthy(int64_t utime, const std::string& reason, Outbox& out) {
+  out.Post([](Blackboard& b) {
+    b.Update([](BlackboardData& d) {
+      d.obstacle_range_m = -1.0;
+      d.obstacle_count = 0;
+      d.nearest_obstacle_m = -1.0;
+      d.nearest_wire_m = -1.0;
+    });
   });
   Obstacles report;
   report.utime = utime;
@@ -89,11 +98,12 @@ void StereoWorker::ReportUnhealthy(int64_t utime, const std::string& reason) {
   report.healthy = false;
   report.reason = reason;
   report.range_gate_m = obstacles_.GateDepth();
-  board_.PutObstacles(std::move(report));
+  out.Post([report](Blackboard& b) { b.PutObstacles(report); });
   ++unhealthy_;
 }
 
-void StereoWorker::ReportObstacles(int64_t utime, const vision::StereoObstacles& found, const Eigen::Isometry3d& T_NB) {
+void StereoWorker::ReportObstacles(int64_t utime, const vision::StereoObstacles& found, const Eigen::Isometry3d& T_NB,
+                                   Outbox& out) {
   const CameraIntrinsics& k = camera_.left().intrinsics;
   const Eigen::Isometry3d T_LN = (T_NB * camera_.left().T_BC).inverse();
   Obstacles report;
@@ -131,23 +141,25 @@ void StereoWorker::ReportObstacles(int64_t utime, const vision::StereoObstacles&
   }
   std::sort(report.obstacles.begin(), report.obstacles.end(),
             [](const Obstacle& a, const Obstacle& b) { return a.range_m < b.range_m; });
-  board_.Update([&](BlackboardData& b) {
-    b.obstacle_count = static_cast<int>(report.obstacles.size());
-    b.nearest_obstacle_m = report.nearest_m;
+  out.Post([report](Blackboard& b) {
+    b.Update([&](BlackboardData& d) {
+      d.obstacle_count = static_cast<int>(report.obstacles.size());
+      d.nearest_obstacle_m = report.nearest_m;
+    });
+    b.PutObstacles(report);
   });
-  board_.PutObstacles(std::move(report));
   if (cloud_rate_hz_ > 0 && (last_cloud_utime_ < 0 || utime - last_cloud_utime_ >= static_cast<int64_t>(1e6 / cloud_rate_hz_))) {
     last_cloud_utime_ = utime;
     PointCloud cloud;
     cloud.utime = utime;
     cloud.origin_N = T_NB.translation();
     cloud.p_N = found.cloud_W;
-    board_.PutPointCloud(std::move(cloud));
+    out.Post([cloud = std::move(cloud)](Blackboard& b) { b.PutPointCloud(cloud); });
   }
 }
 
 void StereoWorker::ReportPowerLines(const std::vector<vision::Wire3D>& wires, const cv::Size& image, int64_t utime,
-                                    const Eigen::Isometry3d& T_NB) {
+                                    const Eigen::Isometry3d& T_NB, Outbox& out) {
   const Eigen::Isometry3d& T_BL = camera_.left().T_BC;
   const double width = image.width, height = image.height;
   PowerLines report;
@@ -175,8 +187,10 @@ void StereoWorker::ReportPowerLines(const std::vector<vision::Wire3D>& wires, co
   std::array<double, 3> sorted = recent_nearest_m_;
   std::sort(sorted.begin(), sorted.end());
   report.nearest_m = sorted[1] == kNoWire ? -1.0 : sorted[1];
-  board_.Update([&](BlackboardData& b) { b.nearest_wire_m = report.nearest_m; });
-  board_.PutPowerLines(std::move(report));
+  out.Post([report](Blackboard& b) {
+    b.Update([&](BlackboardData& d) { d.nearest_wire_m = report.nearest_m; });
+    b.PutPowerLines(report);
+  });
 }
 
 }  // namespace uav::app

@@ -13,7 +13,7 @@
 namespace uav::app {
 
 StitchWorker::StitchWorker(const CameraIntrinsics& camera, Blackboard& board, const Options& options)
-    : camera_(camera), board_(board), options_(options), stitcher_(std::make_unique<vision::MapStitcher>(camera)) {
+    : VisionWorker(board), camera_(camera), options_(options), stitcher_(std::make_unique<vision::MapStitcher>(camera)) {
   std::filesystem::create_directories(options_.map_dir);
 }
 
@@ -21,8 +21,18 @@ StitchWorker::~StitchWorker() = default;
 
 int StitchWorker::frames() const { return stitcher_->frames(); }
 
-void StitchWorker::Tick(int64_t /*utime*/) {
-  for (SurveyCapture& c : board_.TakeCaptures()) {
+void StitchWorker::Begin(int64_t /*utime*/) {
+  captures_ = board_.TakeCaptures();
+  // The survey is over when the camera is off and the vehicle is on the ground: the map is
+  // written then, so it is ready at landing.
+  const BlackboardData d = board_.Snapshot();
+  survey_over_ = !(d.capture_interval_s || d.capture_distance_m) && !d.airborne;
+}
+
+void StitchWorker::Work(Outbox& out) {
+  std::vector<SurveyCapture> captures = std::move(captures_);
+  captures_.clear();
+  for (SurveyCapture& c : captures) {
     const cv::Mat image(c.height, c.width, CV_8UC3, c.bgr.data());
     const vision::StitchStep step = stitcher_->Add({image, c.utime, c.T_NC_estimate});
     registered_ += step.registered;
@@ -42,16 +52,12 @@ void StitchWorker::Tick(int64_t /*utime*/) {
     live.origin_east_m = grid.origin_east_m;
     live.georeferenced = grid.georeferenced;
     cv::imencode(".jpg", shown, live.jpeg, {cv::IMWRITE_JPEG_QUALITY, 75});
-    if (live.jpeg.size() <= 60000) board_.PutTile(std::move(live));
+    if (live.jpeg.size() <= 60000) out.Post([live = std::move(live)](Blackboard& b) { b.PutTile(live); });
   }
-  // The survey is over when the camera is off and the vehicle is on the ground: the map is
-  // written then, so it is ready at landing.
-  const BlackboardData d = board_.Snapshot();
-  const bool capturing = d.capture_interval_s || d.capture_distance_m;
-  if (stitcher_->frames() > 0 && !capturing && !d.airborne) Finish();
+  if (stitcher_->frames() > 0 && survey_over_) Finish(out);
 }
 
-void StitchWorker::Finish() {
+void StitchWorker::Finish(Outbox& out) {
   // The map offered for download: every frame adjusted jointly, then rendered again without
   // seams (the live tiles stay as they were flown).
   const vision::AlignmentReport alignment = stitcher_->Align();
@@ -61,7 +67,8 @@ void StitchWorker::Finish() {
   const std::string prefix = (std::filesystem::path(options_.map_dir) / name).string();
   try {
     for (const std::string& path : vision::ExportMap(map, options_.home, prefix))
-      board_.PushDownload(std::filesystem::path(path).filename().string(), ReadTextFile(path, "map file"));
+      out.Post([name = std::filesystem::path(path).filename().string(), contents = ReadTextFile(path, "map file")](
+                   Blackboard& b) { b.PushDownload(name, contents); });
     ++maps_written_;
     last_map_ = prefix;
     char text[320];
@@ -69,9 +76,9 @@ void StitchWorker::Finish() {
                   "map ready: %s.tif, %d frames (%d registered), %dx%d px at %.3f m/px; cross-line p95 %.1f -> %.1f px%s",
                   name, stitcher_->frames(), registered_, map.bgr.cols, map.bgr.rows, map.gsd_m,
                   alignment.cross_before.p95_px, alignment.cross_after.p95_px, alignment.adjusted ? "" : " (not adjusted)");
-    board_.PushStatus(Severity::kInfo, text);
+    out.PushStatus(Severity::kInfo, text);
   } catch (const std::exception& e) {
-    board_.PushStatus(Severity::kError, std::string("map not written: ") + e.what());
+    out.PushStatus(Severity::kError, std::string("map not written: ") + e.what());
   }
   // The next survey starts a new map.
   stitcher_ = std::make_unique<vision::MapStitcher>(camera_);

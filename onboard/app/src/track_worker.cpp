@@ -24,8 +24,8 @@ TrackWorkerParams TrackWorkerParams::FromParameters(const ParameterSet& p) {
 }
 
 TrackWorker::TrackWorker(hal::GimbalCamera& camera, Blackboard& board, const TrackWorkerParams& params)
-    : camera_(camera),
-      board_(board),
+    : VisionWorker(board),
+      camera_(camera),
       params_(params),
       preview_(camera.info().name, camera.info().preview_rate_hz),
       tracker_(params.tracker) {
@@ -33,24 +33,33 @@ TrackWorker::TrackWorker(hal::GimbalCamera& camera, Blackboard& board, const Tra
   board_.Update([&](BlackboardData& b) { b.tracking_camera = camera_.info().name; });
 }
 
-void TrackWorker::Tick(int64_t utime) {
-  const BlackboardData d = board_.Snapshot();
+void TrackWorker::Begin(int64_t utime) {
+  utime_ = utime;
+  at_begin_ = board_.Snapshot();
+  requests_ = board_.TakeTrackRequests();
+}
+
+void TrackWorker::Work(Outbox& out) {
+  const int64_t utime = utime_;
+  const BlackboardData& d = at_begin_;
   hal::CameraFrame frame = camera_.Capture(utime);
   ++frames_;
-  if (preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, frame.image));
+  if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, frame.image)](Blackboard& b) { b.PutPreview(f); });
   buffer_.push_back({utime, frame.image});
   if (EstimateMatchesFrame(d.estimate, utime))
-    ShareFrame(board_, d, camera_.info().name, utime, frame.image,
+    ShareFrame(out, d, camera_.info().name, utime, frame.image,
                hal::GimbalCameraPose(d.estimate.T_NB(), camera_.info().T_BC, camera_.pitch_rad()));
   else
-    ShareFrame(board_, d, camera_.info().name, utime, frame.image, std::nullopt);
+    ShareFrame(out, d, camera_.info().name, utime, frame.image, std::nullopt);
   while (!buffer_.empty() && buffer_.front().utime < utime - static_cast<int64_t>(params_.buffer_s * 1e6)) buffer_.pop_front();
 
   bool started_now = false;
-  for (const TrackRequest& r : board_.TakeTrackRequests()) started_now = Handle(r) || (started_now && tracker_.state() != vision::TrackState::kIdle);
+  const std::vector<TrackRequest> requests = std::move(requests_);
+  requests_.clear();
+  for (const TrackRequest& r : requests) started_now = Handle(r, out) || (started_now && tracker_.state() != vision::TrackState::kIdle);
   if (tracker_.state() == vision::TrackState::kIdle) {
     target_ = TrackedTarget{};
-    board_.Update([](BlackboardData& b) { b.target = TrackedTarget{}; });
+    out.Post([](Blackboard& b) { b.Update([](BlackboardData& data) { data.target = TrackedTarget{}; }); });
     return;
   }
   vision::TrackResult r;
@@ -60,8 +69,8 @@ void TrackWorker::Tick(int64_t utime) {
     r = tracker_.Update(frame.image);
     last_result_ = r;
   }
-  Report(utime, r);
-  PlaceOnGround(utime, r, d.estimate);
+  Report(utime, r, out);
+  PlaceOnGround(utime, r, d.estimate, out);
 }
 
 TrackReport TrackWorker::NewReport(int64_t utime, int64_t target_seq, TrackReport::State state) const {
@@ -74,23 +83,25 @@ TrackReport TrackWorker::NewReport(int64_t utime, int64_t target_seq, TrackRepor
   return rep;
 }
 
-void TrackWorker::Reject(const TrackRequest& request, const std::string& reason) {
+void TrackWorker::Reject(const TrackRequest& request, const std::string& reason, Outbox& out) {
   TrackReport rep = NewReport(request.frame_utime, request.target_seq, TrackReport::State::kRejected);
   rep.reason = reason;
-  board_.PushTrackReport(rep);
-  board_.PushStatus(Severity::kWarning, "target " + std::to_string(request.target_seq) + " rejected: " + reason);
+  out.Post([rep](Blackboard& b) { b.PushTrackReport(rep); });
+  out.PushStatus(Severity::kWarning, "target " + std::to_string(request.target_seq) + " rejected: " + reason);
 }
 
-bool TrackWorker::Handle(const TrackRequest& request) {
+bool TrackWorker::Handle(const TrackRequest& request, Outbox& out) {
   if (request.method == TrackRequest::Method::kCancel) {
     tracker_.Stop();
     target_seq_ = request.target_seq;
-    board_.PushTrackReport(NewReport(buffer_.back().utime, request.target_seq, TrackReport::State::kIdle));
-    board_.PushStatus(Severity::kInfo, "tracking stopped");
+    out.Post([rep = NewReport(buffer_.back().utime, request.target_seq, TrackReport::State::kIdle)](Blackboard& b) {
+      b.PushTrackReport(rep);
+    });
+    out.PushStatus(Severity::kInfo, "tracking stopped");
     return false;
   }
   if (request.camera != camera_.info().name) {
-    Reject(request, "picked in camera '" + request.camera + "', the tracker runs on '" + camera_.info().name + "'");
+    Reject(request, "picked in camera '" + request.camera + "', the tracker runs on '" + camera_.info().name + "'", out);
     return false;
   }
   // The frame it was picked in: the buffered one nearest its time, within half a frame period.
@@ -103,7 +114,8 @@ bool TrackWorker::Handle(const TrackRequest& request) {
     }
   if (k == buffer_.size()) {
     Reject(request, "frame at " + std::to_string(request.frame_utime * 1e-6) + " s is not in the buffer (" +
-                        std::to_string(buffer_.front().utime * 1e-6) + " to " + std::to_string(buffer_.back().utime * 1e-6) + " s)");
+                        std::to_string(buffer_.front().utime * 1e-6) + " to " + std::to_string(buffer_.back().utime * 1e-6) + " s)",
+           out);
     return false;
   }
   const cv::Mat& image = buffer_[k].image;
@@ -116,7 +128,7 @@ bool TrackWorker::Handle(const TrackRequest& request) {
   try {
     fresh.Start(image, box, polygon);
   } catch (const std::invalid_argument& e) {
-    Reject(request, e.what());  // the target tracked before (if any) carries on
+    Reject(request, e.what(), out);  // the target tracked before (if any) carries on
     return false;
   }
   // Catch up from the picked frame to now.
@@ -131,12 +143,12 @@ bool TrackWorker::Handle(const TrackRequest& request) {
   last_result_ = r;
   target_seq_ = request.target_seq;
   const std::string how = tracker_.method_reason().empty() ? "" : ": " + tracker_.method_reason();
-  board_.PushStatus(Severity::kInfo, "tracking target " + std::to_string(request.target_seq) + " (" +
-                                         vision::Name(tracker_.method()) + how + ")");
+  out.PushStatus(Severity::kInfo, "tracking target " + std::to_string(request.target_seq) + " (" +
+                                     vision::Name(tracker_.method()) + how + ")");
   return true;
 }
 
-void TrackWorker::Report(int64_t utime, const vision::TrackResult& r) {
+void TrackWorker::Report(int64_t utime, const vision::TrackResult& r, Outbox& out) {
   const double W = camera_.info().intrinsics.width, H = camera_.info().intrinsics.height;
   TrackReport rep = NewReport(utime, target_seq_,
                               r.state == vision::TrackState::kTracking ? TrackReport::State::kTracking
@@ -153,10 +165,11 @@ void TrackWorker::Report(int64_t utime, const vision::TrackResult& r) {
   rep.window_height = r.search_window.height / H;
   rep.confidence = r.confidence;
   if (r.state == vision::TrackState::kLost) rep.reason = "the target's colour is not in view";
-  board_.PushTrackReport(rep);
+  out.Post([rep](Blackboard& b) { b.PushTrackReport(rep); });
 }
 
-void TrackWorker::PlaceOnGround(int64_t utime, const vision::TrackResult& r, const hal::VehicleEstimate& estimate) {
+void TrackWorker::PlaceOnGround(int64_t utime, const vision::TrackResult& r, const hal::VehicleEstimate& estimate,
+                                Outbox& out) {
   // Lost: where it was last seen stays (follow holds on it).
   TrackedTarget t = target_;
   t.locked = r.state == vision::TrackState::kTracking;
@@ -182,7 +195,7 @@ void TrackWorker::PlaceOnGround(int64_t utime, const vision::TrackResult& r, con
     }
   }
   target_ = t;
-  board_.Update([&](BlackboardData& b) { b.target = t; });
+  out.Post([t](Blackboard& b) { b.Update([&](BlackboardData& data) { data.target = t; }); });
 }
 
 }  // namespace uav::app

@@ -22,8 +22,8 @@ VoWorkerParams VoWorkerParams::FromParameters(const ParameterSet& p) {
 }
 
 VoWorker::VoWorker(hal::StereoCamera& camera, Blackboard& board, const VoWorkerParams& params)
-    : camera_(camera),
-      board_(board),
+    : VisionWorker(board),
+      camera_(camera),
       params_(params),
       rectifier_({camera.left().intrinsics, camera.right().intrinsics, camera.T_LR()}),
       vo_(rectifier_.geometry(), params.vo),
@@ -32,9 +32,15 @@ VoWorker::VoWorker(hal::StereoCamera& camera, Blackboard& board, const VoWorkerP
   T_BC_.linear() = T_BC_.linear() * rectifier_.geometry().R_L_rect;
 }
 
-void VoWorker::Tick(int64_t utime) {
+void VoWorker::Begin(int64_t utime) {
+  utime_ = utime;
+  at_begin_ = board_.Snapshot();
+}
+
+void VoWorker::Work(Outbox& out) {
+  const int64_t utime = utime_;
+  const BlackboardData& d = at_begin_;
   const hal::StereoImages pair = camera_.Capture(utime, hal::Emitter::kOff);
-  const BlackboardData d = board_.Snapshot();
   vision::RectifiedPair rect;
   rect.left_utime = pair.left_utime;
   rect.right_utime = pair.right_utime;
@@ -72,12 +78,16 @@ void VoWorker::Tick(int64_t utime) {
     const Eigen::Isometry3d T_NB_vo = T_NW_->second * r.T_WC * T_BC_.inverse();
     position = BlackboardData::VisionPosition{utime, T_NB_vo.translation(), params_.position_noise_m, r.segment};
   }
-  board_.Update([&](BlackboardData& b) {
-    b.vision_unhealthy_reason = r.reason;
-    if (position) b.vision_position = position;
+  // The position is stamped with its capture time: the INS fuses it against where it was then.
+  out.Post([reason = r.reason, position, report = std::move(report)](Blackboard& b) {
+    b.Update([&](BlackboardData& data) {
+      data.vision_unhealthy_reason = reason;
+      if (position) data.vision_position = position;
+    });
+    b.PutVisualOdometry(report);
   });
-  board_.PutVisualOdometry(std::move(report));
-  if (params_.stream_video && preview_.Due(utime)) board_.PutPreview(preview_.Encode(utime, pair.left));
+  if (params_.stream_video && preview_.Due(utime))
+    out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.PutPreview(f); });
   ++frames_;
   unhealthy_ += !r.healthy;
   if (!r.healthy) ++reasons_[std::regex_replace(r.reason, std::regex("[0-9]+(\\.[0-9]+)?"), "#")];

@@ -1,6 +1,7 @@
 #include "uav/app/workers.hpp"
 
 #include <cstdio>
+#include <cstdlib>
 
 #include "uav/control/mixer.hpp"
 
@@ -11,13 +12,13 @@ void ImuWorker::Tick(int64_t utime) {
   const BlackboardData before = board_.Snapshot();
   if (before.vision_height && before.vision_height->utime > vision_height_utime_) {
     vision_height_utime_ = before.vision_height->utime;
-    ins_.QueueHeight(before.vision_height->height_m, before.vision_height->sigma_m);
+    ins_.QueueHeight(before.vision_height->utime, before.vision_height->height_m, before.vision_height->sigma_m);
   }
   std::optional<BlackboardData::VisionPosition> vo;
   if (before.vision_position && before.vision_position->utime > vision_position_utime_) {
     vo = before.vision_position;
     vision_position_utime_ = vo->utime;
-    ins_.QueueVisualPosition(vo->p_N, vo->sigma_m, vo->segment);
+    ins_.QueueVisualPosition(vo->utime, vo->p_N, vo->sigma_m, vo->segment);
   }
   // Standing on the ground (not yet taken off, or landed) is a measurement too.
   ins_.Update(s, !before.airborne);
@@ -32,10 +33,14 @@ void ImuWorker::Tick(int64_t utime) {
     if (!vo_filter_.initialized() || vo->segment != vision_segment_) {
       vo_filter_.Reset(vo->p_N, e.v_N, vo->sigma_m, 0.1);
       vision_segment_ = vo->segment;
-    } else {
-      vo_filter_.Correct(vo->p_N, vo->sigma_m);
+    } else if (const auto p_then = std::llabs(vo->utime - utime) <= nav::PositionHistory::kMatchUs
+                                       ? std::optional<Eigen::Vector3d>(vo_filter_.p_N())
+                                       : vo_filter_track_.At(vo->utime)) {
+      // Late by the odometry's latency: the innovation against the track at the exposure.
+      vo_filter_.Correct(vo->p_N + (vo_filter_.p_N() - *p_then), vo->sigma_m);
     }
   }
+  if (vo_filter_.initialized()) vo_filter_track_.Record(utime, vo_filter_.p_N());
   board_.Update([&](BlackboardData& d) {
     d.sample = s;
     d.estimate = e;

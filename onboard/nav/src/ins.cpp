@@ -219,10 +219,14 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
       ++health_.sonar_rejected;
   }
   if (queued_height_) {
-    const auto [height, sigma] = *queued_height_;
+    const VisionHeight h = *queued_height_;
     queued_height_.reset();
-    if (Correct(height - (-p_N_.z()), -unit(kP + 2), sigma * sigma + 0.01 * 0.01, 5.0)) ++health_.vision_height_used;
-    else ++health_.vision_height_rejected;
+    // Against the height estimated at its exposure (position_history.hpp).
+    const std::optional<Eigen::Vector3d> p_then = PositionAt(h.utime, s.utime);
+    if (p_then && Correct(h.height_m - (-p_then->z()), -unit(kP + 2), h.sigma_m * h.sigma_m + 0.01 * 0.01, 5.0))
+      ++health_.vision_height_used;
+    else
+      ++health_.vision_height_rejected;
   }
   // Visual odometry (thesis 5.7). While GPS fixes are fresh, each VO position ties the
   // odometry's frame to the INS (a new segment is tied wherever it starts); from the first missed
@@ -232,17 +236,22 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
   const int64_t since_fix_us = s.utime - last_gps_fix_utime_;
   const bool gps_fresh = last_gps_fix_utime_ >= 0 && since_fix_us <= kGpsFreshUs;
   const bool gps_lost = last_gps_fix_utime_ < 0 || since_fix_us > 2'500'000;
-  if (queued_visual_) {
+  // Each against the position estimated at its exposure (position_history.hpp).
+  const std::optional<Eigen::Vector3d> visual_p_then =
+      queued_visual_ ? PositionAt(queued_visual_->utime, s.utime) : std::optional<Eigen::Vector3d>();
+  if (queued_visual_ && !visual_p_then) ++health_.vision_position_rejected;  // older than the last second
+  if (queued_visual_ && visual_p_then) {
     const VisualPosition v = *queued_visual_;
+    const Eigen::Vector3d& p_then = *visual_p_then;
     if (gps_fresh || !visual_anchor_ || visual_anchor_->second != v.segment) {
-      visual_anchor_ = std::make_pair(Eigen::Vector3d(p_N_ - v.p_N), v.segment);
+      visual_anchor_ = std::make_pair(Eigen::Vector3d(p_then - v.p_N), v.segment);
       visual_refused_since_utime_ = -1;
       last_visual_utime_ = s.utime;
     } else {
       const Eigen::Vector3d z = v.p_N + visual_anchor_->first;
       const double r = v.sigma_m * v.sigma_m + 0.01 * 0.01;
       bool accepted = true;
-      for (int i = 0; i < 3; ++i) accepted &= Correct(z[i] - p_N_[i], unit(kP + i), r, 5.0);
+      for (int i = 0; i < 3; ++i) accepted &= Correct(z[i] - p_then[i], unit(kP + i), r, 5.0);
       if (accepted) {
         ++health_.vision_position_used;
         last_visual_utime_ = s.utime;
@@ -254,7 +263,7 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
           // Tied again, the INS also lets go of what it was sure of: a wrong velocity would
           // carry it off the odometry again and again. Position to the odometry's sigma,
           // velocity to 0.5 m/s, their correlations dropped (as the GPS reset above).
-          visual_anchor_->first = p_N_ - v.p_N;
+          visual_anchor_->first = p_then - v.p_N;
           ResetBlock(&P_, kP, Eigen::Vector3d::Constant(r));
           ResetBlock(&P_, kV, Eigen::Vector3d::Constant(0.5 * 0.5));
           last_visual_utime_ = s.utime;
@@ -292,7 +301,13 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
   Publish(s);
 }
 
+std::optional<Eigen::Vector3d> Ins::PositionAt(int64_t utime, int64_t now) const {
+  if (std::llabs(utime - now) <= PositionHistory::kMatchUs) return p_N_;  // this sample's: as corrected so far
+  return past_p_N_.At(utime);
+}
+
 void Ins::Publish(const hal::SensorSample& s) {
+  past_p_N_.Record(s.utime, p_N_);
   estimate_.utime = s.utime;
   estimate_.p_N = p_N_;
   estimate_.v_N = v_N_;
@@ -303,20 +318,20 @@ void Ins::Publish(const hal::SensorSample& s) {
   estimate_.attitude_covariance_B = P_.block<3, 3>(kTh, kTh);
 }
 
-void Ins::QueueHeight(double height_m, double sigma_m) {
+void Ins::QueueHeight(int64_t utime, double height_m, double sigma_m) {
   if (!std::isfinite(height_m) || !std::isfinite(sigma_m) || height_m < 0 || sigma_m < 0) {
     ++health_.vision_height_rejected;
     return;
   }
-  queued_height_ = std::make_pair(height_m, sigma_m);
+  queued_height_ = VisionHeight{utime, height_m, sigma_m};
 }
 
-void Ins::QueueVisualPosition(const Eigen::Vector3d& p_N, double sigma_m, int segment) {
+void Ins::QueueVisualPosition(int64_t utime, const Eigen::Vector3d& p_N, double sigma_m, int segment) {
   if (!p_N.allFinite() || !std::isfinite(sigma_m) || sigma_m <= 0) {
     ++health_.vision_position_rejected;
     return;
   }
-  queued_visual_ = VisualPosition{p_N, sigma_m, segment};
+  queued_visual_ = VisualPosition{utime, p_N, sigma_m, segment};
 }
 
 }  // namespace uav::nav

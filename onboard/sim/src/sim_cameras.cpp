@@ -5,6 +5,23 @@
 
 namespace uav::sim {
 
+void TruthPoseHistory::Record(int64_t utime, const Eigen::Isometry3d& T_NB) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!poses_.empty() && poses_.back().first >= utime) poses_.clear();  // the clock went back: a new run
+  poses_.emplace_back(utime, T_NB);
+  while (poses_.front().first < utime - keep_us_) poses_.pop_front();
+}
+
+Eigen::Isometry3d TruthPoseHistory::At(int64_t utime) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (poses_.empty()) return Eigen::Isometry3d::Identity();
+  auto it = std::lower_bound(poses_.begin(), poses_.end(), utime,
+                             [](const std::pair<int64_t, Eigen::Isometry3d>& p, int64_t t) { return p.first < t; });
+  if (it == poses_.end()) return poses_.back().second;
+  if (it != poses_.begin() && utime - std::prev(it)->first < it->first - utime) --it;
+  return it->second;
+}
+
 hal::CameraInfo CameraInfoOf(const world::CameraSetup& s) {
   return {s.name, s.intrinsics, s.T_BC, s.rate_hz, s.preview_rate_hz};
 }
@@ -13,7 +30,8 @@ SimCamera::SimCamera(const world::Scene& scene, const world::CameraSetup& setup,
     : renderer_(scene, setup), info_(CameraInfoOf(setup)), truth_T_NB_(std::move(truth_T_NB)) {}
 
 hal::CameraFrame SimCamera::Capture(int64_t utime) {
-  const Eigen::Isometry3d T_NB = truth_T_NB_();
+  std::lock_guard<std::mutex> lock(capture_mutex_);
+  const Eigen::Isometry3d T_NB = truth_T_NB_(utime);
   return {renderer_.Render(T_NB * info_.T_BC, utime).image, T_NB};
 }
 
@@ -28,7 +46,8 @@ void SimGimbalCamera::SetPitch(double pitch_rad) {
 }
 
 hal::CameraFrame SimGimbalCamera::Capture(int64_t utime) {
-  const Eigen::Isometry3d T_NB = truth_T_NB_();
+  std::lock_guard<std::mutex> lock(capture_mutex_);
+  const Eigen::Isometry3d T_NB = truth_T_NB_(utime);
   return {renderer_.Render(hal::GimbalCameraPose(T_NB, info_.T_BC, pitch_rad_), utime).image, T_NB};
 }
 
@@ -39,7 +58,8 @@ SimStereoCamera::SimStereoCamera(const world::Scene& scene, const world::StereoS
       truth_T_NB_(std::move(truth_T_NB)) {}
 
 hal::StereoImages SimStereoCamera::Capture(int64_t utime, hal::Emitter emitter) {
-  const Eigen::Isometry3d T_NB = truth_T_NB_();
+  std::lock_guard<std::mutex> lock(capture_mutex_);
+  const Eigen::Isometry3d T_NB = truth_T_NB_(utime);
   world::StereoFrame pair = renderer_.Render(T_NB, utime, emitter == hal::Emitter::kOn);
   return {pair.left.image, pair.right.image, utime, utime, T_NB};
 }

@@ -5,7 +5,7 @@
 // active_stereo_t (height, dots, clusters; or unhealthy with the reason), hands the height to
 // the INS as a height sensor when asv_to_ins is set (indoors, where the barometer drifts and
 // the sonar reads table tops), and streams the left image to the GCS video panel.
-#include "uav/app/blackboard.hpp"
+#include "uav/app/vision_worker.hpp"
 #include "uav/app/preview_stream.hpp"
 #include "uav/hal/camera.hpp"
 #include "uav/shared/parameters.hpp"
@@ -22,16 +22,18 @@ struct ActiveStereoWorkerParams {
   static ActiveStereoWorkerParams FromParameters(const ParameterSet& p);
 };
 
-class ActiveStereoWorker {
+class ActiveStereoWorker : public VisionWorker {
  public:
   ActiveStereoWorker(hal::StereoCamera& camera, Blackboard& board, const ActiveStereoWorkerParams& params);
-  void Tick(int64_t utime);
+  void Begin(int64_t utime) override;
+  void Work(Outbox& out) override;
   int frames() const { return frames_; }        // pairs processed
   int unhealthy() const { return unhealthy_; }  // pairs without a height
 
  private:
   hal::StereoCamera& camera_;
-  Blackboard& board_;
+  int64_t utime_ = 0;
+  BlackboardData at_begin_;  // the board at the exposure
   ActiveStereoWorkerParams params_;
   vision::ActiveStereo stereo_;
   vision::GroundTracker ground_;  // the floor's level in N, from pair to pair

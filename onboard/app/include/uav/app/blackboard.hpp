@@ -20,6 +20,7 @@
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/obstacles.hpp"
 #include "uav/shared/power_lines.hpp"
+#include "uav/shared/sensing.hpp"
 #include "uav/shared/tracking.hpp"
 #include "uav/shared/visual_odometry.hpp"
 #include "uav/shared/vehicle_enums.hpp"
@@ -121,6 +122,8 @@ struct BlackboardData {
   PositionSource position_source = PositionSource::kGps;
   std::optional<Eigen::Vector3d> vo_track_N;
   TrackedTarget target;
+  // The clock's thread (Sensing::Monitor): the vision workers' rates, latencies and drops.
+  SensingReport sensing;
 };
 
 class Blackboard {

@@ -11,14 +11,14 @@
 
 #include <Eigen/Geometry>
 
-#include "uav/app/blackboard.hpp"
+#include "uav/app/vision_worker.hpp"
 #include "uav/app/preview_stream.hpp"
 #include "uav/shared/geodesy.hpp"
 #include "uav/hal/camera.hpp"
 
 namespace uav::app {
 
-class CameraWorker {
+class CameraWorker : public VisionWorker {
  public:
   struct Options {
     int preview_width = 320;      // [px] preview is scaled to this width
@@ -31,7 +31,8 @@ class CameraWorker {
   // and the flight stack's estimate.
   CameraWorker(hal::Camera& camera, Blackboard& board, const Options& options);
   ~CameraWorker();
-  void Tick(int64_t utime);
+  void Begin(int64_t utime) override;
+  void Work(Outbox& out) override;
   int captures() const { return captures_; }  // taken (and recorded when there is a capture dir)
   int previews() const { return previews_; }
 
@@ -40,7 +41,8 @@ class CameraWorker {
   void Record(int64_t utime, const hal::CameraFrame& frame, const BlackboardData& d);
 
   hal::Camera& camera_;
-  Blackboard& board_;
+  int64_t utime_ = 0;
+  BlackboardData at_begin_;  // the board at the exposure
   Options options_;
   PreviewStream preview_;
   std::FILE* csv_ = nullptr;

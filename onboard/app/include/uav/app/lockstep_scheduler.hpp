@@ -3,6 +3,13 @@
 // thread; at each tick the workers that are due run stage by stage (IMU before CTL before SVO
 // ...), so a run is deterministic however the OS schedules the threads. The clock is paced to
 // wall time (times a speed factor) or runs as fast as the threads finish.
+//
+// Vision workers are off this path: the clock hands each its frame and never waits for the work
+// while the result is not yet due. A frame that comes while its worker is busy is dropped and
+// counted, as a camera driver does. A result becomes visible at capture time plus a latency:
+// fixed (deterministic on a simulated clock: the clock waits for a late result at its due time,
+// at most kLateWaitWall, then carries on and calls the worker stalled) or measured (visible at
+// the first tick after the work is done: real time).
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -13,7 +20,30 @@
 #include <thread>
 #include <vector>
 
+#include "uav/shared/sensing.hpp"
+
 namespace uav::app {
+
+struct VisionTiming {
+  int64_t period_us = 0;           // a frame every period (a multiple of the step) ...
+  int64_t phase_us = 0;            // ... this long after the start
+  int64_t latency_us = 0;          // > 0: visible this long after capture; 0: when done (measured)
+  bool drops_frames = true;        // false: its input waits in a queue, a busy tick loses nothing
+  int64_t stall_us = 1'000'000;    // no result this long after its frame: stalled (unhealthy)
+  std::string rig;                 // the camera or pair, for the health report
+};
+
+// The three steps of a vision worker's frame (VisionWorker::Begin / Work / the outbox applied).
+struct VisionJob {
+  std::function<void(int64_t utime)> begin;  // on the clock's thread at the frame's time
+  std::function<void()> work;                // on the worker's thread
+  std::function<void()> publish;             // on the clock's thread when the result is due
+};
+
+struct PeriodStats {
+  double p50_ms = 0.0, p99_ms = 0.0, max_ms = 0.0;
+  int samples = 0;
+};
 
 class LockstepScheduler {
  public:
@@ -35,6 +65,18 @@ class LockstepScheduler {
   void AddWorker(const std::string& name, int stage, int64_t period_us,
                  std::function<void(int64_t utime)> work, int64_t phase_us = 0);
 
+  // Starts a thread named `name` for a vision worker (see the top of this file). Its frames are
+  // taken after the tick's stages, so Begin reads the estimate of that tick.
+  void AddVisionWorker(const std::string& name, const VisionTiming& timing, VisionJob job);
+
+  // The vision workers' health now (thread-safe), and the wall-clock period of `worker`'s
+  // releases over the run (the control loop's: "CTL").
+  std::vector<SensingWorker> VisionHealth() const;
+  PeriodStats Period(const std::string& worker) const;
+
+  // How long the clock waits for a result due and not done before calling its worker stalled.
+  static constexpr int64_t kLateWaitWallUs = 1'000'000;
+
   // Drives the clock on the calling thread: per step, due workers then `physics(dt_us)`.
   // Returns when the duration has elapsed or Stop() was called.
   void Run(const std::function<void(int64_t dt_us)>& physics);
@@ -45,7 +87,10 @@ class LockstepScheduler {
 
  private:
   struct Worker;
+  struct Vision;
   void RunStage(const std::vector<Worker*>& due, int64_t utime);
+  void PublishDue(Vision& v, int64_t utime);
+  void OfferFrame(Vision& v, int64_t utime);
 
   Options options_;
   std::atomic<bool> stop_{false};
@@ -54,6 +99,9 @@ class LockstepScheduler {
   std::condition_variable cv_;
   bool shutting_down_ = false;
   std::vector<std::unique_ptr<Worker>> workers_;
+  std::vector<std::unique_ptr<Vision>> vision_;
+  mutable std::mutex stats_mutex_;  // the vision workers' figures and the release periods
+  std::condition_variable vision_done_;
 };
 
 }  // namespace uav::app

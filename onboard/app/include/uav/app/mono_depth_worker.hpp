@@ -5,7 +5,7 @@
 // to CMM for the GCS, at the camera's rate.
 #include <string>
 
-#include "uav/app/blackboard.hpp"
+#include "uav/app/vision_worker.hpp"
 #include "uav/hal/camera.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/vision/mono_depth.hpp"
@@ -17,7 +17,7 @@ namespace uav::app {
 bool EstimateMatchesFrame(const hal::VehicleEstimate& estimate, int64_t frame_utime);
 // Shares `image` with MDEPTH when it wants this camera's frames, with the camera pose and the
 // vehicle's velocity from the estimate (when it matches the frame's time).
-void ShareFrame(Blackboard& board, const BlackboardData& d, const std::string& camera, int64_t utime, const cv::Mat& image,
+void ShareFrame(Outbox& out, const BlackboardData& d, const std::string& camera, int64_t utime, const cv::Mat& image,
                 const std::optional<Eigen::Isometry3d>& T_NC_estimate);
 
 struct MonoDepthWorkerParams {
@@ -26,18 +26,20 @@ struct MonoDepthWorkerParams {
   static MonoDepthWorkerParams FromParameters(const ParameterSet& p);
 };
 
-class MonoDepthWorker {
+class MonoDepthWorker : public VisionWorker {
  public:
   MonoDepthWorker(const hal::CameraInfo& camera, Blackboard& board, const vision::MonoDepthParams& params);
-  void Tick(int64_t utime);
+  void Begin(int64_t utime) override;
+  void Work(Outbox& out) override;
   int frames() const { return frames_; }
   double rate_hz() const { return rate_hz_; }  // the camera's
+  const std::string& camera() const { return camera_; }
   const vision::MonoDepthEstimator& estimator() const { return estimator_; }
 
  private:
-  std::string camera_;
+  std::string camera_;  // whose frames it takes
   double rate_hz_;
-  Blackboard& board_;
+  std::optional<SharedFrame> frame_;  // taken at Begin
   vision::MonoDepthEstimator estimator_;
   int frames_ = 0;
 };

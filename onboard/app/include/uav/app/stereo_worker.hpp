@@ -11,7 +11,7 @@
 #include <memory>
 #include <optional>
 
-#include "uav/app/blackboard.hpp"
+#include "uav/app/vision_worker.hpp"
 #include "uav/app/preview_stream.hpp"
 #include "uav/hal/camera.hpp"
 #include "uav/shared/parameters.hpp"
@@ -30,19 +30,20 @@ struct StereoWorkerParams {
   static StereoWorkerParams FromParameters(const ParameterSet& p);
 };
 
-class StereoWorker {
+class StereoWorker : public VisionWorker {
  public:
   StereoWorker(hal::StereoCamera& camera, Blackboard& board, const StereoWorkerParams& params);
-  void Tick(int64_t utime);
+  void Begin(int64_t utime) override;
+  void Work(Outbox& out) override;
   int frames() const { return frames_; }        // pairs processed
   int unhealthy() const { return unhealthy_; }  // pairs that could not be used
 
  private:
   // T_NB: the estimate's body pose at this pair (never the truth).
   void ReportPowerLines(const std::vector<vision::Wire3D>& wires, const cv::Size& image, int64_t utime,
-                        const Eigen::Isometry3d& T_NB);
-  void ReportObstacles(int64_t utime, const vision::StereoObstacles& found, const Eigen::Isometry3d& T_NB);
-  void ReportUnhealthy(int64_t utime, const std::string& reason);
+                        const Eigen::Isometry3d& T_NB, Outbox& out);
+  void ReportObstacles(int64_t utime, const vision::StereoObstacles& found, const Eigen::Isometry3d& T_NB, Outbox& out);
+  void ReportUnhealthy(int64_t utime, const std::string& reason, Outbox& out);
 
   hal::StereoCamera& camera_;
   vision::StereoRectifier rectifier_;
@@ -50,8 +51,9 @@ class StereoWorker {
   double cloud_rate_hz_;
   int64_t last_cloud_utime_ = -1;
   std::optional<vision::PowerLineStereo> power_lines_;
-  Blackboard& board_;
   PreviewStream preview_;
+  int64_t utime_ = 0;                                       // of the pair Begin asked for
+  Eigen::Isometry3d T_NB_ = Eigen::Isometry3d::Identity();  // the estimate then
   static constexpr double kNoWire = 1e9;
   std::array<double, 3> recent_nearest_m_{kNoWire, kNoWire, kNoWire};  // per pair, kNoWire: none ranged
   int frames_ = 0;

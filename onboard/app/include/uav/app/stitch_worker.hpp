@@ -8,7 +8,7 @@
 #include <memory>
 #include <string>
 
-#include "uav/app/blackboard.hpp"
+#include "uav/app/vision_worker.hpp"
 #include "uav/shared/camera_intrinsics.hpp"
 #include "uav/shared/geodesy.hpp"
 
@@ -18,7 +18,7 @@ class MapStitcher;
 
 namespace uav::app {
 
-class StitchWorker {
+class StitchWorker : public VisionWorker {
  public:
   struct Options {
     std::string map_dir;  // maps are written here as map_<n>.*
@@ -26,17 +26,19 @@ class StitchWorker {
   };
   StitchWorker(const CameraIntrinsics& camera, Blackboard& board, const Options& options);
   ~StitchWorker();
-  void Tick(int64_t utime);
+  void Begin(int64_t utime) override;
+  void Work(Outbox& out) override;
 
   int frames() const;  // placed in the current map
   int maps_written() const { return maps_written_; }
   const std::string& last_map() const { return last_map_; }  // path prefix of the newest map
 
  private:
-  void Finish();
+  void Finish(Outbox& out);
 
   CameraIntrinsics camera_;
-  Blackboard& board_;
+  std::vector<SurveyCapture> captures_;  // taken at Begin
+  bool survey_over_ = false;             // camera off and on the ground at Begin
   Options options_;
   std::unique_ptr<vision::MapStitcher> stitcher_;
   int registered_ = 0;

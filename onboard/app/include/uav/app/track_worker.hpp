@@ -12,7 +12,7 @@
 
 #include <opencv2/core/mat.hpp>
 
-#include "uav/app/blackboard.hpp"
+#include "uav/app/vision_worker.hpp"
 #include "uav/app/preview_stream.hpp"
 #include "uav/hal/camera.hpp"
 #include "uav/shared/parameters.hpp"
@@ -28,10 +28,11 @@ struct TrackWorkerParams {
   static TrackWorkerParams FromParameters(const ParameterSet& p);
 };
 
-class TrackWorker {
+class TrackWorker : public VisionWorker {
  public:
   TrackWorker(hal::GimbalCamera& camera, Blackboard& board, const TrackWorkerParams& params);
-  void Tick(int64_t utime);
+  void Begin(int64_t utime) override;
+  void Work(Outbox& out) override;
   int frames() const { return frames_; }
 
  private:
@@ -40,14 +41,16 @@ class TrackWorker {
     cv::Mat image;
   };
   // Returns true when a new target was started (and caught up to the newest frame).
-  bool Handle(const TrackRequest& request);
-  void Reject(const TrackRequest& request, const std::string& reason);
+  bool Handle(const TrackRequest& request, Outbox& out);
+  void Reject(const TrackRequest& request, const std::string& reason, Outbox& out);
   TrackReport NewReport(int64_t utime, int64_t target_seq, TrackReport::State state) const;
-  void Report(int64_t utime, const vision::TrackResult& r);
-  void PlaceOnGround(int64_t utime, const vision::TrackResult& r, const hal::VehicleEstimate& estimate);
+  void Report(int64_t utime, const vision::TrackResult& r, Outbox& out);
+  void PlaceOnGround(int64_t utime, const vision::TrackResult& r, const hal::VehicleEstimate& estimate, Outbox& out);
 
   hal::GimbalCamera& camera_;
-  Blackboard& board_;
+  int64_t utime_ = 0;
+  BlackboardData at_begin_;  // the board at the exposure
+  std::vector<TrackRequest> requests_;  // taken at Begin
   TrackWorkerParams params_;
   PreviewStream preview_;
   vision::TargetTracker tracker_;

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "uav/app/blackboard.hpp"
+#include "uav/app/vision_worker.hpp"
 #include "uav/app/preview_stream.hpp"
 #include "uav/hal/camera.hpp"
 #include "uav/shared/parameters.hpp"
@@ -25,10 +25,11 @@ struct VoWorkerParams {
   static VoWorkerParams FromParameters(const ParameterSet& p);
 };
 
-class VoWorker {
+class VoWorker : public VisionWorker {
  public:
   VoWorker(hal::StereoCamera& camera, Blackboard& board, const VoWorkerParams& params);
-  void Tick(int64_t utime);
+  void Begin(int64_t utime) override;
+  void Work(Outbox& out) override;
   int frames() const { return frames_; }
   int unhealthy() const { return unhealthy_; }
   // The commonest reasons for unhealthy pairs, numbers blanked ("left image is blank ... (#)"),
@@ -37,7 +38,8 @@ class VoWorker {
 
  private:
   hal::StereoCamera& camera_;
-  Blackboard& board_;
+  int64_t utime_ = 0;
+  BlackboardData at_begin_;  // the board at the exposure
   VoWorkerParams params_;
   vision::StereoRectifier rectifier_;
   vision::StereoVo vo_;

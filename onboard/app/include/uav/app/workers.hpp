@@ -11,6 +11,7 @@
 #include "uav/hal/vehicle_backend.hpp"
 #include "uav/hal/vehicle_params.hpp"
 #include "uav/nav/ins.hpp"
+#include "uav/nav/position_history.hpp"
 #include "uav/nav/vo_imu_filter.hpp"
 
 namespace uav::app {
@@ -32,6 +33,7 @@ class ImuWorker {
   int64_t vision_position_utime_ = 0;  // the last VO position handed to the filters
   int vision_segment_ = -1;            // the VO+IMU filter's odometry segment
   nav::VoImuFilter vo_filter_;         // thesis 5.7: the VO+IMU track beside the INS
+  nav::PositionHistory vo_filter_track_;  // its positions, for odometry that arrives late
   int64_t last_utime_ = -1;
 };
 

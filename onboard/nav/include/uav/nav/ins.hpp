@@ -13,6 +13,7 @@
 
 #include "uav/hal/navigation_estimate.hpp"
 #include "uav/hal/vehicle_backend.hpp"
+#include "uav/nav/position_history.hpp"
 #include "uav/shared/geodesy.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/visual_odometry.hpp"
@@ -53,17 +54,20 @@ class Ins {
   // 16 g) is refused whole; a non-finite slow reading is skipped. The estimate stays finite.
   void Update(const hal::SensorSample& sample, bool at_rest);
   // A height of the body origin over the ground from vision (active stereo, thesis ch. 4) [m]
-  // with its 1 sigma, applied at the next Update like the sonar's (gated at 5 sigma: a reading off
-  // a table is refused). A non-finite or negative one is counted and dropped.
-  void QueueHeight(double height_m, double sigma_m);
+  // with its 1 sigma, measured at `utime` (the exposure; it arrives later), applied at the next
+  // Update like the sonar's against the height estimated at `utime` (position_history.hpp; gated
+  // at 5 sigma: a reading off a table is refused). A non-finite or negative one, or one older than
+  // the last second, is counted and dropped.
+  void QueueHeight(int64_t utime, double height_m, double sigma_m);
   // A body position from visual odometry (thesis ch. 5) in its own frame anchored in N [m], with
-  // its 1 sigma and its segment (an unbroken chain of poses). The odometry is relative: while GPS
+  // its 1 sigma and its segment (an unbroken chain of poses), measured at `utime` (the exposure)
+  // and fused against the position estimated then, like QueueHeight. The odometry is relative: while GPS
   // fixes are fresh (one in the last 0.3 s) each position ties the two frames together; once a
   // fix is missed, each next one corrects the position against that tie (gated at 5 sigma), and
   // a new segment is tied where it starts. Refused for half a second in a row (a jump of the
   // odometry's chain, or an INS that has become too sure of itself), the odometry is tied again
   // where the INS is: the INS never flies on the IMU alone while the odometry still sees.
-  void QueueVisualPosition(const Eigen::Vector3d& p_N, double sigma_m, int segment);
+  void QueueVisualPosition(int64_t utime, const Eigen::Vector3d& p_N, double sigma_m, int segment);
   // Where the position comes from (telemetry shows it): GPS fixes, visual odometry while GPS is
   // lost, or the IMU alone (dead reckoning, which drifts within seconds).
   PositionSource position_source() const { return position_source_; }
@@ -87,6 +91,8 @@ class Ins {
   // Returns false when the gate refused it.
   bool Correct(double innovation, const Vector& H, double r, double gate);
   void Publish(const hal::SensorSample& s);
+  // The position estimated at `utime` (now: the state being corrected), for late measurements.
+  std::optional<Eigen::Vector3d> PositionAt(int64_t utime, int64_t now) const;
 
   InsParams p_;
   LocalNedFrame frame_;
@@ -99,8 +105,13 @@ class Ins {
  public:
   const Matrix& covariance() const { return P_; }
   int64_t last_utime_ = -1, last_gps_utime_ = 0, last_sonar_utime_ = 0;
-  std::optional<std::pair<double, double>> queued_height_;  // height, sigma [m]
+  struct VisionHeight {
+    int64_t utime;
+    double height_m, sigma_m;
+  };
+  std::optional<VisionHeight> queued_height_;
   struct VisualPosition {
+    int64_t utime;
     Eigen::Vector3d p_N;
     double sigma_m;
     int segment;
@@ -109,6 +120,7 @@ class Ins {
   std::optional<std::pair<Eigen::Vector3d, int>> visual_anchor_;  // odometry-to-N offset, its segment
   int64_t last_gps_fix_utime_ = -1, last_visual_utime_ = -1;       // when each last corrected
   int64_t visual_refused_since_utime_ = -1;  // the first of the current run of refused positions
+  PositionHistory past_p_N_;                 // the estimate's positions, for late measurements
   PositionSource position_source_ = PositionSource::kGps;
   bool has_flown_ = false;  // false until the first sample not at rest
   hal::VehicleEstimate estimate_;

@@ -1,15 +1,37 @@
 #pragma once
 // The simulated cameras behind hal::Camera and hal::StereoCamera: world::Renderer draws the
 // scene from the vehicle's true pose (what a real camera sees), at the time asked for.
+#include <cstdint>
+#include <deque>
 #include <functional>
+#include <mutex>
+#include <utility>
 
 #include "uav/hal/camera.hpp"
 #include "uav/world/renderer.hpp"
 
 namespace uav::sim {
 
-// The true body pose T_NB now (SimVehicle::TruthState).
-using TruthPose = std::function<Eigen::Isometry3d()>;
+// The true body pose T_NB at `utime` (SimVehicle::TruthState then). Vision workers render on
+// their own threads while the simulation runs on: the pose is looked up by the exposure's time.
+using TruthPose = std::function<Eigen::Isometry3d(int64_t utime)>;
+
+// The simulator's true poses of the last seconds, by time: recorded by the clock's thread each
+// physics step, read by the camera threads (thread-safe). A time not recorded gets the nearest.
+class TruthPoseHistory {
+ public:
+  explicit TruthPoseHistory(int64_t keep_us = 3'000'000) : keep_us_(keep_us) {}
+  void Record(int64_t utime, const Eigen::Isometry3d& T_NB);
+  Eigen::Isometry3d At(int64_t utime) const;
+  TruthPose Lookup() const {
+    return [this](int64_t utime) { return At(utime); };
+  }
+
+ private:
+  int64_t keep_us_;
+  mutable std::mutex mutex_;
+  std::deque<std::pair<int64_t, Eigen::Isometry3d>> poses_;
+};
 
 hal::CameraInfo CameraInfoOf(const world::CameraSetup& setup);
 
@@ -23,6 +45,7 @@ class SimCamera : public hal::Camera {
   world::Renderer renderer_;
   hal::CameraInfo info_;
   TruthPose truth_T_NB_;
+  std::mutex capture_mutex_;  // one exposure at a time, as a camera driver delivers them
 };
 
 // The gimballed camera: rendered from the true position and heading with the gimbal's pitch.
@@ -40,6 +63,7 @@ class SimGimbalCamera : public hal::GimbalCamera {
   hal::CameraInfo info_;
   TruthPose truth_T_NB_;
   double pitch_rad_ = 0.0;
+  std::mutex capture_mutex_;  // one exposure at a time, as a camera driver delivers them
 };
 
 class SimStereoCamera : public hal::StereoCamera {
@@ -53,6 +77,7 @@ class SimStereoCamera : public hal::StereoCamera {
   world::StereoRenderer renderer_;
   hal::CameraInfo left_, right_;
   TruthPose truth_T_NB_;
+  std::mutex capture_mutex_;  // one exposure at a time, as a camera driver delivers them
 };
 
 }  // namespace uav::sim

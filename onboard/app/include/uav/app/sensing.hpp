@@ -1,0 +1,50 @@
+#pragma once
+// The vehicle's sensing: the scene's simulated cameras and the vision workers the vehicle file
+// puts on them, each a thread off the control path (vision_worker.hpp), with their latencies
+// (the vehicle file's vis_* and *_latency) and their health. main assembles it; the scheduler
+// runs it.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "uav/app/blackboard.hpp"
+#include "uav/shared/geodesy.hpp"
+#include "uav/shared/parameters.hpp"
+
+namespace uav::world {
+class Scene;
+}
+
+namespace uav::app {
+
+class LockstepScheduler;
+
+class Sensing {
+ public:
+  struct Options {
+    std::string log_dir;        // "" : no survey captures or maps written
+    int64_t start_utime = 0;    // names the capture and map folders
+    GeodeticPoint home;
+    bool measured_latency = false;  // results visible when done (real time), not at fixed latencies
+  };
+  // Throws std::invalid_argument naming what is wrong (a scene without cameras, a bad parameter).
+  Sensing(const world::Scene& scene, const ParameterSet& params, Blackboard& board, const Options& options);
+  ~Sensing();
+
+  // Registers every vision worker with the scheduler (frame periods on its step).
+  void AddTo(LockstepScheduler& scheduler, int64_t step_us);
+  // The simulator's true pose now, each physics step: the cameras render from it.
+  void RecordTruth(int64_t utime, const Eigen::Isometry3d& T_NB);
+  // On the clock's thread each step: every 100 ms the workers' health goes to the blackboard,
+  // and a worker that falls behind or stalls (or recovers) is announced to the operator.
+  void Monitor(int64_t utime, const LockstepScheduler& scheduler);
+  // "N survey images captured, ..." for the exit line.
+  std::string Summary() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace uav::app

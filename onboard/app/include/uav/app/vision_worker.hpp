@@ -1,0 +1,60 @@
+#pragma once
+// A perception worker off the control path. As on a real vehicle, control, the INS and the
+// servos never wait for vision: at each frame the clock's thread hands the worker its exposure
+// time and what it needs from the blackboard (Begin, cheap), the worker captures and computes on
+// its own thread (Work), and what it writes reaches the blackboard only when its result becomes
+// visible, at capture time plus its latency (LockstepScheduler::AddVisionWorker). Until then the
+// rest of the vehicle acts on the previous, older result, stamped with its capture time.
+#include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "uav/app/blackboard.hpp"
+
+namespace uav::app {
+
+// What a worker writes during Work, applied to the blackboard in order when the result is due.
+// Each write captures what it writes by value: it runs after the work that made it has returned.
+class Outbox {
+ public:
+  void Post(std::function<void(Blackboard&)> write) { writes_.push_back(std::move(write)); }
+  void PushStatus(Severity severity, std::string text) {
+    Post([severity, text = std::move(text)](Blackboard& b) { b.PushStatus(severity, text); });
+  }
+  void ApplyTo(Blackboard& board) {
+    for (auto& write : writes_) write(board);
+    writes_.clear();
+  }
+
+ private:
+  std::vector<std::function<void(Blackboard&)>> writes_;
+};
+
+class VisionWorker {
+ public:
+  explicit VisionWorker(Blackboard& board) : board_(board) {}
+  virtual ~VisionWorker() = default;
+  VisionWorker(const VisionWorker&) = delete;
+  VisionWorker& operator=(const VisionWorker&) = delete;
+
+  // On the clock's thread at the exposure `utime`: takes from the blackboard what the work needs
+  // (the estimate then, the requests and inputs waiting). Must be cheap: control waits for it.
+  virtual void Begin(int64_t utime) = 0;
+  // On the worker's own thread: the camera's images and the algorithm. Writes go to `out`.
+  virtual void Work(Outbox& out) = 0;
+
+  // Begin, Work and apply at once, with no latency: for tests and tools that own the clock.
+  void Tick(int64_t utime) {
+    Begin(utime);
+    Outbox out;
+    Work(out);
+    out.ApplyTo(board_);
+  }
+  Blackboard& board() { return board_; }
+
+ protected:
+  Blackboard& board_;
+};
+
+}  // namespace uav::app

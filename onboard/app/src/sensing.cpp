@@ -1,0 +1,176 @@
+#include "uav/app/sensing.hpp"
+
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "uav/app/active_stereo_worker.hpp"
+#include "uav/app/camera_worker.hpp"
+#include "uav/app/lockstep_scheduler.hpp"
+#include "uav/app/mono_depth_worker.hpp"
+#include "uav/app/stereo_worker.hpp"
+#include "uav/app/stitch_worker.hpp"
+#include "uav/app/track_worker.hpp"
+#include "uav/app/vo_worker.hpp"
+#include "uav/sim/sim_cameras.hpp"
+#include "uav/world/scene.hpp"
+
+namespace uav::app {
+
+namespace {
+constexpr int64_t kMonitorPeriodUs = 100'000;
+
+int64_t LatencyUs(const ParameterSet& p, const char* name, bool measured) {
+  return measured ? 0 : static_cast<int64_t>(std::lround(p.Get(name) * 1e3));
+}
+}  // namespace
+
+struct Sensing::Impl {
+  Blackboard& board;
+  Options options;
+  sim::TruthPoseHistory truth;
+  std::unique_ptr<sim::SimCamera> downward_camera;
+  std::unique_ptr<sim::SimStereoCamera> stereo_camera;
+  std::unique_ptr<sim::SimGimbalCamera> gimbal_camera;
+  std::unique_ptr<CameraWorker> cam;
+  std::unique_ptr<StitchWorker> stitch;
+  std::unique_ptr<TrackWorker> trk;
+  std::unique_ptr<MonoDepthWorker> mdepth;
+  std::unique_ptr<StereoWorker> stereo;
+  std::unique_ptr<ActiveStereoWorker> active_stereo;
+  std::unique_ptr<VoWorker> vo;
+  // The vehicle file's latencies [us] by worker (0: measured).
+  std::map<std::string, int64_t> latency_us;
+  int64_t last_monitor_utime = -1;
+  std::map<std::string, bool> healthy;  // what the operator was last told
+
+  Impl(Blackboard& b, const Options& o) : board(b), options(o) {}
+};
+
+Sensing::Sensing(const world::Scene& scene, const ParameterSet& params, Blackboard& board, const Options& options)
+    : impl_(std::make_unique<Impl>(board, options)) {
+  Impl& s = *impl_;
+  if (!scene.downward_camera() && !scene.stereo_camera() && !scene.gimbal_camera())
+    throw std::invalid_argument("the scene declares no camera");
+  const bool measured = options.measured_latency || params.Get("vis_measured") != 0.0;
+  s.latency_us = {{"CAM", LatencyUs(params, "cam_latency", measured)},
+                  {"STITCH", LatencyUs(params, "map_latency", measured)},
+                  {"TRK", LatencyUs(params, "trk_latency", measured)},
+                  {"MDEPTH", LatencyUs(params, "mdp_latency", measured)},
+                  {"STEREO", LatencyUs(params, "obs_latency", measured)},
+                  {"ASTEREO", LatencyUs(params, "asv_latency", measured)},
+                  {"VO", LatencyUs(params, "vo_latency", measured)}};
+  // Cameras see the world from the true pose at their exposure, as real ones do.
+  const sim::TruthPose truth = s.truth.Lookup();
+  if (scene.downward_camera()) {
+    CameraWorker::Options cam_options;
+    if (!options.log_dir.empty())
+      cam_options.capture_dir = options.log_dir + "/captures_" + std::to_string(options.start_utime);
+    cam_options.home = options.home;
+    s.downward_camera = std::make_unique<sim::SimCamera>(scene, *scene.downward_camera(), truth);
+    s.cam = std::make_unique<CameraWorker>(*s.downward_camera, board, cam_options);
+    if (!options.log_dir.empty())
+      s.stitch = std::make_unique<StitchWorker>(
+          scene.downward_camera()->intrinsics, board,
+          StitchWorker::Options{options.log_dir + "/maps_" + std::to_string(options.start_utime), options.home});
+  }
+  if (scene.gimbal_camera()) {
+    const auto trk_params = TrackWorkerParams::FromParameters(params);
+    s.gimbal_camera =
+        std::make_unique<sim::SimGimbalCamera>(scene, *scene.gimbal_camera(), truth, trk_params.gimbal_pitch_rad);
+    s.trk = std::make_unique<TrackWorker>(*s.gimbal_camera, board, trk_params);
+  }
+  // Depth from motion on the chosen camera, when the scene has it.
+  const auto mdp = MonoDepthWorkerParams::FromParameters(params);
+  if (mdp.camera == 1 && s.downward_camera)
+    s.mdepth = std::make_unique<MonoDepthWorker>(s.downward_camera->info(), board, mdp.estimator);
+  if (mdp.camera == 2 && s.gimbal_camera)
+    s.mdepth = std::make_unique<MonoDepthWorker>(s.gimbal_camera->info(), board, mdp.estimator);
+  // The stereo pair: passive (obstacles and wires ahead), or the downward active rig whose
+  // laser dots give the height (asv_enable), or visual odometry (vo_enable), or both of the
+  // last two on alternate exposures, the projector on for one and off for the next.
+  if (scene.stereo_camera()) {
+    s.stereo_camera = std::make_unique<sim::SimStereoCamera>(scene, *scene.stereo_camera(), truth);
+    const auto asv = ActiveStereoWorkerParams::FromParameters(params);
+    auto vop = VoWorkerParams::FromParameters(params);
+    if (asv.enabled) s.active_stereo = std::make_unique<ActiveStereoWorker>(*s.stereo_camera, board, asv);
+    // The video shows the lit pairs, with the dots the GCS draws over them.
+    vop.stream_video = !asv.enabled;
+    if (vop.enabled) s.vo = std::make_unique<VoWorker>(*s.stereo_camera, board, vop);
+    if (!asv.enabled && !vop.enabled)
+      s.stereo = std::make_unique<StereoWorker>(*s.stereo_camera, board, StereoWorkerParams::FromParameters(params));
+  }
+}
+
+Sensing::~Sensing() = default;
+
+void Sensing::AddTo(LockstepScheduler& scheduler, int64_t step_us) {
+  Impl& s = *impl_;
+  // Camera periods on the physics grid (5 Hz -> 200 ms).
+  auto period = [&](double rate_hz) {
+    return std::max<int64_t>(step_us, static_cast<int64_t>(std::lround(1e6 / rate_hz / step_us)) * step_us);
+  };
+  auto add = [&](const std::string& name, VisionWorker& worker, VisionTiming timing) {
+    timing.latency_us = s.latency_us.at(name);
+    auto outbox = std::make_shared<Outbox>();
+    scheduler.AddVisionWorker(name, timing,
+                              {[&worker](int64_t t) { worker.Begin(t); }, [&worker, outbox] { worker.Work(*outbox); },
+                               [&worker, outbox] { outbox->ApplyTo(worker.board()); }});
+  };
+  if (s.cam) add("CAM", *s.cam, {period(s.downward_camera->info().rate_hz), 0, 0, true, 1'000'000, s.downward_camera->info().name});
+  // The stitcher takes every capture waiting (none is dropped); its map at landing takes seconds.
+  if (s.stitch) add("STITCH", *s.stitch, {100'000, 0, 0, false, 120'000'000, s.downward_camera->info().name});
+  if (s.trk) add("TRK", *s.trk, {period(s.gimbal_camera->info().rate_hz), 0, 0, true, 1'000'000, s.gimbal_camera->info().name});
+  if (s.mdepth) add("MDEPTH", *s.mdepth, {period(s.mdepth->rate_hz()), 0, 0, true, 1'000'000, s.mdepth->camera()});
+  if (s.stereo) add("STEREO", *s.stereo, {period(s.stereo_camera->left().rate_hz), 0, 0, true, 1'000'000, s.stereo_camera->left().name});
+  if (s.vo || s.active_stereo) {
+    // Sharing the pair, each takes every other exposure: the dots on one, dark on the next.
+    const int64_t frame = period(s.stereo_camera->left().rate_hz);
+    const int64_t each = s.vo && s.active_stereo ? 2 * frame : frame;
+    if (s.active_stereo) add("ASTEREO", *s.active_stereo, {each, 0, 0, true, 1'000'000, s.stereo_camera->left().name});
+    if (s.vo) add("VO", *s.vo, {each, each - frame, 0, true, 1'000'000, s.stereo_camera->left().name});
+  }
+}
+
+void Sensing::RecordTruth(int64_t utime, const Eigen::Isometry3d& T_NB) { impl_->truth.Record(utime, T_NB); }
+
+void Sensing::Monitor(int64_t utime, const LockstepScheduler& scheduler) {
+  Impl& s = *impl_;
+  if (s.last_monitor_utime >= 0 && utime - s.last_monitor_utime < kMonitorPeriodUs) return;
+  s.last_monitor_utime = utime;
+  SensingReport report;
+  report.utime = utime;
+  report.measured_latency = std::all_of(s.latency_us.begin(), s.latency_us.end(), [](const auto& l) { return l.second == 0; });
+  const PeriodStats control = scheduler.Period("CTL");
+  report.control_period_p50_ms = control.p50_ms;
+  report.control_period_p99_ms = control.p99_ms;
+  report.control_period_max_ms = control.max_ms;
+  report.workers = scheduler.VisionHealth();
+  for (const SensingWorker& w : report.workers) {
+    auto [it, first] = s.healthy.emplace(w.name, true);
+    if (it->second == w.healthy) continue;
+    it->second = w.healthy;
+    s.board.PushStatus(w.healthy ? Severity::kInfo : Severity::kWarning,
+                       "sensing: " + w.name + (w.healthy ? " healthy again" : " " + w.reason));
+  }
+  s.board.Update([&](BlackboardData& d) { d.sensing = std::move(report); });
+}
+
+std::string Sensing::Summary() const {
+  const Impl& s = *impl_;
+  std::string out;
+  if (s.cam)
+    out += ", " + std::to_string(s.cam->captures()) + " survey images captured, " + std::to_string(s.cam->previews()) + " previews";
+  if (s.stereo) out += ", " + std::to_string(s.stereo->frames()) + " stereo pairs";
+  if (s.active_stereo)
+    out += ", " + std::to_string(s.active_stereo->frames()) + " active stereo pairs (" +
+           std::to_string(s.active_stereo->unhealthy()) + " without a height)";
+  if (s.vo)
+    out += ", " + std::to_string(s.vo->frames()) + " visual odometry pairs (" + std::to_string(s.vo->unhealthy()) +
+           " unhealthy" + (s.vo->unhealthy() ? ": " + s.vo->UnhealthySummary(3) : "") + ")";
+  if (s.trk) out += ", " + std::to_string(s.trk->frames()) + " gimbal frames";
+  if (s.stitch && s.stitch->maps_written() > 0) out += ", map " + s.stitch->last_map() + ".tif";
+  return out;
+}
+
+}  // namespace uav::app

@@ -1,0 +1,43 @@
+#pragma once
+// The health of the vehicle's perception workers as plain data: what the vehicle publishes
+// (sensing_t, 1 Hz) and the GCS's sensing panel shows. Decoded once, here.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace uavmsg {
+class sensing_t;
+}
+
+namespace uav {
+
+// One perception worker (a thread with its camera or pair and its algorithm).
+struct SensingWorker {
+  std::string name;                  // "STEREO", "VO", "ASTEREO", "TRK", "MDEPTH", "CAM", "STITCH"
+  std::string rig;                   // the camera or stereo pair it runs on
+  double configured_rate_hz = 0.0;   // frames offered per second (0: fed by another worker's queue)
+  double rate_hz = 0.0;              // results made visible per second, over the last 2 s
+  double latency_p50_ms = 0.0;       // capture to visible, over the last 64 results
+  double latency_p99_ms = 0.0;
+  double compute_p50_ms = 0.0;       // wall-clock time of the work alone
+  int64_t results = 0;               // since start
+  int64_t dropped = 0;               // frames the camera gave while the worker was busy
+  bool healthy = true;
+  std::string reason;                // why not healthy ("" when healthy)
+};
+
+struct SensingReport {
+  int64_t utime = 0;                    // [us] vehicle clock
+  bool measured_latency = false;        // true: latencies are measured compute; false: the vehicle file's
+  double control_period_p50_ms = 0.0;   // wall-clock period of the control loop (nominal 20 ms)
+  double control_period_p99_ms = 0.0;
+  double control_period_max_ms = 0.0;
+  std::vector<SensingWorker> workers;
+};
+
+// Throws std::invalid_argument naming what is wrong (a non-finite or negative figure, a nameless
+// worker, an unhealthy worker without a reason).
+SensingReport FromMessage(const uavmsg::sensing_t& m);
+uavmsg::sensing_t ToMessage(const SensingReport& r);
+
+}  // namespace uav
