@@ -27,6 +27,7 @@ const char* TopicName(Topic t) {
     case Topic::kMonoDepth: return "MONO_DEPTH";
     case Topic::kActiveStereo: return "ACTIVE_STEREO";
     case Topic::kVisualOdometry: return "VISUAL_ODOMETRY";
+    case Topic::kSensing: return "SENSING";
   }
   return "UNKNOWN";
 }

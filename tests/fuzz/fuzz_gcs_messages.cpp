@@ -13,7 +13,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const Topic kTopics[] = {Topic::kHeartbeat,   Topic::kState,       Topic::kCommandAck,    Topic::kStatusText,
                                   Topic::kMissionAck,  Topic::kVideo,       Topic::kFileOffer,     Topic::kFileChunk,
                                   Topic::kMapTile,     Topic::kTrackStatus, Topic::kPowerLines,    Topic::kObstacles,
-                                  Topic::kPointCloud,  Topic::kMonoDepth,   Topic::kActiveStereo,  Topic::kVisualOdometry};
+                                  Topic::kPointCloud,  Topic::kMonoDepth,   Topic::kActiveStereo,  Topic::kVisualOdometry,
+                                  Topic::kSensing};
   constexpr size_t kCount = sizeof(kTopics) / sizeof(kTopics[0]);
   if (size < 1) return 0;
   uav::gcs::GcsModel model("fuzz", 1);

@@ -33,6 +33,7 @@
 #include "uavmsg/vehicle_state_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
 #include "uavmsg/visual_odometry_t.hpp"
+#include "uavmsg/sensing_t.hpp"
 
 namespace {
 
@@ -166,6 +167,21 @@ int main(int argc, char** argv) {
   Write(g / "mono_depth", 13, Encode(ForVehicle<uavmsg::mono_depth_t>()));
   Write(g / "active_stereo", 14, Encode(ForVehicle<uavmsg::active_stereo_t>()));
   Write(g / "visual_odometry", 15, Encode(ForVehicle<uavmsg::visual_odometry_t>()));
+  {
+    auto m = ForVehicle<uavmsg::sensing_t>();
+    uavmsg::sensing_worker_t w{};
+    w.name = "STEREO";
+    w.rig = "stereo_left";
+    w.configured_rate_hz = 15;
+    w.rate_hz = 7.5;
+    w.latency_p50_ms = 60;
+    w.latency_p99_ms = 60;
+    w.healthy = false;
+    w.reason = "behind: 7.5 of 15.0 Hz, 30 frames dropped";
+    m.workers = {w};
+    m.num_workers = 1;
+    Write(g / "sensing", 16, Encode(m));
+  }
 
   // A short event log, as the onboard EventLog writes it (LCM log format).
   {

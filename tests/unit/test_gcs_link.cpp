@@ -26,6 +26,7 @@
 #include "uavmsg/obstacles_t.hpp"
 #include "uavmsg/point_cloud_t.hpp"
 #include "uavmsg/power_lines_t.hpp"
+#include "uavmsg/sensing_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/track_status_t.hpp"
 #include "uavmsg/track_target_t.hpp"
@@ -484,6 +485,62 @@ TEST_F(LinkTest, DepthGridReachesTheModelThePlotsAndTheVideoOfItsCamera) {
   bus_.Publish("UAV1/MONO_DEPTH", bad);
   Poll();
   EXPECT_NE(link_.last_drop_reason().find("cell 4: depth or sigma is not a finite"), std::string::npos) << link_.last_drop_reason();
+}
+
+// The vehicle's sensing health reaches the model typed, round-trips through its message, feeds
+// the SENSING signals scripts and plots read, and a malformed report is dropped naming why.
+TEST_F(LinkTest, SensingHealthReachesTheModelAndItsSignals) {
+  SensingReport sent;
+  sent.utime = 5'000'000;
+  sent.control_period_p50_ms = 20.0;
+  sent.control_period_p99_ms = 21.5;
+  sent.control_period_max_ms = 34.0;
+  SensingWorker stereo;
+  stereo.name = "STEREO";
+  stereo.rig = "stereo_left";
+  stereo.configured_rate_hz = 15;
+  stereo.rate_hz = 7.5;
+  stereo.latency_p50_ms = 60;
+  stereo.latency_p99_ms = 60;
+  stereo.compute_p50_ms = 98.6;
+  stereo.results = 75;
+  stereo.dropped = 75;
+  stereo.healthy = false;
+  stereo.reason = "behind: 7.5 of 15.0 Hz, 75 frames dropped";
+  SensingWorker cam = stereo;
+  cam.name = "CAM";
+  cam.rig = "downward";
+  cam.healthy = true;
+  cam.reason.clear();
+  cam.dropped = 0;
+  sent.workers = {stereo, cam};
+  uavmsg::sensing_t m = ToMessage(sent);
+  m.header = {"UAV1", 1};
+  bus_.Publish("UAV1/SENSING", m);
+  Poll();
+  const VehicleModel& v = model_.vehicles().at("UAV1");
+  ASSERT_TRUE(v.sensing) << link_.last_drop_reason();
+  ASSERT_EQ(v.sensing->workers.size(), 2u);
+  EXPECT_EQ(v.sensing->workers[0].reason, stereo.reason);
+  EXPECT_NEAR(v.sensing->workers[0].compute_p50_ms, 98.6, 1e-4);
+  EXPECT_EQ(v.sensing->workers[1].rig, "downward");
+  EXPECT_EQ(*v.Latest(*FindSignal("SENSING.workers")), 2.0);
+  EXPECT_EQ(*v.Latest(*FindSignal("SENSING.unhealthy")), 1.0);
+  EXPECT_EQ(*v.Latest(*FindSignal("SENSING.dropped")), 75.0);
+  EXPECT_NEAR(*v.Latest(*FindSignal("SENSING.ctl_p99")), 21.5, 1e-4);
+  const std::vector<std::string> unhealthy = {"SENSING.unhealthy", "==", "1"};
+  EXPECT_TRUE(EvaluateCondition(unhealthy, model_, now_).holds);
+  auto bad = m;
+  bad.workers[1].healthy = false;  // unhealthy without a reason
+  bus_.Publish("UAV1/SENSING", bad);
+  Poll();
+  EXPECT_NE(link_.last_drop_reason().find("worker CAM unhealthy without a reason"), std::string::npos) << link_.last_drop_reason();
+  bad = m;
+  bad.workers[0].latency_p99_ms = NAN;
+  bus_.Publish("UAV1/SENSING", bad);
+  Poll();
+  EXPECT_NE(link_.last_drop_reason().find("latency_p99_ms of worker STEREO"), std::string::npos) << link_.last_drop_reason();
+  EXPECT_EQ(model_.vehicles().at("UAV1").sensing->workers[1].healthy, true);  // the good report stays
 }
 
 TEST_F(LinkTest, MismatchedVehicleIdsAndGarbageAreDroppedAndCounted) {

@@ -13,6 +13,7 @@
 #include "uav/waypoints/mission_messages.hpp"
 #include "uavmsg/active_stereo_t.hpp"
 #include "uavmsg/visual_odometry_t.hpp"
+#include "uavmsg/sensing_t.hpp"
 #include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
@@ -163,6 +164,10 @@ const std::map<Topic, Decoder>& Decoders() {
       {Topic::kVisualOdometry,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
          model.OnVisualOdometry(id, FromMessage(Decode<uavmsg::visual_odometry_t>(d, n, id)), now);
+       }},
+      {Topic::kSensing,
+       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
+         model.OnSensing(id, FromMessage(Decode<uavmsg::sensing_t>(d, n, id)), now);
        }},
       {Topic::kPointCloud,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {

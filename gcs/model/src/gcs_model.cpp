@@ -121,6 +121,10 @@ void GcsModel::OnVisualOdometry(const std::string& vehicle_id, VisualOdometryRep
              report.source == PositionSource::kGps ? Severity::kInfo : Severity::kWarning);
 }
 
+void GcsModel::OnSensing(const std::string& vehicle_id, const SensingReport& report, double now) {
+  OnSensingTelemetry(Vehicle(vehicle_id), report, now);
+}
+
 void GcsModel::OnPointCloud(const std::string& vehicle_id, PointCloud cloud, double now) {
   obstacles_.OnPointCloud(Vehicle(vehicle_id), std::move(cloud), now);
 }

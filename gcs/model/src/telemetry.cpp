@@ -1,5 +1,7 @@
 #include "uav/gcs/telemetry.hpp"
 
+#include <algorithm>
+
 #include "uav/shared/geodesy.hpp"
 
 namespace uav::gcs {
@@ -137,6 +139,32 @@ void Store(VehicleTelemetry& v, SignalGroup& g, const std::vector<Signal<T>>& ta
 
 }  // namespace
 
+namespace {
+
+// Sensing: how many vision workers run and how many are unhealthy, their drops, and the control
+// loop's wall-clock period (vision must never stretch it).
+const std::vector<Signal<SensingReport>>& SensingSignals() {
+  using F = SignalFormat;
+  using R = SensingReport;
+  static const std::vector<Signal<R>> k = {
+      {{"workers", "workers", "1", "vision workers running", F::kInteger}, [](const R& r) { return double(r.workers.size()); }},
+      {{"unhealthy", "unhealthy", "1", "behind or stalled", F::kInteger}, [](const R& r) {
+         return double(std::count_if(r.workers.begin(), r.workers.end(), [](const SensingWorker& w) { return !w.healthy; }));
+       }},
+      {{"dropped", "dropped", "1", "frames dropped, all workers", F::kInteger}, [](const R& r) {
+         double n = 0;
+         for (const SensingWorker& w : r.workers) n += w.dropped;
+         return n;
+       }},
+      {{"ctl_p50", "control_period_p50_ms", "ms", "nominal 20", F::kMetres}, [](const R& r) { return r.control_period_p50_ms; }},
+      {{"ctl_p99", "control_period_p99_ms", "ms", "", F::kMetres}, [](const R& r) { return r.control_period_p99_ms; }},
+      {{"ctl_max", "control_period_max_ms", "ms", "", F::kMetres}, [](const R& r) { return r.control_period_max_ms; }},
+  };
+  return k;
+}
+
+}  // namespace
+
 std::string_view GroupName(SignalGroupId g) {
   switch (g) {
     case SignalGroupId::kState: return "STATE";
@@ -145,6 +173,7 @@ std::string_view GroupName(SignalGroupId g) {
     case SignalGroupId::kDepth: return "DEPTH";
     case SignalGroupId::kActiveStereo: return "ASTEREO";
     case SignalGroupId::kVisualOdometry: return "VO";
+    case SignalGroupId::kSensing: return "SENSING";
   }
   return "?";
 }
@@ -156,6 +185,7 @@ const std::vector<SignalDef>& GroupSignals(SignalGroupId g) {
   static const std::vector<SignalDef> kDepth = Defs(DepthSignals());
   static const std::vector<SignalDef> kActiveStereo = Defs(ActiveStereoSignals());
   static const std::vector<SignalDef> kVisualOdometry = Defs(VisualOdometrySignals());
+  static const std::vector<SignalDef> kSensing = Defs(SensingSignals());
   switch (g) {
     case SignalGroupId::kState: return kState;
     case SignalGroupId::kHeartbeat: return kHeartbeat;
@@ -163,6 +193,7 @@ const std::vector<SignalDef>& GroupSignals(SignalGroupId g) {
     case SignalGroupId::kDepth: return kDepth;
     case SignalGroupId::kActiveStereo: return kActiveStereo;
     case SignalGroupId::kVisualOdometry: return kVisualOdometry;
+    case SignalGroupId::kSensing: return kSensing;
   }
   return kState;
 }
@@ -276,6 +307,14 @@ void OnVisualOdometryTelemetry(VehicleTelemetry& v, const VisualOdometryReport& 
   };
   push(v.vo_trail, r.track_N);
   push(v.truth_trail, r.truth_N);
+}
+
+void OnSensingTelemetry(VehicleTelemetry& v, const SensingReport& r, double now) {
+  SignalGroup& group = v.groups[static_cast<int>(SignalGroupId::kSensing)];
+  Receipt(v, group, group.last_seq + 1, now);  // sensing_t's own sequence is not kept
+  Store(v, group, SensingSignals(), r, r.utime * 1e-6);
+  v.sensing = r;
+  v.sensing_received = now;
 }
 
 }  // namespace uav::gcs

@@ -73,6 +73,8 @@ void DrawGcs(GcsModel& model, UiContext& ctx) {
   DrawLiveMapPanel(model, ctx);
   Place(0.0f, 0.10f, 0.22f, 0.12f);  // over the Vehicles panel's empty lower half
   DrawReplayPanel(model, ctx);
+  Place(0.0f, 0.50f, 0.22f, 0.14f);  // over the state list's lower rows
+  DrawSensingPanel(model, ctx);
 }
 
 }  // namespace uav::gcs

@@ -18,6 +18,7 @@
 #include "uavmsg/map_tile_t.hpp"
 #include "uavmsg/active_stereo_t.hpp"
 #include "uavmsg/visual_odometry_t.hpp"
+#include "uavmsg/sensing_t.hpp"
 #include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/obstacles_t.hpp"
 #include "uavmsg/point_cloud_t.hpp"
@@ -212,6 +213,24 @@ class VisualOdometryTranslator : public Translator {
   LinkContext& c_;
 };
 
+// The vision workers' health at 1 Hz (while there are any).
+class SensingTranslator : public Translator {
+ public:
+  explicit SensingTranslator(LinkContext& c) : c_(c) {}
+  void Tick(int64_t utime) override {
+    if (last_utime_ >= 0 && utime - last_utime_ < 1'000'000) return;
+    const BlackboardData d = c_.board.Snapshot();
+    if (d.sensing.workers.empty()) return;
+    last_utime_ = utime;
+    uavmsg::sensing_t m = ToMessage(d.sensing);
+    c_.Publish(Topic::kSensing, m);
+  }
+
+ private:
+  LinkContext& c_;
+  int64_t last_utime_ = -1;
+};
+
 class ObstaclesTranslator : public Translator {
  public:
   explicit ObstaclesTranslator(LinkContext& c) : c_(c) {}
@@ -306,6 +325,7 @@ std::unique_ptr<Translator> MakeObstaclesTranslator(LinkContext& c) { return std
 std::unique_ptr<Translator> MakeMonoDepthTranslator(LinkContext& c) { return std::make_unique<MonoDepthTranslator>(c); }
 std::unique_ptr<Translator> MakeActiveStereoTranslator(LinkContext& c) { return std::make_unique<ActiveStereoTranslator>(c); }
 std::unique_ptr<Translator> MakeVisualOdometryTranslator(LinkContext& c) { return std::make_unique<VisualOdometryTranslator>(c); }
+std::unique_ptr<Translator> MakeSensingTranslator(LinkContext& c) { return std::make_unique<SensingTranslator>(c); }
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c) { return std::make_unique<MapTileTranslator>(c); }
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files) {
   return std::make_unique<FileTransferTranslator>(c, files);

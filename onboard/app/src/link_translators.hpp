@@ -127,6 +127,7 @@ std::unique_ptr<Translator> MakeObstaclesTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeMonoDepthTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeActiveStereoTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeVisualOdometryTranslator(LinkContext& c);
+std::unique_ptr<Translator> MakeSensingTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeTrackStatusTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files);

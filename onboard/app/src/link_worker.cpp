@@ -56,6 +56,7 @@ LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url
   im.translators.push_back(MakeMonoDepthTranslator(c));
   im.translators.push_back(MakeActiveStereoTranslator(c));
   im.translators.push_back(MakeVisualOdometryTranslator(c));
+  im.translators.push_back(MakeSensingTranslator(c));
   im.translators.push_back(MakeTrackStatusTranslator(c));
   im.translators.push_back(MakeMapTileTranslator(c));
   im.translators.push_back(MakeFileTransferTranslator(c, im.files));

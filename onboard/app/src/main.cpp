@@ -17,6 +17,7 @@
 #include "uav/app/workers.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/parameters.hpp"
+#include "uav/shared/text_file.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/sim/sim_vehicle.hpp"
 #include "uav/world/scene.hpp"
@@ -60,6 +61,7 @@ int main(int argc, char** argv) {
   std::string key_path;
   bool insecure = false;
   bool list_params = false;
+  std::string benchmark_path;
   cli.add_flag("--list-params", list_params,
                "print every vehicle parameter the program declares (name, default, unit, limits, description) and exit");
   cli.add_flag("--sim", sim, "run against the simulated quadrotor (thesis 2.4 model)");
@@ -83,6 +85,9 @@ int main(int argc, char** argv) {
       "heartbeats signed with it are executed; the newest accepted timestamp is kept in FILE.last");
   cli.add_flag("--insecure", insecure, "no signing key: execute unsigned messages from anyone on the network")
       ->excludes(key_option);
+  cli.add_option("--sensing-benchmark", benchmark_path,
+                 "at exit, write the sensing benchmark (JSON: each vision worker's rate against its camera's, latency, "
+                 "drops; the control loop's period; CPU use) to this file, '-' for stdout (needs --scene)");
   cli.add_option("--duration", duration_s, "stop after this many simulated seconds (0: run until signalled)")
       ->check(CLI::Range(0.0, 1e7));
   uav::RequireDecimalNumbers(cli);
@@ -94,6 +99,8 @@ int main(int argc, char** argv) {
 
   try {
     if (!sim) throw std::invalid_argument("no hardware backend in this build: use --sim");
+    if (!benchmark_path.empty() && scene_path.empty())
+      throw std::invalid_argument("--sensing-benchmark measures the vision workers: give a --scene with cameras");
     if (!uav::IsValidVehicleId(vehicle_id))
       throw std::invalid_argument("--vehicle-id must be 1-32 characters of [A-Za-z0-9_-], got '" +
                                   vehicle_id + "'");
@@ -114,6 +121,7 @@ int main(int argc, char** argv) {
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
     const int64_t start = uav::WallTimeMicros();
+    const int64_t wall_start = start;
     constexpr int64_t kStepUs = 2000;      // physics at 500 Hz
     constexpr int64_t kPeriodUs = 20000;   // threads at 50 Hz (thesis 2.3.2)
     uav::sim::SimVehicle vehicle(params, home, start);
@@ -203,6 +211,12 @@ int main(int argc, char** argv) {
       }
     });
     const std::string cameras = sensing ? sensing->Summary() : "";
+    if (sensing && !benchmark_path.empty()) {
+      const std::string json = sensing->BenchmarkJson(scheduler, speed, (scheduler.now() - start) * 1e-6,
+                                                      (uav::WallTimeMicros() - wall_start) * 1e-6);
+      if (benchmark_path == "-") std::fputs(json.c_str(), stdout);
+      else uav::WriteFileAtomically(benchmark_path, json);
+    }
     std::printf("uav-onboard: stopped after %.1f s simulated%s\n", (scheduler.now() - start) * 1e-6, cameras.c_str());
     return 0;
   } catch (const std::exception& e) {

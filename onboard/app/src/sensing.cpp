@@ -1,7 +1,11 @@
 #include "uav/app/sensing.hpp"
 
+#include <sys/resource.h>
+
 #include <cmath>
 #include <map>
+
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "uav/app/active_stereo_worker.hpp"
@@ -154,6 +158,42 @@ void Sensing::Monitor(int64_t utime, const LockstepScheduler& scheduler) {
                        "sensing: " + w.name + (w.healthy ? " healthy again" : " " + w.reason));
   }
   s.board.Update([&](BlackboardData& d) { d.sensing = std::move(report); });
+}
+
+std::string Sensing::BenchmarkJson(const LockstepScheduler& scheduler, double speed, double simulated_s,
+                                   double wall_s) const {
+  const Impl& s = *impl_;
+  nlohmann::json j;
+  j["speed"] = speed;
+  j["simulated_s"] = simulated_s;
+  j["wall_s"] = wall_s;
+  j["latency"] = std::all_of(s.latency_us.begin(), s.latency_us.end(), [](const auto& l) { return l.second == 0; })
+                     ? "measured"
+                     : "vehicle file";
+  const PeriodStats control = scheduler.Period("CTL");
+  j["control_period_ms"] = {{"nominal", 20.0}, {"p50", control.p50_ms}, {"p99", control.p99_ms},
+                            {"max", control.max_ms}, {"samples", control.samples}};
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const double user_s = usage.ru_utime.tv_sec + usage.ru_utime.tv_usec * 1e-6;
+  const double system_s = usage.ru_stime.tv_sec + usage.ru_stime.tv_usec * 1e-6;
+  j["cpu"] = {{"user_s", user_s}, {"system_s", system_s},
+              {"cores_busy", wall_s > 0 ? (user_s + system_s) / wall_s : 0.0}};
+  for (const SensingWorker& w : scheduler.VisionHealth()) {
+    j["workers"].push_back({{"name", w.name},
+                            {"rig", w.rig},
+                            {"configured_rate_hz", w.configured_rate_hz},
+                            {"rate_hz_run", simulated_s > 0 ? w.results / simulated_s : 0.0},
+                            {"rate_hz_last_2s", w.rate_hz},
+                            {"latency_p50_ms", w.latency_p50_ms},
+                            {"latency_p99_ms", w.latency_p99_ms},
+                            {"compute_p50_ms", w.compute_p50_ms},
+                            {"results", w.results},
+                            {"dropped", w.dropped},
+                            {"healthy", w.healthy},
+                            {"reason", w.reason}});
+  }
+  return j.dump(2) + "\n";
 }
 
 std::string Sensing::Summary() const {

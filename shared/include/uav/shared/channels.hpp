@@ -26,7 +26,8 @@ enum class Topic {
   kPointCloud,
   kMonoDepth,
   kActiveStereo,
-  kVisualOdometry
+  kVisualOdometry,
+  kSensing
 };
 
 const char* TopicName(Topic t);

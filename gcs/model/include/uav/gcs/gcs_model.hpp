@@ -57,6 +57,7 @@ class GcsModel {
   void OnDepthGrid(const std::string& vehicle_id, DepthGrid grid, double now);
   void OnActiveStereo(const std::string& vehicle_id, ActiveStereoReport report, double now);
   void OnVisualOdometry(const std::string& vehicle_id, VisualOdometryReport report, double now);
+  void OnSensing(const std::string& vehicle_id, const SensingReport& report, double now);
 
   // ---- Operator actions on the selected vehicle (false: error() of the concern says why).
   void SelectVehicle(const std::string& id);

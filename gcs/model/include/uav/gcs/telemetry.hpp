@@ -14,13 +14,14 @@
 #include "uav/shared/active_stereo.hpp"
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/vehicle_state.hpp"
+#include "uav/shared/sensing.hpp"
 #include "uav/shared/visual_odometry.hpp"
 
 namespace uav::gcs {
 
 // The telemetry tree's groups, one per message.
-enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2, kDepth = 3, kActiveStereo = 4, kVisualOdometry = 5 };
-inline constexpr int kSignalGroups = 6;
+enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2, kDepth = 3, kActiveStereo = 4, kVisualOdometry = 5, kSensing = 6 };
+inline constexpr int kSignalGroups = 7;
 std::string_view GroupName(SignalGroupId g);  // "STATE", "HEARTBEAT", "TRACK", "DEPTH"
 const std::vector<SignalDef>& GroupSignals(SignalGroupId g);
 
@@ -104,6 +105,8 @@ struct VehicleTelemetry {
   // truth, north and east [m] from home, at most kTrailPoints each.
   std::deque<Eigen::Vector2d> gps_trail, vo_trail, truth_trail;
   std::optional<PositionSource> position_source;  // where the INS takes its position from
+  std::optional<SensingReport> sensing;            // newest SENSING: the vision workers' health
+  double sensing_received = -1.0;                  // [s] GCS clock
 
   const SignalGroup& group(SignalGroupId g) const { return groups[static_cast<int>(g)]; }
   // Newest value and history of a signal; nullopt / nullptr before its first sample.
@@ -127,5 +130,6 @@ void OnTrackTelemetry(VehicleTelemetry& v, const TrackStatus& st, double now);
 void OnDepthTelemetry(VehicleTelemetry& v, const DepthGrid& g, double now);
 void OnActiveStereoTelemetry(VehicleTelemetry& v, const ActiveStereoReport& r, double now);
 void OnVisualOdometryTelemetry(VehicleTelemetry& v, const VisualOdometryReport& r, double now);
+void OnSensingTelemetry(VehicleTelemetry& v, const SensingReport& r, double now);
 
 }  // namespace uav::gcs

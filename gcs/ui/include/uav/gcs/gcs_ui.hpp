@@ -18,6 +18,7 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx);
 void DrawSurveyPanel(GcsModel& model, UiContext& ctx);
 void DrawLiveMapPanel(GcsModel& model, UiContext& ctx);
 void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx);
+void DrawSensingPanel(GcsModel& model, UiContext& ctx);
 // Uploads the selected vehicle's changed live-map tiles into textures (shared by the Map and
 // Live map panels).
 void SyncLiveMapTextures(const VehicleModel& v, UiContext& ctx);

@@ -41,6 +41,10 @@ class Sensing {
   void Monitor(int64_t utime, const LockstepScheduler& scheduler);
   // "N survey images captured, ..." for the exit line.
   std::string Summary() const;
+  // The run's sensing benchmark as JSON: per worker the configured and achieved rates (over the
+  // whole run and the last 2 s), latency p50/p99, compute p50, results and drops; the control
+  // loop's wall-clock period p50/p99/max; the process's CPU use.
+  std::string BenchmarkJson(const LockstepScheduler& scheduler, double speed, double simulated_s, double wall_s) const;
 
  private:
   struct Impl;
