@@ -34,7 +34,7 @@ struct Sensing::Impl {
   Options options;
   sim::TruthPoseHistory truth;
   std::unique_ptr<sim::SimCamera> downward_camera;
-  std::unique_ptr<sim::SimStereoCamera> stereo_camera;
+  std::vector<std::unique_ptr<sim::SimStereoCamera>> stereo_rigs;  // the scene's, in order
   std::unique_ptr<sim::SimGimbalCamera> gimbal_camera;
   std::unique_ptr<CameraWorker> cam;
   std::unique_ptr<StitchWorker> stitch;
@@ -43,6 +43,7 @@ struct Sensing::Impl {
   std::unique_ptr<StereoWorker> stereo;
   std::unique_ptr<ActiveStereoWorker> active_stereo;
   std::unique_ptr<VoWorker> vo;
+  int stereo_rig = -1, active_stereo_rig = -1, vo_rig = -1;  // which rig each runs on
   // The vehicle file's latencies [us] by worker (0: measured).
   std::map<std::string, int64_t> latency_us;
   int64_t last_monitor_utime = -1;
@@ -90,20 +91,44 @@ Sensing::Sensing(const world::Scene& scene, const ParameterSet& params, Blackboa
     s.mdepth = std::make_unique<MonoDepthWorker>(s.downward_camera->info(), board, mdp.estimator);
   if (mdp.camera == 2 && s.gimbal_camera)
     s.mdepth = std::make_unique<MonoDepthWorker>(s.gimbal_camera->info(), board, mdp.estimator);
-  // The stereo pair: passive (obstacles and wires ahead), or the downward active rig whose
-  // laser dots give the height (asv_enable), or visual odometry (vo_enable), or both of the
-  // last two on alternate exposures, the projector on for one and off for the next.
-  if (scene.stereo_camera()) {
-    s.stereo_camera = std::make_unique<sim::SimStereoCamera>(scene, *scene.stereo_camera(), truth);
-    const auto asv = ActiveStereoWorkerParams::FromParameters(params);
-    auto vop = VoWorkerParams::FromParameters(params);
-    if (asv.enabled) s.active_stereo = std::make_unique<ActiveStereoWorker>(*s.stereo_camera, board, asv);
-    // The video shows the lit pairs, with the dots the GCS draws over them.
-    vop.stream_video = !asv.enabled;
-    if (vop.enabled) s.vo = std::make_unique<VoWorker>(*s.stereo_camera, board, vop);
-    if (!asv.enabled && !vop.enabled)
-      s.stereo = std::make_unique<StereoWorker>(*s.stereo_camera, board, StereoWorkerParams::FromParameters(params));
+  BuildStereo(scene, params);
+}
+
+void Sensing::BuildStereo(const world::Scene& scene, const ParameterSet& params) {
+  // The stereo rigs and what runs on each (the vehicle file's *_rig): active stereo on a downward
+  // rig whose laser dots give the height (asv_enable), visual odometry (vo_enable), obstacles
+  // and wires (obs_rig; by default the first rig neither of the others uses). Algorithms on one
+  // rig take its exposures in turn (AddTo): the projector on for one, off for the next.
+  Impl& s = *impl_;
+  const int rigs = static_cast<int>(scene.stereo_rigs().size());
+  if (rigs == 0) return;
+  const sim::TruthPose truth = s.truth.Lookup();
+  for (const world::StereoSetup& rig : scene.stereo_rigs())
+    s.stereo_rigs.push_back(std::make_unique<sim::SimStereoCamera>(scene, rig, truth));
+  auto rig_of = [&](const char* name) {
+    const int k = static_cast<int>(params.Get(name));
+    if (k >= rigs)
+      throw std::invalid_argument(std::string(name) + " " + std::to_string(k) + ": the scene has " +
+                                  std::to_string(rigs) + " stereo rig" + (rigs == 1 ? "" : "s") + " (from 0)");
+    return k;
+  };
+  const auto asv = ActiveStereoWorkerParams::FromParameters(params);
+  auto vop = VoWorkerParams::FromParameters(params);
+  if (asv.enabled) {
+    s.active_stereo_rig = rig_of("asv_rig");
+    s.active_stereo = std::make_unique<ActiveStereoWorker>(*s.stereo_rigs[s.active_stereo_rig], s.board, asv);
   }
+  if (vop.enabled) {
+    s.vo_rig = rig_of("vo_rig");
+    // A rig shared with active stereo streams the lit pairs, with the dots the GCS draws over them.
+    vop.stream_video = s.vo_rig != s.active_stereo_rig;
+    s.vo = std::make_unique<VoWorker>(*s.stereo_rigs[s.vo_rig], s.board, vop);
+  }
+  s.stereo_rig = rig_of("obs_rig");
+  for (int k = 0; k < rigs && s.stereo_rig < 0; ++k)
+    if (k != s.active_stereo_rig && k != s.vo_rig) s.stereo_rig = k;
+  if (s.stereo_rig >= 0)
+    s.stereo = std::make_unique<StereoWorker>(*s.stereo_rigs[s.stereo_rig], s.board, StereoWorkerParams::FromParameters(params));
 }
 
 Sensing::~Sensing() = default;
@@ -126,13 +151,17 @@ void Sensing::AddTo(LockstepScheduler& scheduler, int64_t step_us) {
   if (s.stitch) add("STITCH", *s.stitch, {100'000, 0, 0, false, 120'000'000, s.downward_camera->info().name});
   if (s.trk) add("TRK", *s.trk, {period(s.gimbal_camera->info().rate_hz), 0, 0, true, 1'000'000, s.gimbal_camera->info().name});
   if (s.mdepth) add("MDEPTH", *s.mdepth, {period(s.mdepth->rate_hz()), 0, 0, true, 1'000'000, s.mdepth->camera()});
-  if (s.stereo) add("STEREO", *s.stereo, {period(s.stereo_camera->left().rate_hz), 0, 0, true, 1'000'000, s.stereo_camera->left().name});
-  if (s.vo || s.active_stereo) {
-    // Sharing the pair, each takes every other exposure: the dots on one, dark on the next.
-    const int64_t frame = period(s.stereo_camera->left().rate_hz);
-    const int64_t each = s.vo && s.active_stereo ? 2 * frame : frame;
-    if (s.active_stereo) add("ASTEREO", *s.active_stereo, {each, 0, 0, true, 1'000'000, s.stereo_camera->left().name});
-    if (s.vo) add("VO", *s.vo, {each, each - frame, 0, true, 1'000'000, s.stereo_camera->left().name});
+  // Each rig's exposures go round its algorithms in turn: active stereo, odometry, obstacles.
+  for (int k = 0; k < static_cast<int>(s.stereo_rigs.size()); ++k) {
+    std::vector<std::pair<std::string, VisionWorker*>> on_rig;
+    if (s.active_stereo && s.active_stereo_rig == k) on_rig.emplace_back("ASTEREO", s.active_stereo.get());
+    if (s.vo && s.vo_rig == k) on_rig.emplace_back("VO", s.vo.get());
+    if (s.stereo && s.stereo_rig == k) on_rig.emplace_back("STEREO", s.stereo.get());
+    const hal::CameraInfo& left = s.stereo_rigs[k]->left();
+    const int64_t frame = period(left.rate_hz);
+    const int64_t each = frame * static_cast<int64_t>(on_rig.size());
+    for (std::size_t i = 0; i < on_rig.size(); ++i)
+      add(on_rig[i].first, *on_rig[i].second, {each, frame * static_cast<int64_t>(i), 0, true, 1'000'000, left.name});
   }
 }
 

@@ -663,7 +663,17 @@ void Scene::SetDownwardCamera(const CameraSetup& c) {
 void Scene::SetStereoCamera(const StereoSetup& st) {
   ValidateIntrinsics(st.left.intrinsics);
   impl_->stereo = st;
+  impl_->stereo_rigs = {st};
 }
+void Scene::AddStereoRig(const StereoSetup& st) {
+  ValidateIntrinsics(st.left.intrinsics);
+  for (const StereoSetup& other : impl_->stereo_rigs)
+    if (other.left.name == st.left.name)
+      throw std::invalid_argument("two stereo rigs named '" + st.left.name.substr(0, st.left.name.size() - 5) + "'");
+  if (!impl_->stereo) impl_->stereo = st;
+  impl_->stereo_rigs.push_back(st);
+}
+const std::vector<StereoSetup>& Scene::stereo_rigs() const { return impl_->stereo_rigs; }
 
 std::optional<RayHit> Scene::Intersect(const Eigen::Vector3d& origin_N, const Eigen::Vector3d& direction_N,
                                        double t_min, double t_max, double t_s) const {

@@ -449,11 +449,20 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
         c.T_BC.translation() = j.contains("mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0.1, 0, 0.15);
         scene.SetGimbalCamera(c);
       }
-      if (cams.contains("stereo")) {
-        const json& j = cams["stereo"];
-        const std::string p = "$.cameras.stereo";
-        const CameraSetup c = ReadCamera(rd, j, p, dir, "stereo", "sim_stereo_640x480.camera", 10.0,
-                                           scene.downward_camera() ? 0.0 : 5.0);
+      // "stereo" is one rig (named "stereo") or a list of rigs, each with its own "name" and mount
+      // (a forward pair for obstacles and odometry, a downward pair with the dot projector...).
+      const json none = json::array();
+      const json& rigs = cams.contains("stereo") ? cams["stereo"] : none;
+      const bool listed = rigs.is_array();
+      if (listed && rigs.size() > 8) rd.Fail("$.cameras.stereo", "at most 8 stereo rigs");
+      for (size_t k = 0; k < (listed ? rigs.size() : 1); ++k) {
+        const json& j = listed ? rigs[k] : rigs;
+        const std::string p = "$.cameras.stereo" + (listed ? "[" + std::to_string(k) + "]" : std::string());
+        if (!j.is_object()) rd.Fail(p, "must be an object");
+        const std::string name = listed ? rd.String(j, p, "name") : rd.String(j, p, "name", "stereo");
+        if (name.empty() || name.size() > 32) rd.Fail(p + ".name", "must be 1-32 characters");
+        const CameraSetup c = ReadCamera(rd, j, p, dir, name, "sim_stereo_640x480.camera", 10.0,
+                                           scene.downward_camera() || k > 0 ? 0.0 : 5.0);
         const Eigen::Vector3d mount = j.contains("mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0.15, 0, 0);
         // Mount angles: the optical axis pitched up from the body x axis (-90: facing down), and
         // the pair rolled about it (a rolled baseline ranges the level wires a level one cannot:
@@ -475,7 +484,11 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
           laser.intensity = rd.Number(l, lp, "intensity", 1, 1000, laser.intensity);
           laser.roll_rad = rd.Number(l, lp, "roll_deg", -90, 90, 0) * M_PI / 180;
         }
-        scene.SetStereoCamera(MakeStereoSetup(c, T_B_rig, rd.Number(j, p, "baseline_m", 0.01, 2, 0.12), laser));
+        try {
+          scene.AddStereoRig(MakeStereoSetup(c, T_B_rig, rd.Number(j, p, "baseline_m", 0.01, 2, 0.12), laser));
+        } catch (const std::invalid_argument& e) {
+          rd.Fail(p + ".name", e.what());
+        }
       }
     }
   } catch (const SceneFileError&) {

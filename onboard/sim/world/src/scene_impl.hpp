@@ -200,7 +200,8 @@ struct Scene::Impl {
   std::vector<Cable> cables;
   std::vector<Chessboard> boards;
   std::optional<CameraSetup> downward;
-  std::optional<StereoSetup> stereo;
+  std::optional<StereoSetup> stereo;     // the first of stereo_rigs
+  std::vector<StereoSetup> stereo_rigs;
   std::optional<CameraSetup> gimbal;
   std::vector<Mover> movers;
   int next_id = 2;

@@ -47,6 +47,8 @@ class Sensing {
   std::string BenchmarkJson(const LockstepScheduler& scheduler, double speed, double simulated_s, double wall_s) const;
 
  private:
+  void BuildStereo(const world::Scene& scene, const ParameterSet& params);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -179,7 +179,11 @@ class Scene {
   const std::optional<CameraSetup>& gimbal_camera() const;
   void SetDownwardCamera(const CameraSetup& c);
   void SetGimbalCamera(const CameraSetup& c);
-  void SetStereoCamera(const StereoSetup& s);
+  void SetStereoCamera(const StereoSetup& s);  // the only rig
+  // Every stereo rig, in the file's order (the first is stereo_camera()); rig names are unique.
+  // AddStereoRig throws std::invalid_argument for a second rig of the same name.
+  const std::vector<StereoSetup>& stereo_rigs() const;
+  void AddStereoRig(const StereoSetup& s);
 
   // Nearest surface along origin + t * direction for t in (t_min, t_max), with moving objects
   // where they are at t_s; cables at their true radius. Thread-safe.
