@@ -29,7 +29,9 @@ SensingReport FromMessage(const uavmsg::sensing_t& m) {
     s.name = w.name;
     s.rig = w.rig;
     const std::string of = " of worker " + w.name;
+    s.camera_rate_hz = figure(w.camera_rate_hz, ("camera_rate_hz" + of).c_str());
     s.configured_rate_hz = figure(w.configured_rate_hz, ("configured_rate_hz" + of).c_str());
+    if (s.configured_rate_hz > s.camera_rate_hz + 1e-3) fail("configured_rate_hz above camera_rate_hz" + of);
     s.rate_hz = figure(w.rate_hz, ("rate_hz" + of).c_str());
     s.latency_p50_ms = figure(w.latency_p50_ms, ("latency_p50_ms" + of).c_str());
     s.latency_p99_ms = figure(w.latency_p99_ms, ("latency_p99_ms" + of).c_str());
@@ -57,6 +59,7 @@ uavmsg::sensing_t ToMessage(const SensingReport& r) {
     uavmsg::sensing_worker_t w{};
     w.name = s.name;
     w.rig = s.rig;
+    w.camera_rate_hz = static_cast<float>(s.camera_rate_hz);
     w.configured_rate_hz = static_cast<float>(s.configured_rate_hz);
     w.rate_hz = static_cast<float>(s.rate_hz);
     w.latency_p50_ms = static_cast<float>(s.latency_p50_ms);

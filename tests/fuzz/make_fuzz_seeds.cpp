@@ -172,6 +172,7 @@ int main(int argc, char** argv) {
     uavmsg::sensing_worker_t w{};
     w.name = "STEREO";
     w.rig = "stereo_left";
+    w.camera_rate_hz = 15;
     w.configured_rate_hz = 15;
     w.rate_hz = 7.5;
     w.latency_p50_ms = 60;

@@ -498,6 +498,7 @@ TEST_F(LinkTest, SensingHealthReachesTheModelAndItsSignals) {
   SensingWorker stereo;
   stereo.name = "STEREO";
   stereo.rig = "stereo_left";
+  stereo.camera_rate_hz = 15;
   stereo.configured_rate_hz = 15;
   stereo.rate_hz = 7.5;
   stereo.latency_p50_ms = 60;

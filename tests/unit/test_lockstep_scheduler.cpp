@@ -115,6 +115,25 @@ TEST(LockstepScheduler, FramesThatComeWhileTheWorkerIsBusyAreDroppedAndCounted) 
   EXPECT_NE(health[0].reason.find("behind: 17.0 of 50.0 Hz, 100 frames dropped"), std::string::npos) << health[0].reason;
 }
 
+// A rate lowered on purpose: the worker is offered every third frame of its camera, evenly, and
+// the frames it is not asked for are not drops; its configured rate says so.
+TEST(LockstepScheduler, ADecimatedWorkerIsOfferedEveryKthFrameWithoutDrops) {
+  LockstepScheduler s({0, 2000, 0.0, 600000});
+  std::vector<int64_t> frames;
+  s.AddVisionWorker("STEREO", {20000, 0, 10000, true, 1'000'000, "pair"},
+                    {[&](int64_t t) { frames.push_back(t); }, [] {}, [] {}});
+  s.SetDecimation("STEREO", 3);
+  EXPECT_THROW(s.SetDecimation("STEREO", 0), std::invalid_argument);
+  EXPECT_THROW(s.SetDecimation("VO", 2), std::invalid_argument);
+  s.Run([](int64_t) {});
+  const std::vector<int64_t> expected = {0, 60000, 120000, 180000, 240000, 300000, 360000, 420000, 480000, 540000};
+  EXPECT_EQ(frames, expected);
+  const auto health = s.VisionHealth();
+  EXPECT_EQ(health[0].dropped, 0);
+  EXPECT_DOUBLE_EQ(health[0].camera_rate_hz, 50.0);
+  EXPECT_NEAR(health[0].configured_rate_hz, 50.0 / 3, 1e-9);
+}
+
 // At real time a slow worker (70 ms a frame at 20 Hz) neither slows the clock nor the control
 // loop: control keeps its 20 ms period while the worker drops every other frame.
 TEST(LockstepScheduler, ASlowVisionWorkerDoesNotDelayControl) {

@@ -1,5 +1,5 @@
 // Sensing: the selected vehicle's vision workers, one row each: its camera, the rate it achieves
-// against its camera's, the latency from exposure to result (p50/p99), the compute time, frames
+// against the rate asked of it (and its camera's, where the vehicle lowered it on purpose), the latency from exposure to result (p50/p99), the compute time, frames
 // dropped while it was busy, and healthy or why not. Above them, the control loop's wall-clock
 // period (vision runs off that path and must never stretch it). A report that stops coming is a
 // warning too.
@@ -38,8 +38,10 @@ void DrawSensingPanel(GcsModel& model, UiContext& ctx) {
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(w.rig.c_str());
       ImGui::TableNextColumn();
-      if (w.configured_rate_hz > 0) ImGui::Text("%.1f / %.1f", w.rate_hz, w.configured_rate_hz);
-      else ImGui::Text("%.1f (queue)", w.rate_hz);
+      if (w.configured_rate_hz <= 0) ImGui::Text("%.1f (queue)", w.rate_hz);
+      else if (w.configured_rate_hz < w.camera_rate_hz - 1e-3)
+        ImGui::Text("%.1f / %.1f of %.0f", w.rate_hz, w.configured_rate_hz, w.camera_rate_hz);
+      else ImGui::Text("%.1f / %.1f", w.rate_hz, w.configured_rate_hz);
       ImGui::TableNextColumn();
       ImGui::Text("%.0f / %.0f", w.latency_p50_ms, w.latency_p99_ms);
       ImGui::TableNextColumn();
@@ -47,8 +49,9 @@ void DrawSensingPanel(GcsModel& model, UiContext& ctx) {
       ImGui::TableNextColumn();
       ImGui::Text("%lld", static_cast<long long>(w.dropped));
       ImGui::TableNextColumn();
-      if (w.healthy) ImGui::TextUnformatted("ok");
-      else ImGui::TextColored(red, "%s", w.reason.c_str());
+      if (!w.healthy) ImGui::TextColored(red, "%s", w.reason.c_str());
+      else if (!w.reason.empty()) ImGui::TextColored(amber, "%s", w.reason.c_str());  // a rate lowered on purpose
+      else ImGui::TextUnformatted("ok");
     }
     ImGui::EndTable();
   }

@@ -47,6 +47,8 @@ struct LockstepScheduler::Vision {
   bool late = false;               // the clock gave up waiting for it: stalled
   int64_t capture_utime = 0;
   int64_t first_offer_utime = -1;
+  int decimation = 1;              // frames offered: every decimation-th of the camera's
+  int64_t frames_due = 0;          // the camera's frames so far
   int64_t results = 0, dropped = 0;
   std::deque<int64_t> result_utimes;  // the last 2 s
   std::deque<double> latency_ms, compute_ms_recent;  // the last 64
@@ -158,6 +160,7 @@ void LockstepScheduler::OfferFrame(Vision& v, int64_t utime) {
   {
     std::lock_guard<std::mutex> stats(stats_mutex_);
     if (v.first_offer_utime < 0) v.first_offer_utime = utime;
+    if (v.frames_due++ % v.decimation != 0) return;  // not asked for: the rate was lowered on purpose
     if (v.in_flight) {
       v.dropped += v.timing.drops_frames;
       return;
@@ -177,6 +180,18 @@ void LockstepScheduler::OfferFrame(Vision& v, int64_t utime) {
   v.wake.notify_one();
 }
 
+void LockstepScheduler::SetDecimation(const std::string& name, int decimation) {
+  if (decimation < 1) throw std::invalid_argument("vision worker '" + name + "': decimation must be at least 1");
+  std::lock_guard<std::mutex> stats(stats_mutex_);
+  for (auto& v : vision_)
+    if (v->name == name) {
+      v->decimation = decimation;
+      v->frames_due = 0;  // the next frame is taken
+      return;
+    }
+  throw std::invalid_argument("no vision worker '" + name + "'");
+}
+
 std::vector<SensingWorker> LockstepScheduler::VisionHealth() const {
   std::lock_guard<std::mutex> stats(stats_mutex_);
   const int64_t now = now_.load();
@@ -185,7 +200,8 @@ std::vector<SensingWorker> LockstepScheduler::VisionHealth() const {
     SensingWorker h;
     h.name = v->name;
     h.rig = v->timing.rig;
-    h.configured_rate_hz = v->timing.drops_frames ? 1e6 / v->timing.period_us : 0.0;
+    h.camera_rate_hz = v->timing.drops_frames ? 1e6 / v->timing.period_us : 0.0;
+    h.configured_rate_hz = h.camera_rate_hz / v->decimation;
     const int64_t window = std::min(kRateWindowUs, v->first_offer_utime < 0 ? 0 : now - v->first_offer_utime);
     const auto recent = std::count_if(v->result_utimes.begin(), v->result_utimes.end(),
                                       [&](int64_t t) { return t > now - kRateWindowUs; });

@@ -2,7 +2,9 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include <nlohmann/json.hpp>
@@ -48,6 +50,11 @@ struct Sensing::Impl {
   std::map<std::string, int64_t> latency_us;
   int64_t last_monitor_utime = -1;
   std::map<std::string, bool> healthy;  // what the operator was last told
+  struct RateChoice {
+    int decimation = 1;               // offered every decimation-th frame of its camera
+    int64_t decided_utime = -1;
+  };
+  std::map<std::string, RateChoice> rates;
 
   Impl(Blackboard& b, const Options& o) : board(b), options(o) {}
 };
@@ -167,7 +174,43 @@ void Sensing::AddTo(LockstepScheduler& scheduler, int64_t step_us) {
 
 void Sensing::RecordTruth(int64_t utime, const Eigen::Isometry3d& T_NB) { impl_->truth.Record(utime, T_NB); }
 
-void Sensing::Monitor(int64_t utime, const LockstepScheduler& scheduler) {
+void Sensing::ChooseRate(int64_t utime, SensingWorker& w, LockstepScheduler& scheduler) {
+  // Where two cores cannot hold a worker's rate, the vehicle lowers it on purpose rather than
+  // dropping whichever frames come while the worker is busy: every 2 s, a worker behind is offered
+  // only every k-th frame of its camera, k = the camera's rate over what it achieved (rounded up,
+  // at most kMaxDecimation), so its frames are evenly spaced and it is healthy at a rate it holds.
+  // With room to spare (compute under 60 % of the next faster period) it steps back up.
+  constexpr int kMaxDecimation = 8;
+  constexpr int64_t kDecideEveryUs = 2'000'000;
+  if (w.camera_rate_hz <= 0) return;
+  Impl::RateChoice& c = impl_->rates[w.name];
+  if (c.decided_utime < 0) c.decided_utime = utime;
+  if (utime - c.decided_utime >= kDecideEveryUs) {
+    int k = c.decimation;
+    if (!w.healthy && w.reason.rfind("behind", 0) == 0)
+      k = std::min(kMaxDecimation, std::max(k + 1, static_cast<int>(std::ceil(w.camera_rate_hz / std::max(w.rate_hz, 0.1)))));
+    else if (w.healthy && k > 1 && w.compute_p50_ms < 0.6 * 1e3 * (k - 1) / w.camera_rate_hz)
+      --k;
+    if (k != c.decimation) {
+      char text[200];
+      std::snprintf(text, sizeof text, "sensing: %s %s to %.1f Hz of its camera's %.1f (compute %.0f ms a frame)",
+                    w.name.c_str(), k > c.decimation ? "lowered" : "raised", w.camera_rate_hz / k, w.camera_rate_hz,
+                    w.compute_p50_ms);
+      impl_->board.PushStatus(k > c.decimation ? Severity::kWarning : Severity::kInfo, text);
+      scheduler.SetDecimation(w.name, k);
+      c.decimation = k;
+    }
+    c.decided_utime = utime;
+  }
+  if (w.healthy && c.decimation > 1) {
+    char text[160];
+    std::snprintf(text, sizeof text, "rate lowered to %.1f of %.1f Hz: the CPU cannot hold more", w.camera_rate_hz / c.decimation,
+                  w.camera_rate_hz);
+    w.reason = text;
+  }
+}
+
+void Sensing::Monitor(int64_t utime, LockstepScheduler& scheduler) {
   Impl& s = *impl_;
   if (s.last_monitor_utime >= 0 && utime - s.last_monitor_utime < kMonitorPeriodUs) return;
   s.last_monitor_utime = utime;
@@ -179,6 +222,7 @@ void Sensing::Monitor(int64_t utime, const LockstepScheduler& scheduler) {
   report.control_period_p99_ms = control.p99_ms;
   report.control_period_max_ms = control.max_ms;
   report.workers = scheduler.VisionHealth();
+  for (SensingWorker& w : report.workers) ChooseRate(utime, w, scheduler);
   for (const SensingWorker& w : report.workers) {
     auto [it, first] = s.healthy.emplace(w.name, true);
     if (it->second == w.healthy) continue;
@@ -211,6 +255,7 @@ std::string Sensing::BenchmarkJson(const LockstepScheduler& scheduler, double sp
   for (const SensingWorker& w : scheduler.VisionHealth()) {
     j["workers"].push_back({{"name", w.name},
                             {"rig", w.rig},
+                            {"camera_rate_hz", w.camera_rate_hz},
                             {"configured_rate_hz", w.configured_rate_hz},
                             {"rate_hz_run", simulated_s > 0 ? w.results / simulated_s : 0.0},
                             {"rate_hz_last_2s", w.rate_hz},

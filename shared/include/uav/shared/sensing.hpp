@@ -15,7 +15,8 @@ namespace uav {
 struct SensingWorker {
   std::string name;                  // "STEREO", "VO", "ASTEREO", "TRK", "MDEPTH", "CAM", "STITCH"
   std::string rig;                   // the camera or stereo pair it runs on
-  double configured_rate_hz = 0.0;   // frames offered per second (0: fed by another worker's queue)
+  double camera_rate_hz = 0.0;       // frames its camera gives per second (0: fed by another worker's queue)
+  double configured_rate_hz = 0.0;   // frames it is offered: the camera's, or lower where the CPU cannot hold it
   double rate_hz = 0.0;              // results made visible per second, over the last 2 s
   double latency_p50_ms = 0.0;       // capture to visible, over the last 64 results
   double latency_p99_ms = 0.0;
@@ -23,7 +24,7 @@ struct SensingWorker {
   int64_t results = 0;               // since start
   int64_t dropped = 0;               // frames the camera gave while the worker was busy
   bool healthy = true;
-  std::string reason;                // why not healthy ("" when healthy)
+  std::string reason;                // why not healthy, or why the rate was lowered ("" : neither)
 };
 
 struct SensingReport {

@@ -69,6 +69,10 @@ class LockstepScheduler {
   // taken after the tick's stages, so Begin reads the estimate of that tick.
   void AddVisionWorker(const std::string& name, const VisionTiming& timing, VisionJob job);
 
+  // Offers `name` only every `decimation`-th frame of its camera (1: every frame): the vehicle
+  // lowers a rate on purpose where the CPU cannot hold it (Sensing::Monitor). Thread-safe.
+  void SetDecimation(const std::string& name, int decimation);
+
   // The vision workers' health now (thread-safe), and the wall-clock period of `worker`'s
   // releases over the run (the control loop's: "CTL").
   std::vector<SensingWorker> VisionHealth() const;

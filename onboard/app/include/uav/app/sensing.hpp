@@ -11,6 +11,7 @@
 #include "uav/app/blackboard.hpp"
 #include "uav/shared/geodesy.hpp"
 #include "uav/shared/parameters.hpp"
+#include "uav/shared/sensing.hpp"
 
 namespace uav::world {
 class Scene;
@@ -37,8 +38,9 @@ class Sensing {
   // The simulator's true pose now, each physics step: the cameras render from it.
   void RecordTruth(int64_t utime, const Eigen::Isometry3d& T_NB);
   // On the clock's thread each step: every 100 ms the workers' health goes to the blackboard,
-  // and a worker that falls behind or stalls (or recovers) is announced to the operator.
-  void Monitor(int64_t utime, const LockstepScheduler& scheduler);
+  // and a worker that falls behind or stalls (or recovers) is announced to the operator; a
+  // worker the CPU cannot keep at its camera's rate gets a lower one, on purpose (ChooseRate).
+  void Monitor(int64_t utime, LockstepScheduler& scheduler);
   // "N survey images captured, ..." for the exit line.
   std::string Summary() const;
   // The run's sensing benchmark as JSON: per worker the configured and achieved rates (over the
@@ -48,6 +50,7 @@ class Sensing {
 
  private:
   void BuildStereo(const world::Scene& scene, const ParameterSet& params);
+  void ChooseRate(int64_t utime, SensingWorker& w, LockstepScheduler& scheduler);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
