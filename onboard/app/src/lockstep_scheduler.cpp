@@ -55,7 +55,9 @@ struct LockstepScheduler::Vision {
 };
 
 namespace {
-constexpr int64_t kRateWindowUs = 2'000'000;
+// Rates are counted over the last 2 s, or the last 5 frames asked for where that is longer (a
+// rate lowered to 1 Hz counted over 2 s would read 0.5, 1 or 1.5 by chance of phase).
+constexpr int64_t kRateWindowUs = 2'000'000, kKeepResultsUs = 20'000'000;
 constexpr std::size_t kRecent = 64;
 
 double Percentile(std::vector<double> v, double q) {
@@ -202,9 +204,13 @@ std::vector<SensingWorker> LockstepScheduler::VisionHealth() const {
     h.rig = v->timing.rig;
     h.camera_rate_hz = v->timing.drops_frames ? 1e6 / v->timing.period_us : 0.0;
     h.configured_rate_hz = h.camera_rate_hz / v->decimation;
-    const int64_t window = std::min(kRateWindowUs, v->first_offer_utime < 0 ? 0 : now - v->first_offer_utime);
+    const int64_t full_window =
+        h.configured_rate_hz > 0
+            ? std::clamp(static_cast<int64_t>(5e6 / h.configured_rate_hz), kRateWindowUs, kKeepResultsUs)
+            : kRateWindowUs;
+    const int64_t window = std::min(full_window, v->first_offer_utime < 0 ? 0 : now - v->first_offer_utime);
     const auto recent = std::count_if(v->result_utimes.begin(), v->result_utimes.end(),
-                                      [&](int64_t t) { return t > now - kRateWindowUs; });
+                                      [&](int64_t t) { return t > now - full_window; });
     h.rate_hz = window > 0 ? recent * 1e6 / window : 0.0;
     const std::vector<double> latency(v->latency_ms.begin(), v->latency_ms.end());
     h.latency_p50_ms = Percentile(latency, 0.5);
@@ -216,7 +222,7 @@ std::vector<SensingWorker> LockstepScheduler::VisionHealth() const {
     const double waiting_s = (now - v->capture_utime) * 1e-6;
     if (v->in_flight && (v->late || now - v->capture_utime > v->timing.stall_us)) {
       std::snprintf(reason, sizeof reason, "stalled: no result %.1f s after its frame", waiting_s);
-    } else if (h.configured_rate_hz > 0 && window >= kRateWindowUs && h.rate_hz < 0.8 * h.configured_rate_hz) {
+    } else if (h.configured_rate_hz > 0 && window >= full_window && h.rate_hz < 0.8 * h.configured_rate_hz) {
       std::snprintf(reason, sizeof reason, "behind: %.1f of %.1f Hz, %lld frames dropped", h.rate_hz,
                     h.configured_rate_hz, static_cast<long long>(h.dropped));
     }
@@ -345,7 +351,7 @@ void LockstepScheduler::Run(const std::function<void(int64_t)>& physics) {
     {
       std::lock_guard<std::mutex> stats(stats_mutex_);
       for (auto& v : vision_)
-        while (!v->result_utimes.empty() && v->result_utimes.front() <= t - kRateWindowUs) v->result_utimes.pop_front();
+        while (!v->result_utimes.empty() && v->result_utimes.front() <= t - kKeepResultsUs) v->result_utimes.pop_front();
     }
     physics(options_.step_us);
     t += options_.step_us;

@@ -49,7 +49,11 @@ struct Sensing::Impl {
   // The vehicle file's latencies [us] by worker (0: measured).
   std::map<std::string, int64_t> latency_us;
   int64_t last_monitor_utime = -1;
-  std::map<std::string, bool> healthy;  // what the operator was last told
+  struct Announced {
+    bool healthy = true;          // what the operator was last told
+    int64_t changed_utime = -1;   // since when the worker has been otherwise (-1: it has not)
+  };
+  std::map<std::string, Announced> announced;
   struct RateChoice {
     int decimation = 1;               // offered every decimation-th frame of its camera
     int64_t decided_utime = -1;
@@ -204,8 +208,7 @@ void Sensing::ChooseRate(int64_t utime, SensingWorker& w, LockstepScheduler& sch
   }
   if (w.healthy && c.decimation > 1) {
     char text[160];
-    std::snprintf(text, sizeof text, "rate lowered to %.1f of %.1f Hz: the CPU cannot hold more", w.camera_rate_hz / c.decimation,
-                  w.camera_rate_hz);
+    std::snprintf(text, sizeof text, "lowered to %.1f Hz (CPU)", w.camera_rate_hz / c.decimation);
     w.reason = text;
   }
 }
@@ -223,10 +226,19 @@ void Sensing::Monitor(int64_t utime, LockstepScheduler& scheduler) {
   report.control_period_max_ms = control.max_ms;
   report.workers = scheduler.VisionHealth();
   for (SensingWorker& w : report.workers) ChooseRate(utime, w, scheduler);
+  // The operator hears of a change once it has held for a second (the telemetry has it at once):
+  // a rate near its threshold must not fill the messages.
+  constexpr int64_t kAnnounceAfterUs = 1'000'000;
   for (const SensingWorker& w : report.workers) {
-    auto [it, first] = s.healthy.emplace(w.name, true);
-    if (it->second == w.healthy) continue;
-    it->second = w.healthy;
+    Impl::Announced& a = s.announced[w.name];
+    if (w.healthy == a.healthy) {
+      a.changed_utime = -1;
+      continue;
+    }
+    if (a.changed_utime < 0) a.changed_utime = utime;
+    if (utime - a.changed_utime < kAnnounceAfterUs) continue;
+    a.healthy = w.healthy;
+    a.changed_utime = -1;
     s.board.PushStatus(w.healthy ? Severity::kInfo : Severity::kWarning,
                        "sensing: " + w.name + (w.healthy ? " healthy again" : " " + w.reason));
   }
