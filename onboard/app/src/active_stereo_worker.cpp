@@ -24,11 +24,6 @@ ActiveStereoWorker::ActiveStereoWorker(hal::StereoCamera& camera, Blackboard& bo
       stereo_({camera.left().intrinsics, camera.right().intrinsics, camera.T_LR()}, params.stereo),
       preview_(camera.left().name, camera.left().preview_rate_hz) {}
 
-void ActiveStereoWorker::Begin(int64_t utime) {
-  utime_ = utime;
-  at_begin_ = board_.Snapshot();
-}
-
 void ActiveStereoWorker::Work(Outbox& out) {
   const int64_t utime = utime_;
   const BlackboardData& d = at_begin_;

@@ -57,11 +57,6 @@ CameraWorker::~CameraWorker() {
   if (csv_) std::fclose(csv_);
 }
 
-void CameraWorker::Begin(int64_t utime) {
-  utime_ = utime;
-  at_begin_ = board_.Snapshot();
-}
-
 void CameraWorker::Work(Outbox& out) {
   const int64_t utime = utime_;
   const BlackboardData& d = at_begin_;

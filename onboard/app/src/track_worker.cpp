@@ -34,8 +34,7 @@ TrackWorker::TrackWorker(hal::GimbalCamera& camera, Blackboard& board, const Tra
 }
 
 void TrackWorker::Begin(int64_t utime) {
-  utime_ = utime;
-  at_begin_ = board_.Snapshot();
+  VisionWorker::Begin(utime);
   requests_ = board_.TakeTrackRequests();
 }
 

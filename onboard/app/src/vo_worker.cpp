@@ -32,11 +32,6 @@ VoWorker::VoWorker(hal::StereoCamera& camera, Blackboard& board, const VoWorkerP
   T_BC_.linear() = T_BC_.linear() * rectifier_.geometry().R_L_rect;
 }
 
-void VoWorker::Begin(int64_t utime) {
-  utime_ = utime;
-  at_begin_ = board_.Snapshot();
-}
-
 void VoWorker::Work(Outbox& out) {
   const int64_t utime = utime_;
   const BlackboardData& d = at_begin_;

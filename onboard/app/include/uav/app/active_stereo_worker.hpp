@@ -25,15 +25,12 @@ struct ActiveStereoWorkerParams {
 class ActiveStereoWorker : public VisionWorker {
  public:
   ActiveStereoWorker(hal::StereoCamera& camera, Blackboard& board, const ActiveStereoWorkerParams& params);
-  void Begin(int64_t utime) override;
   void Work(Outbox& out) override;
   int frames() const { return frames_; }        // pairs processed
   int unhealthy() const { return unhealthy_; }  // pairs without a height
 
  private:
   hal::StereoCamera& camera_;
-  int64_t utime_ = 0;
-  BlackboardData at_begin_;  // the board at the exposure
   ActiveStereoWorkerParams params_;
   vision::ActiveStereo stereo_;
   vision::GroundTracker ground_;  // the floor's level in N, from pair to pair

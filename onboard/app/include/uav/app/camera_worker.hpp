@@ -31,7 +31,6 @@ class CameraWorker : public VisionWorker {
   // and the flight stack's estimate.
   CameraWorker(hal::Camera& camera, Blackboard& board, const Options& options);
   ~CameraWorker();
-  void Begin(int64_t utime) override;
   void Work(Outbox& out) override;
   int captures() const { return captures_; }  // taken (and recorded when there is a capture dir)
   int previews() const { return previews_; }
@@ -41,8 +40,6 @@ class CameraWorker : public VisionWorker {
   void Record(int64_t utime, const hal::CameraFrame& frame, const BlackboardData& d);
 
   hal::Camera& camera_;
-  int64_t utime_ = 0;
-  BlackboardData at_begin_;  // the board at the exposure
   Options options_;
   PreviewStream preview_;
   std::FILE* csv_ = nullptr;

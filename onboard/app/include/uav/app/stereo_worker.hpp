@@ -52,7 +52,6 @@ class StereoWorker : public VisionWorker {
   int64_t last_cloud_utime_ = -1;
   std::optional<vision::PowerLineStereo> power_lines_;
   PreviewStream preview_;
-  int64_t utime_ = 0;                                       // of the pair Begin asked for
   Eigen::Isometry3d T_NB_ = Eigen::Isometry3d::Identity();  // the estimate then
   static constexpr double kNoWire = 1e9;
   std::array<double, 3> recent_nearest_m_{kNoWire, kNoWire, kNoWire};  // per pair, kNoWire: none ranged

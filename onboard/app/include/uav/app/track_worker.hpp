@@ -48,8 +48,6 @@ class TrackWorker : public VisionWorker {
   void PlaceOnGround(int64_t utime, const vision::TrackResult& r, const hal::VehicleEstimate& estimate, Outbox& out);
 
   hal::GimbalCamera& camera_;
-  int64_t utime_ = 0;
-  BlackboardData at_begin_;  // the board at the exposure
   std::vector<TrackRequest> requests_;  // taken at Begin
   TrackWorkerParams params_;
   PreviewStream preview_;

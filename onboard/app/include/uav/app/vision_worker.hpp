@@ -40,7 +40,11 @@ class VisionWorker {
 
   // On the clock's thread at the exposure `utime`: takes from the blackboard what the work needs
   // (the estimate then, the requests and inputs waiting). Must be cheap: control waits for it.
-  virtual void Begin(int64_t utime) = 0;
+  // By default: the exposure's time and the blackboard then.
+  virtual void Begin(int64_t utime) {
+    utime_ = utime;
+    at_begin_ = board_.Snapshot();
+  }
   // On the worker's own thread: the camera's images and the algorithm. Writes go to `out`.
   virtual void Work(Outbox& out) = 0;
 
@@ -55,6 +59,8 @@ class VisionWorker {
 
  protected:
   Blackboard& board_;
+  int64_t utime_ = 0;        // of the frame Begin took
+  BlackboardData at_begin_;  // the blackboard then
 };
 
 }  // namespace uav::app

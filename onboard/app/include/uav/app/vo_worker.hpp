@@ -28,7 +28,6 @@ struct VoWorkerParams {
 class VoWorker : public VisionWorker {
  public:
   VoWorker(hal::StereoCamera& camera, Blackboard& board, const VoWorkerParams& params);
-  void Begin(int64_t utime) override;
   void Work(Outbox& out) override;
   int frames() const { return frames_; }
   int unhealthy() const { return unhealthy_; }
@@ -38,8 +37,6 @@ class VoWorker : public VisionWorker {
 
  private:
   hal::StereoCamera& camera_;
-  int64_t utime_ = 0;
-  BlackboardData at_begin_;  // the board at the exposure
   VoWorkerParams params_;
   vision::StereoRectifier rectifier_;
   vision::StereoVo vo_;
