@@ -155,10 +155,10 @@ TEST(LockstepScheduler, ASlowVisionWorkerDoesNotDelayControl) {
   EXPECT_GT(health[0].latency_p50_ms, 65.0);
 }
 
-// A worker that hangs: at a fixed latency the clock waits for it a second of wall time, then calls
-// it stalled and carries on; control keeps running and later frames are dropped.
+// A worker that hangs: at a fixed latency the clock waits for it (here a second of wall time),
+// then calls it stalled and carries on; control keeps running and later frames are dropped.
 TEST(LockstepScheduler, AStalledWorkerIsReportedAndTheClockCarriesOn) {
-  LockstepScheduler s({0, 2000, 0.0, 600000});
+  LockstepScheduler s({0, 2000, 0.0, 600000, 1'000'000});
   std::atomic<bool> release{false};
   std::atomic<int> control_ticks{0};
   std::vector<SensingWorker> during;

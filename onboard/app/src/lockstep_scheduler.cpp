@@ -81,8 +81,17 @@ LockstepScheduler::~LockstepScheduler() {
   for (auto& v : vision_) v->wake.notify_all();
   for (auto& w : workers_)
     if (w->thread.joinable()) w->thread.join();
-  for (auto& v : vision_)
-    if (v->thread.joinable()) v->thread.join();
+  for (auto& v : vision_) {
+    if (!v->thread.joinable()) continue;
+    // A worker still inside its work after Run's last wait has hung: it cannot be joined, and
+    // the process is ending. It is left to the exit (its state is never freed).
+    if (v->in_flight && !v->done.load(std::memory_order_acquire)) {
+      v->thread.detach();
+      v.release();  // NOLINT: deliberately leaked, the hung thread still refers to it
+      continue;
+    }
+    v->thread.join();
+  }
 }
 
 void LockstepScheduler::AddVisionWorker(const std::string& name, const VisionTiming& timing, VisionJob job) {
@@ -133,7 +142,7 @@ void LockstepScheduler::PublishDue(Vision& v, int64_t utime) {
       // Due and not done: the simulated clock waits (that is what keeps a run repeatable), but
       // not for ever: a worker that hangs must not take the vehicle with it.
       std::unique_lock<std::mutex> lock(mutex_);
-      if (!vision_done_.wait_for(lock, std::chrono::microseconds(kLateWaitWallUs),
+      if (!vision_done_.wait_for(lock, std::chrono::microseconds(options_.late_wait_wall_us),
                                  [&] { return v.done.load(std::memory_order_acquire); })) {
         lock.unlock();
         std::lock_guard<std::mutex> stats(stats_mutex_);
@@ -363,8 +372,9 @@ void LockstepScheduler::Run(const std::function<void(int64_t)>& physics) {
     }
   }
   // Work in flight finishes (a map being written is not cut off); its result is not published.
+  // A worker that hangs is not waited for longer than kExitWaitWall: the vehicle must still stop.
   std::unique_lock<std::mutex> lock(mutex_);
-  vision_done_.wait(lock, [&] {
+  vision_done_.wait_for(lock, std::chrono::microseconds(kExitWaitWallUs), [&] {
     // in_flight is written only on this thread.
     return std::all_of(vision_.begin(), vision_.end(), [](const std::unique_ptr<Vision>& v) {
       return !v->in_flight || v->done.load(std::memory_order_acquire);

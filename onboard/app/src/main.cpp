@@ -43,10 +43,7 @@ double ParseSpeed(const std::string& text) {
   return *v;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App cli{"uav-onboard: onboard flight stack (threads IMU, CTL, SVO, DLG, CMM)"};
+struct CommandLine {
   bool sim = false;
   std::string vehicle_id = "UAV1";
   std::string lcm_url = uav::kDefaultLcmUrl;
@@ -62,163 +59,184 @@ int main(int argc, char** argv) {
   bool insecure = false;
   bool list_params = false;
   std::string benchmark_path;
-  cli.add_flag("--list-params", list_params,
+};
+
+void DeclareOptions(CLI::App& cli, CommandLine& o) {
+  cli.add_flag("--list-params", o.list_params,
                "print every vehicle parameter the program declares (name, default, unit, limits, description) and exit");
-  cli.add_flag("--sim", sim, "run against the simulated quadrotor (thesis 2.4 model)");
-  cli.add_option("--vehicle-id", vehicle_id, "vehicle id; channels are <ID>/<TOPIC>")->capture_default_str();
-  cli.add_option("--lcm-url", lcm_url, "LCM URL")->capture_default_str();
-  cli.add_option("--speed", speed_text, "simulated seconds per wall second, or 'max'")->capture_default_str();
-  cli.add_option("--log-dir", log_dir, "write the CSV flight log into this directory");
-  cli.add_option("--home", home_text, "home position LAT,LON,ALT (deg, deg, m WGS84)")->capture_default_str();
-  cli.add_option("--params", params_path, "vehicle parameter file")->capture_default_str();
-  cli.add_option("--param", param_overrides,
+  cli.add_flag("--sim", o.sim, "run against the simulated quadrotor (thesis 2.4 model)");
+  cli.add_option("--vehicle-id", o.vehicle_id, "vehicle id; channels are <ID>/<TOPIC>")->capture_default_str();
+  cli.add_option("--lcm-url", o.lcm_url, "LCM URL")->capture_default_str();
+  cli.add_option("--speed", o.speed_text, "simulated seconds per wall second, or 'max'")->capture_default_str();
+  cli.add_option("--log-dir", o.log_dir, "write the CSV flight log into this directory");
+  cli.add_option("--home", o.home_text, "home position LAT,LON,ALT (deg, deg, m WGS84)")->capture_default_str();
+  cli.add_option("--params", o.params_path, "vehicle parameter file")->capture_default_str();
+  cli.add_option("--param", o.param_overrides,
                  "override a vehicle-file parameter, NAME=VALUE, checked against its limits (repeatable; e.g. "
                  "wind_speed=5)");
-  cli.add_option("--paths", paths_dir, "directory of stored paths for 'track N'")->capture_default_str();
-  cli.add_option("--scene", scene_path,
-                 "simulated world (resources/scenes/*.scene.json): renders the scene's cameras; the downward "
-                 "camera streams to the GCS and records survey captures into LOG_DIR/captures_<utime>, the "
-                 "stereo pair measures the nearest obstacle ahead");
+  cli.add_option("--paths", o.paths_dir, "directory of stored paths for 'track N'")->capture_default_str();
+  cli.add_option("--scene", o.scene_path,
+                 "simulated world (resources/scenes/*.scene.json): renders the scene's cameras and runs the vision "
+                 "workers the vehicle file puts on them; the downward camera streams to the GCS and records survey "
+                 "captures into LOG_DIR/captures_<utime>");
   auto* key_option = cli.add_option(
-      "--key", key_path,
+      "--key", o.key_path,
       "signing key (uav-keygen FILE, mode 0600): only commands, missions, targets, file requests and GCS "
       "heartbeats signed with it are executed; the newest accepted timestamp is kept in FILE.last");
-  cli.add_flag("--insecure", insecure, "no signing key: execute unsigned messages from anyone on the network")
+  cli.add_flag("--insecure", o.insecure, "no signing key: execute unsigned messages from anyone on the network")
       ->excludes(key_option);
-  cli.add_option("--sensing-benchmark", benchmark_path,
+  cli.add_option("--sensing-benchmark", o.benchmark_path,
                  "at exit, write the sensing benchmark (JSON: each vision worker's rate against its camera's, latency, "
                  "drops; the control loop's period; CPU use) to this file, '-' for stdout (needs --scene)");
-  cli.add_option("--duration", duration_s, "stop after this many simulated seconds (0: run until signalled)")
+  cli.add_option("--duration", o.duration_s, "stop after this many simulated seconds (0: run until signalled)")
       ->check(CLI::Range(0.0, 1e7));
+}
+
+// Throws std::invalid_argument naming what is wrong with the command line.
+void Check(const CommandLine& o) {
+  if (!o.sim) throw std::invalid_argument("no hardware backend in this build: use --sim");
+  if (!o.benchmark_path.empty() && o.scene_path.empty())
+    throw std::invalid_argument("--sensing-benchmark measures the vision workers: give a --scene with cameras");
+  if (!uav::IsValidVehicleId(o.vehicle_id))
+    throw std::invalid_argument("--vehicle-id must be 1-32 characters of [A-Za-z0-9_-], got '" + o.vehicle_id + "'");
+  if (o.key_path.empty() && !o.insecure)
+    throw std::invalid_argument("give --key FILE (make one with uav-keygen FILE) or, to accept unsigned "
+                                "commands from anyone on the network, --insecure");
+}
+
+Eigen::Isometry3d TruthPoseOf(const uav::sim::SimVehicle& vehicle) {
+  const auto s = vehicle.TruthState();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = s.q_NB.toRotationMatrix();
+  T.translation() = s.p_N;
+  return T;
+}
+
+// Blocks SIGINT and SIGTERM in every thread; a dedicated thread waits for them and stops `scheduler`.
+sigset_t BlockTerminationSignals() {
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  return signals;
+}
+
+void StopOnSignal(sigset_t signals, uav::app::LockstepScheduler& scheduler) {
+  std::thread([signals, &scheduler] {
+    int sig = 0;
+    sigwait(&signals, &sig);
+    scheduler.Stop();
+  }).detach();
+}
+
+// The five threads of Table 2.1, the scene's sensing, and the simulated vehicle, until the
+// duration has passed or a signal came.
+int Fly(const CommandLine& o) {
+  const double speed = ParseSpeed(o.speed_text);
+  const uav::GeodeticPoint home = ParseHome(o.home_text);
+  uav::ParameterSet params = uav::ParameterSet::LoadFile(o.params_path, uav::VehicleParameterSchema());
+  for (const auto& assignment : o.param_overrides) params = params.WithAssignment(assignment);
+  const auto vehicle_params = uav::hal::VehicleParams::FromParameters(params);
+  const sigset_t signals = BlockTerminationSignals();
+
+  const int64_t start = uav::WallTimeMicros();
+  constexpr int64_t kStepUs = 2000;      // physics at 500 Hz
+  constexpr int64_t kPeriodUs = 20000;   // threads at 50 Hz (thesis 2.3.2)
+  uav::sim::SimVehicle vehicle(params, home, start);
+  uav::app::Blackboard board;
+  uav::app::ImuWorker imu(vehicle, board, uav::nav::InsParams::FromParameters(params), home);
+  uav::app::MissionStore missions(o.paths_dir, home, params.Get("ctl_speed_max_xy"));
+  uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
+                              uav::control::ControllerParams::FromParameters(params),
+                              uav::control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6, board, &missions);
+  uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"), vehicle_params.attitude_mode);
+  std::unique_ptr<uav::app::FlightLog> log;
+  if (!o.log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(o.log_dir, start, vehicle_params.attitude_mode, home);
+  const std::string log_path = log ? log->path() : "";
+  uav::app::LogWorker dlg(std::move(log), board);
+  std::unique_ptr<uav::app::EventLog> events;
+  if (!o.log_dir.empty()) events = std::make_unique<uav::app::EventLog>(o.log_dir, start);
+  const std::string events_path = events ? events->path() : "";
+  auto link_params = uav::app::LinkParams::FromParameters(params, vehicle_params.attitude_mode);
+  link_params.sim_rate_asked = speed;
+  if (!o.key_path.empty()) {
+    link_params.signing_key = uav::SigningKey::LoadFile(o.key_path);
+    link_params.signing_state_file = o.key_path + ".last";
+  }
+  uav::app::LinkWorker cmm(o.vehicle_id, o.lcm_url, link_params, board, missions, std::move(events));
+
+  std::unique_ptr<uav::world::Scene> scene;
+  std::unique_ptr<uav::app::Sensing> sensing;
+  if (!o.scene_path.empty()) {
+    scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(o.scene_path));
+    // At real time the vision results are as late as their work takes; on a simulated clock
+    // the vehicle file's latencies keep a run repeatable.
+    sensing = std::make_unique<uav::app::Sensing>(*scene, params, board,
+                                                  uav::app::Sensing::Options{o.log_dir, start, home, speed == 1.0});
+    sensing->RecordTruth(start, TruthPoseOf(vehicle));
+  }
+
+  uav::app::LockstepScheduler scheduler({start, kStepUs, speed, static_cast<int64_t>(o.duration_s * 1e6)});
+  scheduler.AddWorker("IMU", 0, kPeriodUs, [&](int64_t t) { imu.Tick(t); });
+  scheduler.AddWorker("CTL", 1, kPeriodUs, [&](int64_t t) { ctl.Tick(t); });
+  scheduler.AddWorker("SVO", 2, kPeriodUs, [&](int64_t t) { svo.Tick(t); });
+  scheduler.AddWorker("DLG", 3, kPeriodUs, [&](int64_t t) { dlg.Tick(t); });
+  scheduler.AddWorker("CMM", 3, kPeriodUs, [&](int64_t t) { cmm.Tick(t); });
+  if (sensing) sensing->AddTo(scheduler, kStepUs);
+  StopOnSignal(signals, scheduler);
+
+  const std::string signing = link_params.signing_key ? "signed with key " + link_params.signing_key->Id()
+                                                      : "INSECURE (unsigned commands from anyone are executed)";
+  std::printf("uav-onboard: vehicle %s, simulated quadrotor, speed %s, LCM %s, %s%s%s%s%s\n", o.vehicle_id.c_str(),
+              o.speed_text.c_str(), o.lcm_url.c_str(), signing.c_str(), log_path.empty() ? "" : ", log ",
+              log_path.c_str(), events_path.empty() ? "" : ", events ", events_path.c_str());
+  std::fflush(stdout);
+  // Indoors (a scene without sky) the receiver never has a fix, whatever "gps 1" asks.
+  const bool sky_view = !scene || scene->sky();
+  bool gps_enabled = sky_view;
+  vehicle.SetGpsEnabled(gps_enabled);
+  if (!sky_view) board.PushStatus(uav::Severity::kWarning, "simulator: indoors, no GPS fix");
+  scheduler.Run([&](int64_t dt) {
+    // The simulator's faults, commanded like everything else ("gps 0").
+    if (const bool want = board.Snapshot().sim_gps_enabled && sky_view; want != gps_enabled) {
+      vehicle.SetGpsEnabled(want);
+      gps_enabled = want;
+      board.PushStatus(want ? uav::Severity::kInfo : uav::Severity::kWarning,
+                       want ? "simulator: GPS fix restored" : "simulator: GPS fix lost");
+    }
+    vehicle.Step(dt);
+    if (sensing) {
+      // The state after the step is the truth at the next tick, recorded before any camera asks.
+      sensing->RecordTruth(scheduler.now() + dt, TruthPoseOf(vehicle));
+      sensing->Monitor(scheduler.now(), scheduler);
+    }
+  });
+  const double simulated_s = (scheduler.now() - start) * 1e-6;
+  if (sensing && !o.benchmark_path.empty()) {
+    const std::string json = sensing->BenchmarkJson(scheduler, speed, simulated_s, (uav::WallTimeMicros() - start) * 1e-6);
+    if (o.benchmark_path == "-") std::fputs(json.c_str(), stdout);
+    else uav::WriteFileAtomically(o.benchmark_path, json);
+  }
+  std::printf("uav-onboard: stopped after %.1f s simulated%s\n", simulated_s, sensing ? sensing->Summary().c_str() : "");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{"uav-onboard: onboard flight stack (threads IMU, CTL, SVO, DLG, CMM, and the vision workers)"};
+  CommandLine options;
+  DeclareOptions(cli, options);
   uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
-  if (list_params) {
+  if (options.list_params) {
     std::cout << uav::DescribeSchema(uav::VehicleParameterSchema());
     return 0;
   }
-
   try {
-    if (!sim) throw std::invalid_argument("no hardware backend in this build: use --sim");
-    if (!benchmark_path.empty() && scene_path.empty())
-      throw std::invalid_argument("--sensing-benchmark measures the vision workers: give a --scene with cameras");
-    if (!uav::IsValidVehicleId(vehicle_id))
-      throw std::invalid_argument("--vehicle-id must be 1-32 characters of [A-Za-z0-9_-], got '" +
-                                  vehicle_id + "'");
-    if (key_path.empty() && !insecure)
-      throw std::invalid_argument("give --key FILE (make one with uav-keygen FILE) or, to accept unsigned "
-                                  "commands from anyone on the network, --insecure");
-    const double speed = ParseSpeed(speed_text);
-    const uav::GeodeticPoint home = ParseHome(home_text);
-    uav::ParameterSet params = uav::ParameterSet::LoadFile(params_path, uav::VehicleParameterSchema());
-    for (const auto& o : param_overrides) params = params.WithAssignment(o);
-    const auto vehicle_params = uav::hal::VehicleParams::FromParameters(params);
-
-    // Block termination signals in every thread; a dedicated thread waits for them.
-    sigset_t signals;
-    sigemptyset(&signals);
-    sigaddset(&signals, SIGINT);
-    sigaddset(&signals, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
-
-    const int64_t start = uav::WallTimeMicros();
-    const int64_t wall_start = start;
-    constexpr int64_t kStepUs = 2000;      // physics at 500 Hz
-    constexpr int64_t kPeriodUs = 20000;   // threads at 50 Hz (thesis 2.3.2)
-    uav::sim::SimVehicle vehicle(params, home, start);
-    uav::app::Blackboard board;
-    uav::app::ImuWorker imu(vehicle, board, uav::nav::InsParams::FromParameters(params), home);
-    uav::app::MissionStore missions(paths_dir, home, params.Get("ctl_speed_max_xy"));
-    uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
-                                uav::control::ControllerParams::FromParameters(params),
-                                uav::control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6,
-                                board, &missions);
-    uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"), vehicle_params.attitude_mode);
-    std::unique_ptr<uav::app::FlightLog> log;
-    if (!log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(log_dir, start, vehicle_params.attitude_mode, home);
-    const std::string log_path = log ? log->path() : "";
-    uav::app::LogWorker dlg(std::move(log), board);
-    std::unique_ptr<uav::app::EventLog> events;
-    if (!log_dir.empty()) events = std::make_unique<uav::app::EventLog>(log_dir, start);
-    const std::string events_path = events ? events->path() : "";
-    auto link_params = uav::app::LinkParams::FromParameters(params, vehicle_params.attitude_mode);
-    link_params.sim_rate_asked = speed;
-    if (!key_path.empty()) {
-      link_params.signing_key = uav::SigningKey::LoadFile(key_path);
-      link_params.signing_state_file = key_path + ".last";
-    }
-    uav::app::LinkWorker cmm(vehicle_id, lcm_url, link_params, board, missions, std::move(events));
-
-    std::unique_ptr<uav::world::Scene> scene;
-    std::unique_ptr<uav::app::Sensing> sensing;
-    if (!scene_path.empty()) {
-      scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(scene_path));
-      // At real time the vision results are as late as their work takes; on a simulated clock
-      // the vehicle file's latencies keep a run repeatable.
-      sensing = std::make_unique<uav::app::Sensing>(*scene, params, board,
-                                                    uav::app::Sensing::Options{log_dir, start, home, speed == 1.0});
-    }
-    auto truth_T_NB = [&vehicle] {
-      const auto s = vehicle.TruthState();
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      T.linear() = s.q_NB.toRotationMatrix();
-      T.translation() = s.p_N;
-      return T;
-    };
-    if (sensing) sensing->RecordTruth(start, truth_T_NB());
-
-    uav::app::LockstepScheduler scheduler(
-        {start, kStepUs, speed, static_cast<int64_t>(duration_s * 1e6)});
-    scheduler.AddWorker("IMU", 0, kPeriodUs, [&](int64_t t) { imu.Tick(t); });
-    scheduler.AddWorker("CTL", 1, kPeriodUs, [&](int64_t t) { ctl.Tick(t); });
-    scheduler.AddWorker("SVO", 2, kPeriodUs, [&](int64_t t) { svo.Tick(t); });
-    scheduler.AddWorker("DLG", 3, kPeriodUs, [&](int64_t t) { dlg.Tick(t); });
-    scheduler.AddWorker("CMM", 3, kPeriodUs, [&](int64_t t) { cmm.Tick(t); });
-    if (sensing) sensing->AddTo(scheduler, kStepUs);
-
-    std::thread signal_waiter([&] {
-      int sig = 0;
-      sigwait(&signals, &sig);
-      scheduler.Stop();
-    });
-    signal_waiter.detach();
-
-    const std::string signing = link_params.signing_key
-                                    ? "signed with key " + link_params.signing_key->Id()
-                                    : "INSECURE (unsigned commands from anyone are executed)";
-    std::printf("uav-onboard: vehicle %s, simulated quadrotor, speed %s, LCM %s, %s%s%s%s%s\n",
-                vehicle_id.c_str(), speed_text.c_str(), lcm_url.c_str(), signing.c_str(),
-                log_path.empty() ? "" : ", log ", log_path.c_str(),
-                events_path.empty() ? "" : ", events ", events_path.c_str());
-    std::fflush(stdout);
-    // Indoors (a scene without sky) the receiver never has a fix, whatever "gps 1" asks.
-    const bool sky_view = !scene || scene->sky();
-    bool gps_enabled = sky_view;
-    vehicle.SetGpsEnabled(gps_enabled);
-    if (!sky_view) board.PushStatus(uav::Severity::kWarning, "simulator: indoors, no GPS fix");
-    scheduler.Run([&](int64_t dt) {
-      // The simulator's faults, commanded like everything else ("gps 0").
-      if (const bool want = board.Snapshot().sim_gps_enabled && sky_view; want != gps_enabled) {
-        vehicle.SetGpsEnabled(want);
-        gps_enabled = want;
-        board.PushStatus(want ? uav::Severity::kInfo : uav::Severity::kWarning,
-                         want ? "simulator: GPS fix restored" : "simulator: GPS fix lost");
-      }
-      vehicle.Step(dt);
-      if (sensing) {
-        // The state after the step is the truth at the next tick, recorded before any camera asks.
-        sensing->RecordTruth(scheduler.now() + dt, truth_T_NB());
-        sensing->Monitor(scheduler.now(), scheduler);
-      }
-    });
-    const std::string cameras = sensing ? sensing->Summary() : "";
-    if (sensing && !benchmark_path.empty()) {
-      const std::string json = sensing->BenchmarkJson(scheduler, speed, (scheduler.now() - start) * 1e-6,
-                                                      (uav::WallTimeMicros() - wall_start) * 1e-6);
-      if (benchmark_path == "-") std::fputs(json.c_str(), stdout);
-      else uav::WriteFileAtomically(benchmark_path, json);
-    }
-    std::printf("uav-onboard: stopped after %.1f s simulated%s\n", (scheduler.now() - start) * 1e-6, cameras.c_str());
-    return 0;
+    Check(options);
+    return Fly(options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "uav-onboard: %s\n", e.what());
     return 2;

@@ -48,6 +48,7 @@ struct Sensing::Impl {
   int stereo_rig = -1, active_stereo_rig = -1, vo_rig = -1;  // which rig each runs on
   // The vehicle file's latencies [us] by worker (0: measured).
   std::map<std::string, int64_t> latency_us;
+  bool measured = false;  // latencies measured (real time), not the vehicle file's
   int64_t last_monitor_utime = -1;
   struct Announced {
     bool healthy = true;          // what the operator was last told
@@ -69,6 +70,7 @@ Sensing::Sensing(const world::Scene& scene, const ParameterSet& params, Blackboa
   if (!scene.downward_camera() && !scene.stereo_camera() && !scene.gimbal_camera())
     throw std::invalid_argument("the scene declares no camera");
   const bool measured = options.measured_latency || params.Get("vis_measured") != 0.0;
+  s.measured = measured;
   s.latency_us = {{"CAM", LatencyUs(params, "cam_latency", measured)},
                   {"STITCH", LatencyUs(params, "map_latency", measured)},
                   {"TRK", LatencyUs(params, "trk_latency", measured)},
@@ -184,9 +186,11 @@ void Sensing::ChooseRate(int64_t utime, SensingWorker& w, LockstepScheduler& sch
   // only every k-th frame of its camera, k = the camera's rate over what it achieved (rounded up,
   // at most kMaxDecimation), so its frames are evenly spaced and it is healthy at a rate it holds.
   // With room to spare (compute under 60 % of the next faster period) it steps back up.
+  // Only where latencies are measured (real time): on a simulated clock the vehicle file's
+  // latencies decide which frames are dropped, the same in every run.
   constexpr int kMaxDecimation = 8;
   constexpr int64_t kDecideEveryUs = 2'000'000;
-  if (w.camera_rate_hz <= 0) return;
+  if (w.camera_rate_hz <= 0 || !impl_->measured) return;
   Impl::RateChoice& c = impl_->rates[w.name];
   if (c.decided_utime < 0) c.decided_utime = utime;
   if (utime - c.decided_utime >= kDecideEveryUs) {
@@ -219,7 +223,7 @@ void Sensing::Monitor(int64_t utime, LockstepScheduler& scheduler) {
   s.last_monitor_utime = utime;
   SensingReport report;
   report.utime = utime;
-  report.measured_latency = std::all_of(s.latency_us.begin(), s.latency_us.end(), [](const auto& l) { return l.second == 0; });
+  report.measured_latency = s.measured;
   const PeriodStats control = scheduler.Period("CTL");
   report.control_period_p50_ms = control.p50_ms;
   report.control_period_p99_ms = control.p99_ms;
@@ -252,9 +256,7 @@ std::string Sensing::BenchmarkJson(const LockstepScheduler& scheduler, double sp
   j["speed"] = speed;
   j["simulated_s"] = simulated_s;
   j["wall_s"] = wall_s;
-  j["latency"] = std::all_of(s.latency_us.begin(), s.latency_us.end(), [](const auto& l) { return l.second == 0; })
-                     ? "measured"
-                     : "vehicle file";
+  j["latency"] = s.measured ? "measured" : "vehicle file";
   const PeriodStats control = scheduler.Period("CTL");
   j["control_period_ms"] = {{"nominal", 20.0}, {"p50", control.p50_ms}, {"p99", control.p99_ms},
                             {"max", control.max_ms}, {"samples", control.samples}};

@@ -8,8 +8,8 @@
 // while the result is not yet due. A frame that comes while its worker is busy is dropped and
 // counted, as a camera driver does. A result becomes visible at capture time plus a latency:
 // fixed (deterministic on a simulated clock: the clock waits for a late result at its due time,
-// at most kLateWaitWall, then carries on and calls the worker stalled) or measured (visible at
-// the first tick after the work is done: real time).
+// at most Options::late_wait_wall_us, then carries on and calls the worker stalled) or measured
+// (visible at the first tick after the work is done: real time).
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -52,6 +52,10 @@ class LockstepScheduler {
     int64_t step_us = 2000;       // [us] physics step; worker periods must be multiples of it
     double speed = 1.0;           // sim seconds per wall second; <= 0 runs as fast as possible
     int64_t duration_us = 0;      // [us] stop after this much simulated time; 0 = until Stop()
+    // [us] wall time the clock waits for a fixed-latency result that is due and not done before
+    // calling its worker stalled. Long: a loaded machine must not be taken for a hung worker (the
+    // simulated vehicle does not move while the clock waits), or runs would not repeat.
+    int64_t late_wait_wall_us = 10'000'000;
   };
 
   explicit LockstepScheduler(const Options& options);
@@ -78,8 +82,8 @@ class LockstepScheduler {
   std::vector<SensingWorker> VisionHealth() const;
   PeriodStats Period(const std::string& worker) const;
 
-  // How long the clock waits for a result due and not done before calling its worker stalled.
-  static constexpr int64_t kLateWaitWallUs = 1'000'000;
+  // How long Run, at its end, waits for the work in flight (a map being finished) to return.
+  static constexpr int64_t kExitWaitWallUs = 120'000'000;
 
   // Drives the clock on the calling thread: per step, due workers then `physics(dt_us)`.
   // Returns when the duration has elapsed or Stop() was called.
