@@ -30,6 +30,9 @@ static_assert(W(Severity::kError) == T::SEVERITY_ERROR && W(Severity::kWarning) 
 static_assert(W(AttitudeMode::kDirect) == S::ATTITUDE_DIRECT && W(AttitudeMode::kGyroHover) == S::ATTITUDE_GYRO_HOVER &&
               W(AttitudeMode::kGyroCruise) == S::ATTITUDE_GYRO_CRUISE);
 static_assert(W(FlightMode::kManual) == S::MODE_MANUAL && W(FlightMode::kAuto) == S::MODE_AUTO);
+static_assert(W(AvoidState::kOff) == S::AVOID_OFF && W(AvoidState::kClear) == S::AVOID_CLEAR &&
+              W(AvoidState::kAvoiding) == S::AVOID_AVOIDING && W(AvoidState::kBlocked) == S::AVOID_BLOCKED &&
+              W(AvoidState::kNoPath) == S::AVOID_NO_PATH && W(AvoidState::kNoData) == S::AVOID_NO_DATA);
 
 // One table per enum: value and name, in wire order. Name(), FromWire() and FromName() read it.
 template <class E>
@@ -56,6 +59,9 @@ constexpr Entry<AttitudeMode> kAttitudeModes[] = {{AttitudeMode::kDirect, "direc
                                                   {AttitudeMode::kGyroHover, "gyro_hover"},
                                                   {AttitudeMode::kGyroCruise, "gyro_cruise"}};
 constexpr Entry<FlightMode> kFlightModes[] = {{FlightMode::kManual, "manual"}, {FlightMode::kAuto, "auto"}};
+constexpr Entry<AvoidState> kAvoidStates[] = {{AvoidState::kOff, "off"},         {AvoidState::kClear, "clear"},
+                                              {AvoidState::kAvoiding, "avoiding"}, {AvoidState::kBlocked, "blocked"},
+                                              {AvoidState::kNoPath, "no_path"},    {AvoidState::kNoData, "no_data"}};
 
 template <class E, std::size_t N>
 std::string_view NameIn(const Entry<E> (&table)[N], E v) {
@@ -84,12 +90,14 @@ std::string_view Name(FailsafeAction v) { return NameIn(kFailsafes, v); }
 std::string_view Name(Severity v) { return NameIn(kSeverities, v); }
 std::string_view Name(AttitudeMode v) { return NameIn(kAttitudeModes, v); }
 std::string_view Name(FlightMode v) { return NameIn(kFlightModes, v); }
+std::string_view Name(AvoidState v) { return NameIn(kAvoidStates, v); }
 std::optional<Task> TaskFromWire(int v) { return FromWireIn(kTasks, v); }
 std::optional<CommandResult> CommandResultFromWire(int v) { return FromWireIn(kResults, v); }
 std::optional<FailsafeAction> FailsafeFromWire(int v) { return FromWireIn(kFailsafes, v); }
 std::optional<Severity> SeverityFromWire(int v) { return FromWireIn(kSeverities, v); }
 std::optional<AttitudeMode> AttitudeModeFromWire(int v) { return FromWireIn(kAttitudeModes, v); }
 std::optional<FlightMode> FlightModeFromWire(int v) { return FromWireIn(kFlightModes, v); }
+std::optional<AvoidState> AvoidStateFromWire(int v) { return FromWireIn(kAvoidStates, v); }
 std::optional<Task> TaskFromName(std::string_view n) { return FromNameIn(kTasks, n); }
 std::optional<CommandResult> CommandResultFromName(std::string_view n) { return FromNameIn(kResults, n); }
 

@@ -205,6 +205,23 @@ const ParameterSchema& VehicleParameterSchema() {
     {"trk_latency", "ms", 40, 0, 1000, "gimbal frame to its tracked target"},
     {"mdp_latency", "ms", 60, 0, 1000, "frame to its depth-from-motion grid"},
     {"map_latency", "ms", 0, 0, 10000, "survey captures to their live map tiles (0: when stitched)"},
+    // --- Obstacle avoidance (AVD thread and the safety layer in CTL, thesis 7.2) ---
+    {"avd_enable", "-", 0, 0, 1, "1: every task that moves the vehicle goes through the 3-D map, the planner and the safety layer (needs a stereo rig for obstacles)"},
+    {"avd_body_radius", "m", 0.5, 0.05, 5, "the airframe's radius, propellers included; the planner keeps this plus obs_margin from what it senses"},
+    {"avd_brake_accel", "m/s^2", 2.5, 0.5, 10, "deceleration the speed limit counts on: the vehicle can always stop within the space it has seen"},
+    {"avd_reaction", "s", 0.3, 0, 2, "control and attitude lag before braking bites, added to the perception's age"},
+    {"avd_stale", "s", 0.5, 0.1, 5, "perception or plan older than this: brake and hold"},
+    {"avd_rate", "Hz", 10, 1, 50, "replanning rate"},
+    {"avd_latency", "ms", 30, 0, 1000, "a plan reaches control this long after it was started (simulated clock; measured at --speed 1)"},
+    {"avd_window", "m", 16, 4, 50, "half width of the planning window around the vehicle"},
+    {"avd_window_up", "m", 4, 1, 20, "half height of the planning window"},
+    {"avd_grid", "m", 0.4, 0.1, 2, "planning cell"},
+    {"avd_map_res", "m", 0.2, 0.05, 2, "3-D map cell (OctoMap resolution)"},
+    {"avd_map_cells", "-", 2000000, 10000, 50000000, "3-D map memory bound in leaves: past it the cells farthest from the vehicle are dropped"},
+    {"avd_min_alt", "m", 1.5, 0.5, 100, "lowest altitude a detour may take"},
+    {"avd_lookahead", "m", 3, 0.5, 20, "the position reference leads the vehicle along the detour by this"},
+    {"avd_hysteresis", "-", 0.15, 0, 2, "a detour being flown is kept unless a new one is this fraction shorter (no left/right flips)"},
+    {"avd_yaw_rate", "deg/s", 60, 5, 360, "turn rate toward the way the vehicle flies (the forward cameras look ahead)"},
     {"fs_nav_land_s", "s", 5, 0, 60, "no position source (GPS lost, VO unhealthy): hold this long, then land"},
   }};
   return kSchema;

@@ -69,6 +69,10 @@ const std::vector<Signal<VehicleState>>& VehicleStateSignals() {
       // uav-sysid reads these two to cut the log into chirps and pick the model structure.
       {{"chirp", "chirp_channel", "1", "", F::kInteger}, [](const S& s) { return double(s.chirp_channel); }},
       {{"att_mode", "attitude_mode", "1", "", F::kAttitudeMode}, [](const S& s) { return double(static_cast<int>(s.attitude_mode)); }},
+      {{"avoid", "avoid_state", "1", "", F::kAvoidState}, [](const S& s) { return double(static_cast<int>(s.avoid_state)); }},
+      {{"avoid_speed", "avoid_speed_limit_m_s", "m/s", "N", F::kSpeed}, [](const S& s) { return s.avoid_speed_limit_m_s; }},
+      {{"replan_ms", "replan_ms", "ms", "", F::kMilliseconds}, [](const S& s) { return s.replan_ms; }},
+      {{"clearance_m", "sim_clearance_m", "m", "truth", F::kMetres}, [](const S& s) { return s.sim_clearance_m; }},
   };
   return kSignals;
 }
@@ -105,6 +109,7 @@ std::string FormatForDisplay(const SignalDef& d, double si) {
     case F::kFailsafe: return FailsafeFromWire(i) ? std::string(Name(*FailsafeFromWire(i))) : "unknown";
     case F::kFlightMode: return FlightModeFromWire(i) ? std::string(Name(*FlightModeFromWire(i))) : "unknown";
     case F::kAttitudeMode: return AttitudeModeFromWire(i) ? std::string(Name(*AttitudeModeFromWire(i))) : "unknown";
+    case F::kAvoidState: return AvoidStateFromWire(i) ? std::string(Name(*AvoidStateFromWire(i))) : "unknown";
     case F::kInteger: std::snprintf(buf, sizeof buf, "%d", i); return buf;
     case F::kLatLon: std::snprintf(buf, sizeof buf, "%.7f deg", v); return buf;
     case F::kAngle:
@@ -129,6 +134,7 @@ std::string FormatForLog(const SignalDef& d, double si) {
     case F::kTask:
     case F::kFailsafe:
     case F::kFlightMode:
+    case F::kAvoidState:
     case F::kAttitudeMode: std::snprintf(buf, sizeof buf, "%d", static_cast<int>(std::lround(si))); break;
     default: std::snprintf(buf, sizeof buf, "%.4f", si); break;
   }
@@ -179,6 +185,10 @@ VehicleState FromMessage(const uavmsg::vehicle_state_t& m) {
   s.fence_radius_m = m.fence_radius_m;
   s.fence_alt_m = m.fence_alt_m;
   s.chirp_channel = m.chirp_channel;
+  s.avoid_state = need(AvoidStateFromWire(m.avoid_state), "avoid_state", m.avoid_state);
+  s.avoid_speed_limit_m_s = m.avoid_speed_limit_m_s;
+  s.replan_ms = m.replan_ms;
+  s.sim_clearance_m = m.sim_clearance_m;
   return s;
 }
 
@@ -218,6 +228,10 @@ void ToMessage(const VehicleState& s, uavmsg::vehicle_state_t* m) {
   m->fence_radius_m = static_cast<float>(s.fence_radius_m);
   m->fence_alt_m = static_cast<float>(s.fence_alt_m);
   m->chirp_channel = static_cast<int8_t>(s.chirp_channel);
+  m->avoid_state = static_cast<int8_t>(s.avoid_state);
+  m->avoid_speed_limit_m_s = static_cast<float>(s.avoid_speed_limit_m_s);
+  m->replan_ms = static_cast<float>(s.replan_ms);
+  m->sim_clearance_m = static_cast<float>(s.sim_clearance_m);
 }
 
 }  // namespace uav

@@ -149,7 +149,8 @@ int Fly(const CommandLine& o) {
   uav::app::MissionStore missions(o.paths_dir, home, params.Get("ctl_speed_max_xy"));
   uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
                               uav::control::ControllerParams::FromParameters(params),
-                              uav::control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6, board, &missions);
+                              uav::control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6, board, &missions,
+                              uav::avoid::AvoidanceParams::FromParameters(params));
   uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"), vehicle_params.attitude_mode);
   std::unique_ptr<uav::app::FlightLog> log;
   if (!o.log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(o.log_dir, start, vehicle_params.attitude_mode, home);
@@ -206,6 +207,11 @@ int Fly(const CommandLine& o) {
                        want ? "simulator: GPS fix restored" : "simulator: GPS fix lost");
     }
     vehicle.Step(dt);
+    if (scene && (scheduler.now() - start) % kPeriodUs == 0) {
+      // The true clearance for the flight log (the flight stack never reads it).
+      const double clearance = scene->Clearance(vehicle.TruthState().p_N, (scheduler.now() + dt) * 1e-6);
+      board.Update([&](uav::app::BlackboardData& b) { b.sim_clearance_m = clearance; });
+    }
     if (sensing) {
       // The state after the step is the truth at the next tick, recorded before any camera asks.
       sensing->RecordTruth(scheduler.now() + dt, TruthPoseOf(vehicle));

@@ -34,6 +34,10 @@ VehicleState ReportedState(const BlackboardData& d, const GeodeticPoint& home, A
   s.fence_radius_m = d.fence_radius_m;
   s.fence_alt_m = d.fence_alt_m;
   s.chirp_channel = d.chirp_channel;
+  s.avoid_state = d.avoid_state;
+  s.avoid_speed_limit_m_s = d.avoid_speed_limit;
+  s.replan_ms = d.avoid_plan ? d.avoid_plan->planning_ms : -1.0;
+  s.sim_clearance_m = d.sim_clearance_m;
   return s;
 }
 

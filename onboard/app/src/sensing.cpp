@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "uav/app/active_stereo_worker.hpp"
+#include "uav/app/avoid_worker.hpp"
 #include "uav/app/camera_worker.hpp"
 #include "uav/app/lockstep_scheduler.hpp"
 #include "uav/app/mono_depth_worker.hpp"
@@ -45,6 +46,8 @@ struct Sensing::Impl {
   std::unique_ptr<StereoWorker> stereo;
   std::unique_ptr<ActiveStereoWorker> active_stereo;
   std::unique_ptr<VoWorker> vo;
+  std::unique_ptr<AvoidWorker> avd;  // obstacle avoidance's planner, on what STEREO senses
+  double avd_rate_hz = 10.0;
   int stereo_rig = -1, active_stereo_rig = -1, vo_rig = -1;  // which rig each runs on
   // The vehicle file's latencies [us] by worker (0: measured).
   std::map<std::string, int64_t> latency_us;
@@ -77,7 +80,8 @@ Sensing::Sensing(const world::Scene& scene, const ParameterSet& params, Blackboa
                   {"MDEPTH", LatencyUs(params, "mdp_latency", measured)},
                   {"STEREO", LatencyUs(params, "obs_latency", measured)},
                   {"ASTEREO", LatencyUs(params, "asv_latency", measured)},
-                  {"VO", LatencyUs(params, "vo_latency", measured)}};
+                  {"VO", LatencyUs(params, "vo_latency", measured)},
+                  {"AVD", LatencyUs(params, "avd_latency", measured)}};
   // Cameras see the world from the true pose at their exposure, as real ones do.
   const sim::TruthPose truth = s.truth.Lookup();
   if (scene.downward_camera()) {
@@ -142,6 +146,13 @@ void Sensing::BuildStereo(const world::Scene& scene, const ParameterSet& params)
     if (k != s.active_stereo_rig && k != s.vo_rig) s.stereo_rig = k;
   if (s.stereo_rig >= 0)
     s.stereo = std::make_unique<StereoWorker>(*s.stereo_rigs[s.stereo_rig], s.board, StereoWorkerParams::FromParameters(params));
+  const auto avd = avoid::AvoidanceParams::FromParameters(params);
+  if (avd.enabled && !s.stereo)
+    throw std::invalid_argument("avd_enable 1 needs a stereo rig for obstacles (obs_rig): every one is taken by odometry or active stereo");
+  s.avd_rate_hz = avd.rate_hz;
+  if (avd.enabled)
+    s.avd = std::make_unique<AvoidWorker>(
+        s.board, avd, s.options.log_dir.empty() ? "" : s.options.log_dir + "/map_" + std::to_string(s.options.start_utime) + ".bt");
 }
 
 Sensing::~Sensing() = default;
@@ -164,6 +175,7 @@ void Sensing::AddTo(LockstepScheduler& scheduler, int64_t step_us) {
   if (s.stitch) add("STITCH", *s.stitch, {100'000, 0, 0, false, 120'000'000, s.downward_camera->info().name});
   if (s.trk) add("TRK", *s.trk, {period(s.gimbal_camera->info().rate_hz), 0, 0, true, 1'000'000, s.gimbal_camera->info().name});
   if (s.mdepth) add("MDEPTH", *s.mdepth, {period(s.mdepth->rate_hz()), 0, 0, true, 1'000'000, s.mdepth->camera()});
+  if (s.avd) add("AVD", *s.avd, {period(impl_->avd_rate_hz), 0, 0, true, 1'000'000, ""});
   // Each rig's exposures go round its algorithms in turn: active stereo, odometry, obstacles.
   for (int k = 0; k < static_cast<int>(s.stereo_rigs.size()); ++k) {
     std::vector<std::pair<std::string, VisionWorker*>> on_rig;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include "uav/shared/frames.hpp"
 
 namespace uav::app {
@@ -36,6 +38,7 @@ StereoWorkerParams StereoWorkerParams::FromParameters(const ParameterSet& p) {
   s.obstacles.min_cluster_voxels = static_cast<int>(p.Get("obs_min_voxels"));
   s.obstacles.Validate();
   s.cloud_rate_hz = p.Get("obs_cloud_rate");
+  s.to_map = p.Get("avd_enable") != 0.0;
   return s;
 }
 
@@ -45,6 +48,7 @@ StereoWorker::StereoWorker(hal::StereoCamera& camera, Blackboard& board, const S
       rectifier_(RigOf(camera)),
       obstacles_(rectifier_.geometry(), params.obstacles),
       cloud_rate_hz_(params.cloud_rate_hz),
+      to_map_(params.to_map),
       preview_(camera.left().name, camera.left().preview_rate_hz) {
   if (params.power_lines) power_lines_.emplace(RigOf(camera), vision::PowerLineParams(), params.ranging);
 }
@@ -78,8 +82,12 @@ void StereoWorker::Work(Outbox& out) {
   out.Post([range_m](Blackboard& b) { b.Update([&](BlackboardData& d) { d.obstacle_range_m = range_m; }); });
   ReportObstacles(utime, found, T_NB, out);
   if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.PutPreview(f); });
-  if (power_lines_)
-    ReportPowerLines(power_lines_->ProcessRectified(left_rect, right_rect), pair.left.size(), utime, T_NB, out);
+  std::vector<vision::Wire3D> wires;
+  if (power_lines_) {
+    wires = power_lines_->ProcessRectified(left_rect, right_rect);
+    ReportPowerLines(wires, pair.left.size(), utime, T_NB, out);
+  }
+  if (to_map_) ReportToMap(utime, found, wires, T_NB, out);
   ++frames_;
 }
 
@@ -191,6 +199,36 @@ void StereoWorker::ReportPowerLines(const std::vector<vision::Wire3D>& wires, co
     b.Update([&](BlackboardData& d) { d.nearest_wire_m = report.nearest_m; });
     b.PutPowerLines(report);
   });
+}
+
+void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& found, const std::vector<vision::Wire3D>& wires,
+                               const Eigen::Isometry3d& T_NB, Outbox& out) const {
+  // Rays for the map: at most this many points per pair, evenly spread over the image's (the
+  // map's cells are 20 cm: more rays only repeat the same cells).
+  constexpr std::size_t kMaxRays = 6000;
+  const Eigen::Isometry3d T_NL = T_NB * camera_.left().T_BC;
+  avoid::PerceptionUpdate u;
+  u.utime = utime;
+  avoid::RangeScan scan;
+  scan.utime = utime;
+  scan.origin_N = T_NL.translation();
+  scan.max_range_m = found.gate_depth_m;
+  const std::size_t stride = std::max<std::size_t>(1, found.points_L.size() / kMaxRays);
+  const Eigen::Isometry3f T = T_NL.cast<float>();
+  for (std::size_t i = 0; i < found.points_L.size(); i += stride) scan.p_N.push_back(T * found.points_L[i]);
+  u.scan = std::move(scan);
+  for (const vision::ObstacleCylinder& c : found.obstacles) {
+    // Grown by one standard deviation of the axis position (its larger axis).
+    const double sigma = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(c.cov_xy).eigenvalues().maxCoeff()));
+    u.cylinders.push_back({c.centre_W.head<2>(), c.top_m, c.bottom_m, c.radius_m + sigma});
+  }
+  const Eigen::Isometry3d T_NLd = T_NL;
+  for (const vision::Wire3D& w : wires) {
+    std::vector<Eigen::Vector3d> p_N;
+    for (const Eigen::Vector3d& p_L : w.p_L) p_N.push_back(T_NLd * p_L);
+    u.wires.push_back(std::move(p_N));
+  }
+  out.Post([u = std::move(u)](Blackboard& b) { b.PushPerception(u); });
 }
 
 }  // namespace uav::app

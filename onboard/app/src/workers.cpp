@@ -1,5 +1,6 @@
 #include "uav/app/workers.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 
@@ -52,9 +53,45 @@ void ImuWorker::Tick(int64_t utime) {
 ControlWorker::ControlWorker(const control::TaskParams& task_params,
                              const control::ControllerParams& controller_params,
                              const control::FailsafeParams& failsafe_params, double period_s,
-                             Blackboard& board, control::MissionSource* missions)
+                             Blackboard& board, control::MissionSource* missions,
+                             const avoid::AvoidanceParams& avoidance)
     : tasks_(task_params, missions), controller_(controller_params), failsafe_params_(failsafe_params),
-      failsafes_(failsafe_params), period_s_(period_s), board_(board) {}
+      failsafes_(failsafe_params), safety_(avoidance), period_s_(period_s), board_(board) {}
+
+control::Setpoint ControlWorker::Avoid(const control::TaskManager::Output& out, const BlackboardData& d, int64_t utime,
+                                       std::vector<control::TaskReport>* reports) {
+  // Manual flight and failsafe landings are left alone; a failsafe's return goes through it.
+  const std::optional<Eigen::Vector3d> goal = out.airborne ? out.goal_N : std::nullopt;
+  const avoid::SafetyLayer::Output a = safety_.Apply(out.setpoint, goal, d.estimate, d.avoid_plan.get(), utime, period_s_);
+  board_.Update([&](BlackboardData& b) {
+    b.avoid_request.active = a.state != avoid::AvoidState::kOff;
+    if (goal) b.avoid_request.goal_N = *goal, b.avoid_request.via_N = out.setpoint.p_N;
+    b.avoid_state = a.state;
+    b.avoid_reason = a.reason;
+    b.avoid_speed_limit = a.state == avoid::AvoidState::kOff ? -1.0 : a.speed_limit;
+  });
+  // The operator hears of each change of state once (a new goal's first plan is not news).
+  std::string said;
+  if (a.state != avoid::AvoidState::kOff && a.state != avoid::AvoidState::kClear) {
+    said = std::string(Name(a.state));
+    std::replace(said.begin(), said.end(), '_', ' ');
+    if (!a.reason.empty()) said += ": " + a.reason;
+  }
+  const bool news = a.changed && !(a.state == avoid::AvoidState::kNoData && a.reason.rfind("no plan", 0) == 0);
+  if (news && said != last_avoid_said_) {
+    if (!said.empty()) {
+      const bool warn = a.state == avoid::AvoidState::kBlocked || a.state == avoid::AvoidState::kNoPath ||
+                        a.state == avoid::AvoidState::kNoData;
+      board_.PushStatus(warn ? Severity::kWarning : Severity::kInfo, "obstacle avoidance: " + said);
+      tasks_.ReportProgressNote(said, reports);
+    } else if (!last_avoid_said_.empty() && a.state == avoid::AvoidState::kClear) {
+      board_.PushStatus(Severity::kInfo, "obstacle avoidance: way clear");
+      tasks_.ReportProgressNote("way clear", reports);
+    }
+    last_avoid_said_ = said;
+  }
+  return a.setpoint;
+}
 
 void ControlWorker::Tick(int64_t utime) {
   const BlackboardData d = board_.Snapshot();
@@ -83,9 +120,10 @@ void ControlWorker::Tick(int64_t utime) {
   for (const auto& req : board_.TakeCommands()) tasks_.Submit(req, d.estimate, t, &reports);
   const control::TaskManager::Output out = tasks_.Update(d.estimate, t, &reports);
   if (out.reset_controller) controller_.Reset();
+  const control::Setpoint setpoint = Avoid(out, d, utime, &reports);
   // A setpoint that is not finite or leaves the envelope never reaches the controller.
-  const std::string bad = control::CheckSetpoint(out.setpoint, failsafe_params_, controller_.params().speed_max_xy);
-  if (bad.empty()) last_valid_setpoint_ = out.setpoint;
+  const std::string bad = control::CheckSetpoint(setpoint, failsafe_params_, controller_.params().speed_max_xy);
+  if (bad.empty()) last_valid_setpoint_ = setpoint;
   if (bad != last_setpoint_error_ && !bad.empty()) board_.PushStatus(Severity::kError, "setpoint rejected: " + bad + "; holding the last valid one");
   last_setpoint_error_ = bad;
   control::ServoCommand servo;  // throttle -1: rotors off

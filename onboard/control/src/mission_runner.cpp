@@ -108,10 +108,19 @@ MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double d
   Eigen::Vector3d v_ff = Eigen::Vector3d::Zero();
   if (moving_ && !landing_) {
     const Eigen::Vector3d to_go = target_ - ref_;
-    const double dist = to_go.norm();
+    double dist = to_go.norm();
     const bool stop = index_ < steps_.size() && (steps_[index_].kind != Kind::kWaypoint || IsStopAfter(index_));
     if (!waiting_) {
       const Eigen::Vector3d dir = dist > 1e-9 ? Eigen::Vector3d(to_go / dist) : Eigen::Vector3d::Zero();
+      // A vehicle more than a leash away and ahead of the reference along the leg (back from a
+      // detour around an obstacle) takes the reference along to where it is.
+      const double ahead = (est.p_N - ref_).dot(dir);
+      if (ahead > 0.0 && (est.p_N - ref_).norm() > p_.leash) {
+        const double jump = std::min(ahead, std::max(0.0, dist - 1e-3));
+        ref_ += dir * jump;
+        flown_length_ += jump;
+        dist -= jump;
+      }
       // Cruise speed, reduced so the vertical part stays within the climb/descent limits.
       double cruise = speed_;
       if (std::abs(dir.z()) > 1e-6)
@@ -149,6 +158,7 @@ MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double d
     }
   }
   o.setpoint.p_N = ref_;
+  if (moving_ && !landing_ && !done_) o.leg_end_N = target_;
   o.setpoint.yaw = yaw_;
   o.setpoint.v_ff_N = v_ff;
   o.setpoint.speed_max_xy = speed_;

@@ -428,6 +428,8 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
   o.airborne = airborne_;
   o.task = task_;
   o.setpoint = setpoint_;
+  if (airborne_ && (task_ == Task::kGoto || task_ == Task::kFollow)) o.goal_N = setpoint_.p_N;
+  if (airborne_ && runner_ && path_.leg_end_N) o.goal_N = path_.leg_end_N;
   if (runner_) {
     o.mission_item = path_.item;
     o.capture_interval_s = path_.capture_interval_s;
@@ -440,6 +442,10 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
   o.reset_controller = reset_pending_ || !airborne_;
   reset_pending_ = false;
   return o;
+}
+
+void TaskManager::ReportProgressNote(const std::string& reason, std::vector<TaskReport>* reports) const {
+  if (active_report_) Report(AckResult::kInProgress, std::max(0, last_percent_), reason, reports);
 }
 
 }  // namespace uav::control

@@ -693,4 +693,50 @@ std::optional<RayHit> Scene::Intersect(const Eigen::Vector3d& origin_N, const Ei
   return out;
 }
 
+double Scene::Clearance(const Eigen::Vector3d& p_N, double t_s) const {
+  const Impl& s = *impl_;
+  const PrimitiveMotions motions = s.MotionsAt(t_s);
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < s.prims.size(); ++i) {
+    const Primitive& q = s.prims[i];
+    const Eigen::Vector3d p = q.mover >= 0 && !motions.T_declared_N.empty() ? Eigen::Vector3d(motions.T_declared_N[i] * p_N) : p_N;
+    double d = best;
+    switch (q.shape) {
+      case Shape::kBox: {
+        // Into the box's own axes (yaw about d), then the distance to an axis-aligned box.
+        const Eigen::Vector3d r = p - q.c;
+        const Eigen::Vector3d local(q.cos_yaw * r.x() + q.sin_yaw * r.y(), -q.sin_yaw * r.x() + q.cos_yaw * r.y(), r.z());
+        const Eigen::Vector3d out = (local.cwiseAbs() - q.h).cwiseMax(0.0);
+        d = out.norm();
+        break;
+      }
+      case Shape::kRoom: {
+        const Eigen::Vector3d inside = q.h - (p - q.c).cwiseAbs();
+        d = inside.minCoeff() > 0 ? inside.minCoeff() : 0.0;
+        break;
+      }
+      case Shape::kCylinder: {
+        const double radial = std::max(0.0, std::hypot(p.x() - q.c.x(), p.y() - q.c.y()) - q.radius);
+        const double top = q.c.z() - q.height;  // down is positive: the top is above the base
+        const double vertical = p.z() < top ? top - p.z() : (p.z() > q.c.z() ? p.z() - q.c.z() : 0.0);
+        d = std::hypot(radial, vertical);
+        break;
+      }
+      case Shape::kSphere: d = std::max(0.0, (p - q.c).norm() - q.radius); break;
+      case Shape::kCable:
+      case Shape::kBoard: break;  // cables below, from their catenaries; boards are calibration targets
+    }
+    best = std::min(best, d);
+  }
+  for (const Cable& c : s.cables) {
+    const std::vector<Eigen::Vector3d> pts = c.Sample(64);
+    for (size_t i = 0; i + 1 < pts.size(); ++i) {
+      const Eigen::Vector3d ab = pts[i + 1] - pts[i];
+      const double t = std::clamp((p_N - pts[i]).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
+      best = std::min(best, std::max(0.0, (pts[i] + t * ab - p_N).norm() - c.radius_m));
+    }
+  }
+  return std::isfinite(best) ? best : -1.0;
+}
+
 }  // namespace uav::world

@@ -30,6 +30,15 @@ enum class AttitudeMode : int8_t {
 };
 // Who flies: the autopilot, or the pilot through the fail-safe switch (vehicle_state_t.MODE_*).
 enum class FlightMode : int8_t { kManual = 0, kAuto = 1 };
+// What obstacle avoidance's safety layer is doing (vehicle_state_t.AVOID_*).
+enum class AvoidState : int8_t {
+  kOff = 0,       // no task that travels, or avoidance disabled
+  kClear = 1,     // the task's own straight way is clear: flown as the task planned it
+  kAvoiding = 2,  // flying the planner's path around what is in the way
+  kBlocked = 3,   // stopped short of occupied or unseen space (a textureless wall, a turn)
+  kNoPath = 4,    // no way to the goal: holding
+  kNoData = 5,    // perception or plan older than avd_stale: braking and holding
+};
 
 // Lower-case names as the operator reads and types them ("in_progress", "gyro_hover").
 std::string_view Name(Task v);
@@ -38,6 +47,7 @@ std::string_view Name(FailsafeAction v);
 std::string_view Name(Severity v);
 std::string_view Name(AttitudeMode v);
 std::string_view Name(FlightMode v);
+std::string_view Name(AvoidState v);
 
 // The enum for a wire value; nullopt when the value names none (a newer or broken sender).
 std::optional<Task> TaskFromWire(int value);
@@ -46,6 +56,7 @@ std::optional<FailsafeAction> FailsafeFromWire(int value);
 std::optional<Severity> SeverityFromWire(int value);
 std::optional<AttitudeMode> AttitudeModeFromWire(int value);
 std::optional<FlightMode> FlightModeFromWire(int value);
+std::optional<AvoidState> AvoidStateFromWire(int value);
 
 // The enum whose Name() is `name` (for parameter files and scripts); nullopt when none is.
 std::optional<Task> TaskFromName(std::string_view name);

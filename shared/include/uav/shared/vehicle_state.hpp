@@ -51,6 +51,10 @@ struct VehicleState {
   double fence_radius_m = 0.0;                      // [m] geofence around home
   double fence_alt_m = 0.0;                         // [m] geofence ceiling
   int chirp_channel = 0;                            // servo channel being chirped, 0 none
+  AvoidState avoid_state = AvoidState::kOff;        // obstacle avoidance's safety layer
+  double avoid_speed_limit_m_s = -1.0;              // [m/s] what the space seen free allows; < 0 off
+  double replan_ms = -1.0;                          // [ms] the avoidance planner's last plan; < 0 none
+  double sim_clearance_m = -1.0;                    // [m] simulator's true clearance; < 0 none (hardware)
 
   double altitude() const { return -p_N.z(); }      // [m] above home
 };
@@ -63,7 +67,7 @@ void ToMessage(const VehicleState& s, uavmsg::vehicle_state_t* m);  // all but t
 // How a signal is shown and logged. SI inside; the UI shows angles in degrees.
 enum class SignalFormat {
   kMetres, kSpeed, kAccel, kAngle, kAngularRate, kLatLon, kGeodeticAlt, kNormalised, kVolts, kFraction,
-  kInteger, kBool, kTask, kFailsafe, kFlightMode, kAttitudeMode
+  kInteger, kBool, kTask, kFailsafe, kFlightMode, kAttitudeMode, kAvoidState, kMilliseconds
 };
 
 struct SignalDef {

@@ -4,6 +4,7 @@
 #include <array>
 #include <deque>
 #include <map>
+#include <memory>
 #include <tuple>
 #include <mutex>
 #include <optional>
@@ -12,6 +13,7 @@
 
 #include <Eigen/Geometry>
 
+#include "uav/avoid/avoidance.hpp"
 #include "uav/hal/navigation_estimate.hpp"
 #include "uav/control/mixer.hpp"
 #include "uav/control/task_manager.hpp"
@@ -124,6 +126,23 @@ struct BlackboardData {
   TrackedTarget target;
   // The clock's thread (Sensing::Monitor): the vision workers' rates, latencies and drops.
   SensingReport sensing;
+  // CTL -> AVD: where the active task is taking the vehicle (obstacle avoidance plans to it).
+  struct AvoidRequest {
+    bool active = false;
+    Eigen::Vector3d goal_N = Eigen::Vector3d::Zero();  // the task's goal (leg end)
+    Eigen::Vector3d via_N = Eigen::Vector3d::Zero();   // the task's own setpoint now
+  };
+  AvoidRequest avoid_request;
+  // AVD: its newest plan (null before the first).
+  std::shared_ptr<const avoid::AvoidancePlan> avoid_plan;
+  // CTL: what the safety layer is doing, why, and the speed the seen space allows [m/s].
+  avoid::AvoidState avoid_state = avoid::AvoidState::kOff;
+  std::string avoid_reason;
+  double avoid_speed_limit = -1.0;
+  // The simulator's truth (main writes it each physics step; never read by the flight stack):
+  // distance from the body centre to the nearest true surface other than the ground [m], < 0
+  // when the world has none.
+  double sim_clearance_m = -1.0;
 };
 
 class Blackboard {
@@ -317,6 +336,19 @@ class Blackboard {
     tiles_.erase(key);
     return t;
   }
+  // STEREO -> AVD: every perception result for the 3-D map, in capture order (bounded: a
+  // planner that falls behind loses the oldest, which newer scans of the same space replace).
+  void PushPerception(avoid::PerceptionUpdate u) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    perception_.push_back(std::move(u));
+    while (perception_.size() > kMaxPerceptionQueued) perception_.pop_front();
+  }
+  std::vector<avoid::PerceptionUpdate> TakePerception() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<avoid::PerceptionUpdate> out(std::make_move_iterator(perception_.begin()), std::make_move_iterator(perception_.end()));
+    perception_.clear();
+    return out;
+  }
   std::vector<StatusText> TakeStatus() {
     std::lock_guard<std::mutex> lock(mutex_);
     std::vector<StatusText> out(status_.begin(), status_.end());
@@ -344,6 +376,8 @@ class Blackboard {
   std::deque<std::pair<std::string, std::string>> downloads_;
   std::map<std::tuple<int, int, int>, LiveTile> tiles_;
   std::deque<std::tuple<int, int, int>> tile_order_;
+  static constexpr std::size_t kMaxPerceptionQueued = 8;
+  std::deque<avoid::PerceptionUpdate> perception_;
 };
 
 }  // namespace uav::app

@@ -26,6 +26,7 @@ struct StereoWorkerParams {
   vision::WireRangingParams ranging;   // pwl_min_range, pwl_max_range
   vision::ObstacleParams obstacles;    // obs_matcher, obs_max_sigma, obs_margin, obs_min_voxels
   double cloud_rate_hz = 1.0;          // obs_cloud_rate
+  bool to_map = false;                 // avd_enable: every pair's points, obstacles and wires go to the 3-D map
   // From a vehicle parameter file; throws naming a missing or out-of-range parameter.
   static StereoWorkerParams FromParameters(const ParameterSet& p);
 };
@@ -44,11 +45,15 @@ class StereoWorker : public VisionWorker {
                         const Eigen::Isometry3d& T_NB, Outbox& out);
   void ReportObstacles(int64_t utime, const vision::StereoObstacles& found, const Eigen::Isometry3d& T_NB, Outbox& out);
   void ReportUnhealthy(int64_t utime, const std::string& reason, Outbox& out);
+  // The pair's reprojected points (for the rays), obstacles and wires, for obstacle avoidance.
+  void ReportToMap(int64_t utime, const vision::StereoObstacles& found, const std::vector<vision::Wire3D>& wires,
+                   const Eigen::Isometry3d& T_NB, Outbox& out) const;
 
   hal::StereoCamera& camera_;
   vision::StereoRectifier rectifier_;
   vision::StereoObstacleDetector obstacles_;
   double cloud_rate_hz_;
+  bool to_map_;
   int64_t last_cloud_utime_ = -1;
   std::optional<vision::PowerLineStereo> power_lines_;
   PreviewStream preview_;

@@ -6,6 +6,7 @@
 
 #include "uav/app/blackboard.hpp"
 #include "uav/app/flight_log.hpp"
+#include "uav/avoid/safety_layer.hpp"
 #include "uav/control/position_attitude_controller.hpp"
 #include "uav/control/task_manager.hpp"
 #include "uav/hal/vehicle_backend.hpp"
@@ -37,20 +38,26 @@ class ImuWorker {
   int64_t last_utime_ = -1;
 };
 
-// CTL: task manager and position/attitude controller.
+// CTL: task manager, obstacle avoidance's safety layer and position/attitude controller.
 class ControlWorker {
  public:
   ControlWorker(const control::TaskParams& task_params,
                 const control::ControllerParams& controller_params,
                 const control::FailsafeParams& failsafe_params, double period_s, Blackboard& board,
-                control::MissionSource* missions = nullptr);
+                control::MissionSource* missions = nullptr, const avoid::AvoidanceParams& avoidance = {});
   void Tick(int64_t utime);
 
  private:
+  // The task's setpoint through the safety layer; tells the operator when its state changes.
+  control::Setpoint Avoid(const control::TaskManager::Output& out, const BlackboardData& d, int64_t utime,
+                          std::vector<control::TaskReport>* reports);
+
   control::TaskManager tasks_;
   control::PositionAttitudeController controller_;
   control::FailsafeParams failsafe_params_;
   control::FailsafeMonitor failsafes_;
+  avoid::SafetyLayer safety_;
+  std::string last_avoid_said_;
   control::Setpoint last_valid_setpoint_;
   std::string last_setpoint_error_;
   double period_s_;

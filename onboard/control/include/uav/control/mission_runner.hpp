@@ -35,6 +35,9 @@ class MissionRunner {
 
   struct Output {
     Setpoint setpoint;
+    // Where the current leg ends (the reference moves toward it); nullopt while the reference
+    // is not moving (waiting at a stop, landing, done).
+    std::optional<Eigen::Vector3d> leg_end_N;
     bool land = false;        // the mission ends in a landing at setpoint.p_N (x, y)
     bool done = false;        // every step flown (holding at the last point)
     int percent = 0;          // of the path length flown

@@ -74,6 +74,9 @@ class TaskManager {
     bool reset_controller = false;
     Task task = Task::kIdle;
     Setpoint setpoint;
+    // Where the task is taking the vehicle (goto's target, a path's leg end, the follow point),
+    // for obstacle avoidance; nullopt for tasks that do not travel (takeoff, land, hover).
+    std::optional<Eigen::Vector3d> goal_N;
     int mission_item = -1;                      // item being flown by track/mission, else -1
     std::optional<double> capture_interval_s;   // survey camera on (by time) ...
     std::optional<double> capture_distance_m;   // ... or by distance
@@ -96,6 +99,9 @@ class TaskManager {
   Output Update(const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
 
   Task task() const { return task_; }
+  // Tells the owner of the active command how its task is going (avoiding, blocked, no path):
+  // an IN_PROGRESS report with the progress so far and `reason`.
+  void ReportProgressNote(const std::string& reason, std::vector<TaskReport>* reports) const;
   bool armed() const { return armed_; }
 
  private:

@@ -190,6 +190,11 @@ class Scene {
   std::optional<RayHit> Intersect(const Eigen::Vector3d& origin_N, const Eigen::Vector3d& direction_N,
                                   double t_min = 1e-6, double t_max = 1e9, double t_s = 0.0) const;
 
+  // Distance [m] from p_N to the nearest surface other than the ground (objects where they are
+  // at t_s, cables as their catenaries); 0 inside an object, -1 when the world has none. The
+  // avoidance benchmark's and the flight log's true clearance.
+  double Clearance(const Eigen::Vector3d& p_N, double t_s = 0.0) const;
+
   // The renderer's view of the scene (implementation detail).
   struct Impl;
   const Impl& impl() const { return *impl_; }

@@ -1,0 +1,34 @@
+#pragma once
+// AVD: obstacle avoidance's planning thread (thesis 7.2), off the control path like the vision
+// workers: at avd_rate it fuses the perception results that have become visible into the 3-D
+// map (each at its capture pose) and plans from the vehicle to the active task's goal; the plan
+// reaches CTL's safety layer avd_latency later (measured at real time). At each landing the map
+// is saved as an OctoMap file beside the flight log.
+#include <string>
+#include <vector>
+
+#include "uav/app/vision_worker.hpp"
+#include "uav/avoid/avoidance.hpp"
+
+namespace uav::app {
+
+class AvoidWorker : public VisionWorker {
+ public:
+  // `map_path`: where the map is written at landing and at exit ("" : not written).
+  AvoidWorker(Blackboard& board, const avoid::AvoidanceParams& params, std::string map_path);
+  ~AvoidWorker() override;
+  void Begin(int64_t utime) override;
+  void Work(Outbox& out) override;
+  const avoid::OccupancyMap& map() const { return planner_.map(); }
+
+ private:
+  void Save(Outbox* out);
+
+  avoid::AvoidancePlanner planner_;
+  std::string map_path_;
+  std::vector<avoid::PerceptionUpdate> updates_;  // taken at Begin
+  bool was_airborne_ = false;
+  bool saved_since_landing_ = true;
+};
+
+}  // namespace uav::app

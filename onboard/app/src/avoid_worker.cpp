@@ -1,0 +1,47 @@
+#include "uav/app/avoid_worker.hpp"
+
+namespace uav::app {
+
+AvoidWorker::AvoidWorker(Blackboard& board, const avoid::AvoidanceParams& params, std::string map_path)
+    : VisionWorker(board), planner_(params), map_path_(std::move(map_path)) {}
+
+AvoidWorker::~AvoidWorker() {
+  if (!saved_since_landing_) Save(nullptr);
+}
+
+void AvoidWorker::Begin(int64_t utime) {
+  VisionWorker::Begin(utime);
+  // Taken on the clock's thread: which results a plan includes is the same in every run.
+  updates_ = board_.TakePerception();
+}
+
+void AvoidWorker::Save(Outbox* out) {
+  saved_since_landing_ = true;
+  if (map_path_.empty()) return;
+  const std::string error = planner_.map().SaveBinary(map_path_);
+  if (out) {
+    if (error.empty()) out->PushStatus(Severity::kInfo, "obstacle map saved: " + map_path_);
+    else out->PushStatus(Severity::kWarning, "obstacle map not saved: " + error);
+  }
+}
+
+void AvoidWorker::Work(Outbox& out) {
+  const BlackboardData& d = at_begin_;
+  for (const avoid::PerceptionUpdate& u : updates_) {
+    const std::string said = planner_.Add(u, d.estimate.p_N);
+    if (!said.empty()) out.PushStatus(Severity::kWarning, said);
+  }
+  updates_.clear();
+  if (d.airborne) saved_since_landing_ = false;
+  if (was_airborne_ && !d.airborne) Save(&out);
+  was_airborne_ = d.airborne;
+  if (!d.avoid_request.active) {
+    planner_.Reset();
+    return;
+  }
+  auto plan = std::make_shared<const avoid::AvoidancePlan>(
+      planner_.Plan(utime_, d.estimate.p_N, d.avoid_request.via_N, d.avoid_request.goal_N));
+  out.Post([plan](Blackboard& b) { b.Update([&](BlackboardData& data) { data.avoid_plan = plan; }); });
+}
+
+}  // namespace uav::app

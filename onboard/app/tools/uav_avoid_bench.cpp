@@ -1,0 +1,389 @@
+// uav-avoid-bench: obstacle avoidance measured closed loop, with the vehicle's own perception in
+// the loop (the planner sees only what the stereo pair and its algorithms report, never the
+// scene). Per cell (density, speed) it generates seeded obstacle fields, 20 m wide and 60 m
+// long, of trees, poles, walls, boxes and wires between poles, flies each one on the simulated
+// clock from one end to the other, and prints per cell: success (goal reached, the true
+// clearance never under the body radius), true clearance p5 and minimum, path length against
+// the shortest collision-free path on the true field, mean speed against cruise, replanning
+// time p50/p99, left/right reversals per obstacle passed, and stops over 3 s.
+//   uav-avoid-bench --density 1/25 --speed 3 --seeds 1-10 [--json OUT] [--picture DIR]
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <queue>
+#include <random>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "uav/app/blackboard.hpp"
+#include "uav/app/lockstep_scheduler.hpp"
+#include "uav/app/sensing.hpp"
+#include "uav/app/workers.hpp"
+#include "uav/shared/command_grammar.hpp"
+#include "uav/shared/text_file.hpp"
+#include "uav/shared/parameters.hpp"
+#include "uav/sim/sim_vehicle.hpp"
+#include "uav/world/scene.hpp"
+
+namespace {
+
+constexpr double kWidth = 20.0, kLength = 60.0;  // the corridor [m]: north 0..60, east -10..10
+constexpr double kAltitude = 4.0;                // [m] the flight's
+constexpr double kClearStart = 3.0;              // [m] nothing this near the start or the goal
+
+// The field's ground truth for the shortest path and the picture: discs (trees, poles) and
+// segments (walls, boxes' sides, wires) in the horizontal plane at the flight's altitude band.
+struct TrueField {
+  struct Disc { Eigen::Vector2d c; double r; };
+  struct Segment { Eigen::Vector2d a, b; double half_width; };
+  std::vector<Disc> discs;
+  std::vector<Segment> segments;
+  int obstacles = 0;
+  double Distance(const Eigen::Vector2d& p) const {
+    double d = 1e9;
+    for (const Disc& c : discs) d = std::min(d, (p - c.c).norm() - c.r);
+    for (const Segment& s : segments) {
+      const Eigen::Vector2d ab = s.b - s.a;
+      const double t = std::clamp((p - s.a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
+      d = std::min(d, (s.a + t * ab - p).norm() - s.half_width);
+    }
+    return d;
+  }
+};
+
+const char* kBaseScene = R"({
+  "name": "avoidance field", "seed": 1,
+  "sun": {"azimuth_deg": 200, "elevation_deg": 45, "ambient": 0.45},
+  "ground": {"layout": "uniform", "material": "grass"},
+  "clouds": {"coverage": 0.25, "darkness": 0.3, "scale_m": 60},
+  "objects": [],
+  "cameras": {"stereo": {"rate_hz": 15, "baseline_m": 0.12, "preview_rate_hz": 0}}
+})";
+
+// A seeded field at `density` obstacles per square metre: 45 % trees, 30 % poles (radius
+// 0.15-0.6 m), 10 % walls, 15 % boxes, and one wire between two poles per 200 m^2, 3-15 m up
+// (the flight passes under or between them), none within kClearStart of the start or the goal.
+uav::world::Scene MakeField(double density, int seed, TrueField* truth) {
+  // Named as a file of the scenes folder, so that its cameras are found beside it.
+  uav::world::Scene scene = uav::world::Scene::Parse(kBaseScene, std::string(UAV_RESOURCE_DIR) + "/scenes/avoidance_field.scene.json");
+  std::mt19937 rng(static_cast<unsigned>(seed) * 7919u + static_cast<unsigned>(density * 1e4));
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const int count = static_cast<int>(std::lround(density * kWidth * kLength));
+  auto free_of_ends = [](const Eigen::Vector2d& p, double r) {
+    return (p - Eigen::Vector2d(0, 0)).norm() > kClearStart + r && (p - Eigen::Vector2d(kLength, 0)).norm() > kClearStart + r;
+  };
+  std::vector<Eigen::Vector3d> pole_tops;
+  for (int i = 0, tries = 0; i < count && tries < 100 * count; ++tries) {
+    const Eigen::Vector2d p(-5.0 + U(rng) * (kLength + 10.0), -kWidth / 2 + U(rng) * kWidth);
+    const double kind = U(rng);
+    if (kind < 0.45) {  // tree: trunk and crown, crown radius 0.8-2 m, 6-14 m tall
+      const double crown = 0.8 + 1.2 * U(rng), height = std::max(6.0, 2 * crown + 1) + 8 * U(rng);
+      if (!free_of_ends(p, crown)) continue;
+      scene.AddTree({p.x(), p.y(), 0}, height, crown);
+      // Trunk below the crown, the crown where the flight passes: the larger counts.
+      const double crown_low = height - 2 * crown;
+      truth->discs.push_back({p, crown_low < kAltitude + 1.0 ? crown : std::max(0.08, 0.06 * crown)});
+    } else if (kind < 0.75) {  // pole
+      const double r = 0.15 + 0.45 * U(rng), h = 6 + 6 * U(rng);
+      if (!free_of_ends(p, r)) continue;
+      scene.AddCylinder("pole", {p.x(), p.y(), 0}, r, h, "concrete");
+      truth->discs.push_back({p, r});
+      pole_tops.emplace_back(p.x(), p.y(), -h);
+    } else if (kind < 0.85) {  // wall: 2-6 m long, 0.3 m thick, 3-8 m high
+      const double len = 2 + 4 * U(rng), yaw = M_PI * U(rng), h = 3 + 5 * U(rng);
+      if (!free_of_ends(p, len / 2)) continue;
+      scene.AddBox("wall", {p.x(), p.y(), -h / 2}, {len, 0.3, h}, yaw, U(rng) < 0.5 ? "brick" : "plaster");
+      const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
+      truth->segments.push_back({p - d * len / 2, p + d * len / 2, 0.15});
+    } else {  // box: 1-3 m, on the ground
+      const double s = 1 + 2 * U(rng), h = 1 + 4 * U(rng), yaw = M_PI * U(rng);
+      if (!free_of_ends(p, s)) continue;
+      scene.AddBox("box", {p.x(), p.y(), -h / 2}, {s, s, h}, yaw, "concrete");
+      if (h > kAltitude - 1.5) truth->discs.push_back({p, s * std::sqrt(0.5)});
+    }
+    ++i;
+  }
+  // Wires between pole tops 3-15 m apart (a pole field's power lines).
+  const int wires = static_cast<int>(std::lround(kWidth * kLength / 200.0 * std::min(1.0, density * 25)));
+  for (int w = 0, tries = 0; w < wires && tries < 200; ++tries) {
+    if (pole_tops.size() < 2) break;
+    const auto& a = pole_tops[rng() % pole_tops.size()];
+    const auto& b = pole_tops[rng() % pole_tops.size()];
+    const double span = (a - b).head<2>().norm();
+    if (span < 3 || span > 15) continue;
+    // Not over the start or the goal (the vehicle takes off and arrives there).
+    auto seg_dist = [&](const Eigen::Vector2d& p) {
+      const Eigen::Vector2d ab = (b - a).head<2>();
+      const double t = std::clamp((p - a.head<2>()).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      return (a.head<2>() + t * ab - p).norm();
+    };
+    if (seg_dist({0, 0}) < kClearStart || seg_dist({kLength, 0}) < kClearStart) continue;
+    // Hung low enough to cross the flight's altitude band at some poles: 3-8 m up.
+    const double h = 3 + 5 * U(rng);
+    scene.AddCable({a.x(), a.y(), -h}, {b.x(), b.y(), -h}, 0.3, 0.01);
+    if (std::abs(h - kAltitude) < 2.0) truth->segments.push_back({a.head<2>(), b.head<2>(), 0.01});
+    ++w;
+  }
+  truth->obstacles = count;
+  return scene;
+}
+
+// Shortest path from start to goal keeping `clearance` from the true field, on a 0.1 m grid
+// (8-connected A*; the grid's path overestimates the true one by at most ~8 %, corrected below).
+double ShortestPath(const TrueField& field, double clearance) {
+  const double res = 0.1;
+  const int nx = static_cast<int>((kLength + 10) / res), ny = static_cast<int>((kWidth + 10) / res);
+  auto at = [&](int x, int y) { return Eigen::Vector2d(-5 + (x + 0.5) * res, -kWidth / 2 - 5 + (y + 0.5) * res); };
+  std::vector<uint8_t> blocked(nx * ny);
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) blocked[y * nx + x] = field.Distance(at(x, y)) < clearance;
+  std::vector<float> g(nx * ny, 1e30f);
+  using E = std::pair<float, int>;
+  std::priority_queue<E, std::vector<E>, std::greater<E>> open;
+  const int sx = static_cast<int>(5 / res), sy = ny / 2, gx = static_cast<int>((kLength + 5) / res);
+  g[sy * nx + sx] = 0;
+  open.push({0, sy * nx + sx});
+  while (!open.empty()) {
+    auto [f, i] = open.top();
+    open.pop();
+    const int x = i % nx, y = i / nx;
+    if (x == gx && y == sy) return g[i] * 0.96;  // 8-connected grids are ~4 % long on average
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int mx = x + dx, my = y + dy;
+        if ((!dx && !dy) || mx < 0 || my < 0 || mx >= nx || my >= ny || blocked[my * nx + mx]) continue;
+        const float c = g[i] + static_cast<float>(res * std::hypot(dx, dy));
+        if (c < g[my * nx + mx]) {
+          g[my * nx + mx] = c;
+          open.push({c + static_cast<float>(res * std::hypot(gx - mx, sy - my)), my * nx + mx});
+        }
+      }
+  }
+  return -1;
+}
+
+struct FlightResult {
+  int seed = 0;
+  bool reached = false, success = false;
+  std::string why;
+  double min_clearance = 1e9, clearance_p5 = 0, path_m = 0, shortest_m = 0, mean_speed = 0, time_s = 0;
+  std::vector<double> replan_ms;
+  int reversals = 0, stops_over_3s = 0, obstacles_passed = 0;
+  std::vector<Eigen::Vector3d> track;  // truth, every 0.1 s
+};
+
+double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+FlightResult Fly(const uav::ParameterSet& params, double density, int seed, double speed, bool progress) {
+  FlightResult r;
+  r.seed = seed;
+  TrueField truth;
+  const uav::world::Scene scene = MakeField(density, seed, &truth);
+  const auto avd = uav::avoid::AvoidanceParams::FromParameters(params);
+  r.shortest_m = ShortestPath(truth, avd.body_radius_m);
+  const uav::GeodeticPoint home{1.3521, 103.8198, 10.0};
+  const int64_t start = 1'700'000'000'000'000;
+  constexpr int64_t kStepUs = 2000, kPeriodUs = 20000;
+  uav::sim::SimVehicle vehicle(params, home, start);
+  uav::app::Blackboard board;
+  uav::app::ImuWorker imu(vehicle, board, uav::nav::InsParams::FromParameters(params), home);
+  uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params), uav::control::ControllerParams::FromParameters(params),
+                              uav::control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6, board, nullptr, avd);
+  const auto vehicle_params = uav::hal::VehicleParams::FromParameters(params);
+  uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"), vehicle_params.attitude_mode);
+  uav::app::Sensing sensing(scene, params, board, uav::app::Sensing::Options{"", start, home, false});
+  auto truth_pose = [&] {
+    const auto s = vehicle.TruthState();
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = s.q_NB.toRotationMatrix();
+    T.translation() = s.p_N;
+    return T;
+  };
+  sensing.RecordTruth(start, truth_pose());
+  const double limit_s = 40.0 + 3.0 * kLength / speed;
+  uav::app::LockstepScheduler scheduler({start, kStepUs, 0.0, static_cast<int64_t>(limit_s * 1e6)});
+  scheduler.AddWorker("IMU", 0, kPeriodUs, [&](int64_t t) { imu.Tick(t); });
+  scheduler.AddWorker("CTL", 1, kPeriodUs, [&](int64_t t) { ctl.Tick(t); });
+  scheduler.AddWorker("SVO", 2, kPeriodUs, [&](int64_t t) { svo.Tick(t); });
+  sensing.AddTo(scheduler, kStepUs);
+  // The operator's side: arm, take off, go to the far end; the flight ends at the goal.
+  int stage = 0, seq = 0;
+  auto send = [&](const std::string& text) {
+    board.PushCommand({"bench", ++seq, *uav::ParseCommand(text).command});
+  };
+  char goto_text[64];
+  std::snprintf(goto_text, sizeof goto_text, "goto %.1f 0 %.1f", kLength, kAltitude);
+  double last_sample_t = -1, still_since = -1, travel_start_t = -1;
+  int last_side = 0;
+  std::vector<double> clearances;
+  std::vector<Eigen::Vector2d> passed_near;
+  scheduler.Run([&](int64_t dt) {
+    vehicle.Step(dt);
+    const int64_t now = scheduler.now() + dt;
+    sensing.RecordTruth(now, truth_pose());
+    sensing.Monitor(scheduler.now(), scheduler);
+    if ((now - start) % kPeriodUs != 0) return;
+    const double t = (now - start) * 1e-6;
+    const uav::app::BlackboardData d = board.Snapshot();
+    const Eigen::Vector3d p = vehicle.TruthState().p_N;
+    if (stage == 0 && t > 1.0) send("arm"), stage = 1;
+    else if (stage == 1 && d.armed) send("takeoff " + std::to_string(kAltitude)), stage = 2;
+    else if (stage == 2 && d.task == uav::Task::kHover && -p.z() > kAltitude - 0.5) send(goto_text), stage = 3, travel_start_t = t;
+    if (stage != 3) return;
+    if (t - last_sample_t >= 0.1) {
+      last_sample_t = t;
+      const double c = scene.Clearance(p, now * 1e-6);
+      clearances.push_back(c);
+      r.min_clearance = std::min(r.min_clearance, c);
+      if (!r.track.empty()) r.path_m += (p - r.track.back()).head<2>().norm();
+      r.track.push_back(p);
+      if (d.avoid_plan) r.replan_ms.push_back(d.avoid_plan->planning_ms);
+      // Reversals: the side the detour takes (left/right of the line to the goal), counted when
+      // it changes while avoiding.
+      if (d.avoid_state == uav::AvoidState::kAvoiding && d.avoid_plan && d.avoid_plan->path_N.size() >= 2) {
+        const Eigen::Vector2d to_goal = Eigen::Vector2d(kLength, 0) - p.head<2>();
+        const Eigen::Vector2d ahead = uav::avoid::PointAt(d.avoid_plan->path_N, 3.0).head<2>() - p.head<2>();
+        const double cross = to_goal.x() * ahead.y() - to_goal.y() * ahead.x();
+        const int side = std::abs(cross) / std::max(to_goal.norm(), 1e-6) > 0.5 ? (cross > 0 ? 1 : -1) : 0;
+        if (side != 0 && last_side != 0 && side != last_side) ++r.reversals;
+        if (side != 0) last_side = side;
+      } else if (d.avoid_state == uav::AvoidState::kClear) {
+        last_side = 0;
+      }
+      const auto truth_state = vehicle.TruthState();
+      const double v = (truth_state.q_NB * truth_state.v_B).head<2>().norm();
+      if (v < 0.2) {
+        if (still_since < 0) still_since = t;
+      } else {
+        if (still_since >= 0 && t - still_since > 3.0) ++r.stops_over_3s;
+        still_since = -1;
+      }
+      if (progress && static_cast<int>(t * 10) % 50 == 0)
+        std::fprintf(stderr, "  seed %d t %.0f s at (%.1f, %.1f) %s\n", seed, t, p.x(), p.y(), std::string(uav::Name(d.avoid_state)).c_str());
+    }
+    if ((p - Eigen::Vector3d(kLength, 0, -kAltitude)).head<2>().norm() < 1.0) {
+      r.reached = true;
+      r.time_s = t - travel_start_t;
+      scheduler.Stop();
+    }
+  });
+  for (const auto& disc : truth.discs) {
+    double nearest = 1e9;
+    for (const auto& q : r.track) nearest = std::min(nearest, (q.head<2>() - disc.c).norm() - disc.r);
+    if (nearest < 3.0) ++r.obstacles_passed;
+  }
+  r.clearance_p5 = Percentile(clearances, 0.05);
+  r.mean_speed = r.reached && r.time_s > 0 ? r.path_m / r.time_s : 0.0;
+  r.success = r.reached && r.min_clearance >= avd.body_radius_m;
+  if (!r.reached) r.why = "goal not reached in " + std::to_string(static_cast<int>(limit_s)) + " s";
+  else if (!r.success) r.why = "true clearance fell to " + std::to_string(r.min_clearance) + " m";
+  return r;
+}
+
+void Picture(const std::string& path, const FlightResult& r, double density, int seed) {
+  TrueField truth;
+  const uav::world::Scene scene = MakeField(density, seed, &truth);
+  const double px = 12.0;  // pixels per metre
+  cv::Mat img(static_cast<int>((kWidth + 10) * px), static_cast<int>((kLength + 10) * px), CV_8UC3, cv::Scalar(235, 240, 235));
+  auto P = [&](const Eigen::Vector2d& p) { return cv::Point(static_cast<int>((p.x() + 5) * px), static_cast<int>((kWidth / 2 + 5 - p.y()) * px)); };
+  for (const auto& d : truth.discs) cv::circle(img, P(d.c), std::max(1, static_cast<int>(d.r * px)), cv::Scalar(60, 110, 60), cv::FILLED);
+  for (const auto& s : truth.segments)
+    cv::line(img, P(s.a), P(s.b), s.half_width < 0.05 ? cv::Scalar(30, 30, 200) : cv::Scalar(70, 70, 120),
+             std::max(1, static_cast<int>(2 * s.half_width * px)));
+  for (std::size_t i = 1; i < r.track.size(); ++i)
+    cv::line(img, P(r.track[i - 1].head<2>()), P(r.track[i].head<2>()), cv::Scalar(200, 80, 0), 2, cv::LINE_AA);
+  cv::circle(img, P({0, 0}), 6, cv::Scalar(0, 160, 0), 2);
+  cv::circle(img, P({kLength, 0}), 6, cv::Scalar(0, 0, 200), 2);
+  char text[160];
+  std::snprintf(text, sizeof text, "density %.3f/m^2 seed %d: %s, min clearance %.2f m, path %.1f m (shortest %.1f)", density, seed,
+                r.success ? "success" : r.why.c_str(), r.min_clearance, r.path_m, r.shortest_m);
+  cv::putText(img, text, {8, 18}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::imwrite(path, img);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{"uav-avoid-bench: closed-loop obstacle avoidance over seeded obstacle fields, perception in the loop"};
+  std::string density_text = "1/25", seeds_text = "1-3", json_path, picture_dir, params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
+  double speed = 3.0;
+  bool quiet = false;
+  std::vector<std::string> overrides;
+  cli.add_option("--density", density_text, "obstacles per square metre: 1/49, 1/25, 1/12 or a decimal");
+  cli.add_option("--speed", speed, "cruise speed [m/s] (ctl_speed_max_xy)")->check(CLI::Range(0.5, 15.0));
+  cli.add_option("--seeds", seeds_text, "seed range A-B (or one seed)");
+  cli.add_option("--params", params_path, "vehicle file (avd_enable is set to 1)");
+  cli.add_option("--param", overrides, "NAME=VALUE override (repeatable)");
+  cli.add_option("--json", json_path, "write the per-flight and per-cell results here");
+  cli.add_option("--picture", picture_dir, "write one picture per flight (field, true obstacles, flown track) here");
+  cli.add_flag("--quiet", quiet, "no progress lines");
+  CLI11_PARSE(cli, argc, argv);
+  try {
+    double density = 0;
+    if (const auto slash = density_text.find('/'); slash != std::string::npos)
+      density = std::stod(density_text.substr(0, slash)) / std::stod(density_text.substr(slash + 1));
+    else
+      density = std::stod(density_text);
+    if (!(density > 0 && density <= 0.25)) throw std::invalid_argument("--density must be in (0, 1/4] per square metre");
+    int a = 0, b = 0;
+    if (std::sscanf(seeds_text.c_str(), "%d-%d", &a, &b) == 1) b = a;
+    if (a < 0 || b < a || b - a > 10000) throw std::invalid_argument("--seeds must be A-B with 0 <= A <= B");
+    uav::ParameterSet params = uav::ParameterSet::LoadFile(params_path, uav::VehicleParameterSchema());
+    params = params.With("avd_enable", 1).With("ctl_speed_max_xy", speed);
+    for (const auto& o : overrides) params = params.WithAssignment(o);
+    nlohmann::json out = {{"density", density}, {"speed", speed}, {"flights", nlohmann::json::array()}};
+    std::vector<FlightResult> results;
+    for (int seed = a; seed <= b; ++seed) {
+      FlightResult r = Fly(params, density, seed, speed, !quiet);
+      if (!quiet)
+        std::fprintf(stderr, "seed %d: %s, clearance min %.2f p5 %.2f m, path %.1f / %.1f m, %.1f m/s, reversals %d, stops %d\n", seed,
+                     r.success ? "success" : r.why.c_str(), r.min_clearance, r.clearance_p5, r.path_m, r.shortest_m, r.mean_speed,
+                     r.reversals, r.stops_over_3s);
+      if (!picture_dir.empty()) Picture(picture_dir + "/field_" + std::to_string(seed) + ".png", r, density, seed);
+      out["flights"].push_back({{"seed", seed}, {"success", r.success}, {"why", r.why}, {"min_clearance_m", r.min_clearance},
+                                {"clearance_p5_m", r.clearance_p5}, {"path_m", r.path_m}, {"shortest_m", r.shortest_m},
+                                {"mean_speed", r.mean_speed}, {"replan_p50_ms", Percentile(r.replan_ms, 0.5)},
+                                {"replan_p99_ms", Percentile(r.replan_ms, 0.99)}, {"reversals", r.reversals},
+                                {"obstacles_passed", r.obstacles_passed}, {"stops_over_3s", r.stops_over_3s}});
+      results.push_back(std::move(r));
+    }
+    std::vector<double> p5, mins, ratio, speeds, replans;
+    int successes = 0, reversals = 0, passed = 0, stops = 0;
+    for (const auto& r : results) {
+      successes += r.success;
+      reversals += r.reversals, passed += r.obstacles_passed, stops += r.stops_over_3s;
+      mins.push_back(r.min_clearance);
+      p5.push_back(r.clearance_p5);
+      if (r.reached && r.shortest_m > 0) ratio.push_back(r.path_m / r.shortest_m), speeds.push_back(r.mean_speed / speed);
+      replans.insert(replans.end(), r.replan_ms.begin(), r.replan_ms.end());
+    }
+    out["cell"] = {{"flights", results.size()},
+                   {"success_rate", results.empty() ? 0.0 : double(successes) / results.size()},
+                   {"clearance_p5_m", Percentile(p5, 0.5)},
+                   {"clearance_min_m", mins.empty() ? NAN : *std::min_element(mins.begin(), mins.end())},
+                   {"path_over_shortest", Percentile(ratio, 0.5)},
+                   {"speed_over_cruise", Percentile(speeds, 0.5)},
+                   {"replan_p50_ms", Percentile(replans, 0.5)},
+                   {"replan_p99_ms", Percentile(replans, 0.99)},
+                   {"reversals_per_obstacle", passed ? double(reversals) / passed : 0.0},
+                   {"stops_over_3s", stops}};
+    const std::string text = out["cell"].dump(2);
+    std::printf("%s\n", text.c_str());
+    if (!json_path.empty()) uav::WriteFileAtomically(json_path, out.dump(2) + "\n");
+    return successes == static_cast<int>(results.size()) ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "uav-avoid-bench: %s\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,115 @@
+#pragma once
+// Obstacle avoidance (thesis 7.2: path planning with a global and a local layer, and a reactive
+// one). Three plain classes, fed plain data:
+// - AvoidancePlanner (the AVD thread, 10 Hz): fuses what the vehicle senses into the 3-D map at
+//   each result's capture pose, and plans from the vehicle to the task's goal on it.
+// - SafetyLayer (the CTL thread, 50 Hz, in safety_layer.hpp): between every task and the
+//   position controller; flies the plan and never faster than the vehicle can stop within the
+//   space it has seen.
+// - AvoidanceParams: the vehicle file's avd_* settings.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "uav/avoid/local_grid.hpp"
+#include "uav/avoid/occupancy_map.hpp"
+#include "uav/avoid/path_planner.hpp"
+#include "uav/shared/parameters.hpp"
+#include "uav/shared/vehicle_enums.hpp"
+
+namespace uav::avoid {
+
+using uav::AvoidState;  // declared with the other vehicle enums (vehicle_state_t.AVOID_*)
+
+struct AvoidanceParams {
+  bool enabled = false;
+  double body_radius_m = 0.5;   // the airframe's, props included
+  double margin_m = 0.5;        // obs_margin: kept beyond the body radius
+  double brake_accel = 2.5;     // [m/s^2] the deceleration the speed limit counts on
+  double reaction_s = 0.3;      // [s] control and attitude lag before the braking bites
+  double stale_s = 0.5;         // perception older than this: brake and hold (PX4 CP's 0.5 s)
+  double rate_hz = 10.0;        // replanning rate
+  double window_m = 16.0;       // half width of the planning window
+  double window_up_m = 4.0;     // half height of the planning window
+  double grid_m = 0.4;          // planning cell
+  double min_alt_m = 1.5;       // lowest altitude a detour may take
+  double lookahead_m = 3.0;     // the carrot's lead along the path
+  double hysteresis = 0.15;     // keep the current detour unless a new one is this much shorter
+  double yaw_rate = 1.0;        // [rad/s] turning to face the way it flies (the cameras look ahead)
+  double cruise_speed = 3.0;    // [m/s] ctl_speed_max_xy
+  MapParams map;
+  double clearance() const { return body_radius_m + margin_m; }
+  static AvoidanceParams FromParameters(const ParameterSet& p);
+};
+
+// A detected obstacle cylinder for the map.
+struct MapCylinder {
+  Eigen::Vector2d p_NE = Eigen::Vector2d::Zero();
+  double top_down_m = 0.0, bottom_down_m = 0.0, radius_m = 0.0;
+};
+
+// One perception result for the map, at its capture time (the STEREO thread's per pair).
+struct PerceptionUpdate {
+  int64_t utime = 0;
+  std::optional<RangeScan> scan;
+  std::vector<MapCylinder> cylinders;
+  std::vector<std::vector<Eigen::Vector3d>> wires;  // polylines in N
+  double wire_radius_m = 0.1;
+};
+
+// What the planner hands the safety layer.
+struct AvoidancePlan {
+  int64_t utime = 0;             // when planned
+  int64_t perception_utime = 0;  // capture time of the newest result in the map (0: none yet)
+  Eigen::Vector3d goal_N = Eigen::Vector3d::Zero();
+  AvoidState state = AvoidState::kOff;  // kClear, kAvoiding or kNoPath
+  std::string reason;                   // kNoPath: why
+  std::vector<Eigen::Vector3d> path_N;  // from where the vehicle was, toward the goal
+  double seen_free_m = 0.0;             // along path_N: observed free with the clearance
+  double planning_ms = 0.0;             // wall time of the window, the plan and the checks
+  std::size_t map_cells = 0;
+};
+
+class AvoidancePlanner {
+ public:
+  explicit AvoidancePlanner(const AvoidanceParams& params);
+
+  // Fuses one result (in capture order). Returns "" or a message for the operator (the map
+  // reached its memory bound: far cells dropped, said once).
+  std::string Add(const PerceptionUpdate& update, const Eigen::Vector3d& p_N);
+  // Plans from p_N (the vehicle at utime) to goal_N. `via_N` is the task's own setpoint (a
+  // mission's reference on its leg; the goal itself for goto): the task flies as it planned
+  // while the straight way through it to the goal is clear.
+  AvoidancePlan Plan(int64_t utime, const Eigen::Vector3d& p_N, const Eigen::Vector3d& via_N, const Eigen::Vector3d& goal_N);
+  // Forgets the current detour (a new goal).
+  void Reset() { previous_.clear(); }
+
+  const OccupancyMap& map() const { return map_; }
+  OccupancyMap& map() { return map_; }
+  int64_t perception_utime() const { return perception_utime_; }
+
+ private:
+  // The map at the planning resolution around the vehicle, kept current from the octree's
+  // changes, so that a planning window is a copy, not a walk of the tree.
+  void RefreshKnown(const Eigen::Vector3d& p_N);
+
+  AvoidanceParams p_;
+  PlannerParams planner_;
+  OccupancyMap map_;
+  LocalGrid known_;
+  int64_t perception_utime_ = 0;
+  bool bound_announced_ = false;
+  std::vector<Eigen::Vector3d> previous_;  // the detour being flown
+  Eigen::Vector3d previous_goal_N_ = Eigen::Vector3d::Constant(1e9);
+};
+
+// Arc length of p on the polyline (its nearest point), and the point at arc length s.
+double ArcLengthOf(const std::vector<Eigen::Vector3d>& path, const Eigen::Vector3d& p);
+Eigen::Vector3d PointAt(const std::vector<Eigen::Vector3d>& path, double s);
+double Length(const std::vector<Eigen::Vector3d>& path);
+
+}  // namespace uav::avoid

@@ -1,0 +1,54 @@
+#pragma once
+// The global layer of thesis 7.2's planning: the shortest path on the local window that keeps
+// the clearance, by A* over the 26-connected cells, then shortened by line of sight. Occupied
+// cells and cells nearer an occupied one than the clearance are closed; unknown cells are open
+// at a cost (the map fills in as the vehicle gets there, and the safety layer never lets it fly
+// faster than it can stop in the space it has seen). A goal outside the window is reached
+// through the window's border: the rest of the way is counted as a straight line, as the
+// heuristic does, which is the optimistic completion D* Lite and its peers use for unknown
+// space.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "uav/avoid/local_grid.hpp"
+
+namespace uav::avoid {
+
+struct PlannerParams {
+  double clearance_m = 1.0;       // body radius + obs_margin: no path nearer an occupied cell
+  double soft_clearance_m = 2.5;  // between the clearance and this, a cost that pushes paths out
+  double proximity_cost = 2.0;    // extra cost per metre at the clearance, falling to 0 at the soft one
+  double unknown_cost = 0.5;      // extra cost per metre through unknown cells
+  double vertical_cost = 2.0;     // factor on vertical movement (keep the planned altitude)
+  int max_expansions = 200000;    // bounds the time on a window full of dead ends
+  // Altitude band of the path [m, down positive]: cells below floor_down_m (the lowest altitude
+  // allowed) or above ceiling_down_m (the geofence) are closed; the start is always open.
+  double floor_down_m = 1e9, ceiling_down_m = -1e9;
+  void Validate() const;          // throws std::invalid_argument naming the bad field
+};
+
+struct PlannedPath {
+  bool found = false;
+  std::string reason;                // why not, when not found
+  std::vector<Eigen::Vector3d> p_N;  // waypoints, the start first
+  bool reaches_goal = false;         // ends at the goal (false: at the window's border toward it)
+  double cost = 0.0;                 // of the cells' path, with the penalties
+  int expansions = 0;
+};
+
+// `start_N` and `goal_N` in N; the grid's distances must be computed.
+PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, const Eigen::Vector3d& goal_N,
+                     const PlannerParams& params);
+
+// Whether the straight segment keeps `clearance_m` from every occupied cell of the grid (unknown
+// cells allowed), sampled at a third of a cell.
+bool SegmentClear(const LocalGrid& grid, const Eigen::Vector3d& a_N, const Eigen::Vector3d& b_N, double clearance_m);
+
+// Arc length along the polyline from its start to the first sample (a third of a cell apart)
+// that is not observed free or nearer an occupied cell than clearance_m: how far the vehicle
+// may count on. The polyline's length when all of it is.
+double SeenFreeLength(const LocalGrid& grid, const std::vector<Eigen::Vector3d>& p_N, double clearance_m);
+
+}  // namespace uav::avoid

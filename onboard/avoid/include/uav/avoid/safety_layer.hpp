@@ -1,0 +1,52 @@
+#pragma once
+// The safety layer between every task and the position controller (as PX4's Collision
+// Prevention, in 3-D, with the planner's path): at the control rate it
+// - flies the task's own setpoint while its straight way is clear, else the planner's detour
+//   (a carrot avd_lookahead ahead on the path);
+// - limits the speed so that the vehicle can always stop, after its reaction time, within the
+//   space seen free along its way: v = -a t + sqrt((a t)^2 + 2 a d), the stopping distance
+//   v t + v^2 / (2 a) solved for v (a = avd_brake_accel, t = the perception's age plus
+//   avd_reaction, d = the seen-free length left);
+// - brakes and holds when the perception or the plan is older than avd_stale (and says why), or
+//   when the planner finds no path;
+// - turns the vehicle to face the way it flies, so that the forward cameras see it.
+// Failsafes and the geofence win: they change the task, and the layer only ever slows or
+// detours it. Plain class on the control clock.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "uav/avoid/avoidance.hpp"
+#include "uav/control/position_attitude_controller.hpp"
+#include "uav/hal/navigation_estimate.hpp"
+
+namespace uav::avoid {
+
+class SafetyLayer {
+ public:
+  explicit SafetyLayer(const AvoidanceParams& params) : p_(params) {}
+
+  struct Output {
+    control::Setpoint setpoint;
+    AvoidState state = AvoidState::kOff;
+    std::string reason;          // why blocked, no path, no data
+    double speed_limit = 0.0;    // [m/s] what the seen space allows now
+    bool changed = false;        // the state differs from the last step's
+  };
+  // `goal_N`: where the task is going (nullopt: a task that does not move the vehicle, or one
+  // the layer leaves alone: takeoff, landing, hover). `plan`: the planner's newest, if any.
+  Output Apply(const control::Setpoint& task_setpoint, const std::optional<Eigen::Vector3d>& goal_N,
+               const hal::VehicleEstimate& est, const AvoidancePlan* plan, int64_t utime, double dt);
+
+ private:
+  control::Setpoint Hold(const control::Setpoint& task_setpoint, const hal::VehicleEstimate& est);
+  double FaceTravel(const Eigen::Vector3d& direction_N, const hal::VehicleEstimate& est, double dt);
+
+  AvoidanceParams p_;
+  AvoidState state_ = AvoidState::kOff;
+  std::optional<Eigen::Vector3d> hold_N_;  // where it stops while holding
+  std::optional<double> yaw_ref_;          // the rate-limited heading toward travel
+  bool blocked_ = false;
+};
+
+}  // namespace uav::avoid

@@ -1,0 +1,182 @@
+#include "uav/avoid/avoidance.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace uav::avoid {
+
+AvoidanceParams AvoidanceParams::FromParameters(const ParameterSet& p) {
+  AvoidanceParams a;
+  a.enabled = p.Get("avd_enable") != 0.0;
+  a.body_radius_m = p.Get("avd_body_radius");
+  a.margin_m = p.Get("obs_margin");
+  a.brake_accel = p.Get("avd_brake_accel");
+  a.reaction_s = p.Get("avd_reaction");
+  a.stale_s = p.Get("avd_stale");
+  a.rate_hz = p.Get("avd_rate");
+  a.window_m = p.Get("avd_window");
+  a.window_up_m = p.Get("avd_window_up");
+  a.grid_m = p.Get("avd_grid");
+  a.min_alt_m = p.Get("avd_min_alt");
+  a.lookahead_m = p.Get("avd_lookahead");
+  a.hysteresis = p.Get("avd_hysteresis");
+  a.yaw_rate = p.Get("avd_yaw_rate") * M_PI / 180.0;
+  a.cruise_speed = p.Get("ctl_speed_max_xy");
+  a.map.resolution_m = p.Get("avd_map_res");
+  a.map.max_cells = static_cast<std::size_t>(p.Get("avd_map_cells"));
+  a.map.Validate();
+  return a;
+}
+
+double Length(const std::vector<Eigen::Vector3d>& path) {
+  double s = 0.0;
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) s += (path[i + 1] - path[i]).norm();
+  return s;
+}
+
+double ArcLengthOf(const std::vector<Eigen::Vector3d>& path, const Eigen::Vector3d& p) {
+  double best_d = 1e18, best_s = 0.0, s = 0.0;
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    const Eigen::Vector3d ab = path[i + 1] - path[i];
+    const double len = ab.norm();
+    const double t = len > 1e-9 ? std::clamp((p - path[i]).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
+    const double d = (path[i] + t * ab - p).squaredNorm();
+    if (d < best_d) best_d = d, best_s = s + t * len;
+    s += len;
+  }
+  return best_s;
+}
+
+Eigen::Vector3d PointAt(const std::vector<Eigen::Vector3d>& path, double s) {
+  if (path.empty()) return Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    const double len = (path[i + 1] - path[i]).norm();
+    if (s <= len) return path[i] + (path[i + 1] - path[i]) * (len > 1e-9 ? std::max(0.0, s) / len : 0.0);
+    s -= len;
+  }
+  return path.back();
+}
+
+AvoidancePlanner::AvoidancePlanner(const AvoidanceParams& params) : p_(params), map_(params.map) {
+  planner_.clearance_m = p_.clearance();
+  planner_.soft_clearance_m = p_.clearance() + 1.5;
+  planner_.floor_down_m = -p_.min_alt_m;
+  planner_.Validate();
+}
+
+std::string AvoidancePlanner::Add(const PerceptionUpdate& u, const Eigen::Vector3d& p_N) {
+  if (u.scan) map_.InsertScan(*u.scan);
+  for (const MapCylinder& c : u.cylinders) map_.InsertCylinder(c.p_NE, c.top_down_m, c.bottom_down_m, c.radius_m);
+  for (const auto& w : u.wires) map_.InsertPolyline(w, u.wire_radius_m);
+  perception_utime_ = std::max(perception_utime_, u.utime);
+  const std::size_t dropped = map_.EnforceBound(p_N);
+  if (dropped > 0 && !bound_announced_) {
+    bound_announced_ = true;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "obstacle map full (%zu cells): the cells farthest from the vehicle are dropped",
+                  p_.map.max_cells);
+    return buf;
+  }
+  return "";
+}
+
+void AvoidancePlanner::RefreshKnown(const Eigen::Vector3d& p_N) {
+  int coarser = 0;
+  for (int k = 1; k <= 4; ++k)
+    if (std::abs(p_.grid_m - p_.map.resolution_m * (1 << k)) < 1e-9) coarser = k;
+  bool complete = true;
+  const std::vector<OccupancyMap::Change> changes = map_.TakeChanges(coarser, &complete);
+  // Three windows wide; copied anew from the tree when the next window would leave it.
+  const Eigen::Vector3d half(3 * p_.window_m, 3 * p_.window_m, 3 * p_.window_up_m);
+  const Eigen::Vector3d margin(2 * p_.window_m, 2 * p_.window_m, 2 * p_.window_up_m);
+  const Eigen::Vector3d lo = known_.min_N(), hi = lo + known_.size().cast<double>() * known_.resolution();
+  const bool inside = known_.size().prod() > 0 && ((p_N - margin).array() >= lo.array()).all() &&
+                      ((p_N + margin).array() <= hi.array()).all();
+  if (!complete || !inside || coarser == 0 && std::abs(known_.resolution() - p_.grid_m) > 1e-9) {
+    known_ = LocalGrid::FromMap(map_, p_N, half, p_.grid_m, /*distances=*/false);
+    return;
+  }
+  for (const OccupancyMap::Change& c : changes) known_.SetAt(c.centre_N, c.state);
+}
+
+AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, const Eigen::Vector3d& via_N,
+                                     const Eigen::Vector3d& goal_N) {
+  const auto t0 = std::chrono::steady_clock::now();
+  AvoidancePlan plan;
+  plan.utime = utime;
+  plan.perception_utime = perception_utime_;
+  plan.goal_N = goal_N;
+  plan.map_cells = map_.cells();
+  if ((goal_N - previous_goal_N_).norm() > 0.5) previous_.clear();
+  previous_goal_N_ = goal_N;
+  // The window reaches ahead toward the goal: the vehicle sits a quarter of it from the back.
+  const Eigen::Vector3d to_goal = goal_N - p_N;
+  Eigen::Vector3d ahead = to_goal;
+  ahead.z() = 0;
+  if (ahead.norm() > 1e-6) ahead *= std::min(ahead.norm(), 0.5 * p_.window_m) / ahead.norm();
+  RefreshKnown(p_N);
+  const LocalGrid grid = LocalGrid::Extract(known_, p_N + ahead, Eigen::Vector3d(p_.window_m, p_.window_m, p_.window_up_m));
+  PlannerParams planner = planner_;
+  // Climbing or descending to the goal's altitude is the task's: the band opens to include it.
+  planner.floor_down_m = std::max(planner.floor_down_m, std::max(p_N.z(), goal_N.z()));
+  // The straight way, clipped to the window: clear means the task flies as it planned.
+  // The task's straight way (to its own setpoint, then on to the goal), clipped to the window.
+  const Eigen::Vector3d lo = grid.min_N(), hi = lo + grid.size().cast<double>() * grid.resolution();
+  auto clipped = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    double t_exit = 1.0;
+    for (int i = 0; i < 3; ++i)
+      if (std::abs(b[i] - a[i]) > 1e-9) t_exit = std::min(t_exit, ((b[i] > a[i] ? hi[i] : lo[i]) - a[i]) / (b[i] - a[i]));
+    return Eigen::Vector3d(a + (b - a) * std::max(0.0, 0.999 * t_exit));
+  };
+  const bool direct = SegmentClear(grid, p_N, clipped(p_N, via_N), p_.clearance()) &&
+                      ((via_N - goal_N).norm() < 1e-6 || SegmentClear(grid, via_N, clipped(via_N, goal_N), p_.clearance()));
+  auto finish = [&](AvoidancePlan& out) -> AvoidancePlan {
+    out.seen_free_m = out.path_N.size() >= 2 ? SeenFreeLength(grid, out.path_N, p_.clearance()) : 0.0;
+    out.planning_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+  };
+  if (direct) {
+    previous_.clear();
+    plan.state = AvoidState::kClear;
+    plan.path_N = {p_N, via_N};
+    if ((via_N - goal_N).norm() > 1e-6) plan.path_N.push_back(goal_N);
+    return finish(plan);
+  }
+  PlannedPath fresh = PlanPath(grid, p_N, goal_N, planner);
+  // Hysteresis: the detour being flown is kept while it stays clear and no new one is clearly
+  // shorter, so the vehicle does not swap sides of an obstacle from one plan to the next.
+  if (previous_.size() >= 2) {
+    std::vector<Eigen::Vector3d> rest{p_N};
+    const double s = ArcLengthOf(previous_, p_N);
+    double along = 0.0;
+    for (std::size_t i = 0; i + 1 < previous_.size(); ++i) {
+      along += (previous_[i + 1] - previous_[i]).norm();
+      if (along > s + 1e-6) rest.push_back(previous_[i + 1]);
+    }
+    bool clear = rest.size() >= 2;
+    for (std::size_t i = 0; clear && i + 1 < rest.size(); ++i) clear = SegmentClear(grid, rest[i], rest[i + 1], p_.clearance());
+    const double kept = Length(rest) + (rest.back() - goal_N).norm();
+    const double best = fresh.found ? Length(fresh.p_N) + (fresh.p_N.back() - goal_N).norm() : 1e18;
+    if (clear && kept <= (1.0 + p_.hysteresis) * best) {
+      plan.state = AvoidState::kAvoiding;
+      plan.path_N = rest;
+      previous_ = rest;
+      return finish(plan);
+    }
+  }
+  if (!fresh.found) {
+    previous_.clear();
+    plan.state = AvoidState::kNoPath;
+    plan.reason = fresh.reason;
+    plan.path_N = {p_N};
+    return finish(plan);
+  }
+  plan.state = AvoidState::kAvoiding;
+  plan.path_N = fresh.p_N;
+  previous_ = fresh.p_N;
+  return finish(plan);
+}
+
+}  // namespace uav::avoid

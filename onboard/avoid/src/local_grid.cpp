@@ -1,0 +1,130 @@
+#include "uav/avoid/local_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace uav::avoid {
+
+namespace {
+// Felzenszwalb-Huttenlocher 1-D squared distance transform of f (n samples, unit spacing): the
+// lower envelope of the parabolas (q - v)^2 + f(v). Doubles: "no obstacle" is a large finite
+// value whose sums with q^2 stay exact.
+void Transform1D(const double* f, int n, double* d, int* v, double* z) {
+  int k = 0;
+  v[0] = 0;
+  z[0] = -std::numeric_limits<double>::infinity();
+  z[1] = std::numeric_limits<double>::infinity();
+  for (int q = 1; q < n; ++q) {
+    double s = ((f[q] + double(q) * q) - (f[v[k]] + double(v[k]) * v[k])) / (2.0 * (q - v[k]));
+    while (s <= z[k]) {
+      --k;
+      s = ((f[q] + double(q) * q) - (f[v[k]] + double(v[k]) * v[k])) / (2.0 * (q - v[k]));
+    }
+    ++k;
+    v[k] = q;
+    z[k] = s;
+    z[k + 1] = std::numeric_limits<double>::infinity();
+  }
+  k = 0;
+  for (int q = 0; q < n; ++q) {
+    while (z[k + 1] < q) ++k;
+    d[q] = double(q - v[k]) * (q - v[k]) + f[v[k]];
+  }
+}
+}  // namespace
+
+LocalGrid::LocalGrid(const Eigen::Vector3d& min_N, const Eigen::Vector3i& size, double resolution_m)
+    : min_N_(min_N), size_(size), res_(resolution_m),
+      cells_(static_cast<std::size_t>(size.prod()), Cell::kUnknown),
+      distance_(static_cast<std::size_t>(size.prod()), kFar) {}
+
+LocalGrid LocalGrid::FromMap(const OccupancyMap& map, const Eigen::Vector3d& centre_N, const Eigen::Vector3d& half_extent_m,
+                             double resolution_m, bool distances) {
+  const Eigen::Vector3i size = (2.0 * half_extent_m / resolution_m).array().ceil().cast<int>().max(1);
+  // Aligned to the resolution so that consecutive windows share their cells (no flicker).
+  const Eigen::Vector3d min_N = ((centre_N - half_extent_m) / resolution_m).array().floor().matrix() * resolution_m;
+  LocalGrid g(min_N, size, resolution_m);
+  const Eigen::Vector3d max_N = min_N + size.cast<double>() * resolution_m;
+  // A planning cell of 2^k map cells is read from the octree's inner cells at that size: 8^k
+  // times fewer cells to visit.
+  int coarser = 0;
+  for (int k = 1; k <= 4; ++k)
+    if (std::abs(resolution_m - map.resolution() * (1 << k)) < 1e-9) coarser = k;
+  map.ForEachKnown(min_N, max_N, [&](const Eigen::Vector3d& c, double leaf, bool occupied) {
+    const Eigen::Vector3d lo = c.array() - 0.5 * leaf + 1e-6, hi = c.array() + 0.5 * leaf - 1e-6;
+    const Eigen::Vector3i a = g.CellOf(lo).cwiseMax(0), b = g.CellOf(hi).cwiseMin(size - Eigen::Vector3i::Ones());
+    for (int z = a.z(); z <= b.z(); ++z)
+      for (int y = a.y(); y <= b.y(); ++y)
+        for (int x = a.x(); x <= b.x(); ++x) {
+          Cell& cell = g.cells_[g.Index({x, y, z})];
+          if (occupied) cell = Cell::kOccupied;
+          else if (cell == Cell::kUnknown) cell = Cell::kFree;
+        }
+  }, coarser);
+  if (distances) g.ComputeDistances();
+  return g;
+}
+
+LocalGrid LocalGrid::Extract(const LocalGrid& big, const Eigen::Vector3d& centre_N, const Eigen::Vector3d& half_extent_m) {
+  const double res = big.res_;
+  const Eigen::Vector3i size = (2.0 * half_extent_m / res).array().ceil().cast<int>().max(1);
+  const Eigen::Vector3d min_N = ((centre_N - half_extent_m) / res).array().floor().matrix() * res;
+  LocalGrid g(min_N, size, res);
+  const Eigen::Vector3i offset = ((min_N - big.min_N_) / res).array().round().cast<int>();
+  for (int z = 0; z < size.z(); ++z)
+    for (int y = 0; y < size.y(); ++y) {
+      const Eigen::Vector3i first = offset + Eigen::Vector3i(0, y, z);
+      if (first.y() < 0 || first.z() < 0 || first.y() >= big.size_.y() || first.z() >= big.size_.z()) continue;
+      const int x0 = std::max(0, -first.x()), x1 = std::min(size.x(), big.size_.x() - first.x());
+      if (x1 <= x0) continue;
+      std::copy_n(&big.cells_[big.Index(first + Eigen::Vector3i(x0, 0, 0))], x1 - x0, &g.cells_[g.Index({x0, y, z})]);
+    }
+  g.ComputeDistances();
+  return g;
+}
+
+void LocalGrid::ComputeDistances() {
+  // Three separable passes over lines of cells (x, then y, then z), each line copied out,
+  // transformed and written back; squared distances in cells.
+  const int nx = size_.x(), ny = size_.y(), nz = size_.z();
+  const double inf = 1e10;
+  std::vector<double> sq(cells_.size());
+  for (std::size_t i = 0; i < cells_.size(); ++i) sq[i] = cells_[i] == Cell::kOccupied ? 0.0 : inf;
+  const int n_max = std::max({nx, ny, nz});
+  std::vector<double> f(n_max), d(n_max), z(n_max + 1);
+  std::vector<int> v(n_max);
+  auto line = [&](std::size_t base, int n, std::size_t stride) {
+    bool any = false;
+    for (int i = 0; i < n; ++i) any |= (f[i] = sq[base + i * stride]) < inf;
+    if (!any) return;  // nothing within reach along this line yet: stays "none"
+    Transform1D(f.data(), n, d.data(), v.data(), z.data());
+    for (int i = 0; i < n; ++i) sq[base + i * stride] = d[i];
+  };
+  const std::size_t sy = nx, sz = static_cast<std::size_t>(nx) * ny;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) line(k * sz + j * sy, nx, 1);
+  for (int k = 0; k < nz; ++k)
+    for (int i = 0; i < nx; ++i) line(k * sz + i, ny, sy);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) line(j * sy + i, nz, sz);
+  distance_.resize(cells_.size());
+  for (std::size_t i = 0; i < sq.size(); ++i)
+    distance_[i] = sq[i] >= inf * 0.5 ? kFar : static_cast<float>(std::sqrt(sq[i]) * res_);
+}
+
+Eigen::Vector3i LocalGrid::CellOf(const Eigen::Vector3d& p_N) const {
+  return ((p_N - min_N_) / res_).array().floor().cast<int>();
+}
+
+Cell LocalGrid::StateAt(const Eigen::Vector3d& p_N) const {
+  const Eigen::Vector3i c = CellOf(p_N);
+  return Contains(c) ? State(c) : Cell::kUnknown;
+}
+
+float LocalGrid::DistanceAt(const Eigen::Vector3d& p_N) const {
+  const Eigen::Vector3i c = CellOf(p_N);
+  return Contains(c) ? Distance(c) : kFar;
+}
+
+}  // namespace uav::avoid

@@ -1,0 +1,173 @@
+#include "uav/avoid/path_planner.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <stdexcept>
+
+namespace uav::avoid {
+
+void PlannerParams::Validate() const {
+  if (!(clearance_m > 0 && clearance_m < 10)) throw std::invalid_argument("planner clearance must be in (0, 10) m");
+  if (!(soft_clearance_m >= clearance_m)) throw std::invalid_argument("planner soft clearance must be at least the clearance");
+  if (!(proximity_cost >= 0) || !(unknown_cost >= 0) || !(vertical_cost >= 1))
+    throw std::invalid_argument("planner costs must be non-negative (vertical factor at least 1)");
+  if (max_expansions < 1) throw std::invalid_argument("planner max_expansions must be positive");
+}
+
+namespace {
+
+// The grid's distance is between cell centres; the vehicle may be anywhere in its cell and the
+// obstacle anywhere in its own, so a cell counts as clear only with half a cell to spare.
+double Inflated(const LocalGrid& g, double clearance_m) { return clearance_m + 0.5 * g.resolution(); }
+
+}  // namespace
+
+bool SegmentClear(const LocalGrid& grid, const Eigen::Vector3d& a_N, const Eigen::Vector3d& b_N, double clearance_m) {
+  const double need = Inflated(grid, clearance_m);
+  const double length = (b_N - a_N).norm();
+  const int n = std::max(1, static_cast<int>(std::ceil(length / (grid.resolution() / 3.0))));
+  for (int i = 0; i <= n; ++i)
+    if (grid.DistanceAt(a_N + (b_N - a_N) * (double(i) / n)) < need) return false;
+  return true;
+}
+
+double SeenFreeLength(const LocalGrid& grid, const std::vector<Eigen::Vector3d>& p_N, double clearance_m) {
+  const double need = Inflated(grid, clearance_m);
+  double s = 0.0;
+  for (std::size_t i = 0; i + 1 < p_N.size(); ++i) {
+    const double length = (p_N[i + 1] - p_N[i]).norm();
+    const int n = std::max(1, static_cast<int>(std::ceil(length / (grid.resolution() / 3.0))));
+    for (int k = i == 0 ? 0 : 1; k <= n; ++k) {
+      const Eigen::Vector3d p = p_N[i] + (p_N[i + 1] - p_N[i]) * (double(k) / n);
+      if (grid.StateAt(p) != Cell::kFree || grid.DistanceAt(p) < need) return s + length * std::max(0, k - 1) / n;
+    }
+    s += length;
+  }
+  return s;
+}
+
+PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, const Eigen::Vector3d& goal_N,
+                     const PlannerParams& params) {
+  params.Validate();
+  PlannedPath out;
+  if (!start_N.allFinite() || !goal_N.allFinite()) {
+    out.reason = "start or goal is not finite";
+    return out;
+  }
+  const Eigen::Vector3i size = grid.size();
+  const Eigen::Vector3i start = grid.CellOf(start_N);
+  if (!grid.Contains(start)) {
+    out.reason = "the vehicle is outside the planning window";
+    return out;
+  }
+  const Eigen::Vector3i goal = grid.CellOf(goal_N);
+  const bool goal_inside = grid.Contains(goal);
+  const double need = Inflated(grid, params.clearance_m);
+  if (goal_inside && grid.Distance(goal) < params.clearance_m) {
+    out.reason = grid.State(goal) == Cell::kOccupied ? "the goal is inside an obstacle" : "the goal is too close to an obstacle";
+    return out;
+  }
+  // Already nearer an obstacle than the clearance (one appeared close): cells at least as far as
+  // the start are open, so the way out is found and the penalty pushes the path outward.
+  const double open_from = std::min(need, static_cast<double>(grid.Distance(start)));
+  const double res = grid.resolution();
+  const double soft = std::max(params.soft_clearance_m, need + 1e-6);
+  auto h = [&](const Eigen::Vector3i& c) { return (grid.Centre(c) - goal_N).norm(); };
+  auto on_border = [&](const Eigen::Vector3i& c) {
+    return c.x() == 0 || c.y() == 0 || c.x() == size.x() - 1 || c.y() == size.y() - 1 || c.z() == 0 || c.z() == size.z() - 1;
+  };
+  const int n = size.prod();
+  // Per cell: closed (the altitude band, or nearer an obstacle than allowed) and the cost factor
+  // of entering it; per neighbour: the index offset and the step length. The search then only
+  // adds and compares.
+  std::vector<float> factor(n);
+  std::vector<uint8_t> closed(n, 0);
+  for (int z = 0; z < size.z(); ++z) {
+    const double down = grid.Centre({0, 0, z}).z();
+    const bool band = down <= params.floor_down_m && down >= params.ceiling_down_m;
+    for (int y = 0; y < size.y(); ++y)
+      for (int x = 0; x < size.x(); ++x) {
+        const Eigen::Vector3i c(x, y, z);
+        const int i = grid.Index(c);
+        const double d = grid.Distance(c);
+        closed[i] = !band || d < open_from;
+        factor[i] = static_cast<float>(1.0 + params.proximity_cost * std::clamp((soft - d) / (soft - need), 0.0, 1.0) +
+                                       (grid.State(c) == Cell::kUnknown ? params.unknown_cost : 0.0));
+      }
+  }
+  closed[grid.Index(start)] = 0;
+  if (goal_inside) closed[grid.Index(goal)] = 0;
+  struct Step {
+    int dx, dy, dz, offset;
+    float length;
+  };
+  std::vector<Step> steps;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (dx || dy || dz)
+          steps.push_back({dx, dy, dz, (dz * size.y() + dy) * size.x() + dx,
+                           static_cast<float>(std::hypot(res * std::hypot(dx, dy), res * std::abs(dz) * params.vertical_cost))});
+  std::vector<float> g(n, std::numeric_limits<float>::infinity());
+  std::vector<int> parent(n, -1);
+  using Entry = std::pair<float, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
+  const int s = grid.Index(start);
+  g[s] = 0;
+  open.push({static_cast<float>(h(start)), s});
+  int found = -1;
+  auto cell_of = [&](int i) { return Eigen::Vector3i(i % size.x(), (i / size.x()) % size.y(), i / (size.x() * size.y())); };
+  const int goal_index = goal_inside ? grid.Index(goal) : -1;
+  while (!open.empty()) {
+    const auto [f, i] = open.top();
+    open.pop();
+    if (closed[i] == 2) continue;
+    closed[i] = 2;
+    const Eigen::Vector3i c = cell_of(i);
+    if (i == goal_index || (!goal_inside && on_border(c) && i != s)) {
+      found = i;
+      break;
+    }
+    if (++out.expansions > params.max_expansions) break;
+    const bool interior = c.x() > 0 && c.y() > 0 && c.z() > 0 && c.x() < size.x() - 1 && c.y() < size.y() - 1 && c.z() < size.z() - 1;
+    for (const Step& st : steps) {
+      if (!interior && !grid.Contains(c + Eigen::Vector3i(st.dx, st.dy, st.dz))) continue;
+      const int j = i + st.offset;
+      if (closed[j]) continue;
+      const float cost = g[i] + st.length * factor[j];
+      if (cost < g[j]) {
+        g[j] = cost;
+        parent[j] = i;
+        open.push({cost + static_cast<float>(h(cell_of(j))), j});
+      }
+    }
+  }
+  if (found < 0) {
+    out.reason = out.expansions > params.max_expansions ? "no path found within the planner's budget"
+                                                        : "no path: every way within the window is blocked";
+    return out;
+  }
+  std::vector<Eigen::Vector3d> cells;
+  for (int i = found; i >= 0; i = parent[i]) cells.push_back(grid.Centre(cell_of(i)));
+  std::reverse(cells.begin(), cells.end());
+  cells.front() = start_N;
+  out.reaches_goal = goal_inside;
+  if (goal_inside) cells.back() = goal_N;
+  out.cost = g[found];
+  // Line of sight: from each kept point, on along the cells while the straight way to them keeps
+  // the clearance; the last such cell is the next point.
+  const double keep = open_from < need ? 0.0 : params.clearance_m;
+  out.p_N.push_back(cells.front());
+  for (std::size_t i = 0; i + 1 < cells.size();) {
+    std::size_t j = i + 1;
+    while (j + 1 < cells.size() && SegmentClear(grid, cells[i], cells[j + 1], keep)) ++j;
+    out.p_N.push_back(cells[j]);
+    i = j;
+  }
+  out.found = true;
+  return out;
+}
+
+}  // namespace uav::avoid

@@ -1,0 +1,121 @@
+#include "uav/avoid/safety_layer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace uav::avoid {
+
+namespace {
+double WrapPi(double a) { return std::remainder(a, 2.0 * M_PI); }
+// Below this the vehicle is taken as stopped short (blocked); above twice it moves again.
+constexpr double kBlockedSpeed = 0.2;
+}  // namespace
+
+control::Setpoint SafetyLayer::Hold(const control::Setpoint& task_setpoint, const hal::VehicleEstimate& est) {
+  // Brake to where the vehicle can stop, then stay there.
+  if (!hold_N_) {
+    const Eigen::Vector3d v = est.v_N;
+    hold_N_ = est.p_N + v * (v.norm() / (2.0 * p_.brake_accel));
+  }
+  control::Setpoint sp = task_setpoint;
+  sp.p_N = *hold_N_;
+  sp.v_ff_N.setZero();
+  sp.descent_rate.reset();
+  sp.yaw_rate_ff = 0.0;
+  if (yaw_ref_) sp.yaw = *yaw_ref_;
+  return sp;
+}
+
+double SafetyLayer::FaceTravel(const Eigen::Vector3d& direction_N, const hal::VehicleEstimate& est, double dt) {
+  if (!yaw_ref_) yaw_ref_ = est.euler.psi;
+  if (direction_N.head<2>().norm() > 0.5) {
+    const double want = std::atan2(direction_N.y(), direction_N.x());
+    const double step = std::clamp(WrapPi(want - *yaw_ref_), -p_.yaw_rate * dt, p_.yaw_rate * dt);
+    yaw_ref_ = WrapPi(*yaw_ref_ + step);
+  }
+  return *yaw_ref_;
+}
+
+SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, const std::optional<Eigen::Vector3d>& goal_N,
+                                       const hal::VehicleEstimate& est, const AvoidancePlan* plan, int64_t utime, double dt) {
+  Output out;
+  out.setpoint = task_setpoint;
+  auto finish = [&](AvoidState s) {
+    out.state = s;
+    out.changed = s != state_;
+    state_ = s;
+    if (s != AvoidState::kNoData && s != AvoidState::kNoPath && s != AvoidState::kBlocked) hold_N_.reset();
+    return out;
+  };
+  if (!p_.enabled || !goal_N) {
+    yaw_ref_.reset();
+    blocked_ = false;
+    return finish(AvoidState::kOff);
+  }
+  const double perception_age = plan && plan->perception_utime > 0 ? (utime - plan->perception_utime) * 1e-6 : 1e9;
+  const double plan_age = plan ? (utime - plan->utime) * 1e-6 : 1e9;
+  char buf[200];
+  if (perception_age > p_.stale_s) {
+    if (perception_age > 1e8) std::snprintf(buf, sizeof buf, "no obstacle perception yet: holding");
+    else std::snprintf(buf, sizeof buf, "obstacle perception %.1f s old (limit %.1f s): holding", perception_age, p_.stale_s);
+    out.reason = buf;
+    out.setpoint = Hold(task_setpoint, est);
+    return finish(AvoidState::kNoData);
+  }
+  if (plan_age > p_.stale_s || (plan->goal_N - *goal_N).norm() > 2.0) {
+    std::snprintf(buf, sizeof buf, "no plan to the goal for %.1f s: holding", std::min(plan_age, 99.0));
+    // A new goal waits one replanning period for its first plan; only then is it said.
+    out.reason = buf;
+    out.setpoint = Hold(task_setpoint, est);
+    return finish(AvoidState::kNoData);
+  }
+  if (plan->state == AvoidState::kNoPath) {
+    out.reason = plan->reason + "; holding";
+    out.setpoint = Hold(task_setpoint, est);
+    return finish(AvoidState::kNoPath);
+  }
+  // The speed the seen space allows, from where the vehicle is now along the plan's path.
+  const double s_now = ArcLengthOf(plan->path_N, est.p_N);
+  const double d = std::max(0.0, plan->seen_free_m - s_now);
+  const double a = p_.brake_accel, t = perception_age + p_.reaction_s;
+  const double v_allow = -a * t + std::sqrt(a * a * t * t + 2.0 * a * d);
+  out.speed_limit = v_allow;
+  const double to_go = (plan->path_N.back() - est.p_N).norm();
+  // Blocked when the seen space no longer lets it move and it is not at its goal; it moves again
+  // once twice the threshold is allowed (hysteresis: no creeping start-stop).
+  blocked_ = blocked_ ? v_allow < 2 * kBlockedSpeed : v_allow < kBlockedSpeed;
+  if (blocked_ && to_go > 0.5 && (*goal_N - est.p_N).norm() > 0.5) {
+    std::snprintf(buf, sizeof buf, "stopped: %.1f m seen free ahead", d);
+    out.reason = buf;
+    out.setpoint = Hold(task_setpoint, est);
+    // Keep turning toward the way on: the cameras may see it free.
+    out.setpoint.yaw = FaceTravel(PointAt(plan->path_N, s_now + p_.lookahead_m) - est.p_N, est, dt);
+    return finish(AvoidState::kBlocked);
+  }
+  hold_N_.reset();
+  control::Setpoint sp = task_setpoint;
+  AvoidState state = AvoidState::kClear;
+  Eigen::Vector3d direction = sp.p_N - est.p_N;
+  if (plan->state == AvoidState::kAvoiding) {
+    state = AvoidState::kAvoiding;
+    const Eigen::Vector3d carrot = PointAt(plan->path_N, s_now + p_.lookahead_m);
+    sp.p_N = carrot;
+    direction = carrot - est.p_N;
+    const double cruise = std::min(p_.cruise_speed, task_setpoint.speed_max_xy.value_or(p_.cruise_speed));
+    const Eigen::Vector3d tangent = PointAt(plan->path_N, s_now + 0.5) - PointAt(plan->path_N, s_now);
+    sp.v_ff_N = tangent.norm() > 1e-6 && to_go > p_.lookahead_m ? Eigen::Vector3d(tangent.normalized() * std::min(cruise, v_allow))
+                                                                : Eigen::Vector3d::Zero();
+    sp.descent_rate.reset();
+    sp.yaw_rate_ff = 0.0;
+  }
+  const double limit = std::max(0.05, std::min(v_allow, sp.speed_max_xy.value_or(1e9)));
+  if (limit < p_.cruise_speed) sp.speed_max_xy = limit;
+  if (sp.v_ff_N.head<2>().norm() > limit) sp.v_ff_N.head<2>() *= limit / sp.v_ff_N.head<2>().norm();
+  sp.yaw = FaceTravel(direction, est, dt);
+  if (sp.yaw_rate_ff != 0.0 && state == AvoidState::kClear) sp.yaw_rate_ff = 0.0;
+  out.setpoint = sp;
+  return finish(state);
+}
+
+}  // namespace uav::avoid
