@@ -219,7 +219,7 @@ const ParameterSchema& VehicleParameterSchema() {
     {"avd_map_res", "m", 0.2, 0.05, 2, "3-D map cell (OctoMap resolution)"},
     {"avd_map_cells", "-", 2000000, 10000, 50000000, "3-D map memory bound in leaves: past it the cells farthest from the vehicle are dropped"},
     {"avd_min_alt", "m", 1.5, 0.5, 100, "lowest altitude a detour may take"},
-    {"avd_lookahead", "m", 3, 0.5, 20, "the position reference leads the vehicle along the detour by this"},
+    {"avd_lookahead", "m", 2, 0.5, 20, "the position reference leads the vehicle along the detour by this"},
     {"avd_hysteresis", "-", 0.15, 0, 2, "a detour being flown is kept unless a new one is this fraction shorter (no left/right flips)"},
     {"avd_yaw_rate", "deg/s", 60, 5, 360, "turn rate toward the way the vehicle flies (the forward cameras look ahead)"},
     {"fs_nav_land_s", "s", 5, 0, 60, "no position source (GPS lost, VO unhealthy): hold this long, then land"},

@@ -157,6 +157,8 @@ void Sensing::BuildStereo(const world::Scene& scene, const ParameterSet& params)
 
 Sensing::~Sensing() = default;
 
+const avoid::OccupancyMap* Sensing::avoidance_map() const { return impl_->avd ? &impl_->avd->map() : nullptr; }
+
 void Sensing::AddTo(LockstepScheduler& scheduler, int64_t step_us) {
   Impl& s = *impl_;
   // Camera periods on the physics grid (5 Hz -> 200 ms).

@@ -218,15 +218,24 @@ void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& fou
   for (std::size_t i = 0; i < found.points_L.size(); i += stride) scan.p_N.push_back(T * found.points_L[i]);
   u.scan = std::move(scan);
   for (const vision::ObstacleCylinder& c : found.obstacles) {
-    // Grown by one standard deviation of the axis position (its larger axis).
+    // Grown by one standard deviation of the axis position (its larger axis), at most 0.3 m: a
+    // cluster as uncertain as that is a poor cylinder, and its points are in the scan anyway.
     const double sigma = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(c.cov_xy).eigenvalues().maxCoeff()));
-    u.cylinders.push_back({c.centre_W.head<2>(), c.top_m, c.bottom_m, c.radius_m + sigma});
+    u.cylinders.push_back({c.centre_W.head<2>(), c.top_m, c.bottom_m, c.radius_m + std::min(sigma, 0.3)});
   }
+  // Wires where their depth is trusted: the polyline's points within the range gate whose depth
+  // standard deviation is under a wire's clearance margin. A wire ranged far off (a horizon or a
+  // field edge taken for one) would otherwise draw a wall across the map.
   const Eigen::Isometry3d T_NLd = T_NL;
   for (const vision::Wire3D& w : wires) {
     std::vector<Eigen::Vector3d> p_N;
-    for (const Eigen::Vector3d& p_L : w.p_L) p_N.push_back(T_NLd * p_L);
-    u.wires.push_back(std::move(p_N));
+    for (std::size_t i = 0; i < w.p_L.size(); ++i) {
+      const bool trusted = w.p_L[i].norm() <= found.gate_depth_m && i < w.sigma_m.size() && w.sigma_m[i] < 0.5;
+      if (trusted) p_N.push_back(T_NLd * w.p_L[i]);
+      if (trusted && i + 1 < w.p_L.size()) continue;
+      if (p_N.size() >= 2) u.wires.push_back(p_N);
+      p_N.clear();
+    }
   }
   out.Post([u = std::move(u)](Blackboard& b) { b.PushPerception(u); });
 }

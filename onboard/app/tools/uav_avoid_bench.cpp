@@ -177,6 +177,7 @@ struct FlightResult {
   std::vector<double> replan_ms;
   int reversals = 0, stops_over_3s = 0, obstacles_passed = 0;
   std::vector<Eigen::Vector3d> track;  // truth, every 0.1 s
+  std::vector<Eigen::Vector3f> occupied;  // the vehicle's map at the end, in the flight's band
 };
 
 double Percentile(std::vector<double> v, double q) {
@@ -278,6 +279,8 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
       scheduler.Stop();
     }
   });
+  if (const auto* map = sensing.avoidance_map())
+    r.occupied = map->OccupiedCentres({-10, -kWidth, -kAltitude - 1.5}, {kLength + 10, kWidth, -kAltitude + 1.5});
   for (const auto& disc : truth.discs) {
     double nearest = 1e9;
     for (const auto& q : r.track) nearest = std::min(nearest, (q.head<2>() - disc.c).norm() - disc.r);
@@ -301,6 +304,11 @@ void Picture(const std::string& path, const FlightResult& r, double density, int
   for (const auto& s : truth.segments)
     cv::line(img, P(s.a), P(s.b), s.half_width < 0.05 ? cv::Scalar(30, 30, 200) : cv::Scalar(70, 70, 120),
              std::max(1, static_cast<int>(2 * s.half_width * px)));
+  // The vehicle's map in the flight's band (altitude +-1.5 m), as it ended: occupied cells.
+  for (const auto& c : r.occupied) {
+    const cv::Point q = P(c.head<2>().cast<double>());
+    cv::rectangle(img, q - cv::Point(1, 1), q + cv::Point(1, 1), cv::Scalar(0, 140, 255), cv::FILLED);
+  }
   for (std::size_t i = 1; i < r.track.size(); ++i)
     cv::line(img, P(r.track[i - 1].head<2>()), P(r.track[i].head<2>()), cv::Scalar(200, 80, 0), 2, cv::LINE_AA);
   cv::circle(img, P({0, 0}), 6, cv::Scalar(0, 160, 0), 2);

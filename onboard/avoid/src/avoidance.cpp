@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 namespace uav::avoid {
 
@@ -27,6 +28,7 @@ AvoidanceParams AvoidanceParams::FromParameters(const ParameterSet& p) {
   a.map.resolution_m = p.Get("avd_map_res");
   a.map.max_cells = static_cast<std::size_t>(p.Get("avd_map_cells"));
   a.map.Validate();
+  if (a.GridLevels() < 0) throw std::invalid_argument("avd_grid must be avd_map_res times 1, 2, 4, 8 or 16");
   return a;
 }
 
@@ -60,6 +62,7 @@ Eigen::Vector3d PointAt(const std::vector<Eigen::Vector3d>& path, double s) {
 }
 
 AvoidancePlanner::AvoidancePlanner(const AvoidanceParams& params) : p_(params), map_(params.map) {
+  if (p_.GridLevels() < 0) throw std::invalid_argument("the planning cell must be the map's cell times 1, 2, 4, 8 or 16");
   planner_.clearance_m = p_.clearance();
   planner_.soft_clearance_m = p_.clearance() + 1.5;
   planner_.floor_down_m = -p_.min_alt_m;
@@ -82,10 +85,14 @@ std::string AvoidancePlanner::Add(const PerceptionUpdate& u, const Eigen::Vector
   return "";
 }
 
+int AvoidanceParams::GridLevels() const {
+  for (int k = 0; k <= 4; ++k)
+    if (std::abs(grid_m - map.resolution_m * (1 << k)) < 1e-9) return k;
+  return -1;
+}
+
 void AvoidancePlanner::RefreshKnown(const Eigen::Vector3d& p_N) {
-  int coarser = 0;
-  for (int k = 1; k <= 4; ++k)
-    if (std::abs(p_.grid_m - p_.map.resolution_m * (1 << k)) < 1e-9) coarser = k;
+  const int coarser = p_.GridLevels();
   bool complete = true;
   const std::vector<OccupancyMap::Change> changes = map_.TakeChanges(coarser, &complete);
   // Three windows wide; copied anew from the tree when the next window would leave it.
@@ -94,7 +101,7 @@ void AvoidancePlanner::RefreshKnown(const Eigen::Vector3d& p_N) {
   const Eigen::Vector3d lo = known_.min_N(), hi = lo + known_.size().cast<double>() * known_.resolution();
   const bool inside = known_.size().prod() > 0 && ((p_N - margin).array() >= lo.array()).all() &&
                       ((p_N + margin).array() <= hi.array()).all();
-  if (!complete || !inside || coarser == 0 && std::abs(known_.resolution() - p_.grid_m) > 1e-9) {
+  if (!complete || !inside) {
     known_ = LocalGrid::FromMap(map_, p_N, half, p_.grid_m, /*distances=*/false);
     return;
   }

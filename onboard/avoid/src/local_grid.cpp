@@ -51,7 +51,8 @@ LocalGrid LocalGrid::FromMap(const OccupancyMap& map, const Eigen::Vector3d& cen
   int coarser = 0;
   for (int k = 1; k <= 4; ++k)
     if (std::abs(resolution_m - map.resolution() * (1 << k)) < 1e-9) coarser = k;
-  map.ForEachKnown(min_N, max_N, [&](const Eigen::Vector3d& c, double leaf, bool occupied) {
+  map.ForEachKnown(min_N, max_N, [&](const Eigen::Vector3d& c, double leaf, Cell state) {
+    const bool occupied = state == Cell::kOccupied;
     const Eigen::Vector3d lo = c.array() - 0.5 * leaf + 1e-6, hi = c.array() + 0.5 * leaf - 1e-6;
     const Eigen::Vector3i a = g.CellOf(lo).cwiseMax(0), b = g.CellOf(hi).cwiseMin(size - Eigen::Vector3i::Ones());
     for (int z = a.z(); z <= b.z(); ++z)

@@ -20,6 +20,8 @@ void MapParams::Validate() const {
     throw std::invalid_argument("map miss probability must be in (0, 0.5)");
   if (max_cells < 1000) throw std::invalid_argument("map max_cells must be at least 1000");
   if (max_rays < 10) throw std::invalid_argument("map max_rays must be at least 10");
+  if (!(occupied_probability > 0.5 && occupied_probability < 1.0 && free_probability < 0.5 && free_probability > 0.0))
+    throw std::invalid_argument("map occupied probability must be in (0.5, 1) and free probability in (0, 0.5)");
 }
 
 struct OccupancyMap::Impl {
@@ -31,6 +33,11 @@ struct OccupancyMap::Impl {
   MapParams params;
   octomap::OcTree tree;
   bool changes_complete = true;
+  Cell Classify(const octomap::OcTreeNode* node) const {
+    if (!node) return Cell::kUnknown;
+    const double p = node->getOccupancy();
+    return p >= params.occupied_probability ? Cell::kOccupied : p <= params.free_probability ? Cell::kFree : Cell::kUnknown;
+  }
 };
 
 namespace {
@@ -105,13 +112,15 @@ void OccupancyMap::InsertPolyline(const std::vector<Eigen::Vector3d>& p_N, doubl
   }
 }
 
-void OccupancyMap::Mark(const Eigen::Vector3d& p_N, bool occupied) { impl_->tree.updateNode(P(p_N), occupied); }
+void OccupancyMap::Mark(const Eigen::Vector3d& p_N, bool occupied) {
+  octomap::OcTree& tree = impl_->tree;
+  tree.setNodeValue(P(p_N), occupied ? tree.getClampingThresMaxLog() : tree.getClampingThresMinLog());
+}
 
 Cell OccupancyMap::At(const Eigen::Vector3d& p_N) const {
   if (!p_N.allFinite()) return Cell::kUnknown;
   const octomap::OcTreeNode* node = impl_->tree.search(P(p_N));
-  if (!node) return Cell::kUnknown;
-  return impl_->tree.isNodeOccupied(node) ? Cell::kOccupied : Cell::kFree;
+  return impl_->Classify(node);
 }
 
 double OccupancyMap::resolution() const { return impl_->params.resolution_m; }
@@ -179,7 +188,7 @@ std::vector<OccupancyMap::Change> OccupancyMap::TakeChanges(int coarser, bool* c
     const octomap::OcTreeNode* node = tree.search(k, depth);
     const octomap::point3d c = tree.keyToCoord(k, depth);
     out.push_back({Eigen::Vector3d(c.x(), c.y(), c.z()),
-                   !node ? Cell::kUnknown : tree.isNodeOccupied(node) ? Cell::kOccupied : Cell::kFree});
+                   impl_->Classify(node)});
   }
   *complete = impl_->changes_complete;
   impl_->changes_complete = true;
@@ -187,12 +196,13 @@ std::vector<OccupancyMap::Change> OccupancyMap::TakeChanges(int coarser, bool* c
 }
 
 void OccupancyMap::VisitKnown(const Eigen::Vector3d& min_N, const Eigen::Vector3d& max_N,
-                              const std::function<void(const Eigen::Vector3d&, double, bool)>& f, int coarser) const {
+                              const std::function<void(const Eigen::Vector3d&, double, Cell)>& f, int coarser) const {
   const octomap::OcTree& tree = impl_->tree;
   const unsigned depth = tree.getTreeDepth() - static_cast<unsigned>(std::clamp(coarser, 0, 8));
   for (auto it = tree.begin_leafs_bbx(P(min_N), P(max_N), depth), end = tree.end_leafs_bbx(); it != end; ++it) {
     const octomap::point3d c = it.getCoordinate();
-    f(Eigen::Vector3d(c.x(), c.y(), c.z()), it.getSize(), tree.isNodeOccupied(*it));
+    const Cell state = impl_->Classify(&*it);
+    if (state != Cell::kUnknown) f(Eigen::Vector3d(c.x(), c.y(), c.z()), it.getSize(), state);
   }
 }
 
@@ -200,8 +210,8 @@ std::vector<Eigen::Vector3f> OccupancyMap::OccupiedCentres(const Eigen::Vector3d
                                                            const Eigen::Vector3d& max_N) const {
   std::vector<Eigen::Vector3f> out;
   const double r = impl_->params.resolution_m;
-  VisitKnown(min_N, max_N, [&](const Eigen::Vector3d& c, double size, bool occupied) {
-    if (!occupied) return;
+  VisitKnown(min_N, max_N, [&](const Eigen::Vector3d& c, double size, Cell state) {
+    if (state != Cell::kOccupied) return;
     const int n = std::max(1, static_cast<int>(std::lround(size / r)));
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j)

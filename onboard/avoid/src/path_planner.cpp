@@ -34,7 +34,10 @@ bool SegmentClear(const LocalGrid& grid, const Eigen::Vector3d& a_N, const Eigen
 }
 
 double SeenFreeLength(const LocalGrid& grid, const std::vector<Eigen::Vector3d>& p_N, double clearance_m) {
-  const double need = Inflated(grid, clearance_m);
+  if (p_N.empty()) return 0.0;
+  // A vehicle already nearer an obstacle than the clearance may move as long as it gets no nearer
+  // (the planner's way out).
+  const double need = std::min(Inflated(grid, clearance_m), static_cast<double>(grid.DistanceAt(p_N.front())));
   double s = 0.0;
   for (std::size_t i = 0; i + 1 < p_N.size(); ++i) {
     const double length = (p_N[i + 1] - p_N[i]).norm();
@@ -76,7 +79,8 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
   const double soft = std::max(params.soft_clearance_m, need + 1e-6);
   auto h = [&](const Eigen::Vector3i& c) { return (grid.Centre(c) - goal_N).norm(); };
   auto on_border = [&](const Eigen::Vector3i& c) {
-    return c.x() == 0 || c.y() == 0 || c.x() == size.x() - 1 || c.y() == size.y() - 1 || c.z() == 0 || c.z() == size.z() - 1;
+    // The side faces only: a goal beyond the window is reached across the ground, not over the top.
+    return c.x() == 0 || c.y() == 0 || c.x() == size.x() - 1 || c.y() == size.y() - 1;
   };
   const int n = size.prod();
   // Per cell: closed (the altitude band, or nearer an obstacle than allowed) and the cost factor
@@ -157,8 +161,9 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
   if (goal_inside) cells.back() = goal_N;
   out.cost = g[found];
   // Line of sight: from each kept point, on along the cells while the straight way to them keeps
-  // the clearance; the last such cell is the next point.
-  const double keep = open_from < need ? 0.0 : params.clearance_m;
+  // the clearance and a little more (shortcuts run along the obstacles the cells stayed clear
+  // of, and the vehicle follows them with some error); the last such cell is the next point.
+  const double keep = open_from < need ? 0.0 : params.clearance_m + params.shortcut_margin_m;
   out.p_N.push_back(cells.front());
   for (std::size_t i = 0; i + 1 < cells.size();) {
     std::size_t j = i + 1;

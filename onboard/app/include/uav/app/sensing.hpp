@@ -13,6 +13,10 @@
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/sensing.hpp"
 
+namespace uav::avoid {
+class OccupancyMap;
+}
+
 namespace uav::world {
 class Scene;
 }
@@ -41,6 +45,9 @@ class Sensing {
   // and a worker that falls behind or stalls (or recovers) is announced to the operator; a
   // worker the CPU cannot keep at its camera's rate gets a lower one, on purpose (ChooseRate).
   void Monitor(int64_t utime, LockstepScheduler& scheduler);
+  // Obstacle avoidance's 3-D map (null when avoidance is off). Read it only when the scheduler
+  // has stopped: the AVD thread writes it.
+  const avoid::OccupancyMap* avoidance_map() const;
   // "N survey images captured, ..." for the exit line.
   std::string Summary() const;
   // The run's sensing benchmark as JSON: per worker the configured and achieved rates (over the

@@ -37,12 +37,15 @@ struct AvoidanceParams {
   double window_up_m = 4.0;     // half height of the planning window
   double grid_m = 0.4;          // planning cell
   double min_alt_m = 1.5;       // lowest altitude a detour may take
-  double lookahead_m = 3.0;     // the carrot's lead along the path
+  double lookahead_m = 2.0;     // the carrot's lead along the path
   double hysteresis = 0.15;     // keep the current detour unless a new one is this much shorter
   double yaw_rate = 1.0;        // [rad/s] turning to face the way it flies (the cameras look ahead)
   double cruise_speed = 3.0;    // [m/s] ctl_speed_max_xy
   MapParams map;
   double clearance() const { return body_radius_m + margin_m; }
+  // k where grid_m = map.resolution_m * 2^k (the octree level the planning cells are read at);
+  // -1 when it is not such a multiple.
+  int GridLevels() const;
   static AvoidanceParams FromParameters(const ParameterSet& p);
 };
 

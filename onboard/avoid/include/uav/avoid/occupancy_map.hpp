@@ -22,6 +22,11 @@ struct MapParams {
   double resolution_m = 0.2;    // edge of the smallest cell
   double hit_probability = 0.7;   // of a cell a ray ends in (OctoMap's default)
   double miss_probability = 0.4;  // of a cell a ray crosses
+  // A cell is occupied at or above this probability (two consistent hits: one stereo outlier is
+  // not an obstacle), free at or below free_probability (one ray through it), and unknown in
+  // between: a cell seen both ways is not counted on either way until the evidence settles.
+  double occupied_probability = 0.8;
+  double free_probability = 0.45;
   int max_rays = 2000;            // per scan, after merging the rays that end in one 2x2x2-cell block
   std::size_t max_cells = 2'000'000;  // memory bound in nodes: past it, the cells farthest from the vehicle go
   void Validate() const;          // throws std::invalid_argument naming the bad field
@@ -53,7 +58,7 @@ class OccupancyMap {
   void InsertCylinder(const Eigen::Vector2d& p_NE, double top_down_m, double bottom_down_m, double radius_m);
   // A polyline (a ranged wire) thickened to radius_m.
   void InsertPolyline(const std::vector<Eigen::Vector3d>& p_N, double radius_m);
-  // Marks one cell as observed occupied or free (tests, and the benchmark's known start area).
+  // Sets one cell to certainly occupied or certainly free (tests).
   void Mark(const Eigen::Vector3d& p_N, bool occupied);
 
   Cell At(const Eigen::Vector3d& p_N) const;
@@ -63,12 +68,13 @@ class OccupancyMap {
   // went (0 when within the bound).
   std::size_t EnforceBound(const Eigen::Vector3d& p_N);
 
-  // Calls f(centre_N, size_m, occupied) for every known leaf inside the box (both ends incl.),
-  // or, with `coarser` > 0, for every known cell 2^coarser leaves wide (occupied when any leaf
-  // in it is: OctoMap keeps each inner cell at its most occupied child).
+  // Calls f(centre_N, size_m, state) for every free or occupied leaf inside the box (both ends
+  // incl.), or, with `coarser` > 0, for every such cell 2^coarser leaves wide (OctoMap keeps
+  // each inner cell at its most occupied child: occupied when any leaf in it is, free when all
+  // its known leaves are).
   template <class F>
   void ForEachKnown(const Eigen::Vector3d& min_N, const Eigen::Vector3d& max_N, F&& f, int coarser = 0) const {
-    VisitKnown(min_N, max_N, [&](const Eigen::Vector3d& c, double s, bool occ) { f(c, s, occ); }, coarser);
+    VisitKnown(min_N, max_N, [&](const Eigen::Vector3d& c, double s, Cell state) { f(c, s, state); }, coarser);
   }
   // The cells 2^coarser leaves wide that changed since the last call, with their state now:
   // what a dense copy of the map needs to stay current. `complete` is false when the changes
@@ -92,7 +98,7 @@ class OccupancyMap {
   struct Impl;
   std::unique_ptr<Impl> impl_;
   void VisitKnown(const Eigen::Vector3d& min_N, const Eigen::Vector3d& max_N,
-                  const std::function<void(const Eigen::Vector3d&, double, bool)>& f, int coarser = 0) const;
+                  const std::function<void(const Eigen::Vector3d&, double, Cell)>& f, int coarser = 0) const;
 };
 
 }  // namespace uav::avoid

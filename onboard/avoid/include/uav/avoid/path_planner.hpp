@@ -22,6 +22,7 @@ struct PlannerParams {
   double proximity_cost = 2.0;    // extra cost per metre at the clearance, falling to 0 at the soft one
   double unknown_cost = 0.5;      // extra cost per metre through unknown cells
   double vertical_cost = 2.0;     // factor on vertical movement (keep the planned altitude)
+  double shortcut_margin_m = 0.3; // a line-of-sight shortcut keeps this beyond the clearance
   int max_expansions = 200000;    // bounds the time on a window full of dead ends
   // Altitude band of the path [m, down positive]: cells below floor_down_m (the lowest altitude
   // allowed) or above ceiling_down_m (the geofence) are closed; the start is always open.
