@@ -1,7 +1,7 @@
 // One line across the top: whether this GCS signs what it sends (red when not), every vehicle's
 // link quality (heartbeat age, message rate, messages lost to sequence gaps) and signing state
 // (red when it executes unsigned messages, with the count it refused), then the selected vehicle's flight mode, task, battery, failsafe and
-// a power-line warning.
+// a power-line warning, stereo obstacles and obstacle avoidance's state.
 #include <algorithm>
 #include <cctype>
 #include <string>
@@ -114,6 +114,18 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
   } else if (v->state && v->state->obstacle_count > 0) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(0.85f, 0.5f, 1, 1), "| OBS %d, %.1f m", v->state->obstacle_count, v->state->nearest_obstacle_m);
+  }
+  // Obstacle avoidance while a task travels: avoiding in amber, blocked, no path or no data in
+  // red (the messages say why).
+  if (v->state && v->state->avoid_state != AvoidState::kOff) {
+    const AvoidState a = v->state->avoid_state;
+    std::string name(Name(a));
+    for (char& c : name) c = c == '_' ? ' ' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    const bool bad = a == AvoidState::kBlocked || a == AvoidState::kNoPath || a == AvoidState::kNoData;
+    const ImVec4 colour = bad ? ImVec4(1, 0.3f, 0.3f, 1) : a == AvoidState::kAvoiding ? ImVec4(1, 0.75f, 0.2f, 1) : ImVec4(0.5f, 0.85f, 0.5f, 1);
+    ImGui::SameLine();
+    ImGui::TextColored(colour, "| AVOID %s, %.1f m/s", name.c_str(), v->state->avoid_speed_limit_m_s);
+    RegisterLastItem(ctx, "status:avoid:" + v->id);
   }
   if (model.replay()) {
     ImGui::SameLine();
