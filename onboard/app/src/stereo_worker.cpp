@@ -206,6 +206,7 @@ void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& fou
   // Rays for the map: at most this many points per pair, evenly spread over the image's (the
   // map's cells are 20 cm: more rays only repeat the same cells).
   constexpr std::size_t kMaxRays = 6000;
+  constexpr double kMaxMapCylinderRadius = 0.6;  // [m] the thickest pole of the benchmark's fields
   const Eigen::Isometry3d T_NL = T_NB * camera_.left().T_BC;
   avoid::PerceptionUpdate u;
   u.utime = utime;
@@ -218,8 +219,11 @@ void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& fou
   for (std::size_t i = 0; i < found.points_L.size(); i += stride) scan.p_N.push_back(T * found.points_L[i]);
   u.scan = std::move(scan);
   for (const vision::ObstacleCylinder& c : found.obstacles) {
-    // Grown by one standard deviation of the axis position (its larger axis), at most 0.3 m: a
-    // cluster as uncertain as that is a poor cylinder, and its points are in the scan anyway.
+    // Thin ones only (poles, trunks, people: few points reach the map from them). A wide
+    // cylinder is a tree crown or a wall drawn as one, standing from its top to the ground: its
+    // own points describe it, and the cylinder would fill the space under a crown.
+    if (c.radius_m > kMaxMapCylinderRadius) continue;
+    // Grown by one standard deviation of the axis position (its larger axis), at most 0.3 m.
     const double sigma = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(c.cov_xy).eigenvalues().maxCoeff()));
     u.cylinders.push_back({c.centre_W.head<2>(), c.top_m, c.bottom_m, c.radius_m + std::min(sigma, 0.3)});
   }
