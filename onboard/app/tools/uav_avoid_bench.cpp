@@ -273,7 +273,9 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
       if (progress && static_cast<int>(t * 10) % 50 == 0)
         std::fprintf(stderr, "  seed %d t %.0f s at (%.1f, %.1f) %s\n", seed, t, p.x(), p.y(), std::string(uav::Name(d.avoid_state)).c_str());
     }
-    if ((p - Eigen::Vector3d(kLength, 0, -kAltitude)).head<2>().norm() < 1.0) {
+    // Reached: the goto completed (the vehicle holds at its goal, as its estimate has it) with
+    // the truth within the GPS-grade navigation's few metres of it.
+    if (t - travel_start_t > 1.0 && d.task == uav::Task::kHover && (p - Eigen::Vector3d(kLength, 0, -kAltitude)).head<2>().norm() < 3.0) {
       r.reached = true;
       r.time_s = t - travel_start_t;
       scheduler.Stop();
