@@ -164,6 +164,7 @@ const ParameterSchema& VehicleParameterSchema() {
     {"pwl_max_range", "m", 60, 5, 500, "farthest wire ranged (smallest disparity)"},
 
     // --- Stereo obstacles (STEREO thread, thesis 3.2, 3.5) ---
+    {"obs_enable", "-", 1, 0, 1, "detect obstacles (and, with pwl_enable, wires) on obs_rig; 0: the rig is not used for them (obstacle avoidance needs 1)"},
     {"obs_matcher", "-", 1, 0, 1, "disparity by 0: block matching, 1: semi-global matching"},
     {"obs_max_sigma", "m", 0.3, 0.05, 2, "range gate: points deeper than where the depth error (Eq. 3.7) reaches this are dropped"},
     {"obs_margin", "m", 0.5, 0, 5, "safety margin added to each obstacle cylinder's radius"},

@@ -9,7 +9,8 @@ bin=$1
 dir=$(cd "$(dirname "$0")" && pwd)
 source "$dir/sim_and_gcs.sh"
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
-ONBOARD_ARGS="--scene $dir/../../resources/scenes/survey_village.scene.json"
+# The survey needs the downward camera only: obs_enable=0 leaves the stereo pair unrendered.
+ONBOARD_ARGS="--scene $dir/../../resources/scenes/survey_village.scene.json --param obs_enable=0"
 # Run once, as soon as the first GCS has exited (run_sim_and_gcs's until-function).
 resume() {
   (cd "$work" && scaled_timeout 300 "$bin/uav-gcs" --headless --name operator --lcm-url "$url" --key "$key" \

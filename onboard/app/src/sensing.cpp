@@ -141,14 +141,16 @@ void Sensing::BuildStereo(const world::Scene& scene, const ParameterSet& params)
     vop.stream_video = s.vo_rig != s.active_stereo_rig;
     s.vo = std::make_unique<VoWorker>(*s.stereo_rigs[s.vo_rig], s.board, vop);
   }
-  s.stereo_rig = rig_of("obs_rig");
-  for (int k = 0; k < rigs && s.stereo_rig < 0; ++k)
-    if (k != s.active_stereo_rig && k != s.vo_rig) s.stereo_rig = k;
+  if (params.Get("obs_enable") != 0.0) {
+    s.stereo_rig = rig_of("obs_rig");
+    for (int k = 0; k < rigs && s.stereo_rig < 0; ++k)
+      if (k != s.active_stereo_rig && k != s.vo_rig) s.stereo_rig = k;
+  }
   if (s.stereo_rig >= 0)
     s.stereo = std::make_unique<StereoWorker>(*s.stereo_rigs[s.stereo_rig], s.board, StereoWorkerParams::FromParameters(params));
   const auto avd = avoid::AvoidanceParams::FromParameters(params);
   if (avd.enabled && !s.stereo)
-    throw std::invalid_argument("avd_enable 1 needs a stereo rig for obstacles (obs_rig): every one is taken by odometry or active stereo");
+    throw std::invalid_argument("avd_enable 1 needs obstacles on a stereo rig: obs_enable is 0, or every rig is taken by odometry or active stereo (obs_rig)");
   s.avd_rate_hz = avd.rate_hz;
   if (avd.enabled)
     s.avd = std::make_unique<AvoidWorker>(
