@@ -1,38 +1,8 @@
 #include "uav/shared/vehicle_enums.hpp"
 
-#include "uavmsg/command_ack_t.hpp"
-#include "uavmsg/status_text_t.hpp"
-#include "uavmsg/vehicle_state_t.hpp"
 
 namespace uav {
 namespace {
-
-using S = uavmsg::vehicle_state_t;
-using A = uavmsg::command_ack_t;
-using T = uavmsg::status_text_t;
-template <class E>
-constexpr int8_t W(E v) {
-  return static_cast<int8_t>(v);
-}
-static_assert(W(Task::kIdle) == S::TASK_IDLE && W(Task::kTakeoff) == S::TASK_TAKEOFF &&
-              W(Task::kHover) == S::TASK_HOVER && W(Task::kGoto) == S::TASK_GOTO && W(Task::kLand) == S::TASK_LAND &&
-              W(Task::kTrack) == S::TASK_TRACK && W(Task::kMission) == S::TASK_MISSION &&
-              W(Task::kReturn) == S::TASK_RETURN && W(Task::kFollow) == S::TASK_FOLLOW);
-static_assert(W(CommandResult::kAccepted) == A::RESULT_ACCEPTED && W(CommandResult::kRejected) == A::RESULT_REJECTED &&
-              W(CommandResult::kInProgress) == A::RESULT_IN_PROGRESS &&
-              W(CommandResult::kCompleted) == A::RESULT_COMPLETED && W(CommandResult::kFailed) == A::RESULT_FAILED &&
-              W(CommandResult::kReplaced) == A::RESULT_REPLACED);
-static_assert(W(FailsafeAction::kNone) == S::FAILSAFE_NONE && W(FailsafeAction::kHold) == S::FAILSAFE_HOLD &&
-              W(FailsafeAction::kReturn) == S::FAILSAFE_RETURN && W(FailsafeAction::kLand) == S::FAILSAFE_LAND &&
-              W(FailsafeAction::kManual) == S::FAILSAFE_MANUAL);
-static_assert(W(Severity::kError) == T::SEVERITY_ERROR && W(Severity::kWarning) == T::SEVERITY_WARNING &&
-              W(Severity::kInfo) == T::SEVERITY_INFO);
-static_assert(W(AttitudeMode::kDirect) == S::ATTITUDE_DIRECT && W(AttitudeMode::kGyroHover) == S::ATTITUDE_GYRO_HOVER &&
-              W(AttitudeMode::kGyroCruise) == S::ATTITUDE_GYRO_CRUISE);
-static_assert(W(FlightMode::kManual) == S::MODE_MANUAL && W(FlightMode::kAuto) == S::MODE_AUTO);
-static_assert(W(AvoidState::kOff) == S::AVOID_OFF && W(AvoidState::kClear) == S::AVOID_CLEAR &&
-              W(AvoidState::kAvoiding) == S::AVOID_AVOIDING && W(AvoidState::kBlocked) == S::AVOID_BLOCKED &&
-              W(AvoidState::kNoPath) == S::AVOID_NO_PATH && W(AvoidState::kNoData) == S::AVOID_NO_DATA);
 
 // One table per enum: value and name, in wire order. Name(), FromWire() and FromName() read it.
 template <class E>

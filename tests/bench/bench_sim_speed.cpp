@@ -43,11 +43,11 @@ int main(int argc, char** argv) {
       svo.Tick(t);
       // Next command of the square every 20 s, round and round.
       if (t % 20000000 == 0) {
-        board.PushCommand({"bench", ++seq, *uav::ParseCommand(plan[next]).command});
+        board.commands.Push({"bench", ++seq, *uav::ParseCommand(plan[next]).command});
         next = next + 1 < 6 ? next + 1 : 2;
       }
-      board.TakeReports();
-      board.TakeStatus();
+      board.task_reports.TakeAll();
+      board.status.TakeAll();
     });
     const auto t0 = std::chrono::steady_clock::now();
     s.Run([&](int64_t dt) { vehicle.Step(dt); });

@@ -1,6 +1,6 @@
 // Every LCM message the GCS decodes (vehicle -> GCS), through the GCS's own entry point
 // (GcsLink::Dispatch: decode once, check, feed the model), then a model tick. The first byte
-// chooses the channel's topic.
+// chooses the channel's topic (GcsLink::Topics(): every topic it decodes).
 #include "fuzz_input.hpp"
 #include "uav/gcs/gcs_link.hpp"
 #include "uav/shared/channels.hpp"
@@ -10,12 +10,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using uav::Topic;
-  static const Topic kTopics[] = {Topic::kHeartbeat,   Topic::kState,       Topic::kCommandAck,    Topic::kStatusText,
-                                  Topic::kMissionAck,  Topic::kVideo,       Topic::kFileOffer,     Topic::kFileChunk,
-                                  Topic::kMapTile,     Topic::kTrackStatus, Topic::kPowerLines,    Topic::kObstacles,
-                                  Topic::kPointCloud,  Topic::kMonoDepth,   Topic::kActiveStereo,  Topic::kVisualOdometry,
-                                  Topic::kSensing};
-  constexpr size_t kCount = sizeof(kTopics) / sizeof(kTopics[0]);
+  static const std::vector<Topic> kTopics = uav::gcs::GcsLink::Topics();
+  const size_t kCount = kTopics.size();
   if (size < 1) return 0;
   uav::gcs::GcsModel model("fuzz", 1);
   uav::gcs::GcsLink link(nullptr, model, std::nullopt);

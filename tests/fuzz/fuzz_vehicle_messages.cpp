@@ -5,10 +5,11 @@
 #include <stdexcept>
 
 #include "fuzz_input.hpp"
+#include "uav/wire/messages.hpp"
 #include "uav/app/command_intake.hpp"
-#include "uav/shared/bus.hpp"
+#include "uav/wire/bus.hpp"
 #include "uav/shared/file_transfer.hpp"
-#include "uav/shared/signed_message.hpp"
+#include "uav/wire/signed_message.hpp"
 #include "uav/shared/tracking.hpp"
 #include "uav/waypoints/mission_messages.hpp"
 #include "uav/waypoints/mission_transfer.hpp"

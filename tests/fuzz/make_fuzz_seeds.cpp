@@ -3,6 +3,7 @@
 // the harness's key), OUT_DIR/gcs_messages (vehicle -> GCS, one per topic) and
 // OUT_DIR/event_log (a short onboard event log). Text seeds are files of the project
 // (tests/fuzz/CMakeLists.txt lists them).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,8 +12,11 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "uav/wire/messages.hpp"
+#include "uav/gcs/gcs_link.hpp"
 #include "uav/shared/channels.hpp"
-#include "uav/shared/signed_message.hpp"
+#include "uav/wire/reports.hpp"
+#include "uav/wire/signed_message.hpp"
 #include "uavmsg/active_stereo_t.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
@@ -137,36 +141,44 @@ int main(int argc, char** argv) {
     Write(out / "vehicle_messages" / "gcs_heartbeat", 4, Encode(m));
   }
 
-  // Vehicle -> GCS, selector = the index in fuzz_gcs_messages.cpp's topic table.
+  // Vehicle -> GCS, selector = the topic's index in GcsLink::Topics() (fuzz_gcs_messages.cpp).
   const fs::path g = out / "gcs_messages";
+  const std::vector<uav::Topic> topics = uav::gcs::GcsLink::Topics();
+  auto selector = [&](uav::Topic t) {
+    return static_cast<uint8_t>(std::find(topics.begin(), topics.end(), t) - topics.begin());
+  };
   auto hb = ForVehicle<uavmsg::heartbeat_t>();
   hb.source_name = "UAV1";
   hb.signing = uavmsg::heartbeat_t::SIGNING_ON;
-  Write(g / "heartbeat", 0, Encode(hb));
+  Write(g / "heartbeat", selector(uav::Topic::kHeartbeat), Encode(hb));
   auto state = ForVehicle<uavmsg::vehicle_state_t>();
-  Write(g / "state", 1, Encode(state));
+  Write(g / "state", selector(uav::Topic::kState), Encode(state));
   auto ack = ForVehicle<uavmsg::command_ack_t>();
   ack.source = "fuzz";
   ack.command = "arm";
   ack.result = uavmsg::command_ack_t::RESULT_COMPLETED;
-  Write(g / "command_ack", 2, Encode(ack));
+  Write(g / "command_ack", selector(uav::Topic::kCommandAck), Encode(ack));
   auto text = ForVehicle<uavmsg::status_text_t>();
   text.text = "GPS fix lost";
-  Write(g / "status_text", 3, Encode(text));
-  Write(g / "mission_ack", 4, Encode(ForVehicle<uavmsg::mission_ack_t>()));
-  Write(g / "video_frame", 5, Encode(ForVehicle<uavmsg::video_frame_t>()));
+  Write(g / "status_text", selector(uav::Topic::kStatusText), Encode(text));
+  Write(g / "mission_ack", selector(uav::Topic::kMissionAck), Encode(ForVehicle<uavmsg::mission_ack_t>()));
+  Write(g / "video_frame", selector(uav::Topic::kVideo), Encode(ForVehicle<uavmsg::video_frame_t>()));
   auto offer = ForVehicle<uavmsg::file_offer_t>();
   offer.name = "map_1.tif";
-  Write(g / "file_offer", 6, Encode(offer));
-  Write(g / "file_chunk", 7, Encode(ForVehicle<uavmsg::file_chunk_t>()));
-  Write(g / "map_tile", 8, Encode(ForVehicle<uavmsg::map_tile_t>()));
-  Write(g / "track_status", 9, Encode(ForVehicle<uavmsg::track_status_t>()));
-  Write(g / "power_lines", 10, Encode(ForVehicle<uavmsg::power_lines_t>()));
-  Write(g / "obstacles", 11, Encode(ForVehicle<uavmsg::obstacles_t>()));
-  Write(g / "point_cloud", 12, Encode(ForVehicle<uavmsg::point_cloud_t>()));
-  Write(g / "mono_depth", 13, Encode(ForVehicle<uavmsg::mono_depth_t>()));
-  Write(g / "active_stereo", 14, Encode(ForVehicle<uavmsg::active_stereo_t>()));
-  Write(g / "visual_odometry", 15, Encode(ForVehicle<uavmsg::visual_odometry_t>()));
+  Write(g / "file_offer", selector(uav::Topic::kFileOffer), Encode(offer));
+  Write(g / "file_chunk", selector(uav::Topic::kFileChunk), Encode(ForVehicle<uavmsg::file_chunk_t>()));
+  Write(g / "map_tile", selector(uav::Topic::kMapTile), Encode(ForVehicle<uavmsg::map_tile_t>()));
+  Write(g / "track_status", selector(uav::Topic::kTrackStatus), Encode(ForVehicle<uavmsg::track_status_t>()));
+  // Every perception report: an empty one (the harness varies it from there).
+  uav::ForEachType(uav::PerceptionReports{}, [&](auto* type) {
+    using T = std::remove_pointer_t<decltype(type)>;
+    auto m = uav::ToMessage(T{});
+    m.utime = kUtime;
+    m.header.vehicle_id = "UAV1";
+    m.header.seq = 1;
+    const uav::Topic t = uav::Report<T>::kTopic;
+    Write(g / uav::TopicName(t), selector(t), Encode(m));
+  });
   {
     auto m = ForVehicle<uavmsg::sensing_t>();
     uavmsg::sensing_worker_t w{};
@@ -181,7 +193,7 @@ int main(int argc, char** argv) {
     w.reason = "behind: 7.5 of 15.0 Hz, 30 frames dropped";
     m.workers = {w};
     m.num_workers = 1;
-    Write(g / "sensing", 16, Encode(m));
+    Write(g / uav::TopicName(uav::Topic::kSensing), selector(uav::Topic::kSensing), Encode(m));  // one unhealthy worker
   }
 
   // A short event log, as the onboard EventLog writes it (LCM log format).

@@ -9,6 +9,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "uav/wire/messages.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 
 namespace {

@@ -59,7 +59,7 @@ TEST(CameraWorker, PreviewRateIsIndependentOfFrameAndCaptureRates) {
   int previews_taken = 0;
   for (int i = 0; i < 50; ++i) {  // 5 s at 10 Hz
     worker.Tick(1'000'000 + i * 100'000);
-    previews_taken += static_cast<int>(board.TakePreviews().size());
+    previews_taken += static_cast<int>(board.previews.TakeAll().size());
   }
   EXPECT_EQ(worker.previews(), 20);  // 4 Hz for 5 s
   EXPECT_EQ(previews_taken, 20);
@@ -78,7 +78,7 @@ TEST(CameraWorker, ZeroPreviewRateSendsNoPreview) {
   CameraWorker worker(sim_camera, board, CameraWorker::Options());
   for (int i = 0; i < 5; ++i) worker.Tick(1'000'000 + i * 200'000);
   EXPECT_EQ(worker.previews(), 0);
-  EXPECT_TRUE(board.TakePreviews().empty());
+  EXPECT_TRUE(board.previews.TakeAll().empty());
 }
 
 TEST(StereoWorker, PostsTheObstacleRangeAhead) {
@@ -108,7 +108,7 @@ TEST(ActiveStereoWorker, PostsTheHeightForTheLinkAndTheInsAndNoneOverATable) {
   params.enabled = true;
   ActiveStereoWorker worker(sim_pair, board, params);
   worker.Tick(1'000'000);
-  const auto report = board.TakeActiveStereo();
+  const auto report = board.reports.Take<ActiveStereoReport>();
   ASSERT_TRUE(report);
   ASSERT_TRUE(report->healthy) << report->reason;
   EXPECT_NEAR(report->height_m, 1.2, 0.01);
@@ -121,7 +121,7 @@ TEST(ActiveStereoWorker, PostsTheHeightForTheLinkAndTheInsAndNoneOverATable) {
   T_NB = Pose(2.35, 0.2, -1.5);  // the rig sits 0.15 m ahead of the body origin
   board.Update([&](BlackboardData& d) { d.estimate.p_N = T_NB.translation(); });
   worker.Tick(1'066'667);
-  const auto hidden = board.TakeActiveStereo();
+  const auto hidden = board.reports.Take<ActiveStereoReport>();
   ASSERT_TRUE(hidden);
   EXPECT_FALSE(hidden->healthy);
   EXPECT_NE(hidden->reason.find("the floor is hidden"), std::string::npos) << hidden->reason;
@@ -146,7 +146,7 @@ TEST(StereoWorker, ReportsPowerLinesInNedAndTheNearestWire) {
   worker.Tick(1'000'000);
   EXPECT_LT(board.Snapshot().nearest_wire_m, 0.0);
   worker.Tick(1'066'667);
-  const auto report = board.TakePowerLines();
+  const auto report = board.reports.Take<PowerLines>();
   ASSERT_TRUE(report);
   EXPECT_EQ(report->camera, "stereo_left");
   ASSERT_FALSE(report->wires.empty());
@@ -183,7 +183,7 @@ TEST(StereoWorker, PowerLinesOffSendsNone) {
   params.power_lines = false;
   StereoWorker worker(sim_pair, board, params);
   worker.Tick(1'000'000);
-  EXPECT_FALSE(board.TakePowerLines());
+  EXPECT_FALSE(board.reports.Take<PowerLines>());
   EXPECT_LT(board.Snapshot().nearest_wire_m, 0.0);
 }
 
@@ -201,7 +201,7 @@ TEST(StereoWorker, ReportsObstacleCylindersInNed) {
   sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&](int64_t) { return T_NB; });
   StereoWorker worker(sim_pair, board, StereoWorkerParams());
   worker.Tick(1'000'000);
-  const auto report = board.TakeObstacles();
+  const auto report = board.reports.Take<Obstacles>();
   ASSERT_TRUE(report);
   EXPECT_TRUE(report->healthy);
   EXPECT_EQ(report->camera, "stereo_left");
@@ -220,7 +220,7 @@ TEST(StereoWorker, ReportsObstacleCylindersInNed) {
   EXPECT_GT(nearest.image_box[3], 0.6);
   EXPECT_EQ(board.Snapshot().obstacle_count, static_cast<int>(report->obstacles.size()));
   EXPECT_DOUBLE_EQ(board.Snapshot().nearest_obstacle_m, report->nearest_m);
-  const auto cloud = board.TakePointCloud();
+  const auto cloud = board.reports.Take<PointCloud>();
   ASSERT_TRUE(cloud);
   EXPECT_GT(cloud->p_N.size(), 100u);
   EXPECT_TRUE(cloud->origin_N.isApprox(T_NB.translation()));
@@ -247,10 +247,10 @@ TEST(StereoWorker, BlankCameraReportsUnhealthyAndNoObstacles) {
   StereoWorker worker(camera, board, StereoWorkerParams());
   worker.Tick(1'000'000);
   ASSERT_GT(board.Snapshot().obstacle_count, 0);
-  board.TakeObstacles();
+  board.reports.Take<Obstacles>();
   camera.blank = true;
   worker.Tick(1'066'667);
-  const auto report = board.TakeObstacles();
+  const auto report = board.reports.Take<Obstacles>();
   ASSERT_TRUE(report);
   EXPECT_FALSE(report->healthy);
   EXPECT_NE(report->reason.find("empty"), std::string::npos) << report->reason;
@@ -261,7 +261,7 @@ TEST(StereoWorker, BlankCameraReportsUnhealthyAndNoObstacles) {
   EXPECT_EQ(worker.unhealthy(), 1);
   camera.blank = false;
   worker.Tick(1'133'333);
-  EXPECT_TRUE(board.TakeObstacles()->healthy);
+  EXPECT_TRUE(board.reports.Take<Obstacles>()->healthy);
   EXPECT_EQ(worker.frames(), 2);
 }
 
@@ -297,8 +297,8 @@ TEST(TrackWorker, TracksThePickedTargetCentresItAndPlacesItOnTheGround) {
   const cv::Rect picked = truth_box(1'000'000);
   ASSERT_GT(picked.area(), 100);
   for (int64_t t = 500'000; t <= 1'300'000; t += 100'000) worker.Tick(t);
-  EXPECT_TRUE(board.TakeTrackReports().empty());  // nothing until a target is set
-  TrackRequest r;
+  EXPECT_TRUE(board.track_reports.TakeAll().empty());  // nothing until a target is set
+  TrackTarget r;
   r.vehicle_id = "UAV1";
   r.target_seq = 7;
   r.frame_utime = 1'000'000;
@@ -307,16 +307,16 @@ TEST(TrackWorker, TracksThePickedTargetCentresItAndPlacesItOnTheGround) {
   const double pad = 0.05;
   r.x = picked.x / 640.0 - pad, r.y = picked.y / 480.0 - pad;
   r.width = picked.width / 640.0 + 2 * pad, r.height = picked.height / 480.0 + 2 * pad;
-  board.PushTrackRequest(r);
+  board.track_requests.Push(r);
   const double pitch0 = camera.pitch_rad();
-  std::vector<TrackReport> reports;
+  std::vector<TrackStatus> reports;
   for (int64_t t = 1'400'000; t <= 3'400'000; t += 100'000) {
     worker.Tick(t);
-    for (const TrackReport& rep : board.TakeTrackReports()) reports.push_back(rep);
+    for (const TrackStatus& rep : board.track_reports.TakeAll()) reports.push_back(rep);
   }
   ASSERT_EQ(reports.size(), 21u);
-  for (const TrackReport& rep : reports) {
-    EXPECT_EQ(rep.state, TrackReport::State::kTracking);
+  for (const TrackStatus& rep : reports) {
+    EXPECT_EQ(rep.state, TrackStatus::State::kTracking);
     EXPECT_EQ(rep.target_seq, 7);
     EXPECT_GT(rep.confidence, 0.5);
   }
@@ -342,37 +342,37 @@ TEST(TrackWorker, TracksThePickedTargetCentresItAndPlacesItOnTheGround) {
   EXPECT_NEAR(target.bearing_rad, 0.0, 0.02);
 
   // Refusals: another camera, a frame no longer buffered, a tiny box. The target carries on.
-  TrackRequest other = r;
+  TrackTarget other = r;
   other.target_seq = 8;
   other.camera = "downward";
-  TrackRequest old = r;
+  TrackTarget old = r;
   old.target_seq = 9;
   old.frame_utime = 100'000;
-  TrackRequest tiny = r;
+  TrackTarget tiny = r;
   tiny.target_seq = 10;
   tiny.frame_utime = 3'400'000;
   tiny.width = 2.0 / 640;
-  for (const TrackRequest& bad : {other, old, tiny}) board.PushTrackRequest(bad);
+  for (const TrackTarget& bad : {other, old, tiny}) board.track_requests.Push(bad);
   worker.Tick(3'500'000);
-  reports = board.TakeTrackReports();
+  reports = board.track_reports.TakeAll();
   ASSERT_EQ(reports.size(), 4u);
-  EXPECT_EQ(reports[0].state, TrackReport::State::kRejected);
+  EXPECT_EQ(reports[0].state, TrackStatus::State::kRejected);
   EXPECT_NE(reports[0].reason.find("camera 'downward'"), std::string::npos);
   EXPECT_NE(reports[1].reason.find("not in the buffer"), std::string::npos);
   EXPECT_NE(reports[2].reason.find("smaller than"), std::string::npos);
-  EXPECT_EQ(reports[3].state, TrackReport::State::kTracking);
+  EXPECT_EQ(reports[3].state, TrackStatus::State::kTracking);
   EXPECT_EQ(reports[3].target_seq, 7);
 
-  TrackRequest cancel;
-  cancel.method = TrackRequest::Method::kCancel;
+  TrackTarget cancel;
+  cancel.method = TrackTarget::Method::kCancel;
   cancel.target_seq = 11;
-  board.PushTrackRequest(cancel);
+  board.track_requests.Push(cancel);
   worker.Tick(3'600'000);
-  reports = board.TakeTrackReports();
+  reports = board.track_reports.TakeAll();
   ASSERT_EQ(reports.size(), 1u);
-  EXPECT_EQ(reports[0].state, TrackReport::State::kIdle);
+  EXPECT_EQ(reports[0].state, TrackStatus::State::kIdle);
   worker.Tick(3'700'000);
-  EXPECT_TRUE(board.TakeTrackReports().empty());
+  EXPECT_TRUE(board.track_reports.TakeAll().empty());
   EXPECT_FALSE(board.Snapshot().target.locked);
 }
 

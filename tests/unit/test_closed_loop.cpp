@@ -47,21 +47,21 @@ class ClosedLoop : public ::testing::Test {
   // Sends `text` and flies until its completion (or failure) report, at most `limit_s`.
   // Returns the final report; records the worst attitude seen on the way.
   // With an empty `text`, flies without a new command until `until_` holds or the limit.
-  control::TaskReport Fly(const std::string& text, double limit_s) {
+  CommandAck Fly(const std::string& text, double limit_s) {
     if (!text.empty()) {
       const auto parsed = ParseCommand(text);
       EXPECT_TRUE(parsed.ok()) << parsed.error;
-      board_.PushCommand({"test", ++seq_, *parsed.command});
+      board_.commands.Push({"test", ++seq_, *parsed.command});
     }
-    control::TaskReport last;
+    CommandAck last;
     bool done = false;
     LockstepScheduler s({vehicle_.utime(), kStep, 0.0, static_cast<int64_t>(limit_s * 1e6)});
     s.AddWorker("IMU", 0, kPeriod, [&](int64_t t) { imu_.Tick(t); });
     s.AddWorker("CTL", 1, kPeriod, [&](int64_t t) { ctl_.Tick(t); });
     s.AddWorker("SVO", 2, kPeriod, [&](int64_t t) {
       svo_.Tick(t);
-      for (const auto& r : board_.TakeReports()) {
-        if (r.seq != seq_ || r.source != "test") continue;  // not a failsafe's own row
+      for (const auto& r : board_.task_reports.TakeAll()) {
+        if (r.command_seq != seq_ || r.source != "test") continue;  // not a failsafe's own row
         last = r;
         if (r.result == control::AckResult::kCompleted || r.result == control::AckResult::kFailed ||
             r.result == control::AckResult::kRejected)
@@ -452,14 +452,14 @@ TEST_F(Follow, KeepsTheWalkingPersonCentredForAMinute) {
   ASSERT_GT(picked.area(), 50) << "the person is not in view at " << last_frame_utime_ * 1e-6 << " s from "
                                << TruthPosition().transpose() << ", person " << person_ << " at "
                                << scene_.PlacementAt(person_, last_frame_utime_ * 1e-6).base_N.transpose();
-  TrackRequest r;
+  TrackTarget r;
   r.target_seq = 1;
   r.frame_utime = last_frame_utime_;
   r.camera = setup_.name;
   const double W = setup_.intrinsics.width, H = setup_.intrinsics.height;
   r.x = (picked.x - 4) / W, r.y = (picked.y - 4) / H;
   r.width = (picked.width + 8) / W, r.height = (picked.height + 8) / H;
-  board_.PushTrackRequest(r);
+  board_.track_requests.Push(r);
   Fly("", 1.0);
   ASSERT_TRUE(board_.Snapshot().target.locked);
 
@@ -492,7 +492,7 @@ TEST_F(Follow, KeepsTheWalkingPersonCentredForAMinute) {
     worst_height_error = std::max(worst_height_error, std::abs(-p.z() - fp.height_m));
   };
   until_ = [&] { return (vehicle_.utime() - start) * 1e-6 >= settle_s + walk_s; };
-  const control::TaskReport during = Fly("follow", settle_s + walk_s + 1);
+  const CommandAck during = Fly("follow", settle_s + walk_s + 1);
   until_ = nullptr;
   on_frame_ = nullptr;
   EXPECT_EQ(during.result, control::AckResult::kAccepted) << during.reason;  // still following
@@ -513,7 +513,7 @@ TEST_F(Follow, KeepsTheWalkingPersonCentredForAMinute) {
   EXPECT_EQ(lost_frames, 0);
 
   // Hover stops it as the operator meant; the vehicle holds there.
-  const control::TaskReport stopped = Fly("hover", 1);
+  const CommandAck stopped = Fly("hover", 1);
   EXPECT_EQ(stopped.result, control::AckResult::kCompleted);
   EXPECT_EQ(board_.Snapshot().task, control::Task::kHover);
 }
@@ -585,7 +585,7 @@ class MonoDepthFlight : public ClosedLoop {
   // rightly carries the roof's depth while the renderer's pixel there is the ground: "the exact
   // depth at the feature" is not defined closer than the window.
   void Measure(int64_t t) {
-    const auto grid = board_.TakeDepthGrid();
+    const auto grid = board_.reports.Take<DepthGrid>();
     if (!grid) return;
     if (converged_s_ < 0 && converge_from_ >= 0 &&
         std::none_of(grid->cells.begin(), grid->cells.end(), [](const DepthCell& c) { return c.state == CellState::kUnknown; }))
@@ -672,7 +672,7 @@ TEST_F(MonoDepthFlight, LevelFlightAtTwentyMetresAndADescentToLanding) {
   trace_ = &trace;
   until_ = [&] { return EstimatedPosition().x() > 8.0; };
   StartClock();
-  board_.PushCommand({"test", ++seq_, *ParseCommand("goto 70 0 20").command});
+  board_.commands.Push({"test", ++seq_, *ParseCommand("goto 70 0 20").command});
   Fly("", 30);
   until_ = nullptr;
   StartMeasuring();
@@ -693,7 +693,7 @@ TEST_F(MonoDepthFlight, LevelFlightAtTwentyMetresAndADescentToLanding) {
   // forward, 1 m/s down) to 3 m.
   StartMeasuring();
   until_ = [&] { return -EstimatedPosition().z() < 4.0; };
-  board_.PushCommand({"test", ++seq_, *ParseCommand("goto 110 0 3").command});
+  board_.commands.Push({"test", ++seq_, *ParseCommand("goto 110 0 3").command});
   Fly("", 60);
   until_ = nullptr;
   const double glide_mean = WorstCellMean(), glide_worst = worst_;
@@ -710,7 +710,7 @@ TEST_F(MonoDepthFlight, LevelFlightAtTwentyMetresAndADescentToLanding) {
   StartClock();
   StartMeasuring();
   until_ = [&] { return -EstimatedPosition().z() < 2.0; };
-  board_.PushCommand({"test", ++seq_, *ParseCommand("land").command});
+  board_.commands.Push({"test", ++seq_, *ParseCommand("land").command});
   Fly("", 60);
   until_ = nullptr;
   trace_ = nullptr;

@@ -173,12 +173,12 @@ class Enforcement : public ::testing::Test {
     est_.p_N = Eigen::Vector3d(0, 0, -10);
     Run("goto 100 0 10");
   }
-  TaskReport Run(const std::string& text) {
+  CommandAck Run(const std::string& text) {
     reports_.clear();
     tm_.Submit({"test", ++seq_, *ParseCommand(text).command}, est_, t_, &reports_);
     for (const auto& r : reports_)
-      if (r.seq == seq_) return r;  // this command's answer (a superseded one may come first)
-    return TaskReport{};
+      if (r.command_seq == seq_) return r;  // this command's answer (a superseded one may come first)
+    return CommandAck{};
   }
   void Enforce(A a, const std::string& why) {
     reports_.clear();
@@ -187,7 +187,7 @@ class Enforcement : public ::testing::Test {
   }
   TaskManager tm_;
   VehicleEstimate est_;
-  std::vector<TaskReport> reports_;
+  std::vector<CommandAck> reports_;
   int64_t seq_ = 0;
   double t_ = 0;
 };
@@ -209,7 +209,7 @@ TEST_F(Enforcement, NoDowngradeWhenTheFailsafeClearsAndCommandsThatDoLessAreRefu
   Enforce(A::kReturn, "no GCS heartbeat for 20.0 s");
   EXPECT_EQ(tm_.task(), Task::kReturn);
   // Still required: only return or land are accepted.
-  const TaskReport r = Run("hover");
+  const CommandAck r = Run("hover");
   EXPECT_EQ(r.result, AckResult::kRejected);
   EXPECT_NE(r.reason.find("failsafe return active"), std::string::npos) << r.reason;
   EXPECT_EQ(Run("goto 10 0 10").result, AckResult::kRejected);
@@ -227,14 +227,14 @@ TEST_F(Enforcement, NoDowngradeWhenTheFailsafeClearsAndCommandsThatDoLessAreRefu
 
 TEST_F(Enforcement, GeofenceTargetsAreRefusedBeforeAnythingMoves) {
   EXPECT_EQ(Run("goto 499 0 10").result, AckResult::kAccepted);
-  const TaskReport r = Run("goto 400 301 10");  // 500.2 m from home
+  const CommandAck r = Run("goto 400 301 10");  // 500.2 m from home
   EXPECT_EQ(r.result, AckResult::kRejected);
   EXPECT_EQ(r.reason, "target is outside the geofence");
 }
 
 TEST_F(Enforcement, PilotOverrideRefusesAutopilotCommands) {
   Enforce(A::kManual, "RC fail-safe switch");
-  const TaskReport r = Run("land");
+  const CommandAck r = Run("land");
   EXPECT_EQ(r.result, AckResult::kRejected);
   EXPECT_EQ(r.reason, "pilot has control (RC fail-safe switch)");
   Enforce(A::kNone, "");  // switch back: the autopilot holds where the pilot left it

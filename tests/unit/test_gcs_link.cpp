@@ -8,10 +8,11 @@
 #include <lcm/lcm-cpp.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "uav/wire/messages.hpp"
 #include "uav/gcs/gcs_link.hpp"
 #include "uav/gcs/log_replay.hpp"
 #include "uav/gcs/script.hpp"
-#include "uav/shared/bus.hpp"
+#include "uav/wire/bus.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/sha256.hpp"
 #include "uav/waypoints/mission_messages.hpp"

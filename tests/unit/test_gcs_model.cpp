@@ -101,11 +101,11 @@ TEST(GcsModel, AckStopsResendingAndOnlyOurAcksCount) {
   m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
   m.SubmitCommand("arm", 0.0);
   m.commands().TakeOutgoing();
-  m.OnAck("UAV1", "other-gcs", {100, "arm", CommandResult::kCompleted, 100, ""}, 0.5);
+  m.OnAck("UAV1", {"other-gcs", 100, "arm", CommandResult::kCompleted, 100, ""}, 0.5);
   EXPECT_FALSE(m.commands().sent().back().acknowledged);
-  m.OnAck("UAV2", "gcs", {100, "arm", CommandResult::kCompleted, 100, ""}, 0.5);  // wrong vehicle
+  m.OnAck("UAV2", {"gcs", 100, "arm", CommandResult::kCompleted, 100, ""}, 0.5);  // wrong vehicle
   EXPECT_FALSE(m.commands().sent().back().acknowledged);
-  m.OnAck("UAV1", "gcs", {100, "arm", CommandResult::kAccepted, 0, ""}, 0.5);
+  m.OnAck("UAV1", {"gcs", 100, "arm", CommandResult::kAccepted, 0, ""}, 0.5);
   EXPECT_TRUE(m.commands().sent().back().acknowledged);
   m.Tick(5.0);
   EXPECT_TRUE(m.commands().TakeOutgoing().empty());
@@ -117,16 +117,16 @@ TEST(GcsModel, AFailsafeGetsItsOwnRowAndNeverReopensTheLastCommand) {
   GcsModel m("gcs", 100);
   m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
   m.SubmitCommand("takeoff 10", 0.0);
-  m.OnAck("UAV1", "gcs", {100, "takeoff", CommandResult::kCompleted, 100, ""}, 1.0);
+  m.OnAck("UAV1", {"gcs", 100, "takeoff", CommandResult::kCompleted, 100, ""}, 1.0);
   m.SubmitCommand("goto 50 0 10", 2.0);
-  m.OnAck("UAV1", "gcs", {101, "goto", CommandResult::kAccepted, 0, ""}, 2.1);
+  m.OnAck("UAV1", {"gcs", 101, "goto", CommandResult::kAccepted, 0, ""}, 2.1);
   m.SubmitCommand("hover", 3.0);
-  m.OnAck("UAV1", "gcs", {101, "goto", CommandResult::kReplaced, 20, "replaced by hover"}, 3.1);
-  m.OnAck("UAV1", "gcs", {102, "hover", CommandResult::kCompleted, 100, ""}, 3.1);
+  m.OnAck("UAV1", {"gcs", 101, "goto", CommandResult::kReplaced, 20, "replaced by hover"}, 3.1);
+  m.OnAck("UAV1", {"gcs", 102, "hover", CommandResult::kCompleted, 100, ""}, 3.1);
   const std::string vehicle(kVehicleInitiatedSource);
-  m.OnAck("UAV1", vehicle, {1, "failsafe_land", CommandResult::kAccepted, 0, "no position source for 5 s"}, 4.0);
+  m.OnAck("UAV1", {vehicle, 1, "failsafe_land", CommandResult::kAccepted, 0, "no position source for 5 s"}, 4.0);
   EXPECT_EQ(m.log().lines().back().severity, Severity::kWarning);
-  m.OnAck("UAV1", vehicle, {1, "failsafe_land", CommandResult::kInProgress, 97, ""}, 9.0);
+  m.OnAck("UAV1", {vehicle, 1, "failsafe_land", CommandResult::kInProgress, 97, ""}, 9.0);
   const auto& sent = m.commands().sent();
   ASSERT_EQ(sent.size(), 4u);
   EXPECT_EQ(sent[0].last_ack->result, CommandResult::kCompleted);  // takeoff: closed, 100 %
@@ -136,14 +136,14 @@ TEST(GcsModel, AFailsafeGetsItsOwnRowAndNeverReopensTheLastCommand) {
   EXPECT_TRUE(sent[3].vehicle_initiated);
   EXPECT_EQ(sent[3].text, "failsafe_land");
   EXPECT_EQ(sent[3].last_ack->percent, 97);
-  m.OnAck("UAV1", vehicle, {1, "failsafe_land", CommandResult::kCompleted, 100, ""}, 12.0);
+  m.OnAck("UAV1", {vehicle, 1, "failsafe_land", CommandResult::kCompleted, 100, ""}, 12.0);
   EXPECT_EQ(sent.size(), 4u);
   EXPECT_EQ(sent[3].last_ack->result, CommandResult::kCompleted);
   // A vehicle row is never resent (the operator's were answered: nothing goes out again).
   m.commands().TakeOutgoing();
   m.Tick(20.0);
   EXPECT_TRUE(m.commands().TakeOutgoing().empty());
-  m.OnAck("UAV1", vehicle, {2, "failsafe_return", CommandResult::kAccepted, 0, "battery 24 %"}, 13.0);
+  m.OnAck("UAV1", {vehicle, 2, "failsafe_return", CommandResult::kAccepted, 0, "battery 24 %"}, 13.0);
   EXPECT_EQ(m.commands().sent().size(), 5u);
   EXPECT_NE(m.log().lines().back().text.find("vehicle: failsafe_return accepted (battery 24 %)"), std::string::npos)
       << m.log().lines().back().text;
@@ -255,7 +255,7 @@ TEST(GcsLiveMap, TilesArePerVehicleAndANewMapReplacesTheOld) {
   m.OnHeartbeat("UAV2", 1, Hb(0, false), 0.0);
   cv::Mat tile(64, 64, CV_8UC3, cv::Scalar(30, 120, 200));
   tile(cv::Rect(0, 0, 32, 64)).setTo(cv::Scalar::all(0));  // the left half unmapped
-  MapTileIn t;
+  MapTile t;
   t.map_id = 1;
   t.tile_px = 64;
   t.gsd_m = 0.05;
@@ -270,7 +270,7 @@ TEST(GcsLiveMap, TilesArePerVehicleAndANewMapReplacesTheOld) {
   EXPECT_EQ(rgba[(10 * 64 + 50) * 4 + 3], 255);  // mapped: opaque
   EXPECT_NEAR(rgba[(10 * 64 + 50) * 4 + 0], 200, 4);
   EXPECT_TRUE(m.vehicles().at("UAV2").live_map.tiles.empty());
-  MapTileIn bad = t;
+  MapTile bad = t;
   bad.tile_px = 128;  // the JPEG is 64 px
   m.OnMapTile("UAV1", bad, 0.3);
   bad = t;
@@ -317,7 +317,7 @@ TEST(GcsVideo, DecodesFramesPerVehicleAndRejectsBadOnesNamingWhy) {
   GcsModel m("test", 1);
   m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
   m.OnHeartbeat("UAV2", 1, Hb(0, false), 0.0);
-  VideoFrameIn f;
+  VideoFrame f;
   f.camera = "downward";
   f.width = 8;
   f.height = 6;
@@ -333,7 +333,7 @@ TEST(GcsVideo, DecodesFramesPerVehicleAndRejectsBadOnesNamingWhy) {
   EXPECT_NEAR(feed.rgba[1], 120, 3);
   EXPECT_EQ(m.vehicles().at("UAV2").video.frames, 0);  // nothing leaks to the other vehicle
   // Truncated data, wrong stated size, empty: rejected, counted, the last good frame kept.
-  VideoFrameIn bad = f;
+  VideoFrame bad = f;
   bad.jpeg.resize(20);
   m.OnVideoFrame("UAV1", bad, 0.4);
   bad = f;

@@ -93,7 +93,7 @@ TEST(GcsTracking, SelectionIsValidatedAndStatusIsPerVehicle) {
   auto out = m.video().TakeOutgoing();
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].vehicle_id, "UAV1");
-  EXPECT_DOUBLE_EQ(out[0].target.x, 0.2);
+  EXPECT_DOUBLE_EQ(out[0].x, 0.2);
   // Both sides of the image's edges, and the smallest box.
   TrackTarget edge = t;
   edge.x = 0.9, edge.width = 0.1;  // right edge exactly at 1
@@ -115,20 +115,19 @@ TEST(GcsTracking, SelectionIsValidatedAndStatusIsPerVehicle) {
   // Status: validated, kept per vehicle, in the tree as TRACK.*.
   TrackStatus st;
   st.utime = 1000000;
-  st.seq = 1;
   st.state = TrackStatus::kTracking;
   st.center_x = 0.25, st.center_y = 0.4, st.width = 0.1, st.height = 0.2;
-  m.OnTrackStatus("UAV2", st, 0.2);
+  m.OnTrackStatus("UAV2", 1, st, 0.2);
   EXPECT_FALSE(m.vehicles().at("UAV1").track);
   ASSERT_TRUE(m.vehicles().at("UAV2").track);
   EXPECT_EQ(m.vehicles().at("UAV2").Latest(Sig("TRACK.center_x")).value(), 0.25);
   TrackStatus bad = st;
   bad.center_x = NAN;
-  m.OnTrackStatus("UAV1", bad, 0.3);
+  m.OnTrackStatus("UAV1", 2, bad, 0.3);
   // A state outside the enum is refused by the link before it becomes one (LinkTest).
   bad = st;
   bad.center_y = 1.6;
-  m.OnTrackStatus("UAV1", bad, 0.3);
+  m.OnTrackStatus("UAV1", 2, bad, 0.3);
   EXPECT_FALSE(m.vehicles().at("UAV1").track);
 }
 
@@ -138,7 +137,7 @@ TEST(GcsVideo, FreezeHoldsTheFrameAndSwitchingVehicleDropsIt) {
   m.OnHeartbeat("UAV2", 1, Hb(0, false), 0.0);
   EXPECT_FALSE(m.FreezeVideo(true));  // no frame yet
   cv::Mat img(48, 64, CV_8UC3, cv::Scalar(10, 20, 30));
-  VideoFrameIn f;
+  VideoFrame f;
   f.utime = 5;
   f.camera = "downward";
   f.width = 64, f.height = 48, f.source_width = 640, f.source_height = 480;
@@ -158,7 +157,7 @@ TEST(GcsVideo, OneOfSeveralCamerasIsChosen) {
   GcsModel m("gcs", 1);
   m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
   cv::Mat img(48, 64, CV_8UC3, cv::Scalar(10, 20, 30));
-  VideoFrameIn f;
+  VideoFrame f;
   f.width = 64, f.height = 48, f.source_width = 640, f.source_height = 480;
   cv::imencode(".jpg", img, f.jpeg);
   for (int k = 0; k < 4; ++k) {
@@ -210,7 +209,7 @@ class Panels : public ::testing::Test {
   }
   void Video(const std::string& vehicle) {
     cv::Mat img(120, 160, CV_8UC3, cv::Scalar(40, 90, 140));
-    VideoFrameIn f;
+    VideoFrame f;
     f.utime = 123456;
     f.camera = "downward";
     f.width = 160, f.height = 120, f.source_width = 640, f.source_height = 480;
@@ -240,7 +239,7 @@ TEST_F(Panels, TargetByFourClicksAndByADragOnAFrozenFrame) {
   }
   auto out = model_.video().TakeOutgoing();
   ASSERT_EQ(out.size(), 1u);
-  const TrackTarget& t = out[0].target;
+  const TrackTarget& t = out[0];
   EXPECT_EQ(t.method, TrackTarget::kFourClicks);
   EXPECT_EQ(t.frame_utime, 123456);
   const WidgetRect r = ctx_.widgets.at("video:image");
@@ -253,9 +252,15 @@ TEST_F(Panels, TargetByFourClicksAndByADragOnAFrozenFrame) {
   EXPECT_FALSE(model_.video().frozen());  // back to live to watch it track
   // The tracker's answer is drawn over the live video (headless: the state is what we check).
   TrackStatus st;
+  st.target_seq = t.target_seq - 1;  // about an earlier selection: not this one's answer
   st.state = TrackStatus::kTracking;
   st.center_x = 0.4, st.center_y = 0.4, st.width = 0.3, st.height = 0.4;
-  model_.OnTrackStatus("UAV1", st, now_);
+  model_.OnTrackStatus("UAV1", 1, st, now_);
+  EXPECT_FALSE(model_.vehicles().at("UAV1").track);
+  EXPECT_EQ(model_.vehicles().at("UAV1").stale_track_statuses, 1);
+  st.target_seq = t.target_seq;
+  model_.OnTrackStatus("UAV1", 2, st, now_);
+  ASSERT_TRUE(model_.vehicles().at("UAV1").track);
   Frames(2);
   // A drag on a new frozen frame.
   ASSERT_TRUE(driver_.StartClick("video:freeze", &err_));
@@ -264,10 +269,10 @@ TEST_F(Panels, TargetByFourClicksAndByADragOnAFrozenFrame) {
   RunUntilIdle();
   out = model_.video().TakeOutgoing();
   ASSERT_EQ(out.size(), 1u);
-  EXPECT_EQ(out[0].target.method, TrackTarget::kDrag);
-  EXPECT_NEAR(out[0].target.x, 0.6, 2 * px);
-  EXPECT_NEAR(out[0].target.width, 0.2, 3 * px);
-  EXPECT_NEAR(out[0].target.height, 0.2, 3 * px);
+  EXPECT_EQ(out[0].method, TrackTarget::kDrag);
+  EXPECT_NEAR(out[0].x, 0.6, 2 * px);
+  EXPECT_NEAR(out[0].width, 0.2, 3 * px);
+  EXPECT_NEAR(out[0].height, 0.2, 3 * px);
   // A right click clears half-done corners; nothing is sent.
   ASSERT_TRUE(driver_.StartClick("video:freeze", &err_));
   RunUntilIdle();
@@ -344,7 +349,7 @@ TEST_F(Panels, ShortcutsAskForConfirmationAndGoToTheSelectedVehicle) {
 
 TEST_F(Panels, LiveMapZoomsAboutTheCursorAndPans) {
   cv::Mat tile(64, 64, CV_8UC3, cv::Scalar(30, 120, 200));
-  MapTileIn t;
+  MapTile t;
   t.map_id = 1, t.tile_px = 64, t.gsd_m = 0.05;
   cv::imencode(".jpg", tile, t.jpeg);
   for (int x = 0; x < 3; ++x)

@@ -5,7 +5,8 @@
 #include <functional>
 #include <vector>
 
-#include "uav/shared/bus.hpp"
+#include "uav/wire/messages.hpp"
+#include "uav/wire/bus.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/active_stereo.hpp"
 #include "uav/shared/mono_depth.hpp"

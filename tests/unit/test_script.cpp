@@ -59,7 +59,7 @@ TEST(Script, ConditionsOnTelemetryAndAcks) {
   EXPECT_FALSE(eval("nosuch > 1").holds);
   EXPECT_EQ(eval("ack == none").holds, true);
   m.SubmitCommand("arm", 0.0);
-  m.OnAck("UAV1", "gcs", {1, "arm", CommandResult::kRejected, 0, "already armed"}, 0.1);
+  m.OnAck("UAV1", {"gcs", 1, "arm", CommandResult::kRejected, 0, "already armed"}, 0.1);
   EXPECT_TRUE(eval("ack == rejected and ack.reason contains already armed").holds);
   EXPECT_FALSE(eval("ack.reason lacks already armed").holds);
   EXPECT_TRUE(eval("ack.reason lacks failsafe and ack == rejected").holds);

@@ -9,8 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include "uav/wire/messages.hpp"
 #include "uav/app/command_intake.hpp"
-#include "uav/shared/signed_message.hpp"
+#include "uav/wire/signed_message.hpp"
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "unit/lossy_link.hpp"

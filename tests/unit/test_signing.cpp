@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "uav/shared/sha256.hpp"
-#include "uav/shared/signed_message.hpp"
+#include "uav/wire/signed_message.hpp"
 #include "uavmsg/command_t.hpp"
 
 namespace uav {

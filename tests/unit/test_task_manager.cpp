@@ -16,13 +16,13 @@ class TaskManagerTest : public ::testing::Test {
       : tm_(TaskParams::FromParameters(
             ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", uav::VehicleParameterSchema()))) {}
 
-  std::vector<TaskReport> Send(const std::string& text) {
-    std::vector<TaskReport> r;
+  std::vector<CommandAck> Send(const std::string& text) {
+    std::vector<CommandAck> r;
     tm_.Submit({"gcs", ++seq_, *ParseCommand(text).command}, est_, t_, &r);
     return r;
   }
-  std::vector<TaskReport> Step(double dt = 0.02) {
-    std::vector<TaskReport> r;
+  std::vector<CommandAck> Step(double dt = 0.02) {
+    std::vector<CommandAck> r;
     t_ += dt;
     out_ = tm_.Update(est_, t_, &r);
     return r;
@@ -67,7 +67,7 @@ TEST_F(TaskManagerTest, StateChecksRejectWithReasons) {
 TEST_F(TaskManagerTest, TakeoffReportsProgressThenCompletesIntoHover) {
   Send("arm");
   Send("takeoff 10");
-  std::vector<TaskReport> all;
+  std::vector<CommandAck> all;
   for (int i = 0; i <= 10; ++i) {
     est_.p_N.z() = -i;  // climb 1 m per step of 1 s
     auto r = Step(1.0);
@@ -110,7 +110,7 @@ TEST_F(TaskManagerTest, ChirpOnlyWhileHoveringFollowsEq214AndEndsItself) {
   EXPECT_EQ(r.back().result, AckResult::kAccepted);
   // u(t) = A sin(2 pi (f0 + k/2 t) t), k = (f1 - f0) / T (Eq. 2.14), on the throttle channel.
   const double k = (3.0 - 0.2) / 10.0;
-  std::vector<TaskReport> all;
+  std::vector<CommandAck> all;
   for (int i = 1; i <= 400; ++i) {
     for (auto& rep : Step()) all.push_back(rep);
     const double t = 0.02 * i;
@@ -152,7 +152,7 @@ TEST_F(TaskManagerTest, LandCompletesAfterStillOnGroundAndDisarms) {
   EXPECT_NEAR(*out_.setpoint.descent_rate, 0.7 / 3, 1e-12);
   est_.p_N.z() = -0.05;
   est_.v_N.z() = 0.0;  // on the ground
-  std::vector<TaskReport> done;
+  std::vector<CommandAck> done;
   for (int i = 0; i < 20 && done.empty(); ++i)  // landed_time 0.5 s
     for (const auto& x : Step(0.1))
       if (x.result != AckResult::kInProgress) done.push_back(x);
@@ -174,7 +174,7 @@ TEST_F(TaskManagerTest, AHoldFailsafeStopsAGotoButNotALanding) {
   Step();
   ASSERT_EQ(Send("goto 20 0 5")[0].result, AckResult::kAccepted);
   Step();
-  std::vector<TaskReport> r;
+  std::vector<CommandAck> r;
   tm_.EnforceFailsafe(FailsafeAction::kHold, "no position", est_, t_, &r);
   // The goto fails naming the failsafe; the hold is the vehicle's own row (accepted, completed).
   ASSERT_EQ(r.size(), 3u);
@@ -220,7 +220,7 @@ TEST_F(TaskManagerTest, ALandingEndsWhenTheGroundStopsTheDescentWhateverTheHeigh
   }
   est_.p_N.z() = -3.0;  // the estimate 3 m up when the ground stops the vehicle
   est_.v_N.z() = 0.0;
-  std::vector<TaskReport> done;
+  std::vector<CommandAck> done;
   while (done.empty() && t_ < 110)
     for (const auto& x : Step(0.1))
       if (x.result != AckResult::kInProgress) done.push_back(x);
@@ -233,7 +233,7 @@ TEST_F(TaskManagerTest, ALandingEndsWhenTheGroundStopsTheDescentWhateverTheHeigh
 TEST_F(TaskManagerTest, UnreachableTargetFailsAndHolds) {
   Send("arm");
   Send("takeoff 10");  // vehicle never climbs
-  std::vector<TaskReport> r;
+  std::vector<CommandAck> r;
   for (int i = 0; i < 200; ++i) {
     auto s = Step(1.0);
     for (auto& x : s)
@@ -251,7 +251,7 @@ TEST_F(TaskManagerTest, AFailsafeLandingReportsAsItselfNotAsTheLastCommand) {
   const int64_t takeoff_seq = seq_ + 1;
   Send("takeoff 10");
   est_.p_N.z() = -10;
-  std::vector<TaskReport> all;
+  std::vector<CommandAck> all;
   for (auto& x : Step()) all.push_back(x);
   ASSERT_EQ(all.back().result, AckResult::kCompleted);
   all.clear();
@@ -261,7 +261,7 @@ TEST_F(TaskManagerTest, AFailsafeLandingReportsAsItselfNotAsTheLastCommand) {
   EXPECT_EQ(all[0].command, "failsafe_land");
   EXPECT_EQ(all[0].result, AckResult::kAccepted);
   EXPECT_EQ(all[0].reason, "no GPS fix");
-  const int64_t own_seq = all[0].seq;
+  const int64_t own_seq = all[0].command_seq;
   for (int i = 0; i < 400 && tm_.armed(); ++i) {
     est_.p_N.z() = std::min(0.0, est_.p_N.z() + 0.05);
     for (auto& x : Step(0.1)) all.push_back(x);
@@ -269,23 +269,23 @@ TEST_F(TaskManagerTest, AFailsafeLandingReportsAsItselfNotAsTheLastCommand) {
   ASSERT_FALSE(tm_.armed());
   int progress = 0;
   for (const auto& x : all) {
-    EXPECT_NE(x.seq, takeoff_seq) << Name(x.result) << " " << x.reason;
-    EXPECT_EQ(x.seq, own_seq);
+    EXPECT_NE(x.command_seq, takeoff_seq) << Name(x.result) << " " << x.reason;
+    EXPECT_EQ(x.command_seq, own_seq);
     progress += x.result == AckResult::kInProgress;
   }
   EXPECT_GT(progress, 0);
   EXPECT_EQ(all.back().result, AckResult::kCompleted);
   // A second failsafe is numbered anew.
-  std::vector<TaskReport> cleared;
+  std::vector<CommandAck> cleared;
   tm_.EnforceFailsafe(FailsafeAction::kNone, "", est_, t_, &cleared);
   Send("arm");
   Send("takeoff 10");
   est_.p_N.z() = -10;
   Step();
-  std::vector<TaskReport> again;
+  std::vector<CommandAck> again;
   tm_.EnforceFailsafe(FailsafeAction::kReturn, "battery low", est_, t_, &again);
   ASSERT_FALSE(again.empty());
-  EXPECT_GT(again.back().seq, own_seq);
+  EXPECT_GT(again.back().command_seq, own_seq);
 }
 
 // A goto replaced by hover closes as replaced and says nothing after.
@@ -299,13 +299,13 @@ TEST_F(TaskManagerTest, AReplacedCommandsRowClosesAndStaysClosed) {
   Step(0.6);
   auto r = Send("hover");
   ASSERT_FALSE(r.empty());
-  EXPECT_EQ(r[0].seq, goto_seq);
+  EXPECT_EQ(r[0].command_seq, goto_seq);
   EXPECT_EQ(r[0].result, AckResult::kReplaced);
-  std::vector<TaskReport> after;
+  std::vector<CommandAck> after;
   tm_.EnforceFailsafe(FailsafeAction::kLand, "battery", est_, t_, &after);
   for (int i = 0; i < 50; ++i)
     for (auto& x : Step(0.1)) after.push_back(x);
-  for (const auto& x : after) EXPECT_NE(x.seq, goto_seq);
+  for (const auto& x : after) EXPECT_NE(x.command_seq, goto_seq);
 }
 
 }  // namespace
@@ -406,7 +406,7 @@ TEST_F(FollowTest, HoldsOnALossFollowsAgainOnReacquisitionAndGivesUpAfterTheTime
   EXPECT_EQ(r[0].reason, "following");
   Lose();
   const double lost_at = t_;
-  std::vector<TaskReport> all;
+  std::vector<CommandAck> all;
   while (t_ - lost_at < follow_.lost_timeout_s + 0.5) {
     r = Step(0.1);
     all.insert(all.end(), r.begin(), r.end());
@@ -439,7 +439,7 @@ TEST_F(FollowTest, AFailsafeTakesOverAndRefusesFollow) {
   See(20, 0);
   Send("follow");
   Step();
-  std::vector<TaskReport> r;
+  std::vector<CommandAck> r;
   tm_.EnforceFailsafe(FailsafeAction::kReturn, "GCS link lost", est_, t_, &r);
   ASSERT_EQ(r.size(), 2u);
   EXPECT_EQ(r[0].result, AckResult::kFailed);

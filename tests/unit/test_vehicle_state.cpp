@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "uav/wire/messages.hpp"
 #include "uav/shared/vehicle_state.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 

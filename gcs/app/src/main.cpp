@@ -15,7 +15,7 @@
 #include "demo_script.hpp"
 #include "uav/gcs/gcs_link.hpp"
 #include "uav/gcs/log_replay.hpp"
-#include "uav/shared/bus.hpp"
+#include "uav/wire/bus.hpp"
 #include "uav/gcs/gcs_model.hpp"
 #include "uav/gcs/gcs_ui.hpp"
 #include "uav/gcs/platform.hpp"

@@ -5,27 +5,19 @@
 #include <map>
 #include <stdexcept>
 
-#include "uav/shared/bus.hpp"
+#include "uav/wire/bus.hpp"
 #include "uav/shared/channels.hpp"
-#include "uav/shared/obstacles.hpp"
-#include "uav/shared/power_lines.hpp"
 #include "uav/shared/time.hpp"
+#include "uav/wire/reports.hpp"
 #include "uav/waypoints/mission_messages.hpp"
-#include "uavmsg/active_stereo_t.hpp"
-#include "uavmsg/visual_odometry_t.hpp"
-#include "uavmsg/sensing_t.hpp"
-#include "uavmsg/mono_depth_t.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/file_chunk_t.hpp"
 #include "uavmsg/file_offer_t.hpp"
 #include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
-#include "uav/shared/signed_message.hpp"
+#include "uav/wire/signed_message.hpp"
 #include "uavmsg/map_tile_t.hpp"
-#include "uavmsg/obstacles_t.hpp"
-#include "uavmsg/point_cloud_t.hpp"
-#include "uavmsg/power_lines_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/track_status_t.hpp"
 #include "uavmsg/track_target_t.hpp"
@@ -36,9 +28,6 @@ namespace uav::gcs {
 
 static_assert(kMaxJpegBytes == uavmsg::video_frame_t::MAX_JPEG_BYTES &&
               kMaxJpegBytes == uavmsg::map_tile_t::MAX_JPEG_BYTES);
-static_assert(TrackTarget::kDrag == uavmsg::track_target_t::METHOD_DRAG &&
-              TrackTarget::kFourClicks == uavmsg::track_target_t::METHOD_FOUR_CLICKS &&
-              TrackTarget::kCancel == uavmsg::track_target_t::METHOD_CANCEL);
 
 namespace {
 
@@ -54,8 +43,14 @@ Msg Decode(const void* data, int size, const std::string& vehicle) {
   return m;
 }
 
-const std::map<Topic, Decoder>& Decoders() {
-  static const std::map<Topic, Decoder> k = {
+// A perception report (uav/shared/reports.hpp): decoded and checked by its FromMessage.
+template <class T>
+void DecodeReport(GcsModel& model, const std::string& id, const void* d, int n, double now) {
+  model.OnReport(id, FromMessage(Decode<typename Report<T>::Message>(d, n, id)), now);
+}
+
+std::map<Topic, Decoder> MakeDecoders() {
+  std::map<Topic, Decoder> k = {
       {Topic::kHeartbeat,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
          const auto m = Decode<uavmsg::heartbeat_t>(d, n, id);
@@ -74,10 +69,7 @@ const std::map<Topic, Decoder>& Decoders() {
        }},
       {Topic::kCommandAck,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
-         const auto m = Decode<uavmsg::command_ack_t>(d, n, id);
-         const auto result = CommandResultFromWire(m.result);
-         if (!result) throw std::invalid_argument("unknown command result " + std::to_string(m.result));
-         model.OnAck(id, m.source, {m.command_seq, m.command, *result, m.progress_percent, m.reason}, now);
+         model.OnAck(id, FromMessage(Decode<uavmsg::command_ack_t>(d, n, id)), now);
        }},
       {Topic::kMissionAck,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
@@ -86,8 +78,7 @@ const std::map<Topic, Decoder>& Decoders() {
        }},
       {Topic::kVideo,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
-         const auto m = Decode<uavmsg::video_frame_t>(d, n, id);
-         model.OnVideoFrame(id, {m.utime, m.camera, m.width, m.height, m.source_width, m.source_height, m.jpeg}, now);
+         model.OnVideoFrame(id, FromMessage(Decode<uavmsg::video_frame_t>(d, n, id)), now);
        }},
       {Topic::kFileOffer,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
@@ -113,65 +104,12 @@ const std::map<Topic, Decoder>& Decoders() {
        }},
       {Topic::kMapTile,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
-         const auto m = Decode<uavmsg::map_tile_t>(d, n, id);
-         model.OnMapTile(id,
-                         {m.map_id, m.tile_x, m.tile_y, m.tile_px, m.gsd_m, m.origin_north_m, m.origin_east_m,
-                          m.georeferenced != 0, m.jpeg},
-                         now);
+         model.OnMapTile(id, FromMessage(Decode<uavmsg::map_tile_t>(d, n, id)), now);
        }},
       {Topic::kTrackStatus,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
          const auto m = Decode<uavmsg::track_status_t>(d, n, id);
-         TrackStatus st;
-         st.utime = m.utime;
-         st.seq = m.header.seq;
-         st.target_seq = m.target_seq;
-         // Checked before the cast: an enum holding a value it does not name is undefined.
-         if (m.state < TrackStatus::kIdle || m.state > TrackStatus::kRejected)
-           throw std::invalid_argument("unknown tracker state " + std::to_string(m.state));
-         st.state = static_cast<TrackStatus::State>(m.state);
-         st.center_x = m.center_x;
-         st.center_y = m.center_y;
-         st.width = m.width;
-         st.height = m.height;
-         st.angle_rad = m.angle_rad;
-         st.camera = m.camera;
-         st.tracker = m.tracker;
-         st.window_x = m.window_x;
-         st.window_y = m.window_y;
-         st.window_width = m.window_width;
-         st.window_height = m.window_height;
-         st.confidence = m.confidence;
-         st.reason = m.reason;
-         model.OnTrackStatus(id, st, now);
-       }},
-      {Topic::kPowerLines,
-       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
-         model.OnPowerLines(id, FromMessage(Decode<uavmsg::power_lines_t>(d, n, id)), now);
-       }},
-      {Topic::kObstacles,
-       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
-         model.OnObstacles(id, FromMessage(Decode<uavmsg::obstacles_t>(d, n, id)), now);
-       }},
-      {Topic::kMonoDepth,
-       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
-         model.OnDepthGrid(id, FromMessage(Decode<uavmsg::mono_depth_t>(d, n, id)), now);
-       }},
-      {Topic::kActiveStereo,
-       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
-         model.OnActiveStereo(id, FromMessage(Decode<uavmsg::active_stereo_t>(d, n, id)), now);
-       }},
-      {Topic::kVisualOdometry,
-       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
-         model.OnVisualOdometry(id, FromMessage(Decode<uavmsg::visual_odometry_t>(d, n, id)), now);
-       }},
-      {Topic::kSensing,
-       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
-         model.OnSensing(id, FromMessage(Decode<uavmsg::sensing_t>(d, n, id)), now);
-       }},
-      {Topic::kPointCloud,
-       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
-         model.OnPointCloud(id, FromMessage(Decode<uavmsg::point_cloud_t>(d, n, id)), now);
+         model.OnTrackStatus(id, m.header.seq, FromMessage(m), now);
        }},
       {Topic::kStatusText,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
@@ -181,6 +119,15 @@ const std::map<Topic, Decoder>& Decoders() {
          model.OnStatusText(id, *severity, m.text, now);
        }},
   };
+  ForEachType(PerceptionReports{}, [&](auto* type) {
+    using T = std::remove_pointer_t<decltype(type)>;
+    k.emplace(Report<T>::kTopic, &DecodeReport<T>);
+  });
+  return k;
+}
+
+const std::map<Topic, Decoder>& Decoders() {
+  static const std::map<Topic, Decoder> k = MakeDecoders();
   return k;
 }
 
@@ -223,6 +170,12 @@ GcsLink::GcsLink(Bus* bus, GcsModel& model, const std::optional<SigningKey>& key
 }
 
 GcsLink::~GcsLink() = default;
+
+std::vector<Topic> GcsLink::Topics() {
+  std::vector<Topic> out;
+  for (const auto& [topic, decoder] : Decoders()) out.push_back(topic);
+  return out;
+}
 
 int64_t GcsLink::dropped_messages() const { return impl_->dropped; }
 const std::string& GcsLink::last_drop_reason() const { return impl_->last_drop_reason; }
@@ -279,20 +232,8 @@ void GcsLink::Poll(int timeout_ms, double now) {
     im.Publish(r.vehicle_id, Topic::kFileRequest, m);
   }
   for (const auto& t : im.model.video().TakeOutgoing()) {
-    uavmsg::track_target_t m{};
+    uavmsg::track_target_t m = ToMessage(t);
     m.source = im.model.gcs_name();
-    m.target_seq = t.target_seq;
-    m.frame_utime = t.target.frame_utime;
-    m.camera = t.target.camera;
-    m.method = static_cast<int8_t>(t.target.method);
-    m.x = t.target.x;
-    m.y = t.target.y;
-    m.width = t.target.width;
-    m.height = t.target.height;
-    for (int i = 0; i < 4; ++i) {
-      m.corner_x[i] = t.target.corners[i][0];
-      m.corner_y[i] = t.target.corners[i][1];
-    }
     im.Publish(t.vehicle_id, Topic::kTrackTarget, m);
   }
   if (now - im.last_heartbeat >= kHeartbeatPeriod) {

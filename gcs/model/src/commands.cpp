@@ -41,10 +41,10 @@ void CommandCenter::Keep(SentCommand c) {
   while (sent_.size() > kMaxSentKept) sent_.pop_front();
 }
 
-void CommandCenter::OnAck(const std::string& vehicle_id, const std::string& source, const AckInfo& ack, double now,
+void CommandCenter::OnAck(const std::string& vehicle_id, const CommandAck& ack, double now,
                           MessageLog& log) {
-  if (source == kVehicleInitiatedSource) return OnVehicleReport(vehicle_id, ack, now, log);
-  if (source != gcs_name_) return;  // another GCS's conversation
+  if (ack.source == kVehicleInitiatedSource) return OnVehicleReport(vehicle_id, ack, now, log);
+  if (ack.source != gcs_name_) return;  // another GCS's conversation
   for (auto& c : sent_) {
     if (c.vehicle_initiated || c.command_seq != ack.command_seq || c.vehicle_id != vehicle_id) continue;
     c.acknowledged = true;
@@ -58,7 +58,7 @@ void CommandCenter::OnAck(const std::string& vehicle_id, const std::string& sour
   }
 }
 
-void CommandCenter::OnVehicleReport(const std::string& vehicle_id, const AckInfo& ack, double now, MessageLog& log) {
+void CommandCenter::OnVehicleReport(const std::string& vehicle_id, const CommandAck& ack, double now, MessageLog& log) {
   auto row = std::find_if(sent_.begin(), sent_.end(), [&](const SentCommand& c) {
     return c.vehicle_initiated && c.vehicle_id == vehicle_id && c.command_seq == ack.command_seq;
   });

@@ -43,17 +43,17 @@ void GcsModel::OnState(const std::string& vehicle_id, int64_t seq, const Vehicle
   if (vehicle_id == selected_ && v.home) missions_.planner().SetOrigin(*v.home);
 }
 
-void GcsModel::OnAck(const std::string& vehicle_id, const std::string& source, const AckInfo& ack, double now) {
+void GcsModel::OnAck(const std::string& vehicle_id, const CommandAck& ack, double now) {
   if (replay_) {  // a recorded flight: every GCS's conversation with the vehicle, as it happened
     if (ack.result == CommandResult::kInProgress) return;
     const bool bad = IsFailure(ack.result);
     log_.Add(now, vehicle_id,
              ack.command + ": " + std::string(Name(ack.result)) + (ack.reason.empty() ? "" : " (" + ack.reason + ")") +
-                 " [to " + source + "]",
+                 " [to " + ack.source + "]",
              bad ? Severity::kWarning : Severity::kInfo);
     return;
   }
-  commands_.OnAck(vehicle_id, source, ack, now, log_);
+  commands_.OnAck(vehicle_id, ack, now, log_);
 }
 
 void GcsModel::OnStatusText(const std::string& vehicle_id, Severity severity, const std::string& text, double now) {
@@ -68,7 +68,7 @@ void GcsModel::OnMissionAck(const std::string& vehicle_id, const std::string& so
   if (it != vehicles_.end()) missions_.OnMissionAck(it->second, vehicle_id, ack, now, log_);
 }
 
-void GcsModel::OnVideoFrame(const std::string& vehicle_id, const VideoFrameIn& frame, double now) {
+void GcsModel::OnVideoFrame(const std::string& vehicle_id, const VideoFrame& frame, double now) {
   VideoTracking::OnVideoFrame(Vehicle(vehicle_id), vehicle_id, frame, now, log_);
 }
 
@@ -81,36 +81,36 @@ void GcsModel::OnFileChunk(const std::string& vehicle_id, const FileChunk& chunk
   if (it != vehicles_.end()) MapsDownloads::OnFileChunk(it->second, chunk);
 }
 
-void GcsModel::OnMapTile(const std::string& vehicle_id, const MapTileIn& tile, double now) {
+void GcsModel::OnMapTile(const std::string& vehicle_id, const MapTile& tile, double now) {
   MapsDownloads::OnMapTile(Vehicle(vehicle_id), vehicle_id, tile, now, log_);
 }
 
-void GcsModel::OnTrackStatus(const std::string& vehicle_id, const TrackStatus& status, double now) {
+void GcsModel::OnTrackStatus(const std::string& vehicle_id, int64_t seq, const TrackStatus& status, double now) {
   VehicleModel& v = Vehicle(vehicle_id);
-  if (VideoTracking::OnTrackStatus(v, vehicle_id, status, now, log_)) gcs::OnTrackTelemetry(v, status, now);
+  if (VideoTracking::OnTrackStatus(v, vehicle_id, status, now, log_)) gcs::OnTrackTelemetry(v, seq, status, now);
 }
 
-void GcsModel::OnPowerLines(const std::string& vehicle_id, PowerLines lines, double now) {
+void GcsModel::OnReport(const std::string& vehicle_id, PowerLines lines, double now) {
   wires_.OnPowerLines(Vehicle(vehicle_id), vehicle_id, std::move(lines), now, log_);
 }
 
-void GcsModel::OnObstacles(const std::string& vehicle_id, Obstacles obstacles, double now) {
+void GcsModel::OnReport(const std::string& vehicle_id, Obstacles obstacles, double now) {
   obstacles_.OnObstacles(Vehicle(vehicle_id), vehicle_id, std::move(obstacles), now, log_);
 }
 
-void GcsModel::OnDepthGrid(const std::string& vehicle_id, DepthGrid grid, double now) {
+void GcsModel::OnReport(const std::string& vehicle_id, DepthGrid grid, double now) {
   VehicleModel& v = Vehicle(vehicle_id);
   OnDepthTelemetry(v, grid, now);
   obstacles_.OnDepthGrid(v, vehicle_id, std::move(grid), now, log_);
 }
 
-void GcsModel::OnActiveStereo(const std::string& vehicle_id, ActiveStereoReport report, double now) {
+void GcsModel::OnReport(const std::string& vehicle_id, ActiveStereoReport report, double now) {
   VehicleModel& v = Vehicle(vehicle_id);
   OnActiveStereoTelemetry(v, report, now);
   obstacles_.OnActiveStereo(v, vehicle_id, std::move(report), now, log_);
 }
 
-void GcsModel::OnVisualOdometry(const std::string& vehicle_id, VisualOdometryReport report, double now) {
+void GcsModel::OnReport(const std::string& vehicle_id, VisualOdometryReport report, double now) {
   VehicleModel& v = Vehicle(vehicle_id);
   const std::optional<PositionSource> before = v.position_source;
   OnVisualOdometryTelemetry(v, report, now);
@@ -121,11 +121,11 @@ void GcsModel::OnVisualOdometry(const std::string& vehicle_id, VisualOdometryRep
              report.source == PositionSource::kGps ? Severity::kInfo : Severity::kWarning);
 }
 
-void GcsModel::OnSensing(const std::string& vehicle_id, const SensingReport& report, double now) {
+void GcsModel::OnReport(const std::string& vehicle_id, SensingReport report, double now) {
   OnSensingTelemetry(Vehicle(vehicle_id), report, now);
 }
 
-void GcsModel::OnPointCloud(const std::string& vehicle_id, PointCloud cloud, double now) {
+void GcsModel::OnReport(const std::string& vehicle_id, PointCloud cloud, double now) {
   obstacles_.OnPointCloud(Vehicle(vehicle_id), std::move(cloud), now);
 }
 

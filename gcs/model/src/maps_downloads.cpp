@@ -8,7 +8,7 @@
 
 namespace uav::gcs {
 
-void MapsDownloads::OnMapTile(VehicleMaps& v, const std::string& vehicle_id, const MapTileIn& t, double now,
+void MapsDownloads::OnMapTile(VehicleMaps& v, const std::string& vehicle_id, const MapTile& t, double now,
                               MessageLog& log) {
   LiveMap& map = v.live_map;
   std::string problem;

@@ -277,9 +277,9 @@ void OnState(VehicleTelemetry& v, int64_t seq, const VehicleState& s, double now
   }
 }
 
-void OnTrackTelemetry(VehicleTelemetry& v, const TrackStatus& st, double now) {
+void OnTrackTelemetry(VehicleTelemetry& v, int64_t seq, const TrackStatus& st, double now) {
   SignalGroup& g = v.groups[static_cast<int>(SignalGroupId::kTrack)];
-  Receipt(v, g, st.seq, now);
+  Receipt(v, g, seq, now);
   Store(v, g, TrackSignals(), st, st.utime * 1e-6);
 }
 

@@ -47,7 +47,7 @@ double VideoFeed::Rate(double now) const {
   return n;
 }
 
-void VideoTracking::OnVideoFrame(VehicleVideo& v, const std::string& vehicle_id, const VideoFrameIn& f, double now,
+void VideoTracking::OnVideoFrame(VehicleVideo& v, const std::string& vehicle_id, const VideoFrame& f, double now,
                                  MessageLog& log) {
   if (std::find(v.cameras.begin(), v.cameras.end(), f.camera) == v.cameras.end()) v.cameras.push_back(f.camera);
   if (v.camera.empty()) v.camera = f.camera;
@@ -86,6 +86,12 @@ bool VideoTracking::OnTrackStatus(VehicleVideo& v, const std::string& vehicle_id
     log.Add(now, vehicle_id, "track status refused: not finite, unknown state or outside the image", Severity::kWarning);
     return false;
   }
+  // A status answers one selection (target_seq): once this GCS has sent one, statuses about an
+  // earlier (or another GCS's) selection describe a target the operator has replaced.
+  if (v.track_target && st.target_seq != v.track_target->target_seq) {
+    ++v.stale_track_statuses;
+    return false;
+  }
   // Rejections and losses are worth a line in the log, once per change.
   const bool changed = !v.track || v.track->state != st.state || v.track->target_seq != st.target_seq;
   if (changed && st.state == TrackStatus::kRejected)
@@ -94,7 +100,7 @@ bool VideoTracking::OnTrackStatus(VehicleVideo& v, const std::string& vehicle_id
     log.Add(now, vehicle_id, "target " + std::to_string(st.target_seq) + " lost" + (st.reason.empty() ? "" : ": " + st.reason),
             Severity::kWarning);
   v.track = st;
-  v.track->received = now;
+  v.track_received = now;
   return true;
 }
 
@@ -132,8 +138,12 @@ bool VideoTracking::SelectTarget(VehicleVideo* v, const std::string& vehicle_id,
     }
   }
   const int64_t seq = next_target_seq_++;
-  outgoing_.push_back({vehicle_id, seq, target});
-  v->track_target = target;
+  TrackTarget sent = target;
+  sent.vehicle_id = vehicle_id;
+  sent.target_seq = seq;
+  outgoing_.push_back(sent);
+  v->track_target = sent;
+  v->track.reset();  // until the vehicle answers this selection
   ++v->track_targets_sent;
   char buf[160];
   if (target.method == TrackTarget::kCancel)

@@ -149,10 +149,10 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
     }
   } else {
     // The tracker's report over the live picture.
-    if (v->track && v->track->state == TrackStatus::kRejected && ctx.now - v->track->received < 5.0) {
+    if (v->track && v->track->state == TrackStatus::kRejected && ctx.now - v->track_received < 5.0) {
       const std::string text = "TARGET REJECTED: " + v->track->reason;
       dl->AddText(ImVec2(p0.x + 6, p0.y + 6), IM_COL32(255, 90, 90, 255), text.c_str());
-    } else if (v->track && v->track->state != TrackStatus::kIdle && ctx.now - v->track->received < 2.0 &&
+    } else if (v->track && v->track->state != TrackStatus::kIdle && ctx.now - v->track_received < 2.0 &&
                (v->track->camera.empty() || v->track->camera == feed.camera)) {
       const TrackStatus& t = *v->track;
       // The search window the next frame starts from (the whole picture while lost).

@@ -45,13 +45,13 @@ void ActiveStereoWorker::Work(Outbox& out) {
     for (const vision::LaserPoint& p : r.points) report.dots.push_back({p.left_px.x / w, p.left_px.y / h, p.down_m, p.cluster});
     report.clusters = r.clusters;
   }
-  out.Post([report](Blackboard& b) { b.PutActiveStereo(report); });
+  out.Post([report](Blackboard& b) { b.reports.Put(report); });
   if (r.healthy && params_.to_ins) {
     // Stamped with its capture time: the INS fuses it against where it was then.
     const BlackboardData::VisionHeight height{utime, r.height_m, std::max(r.height_sigma_m, params_.height_noise_m)};
     out.Post([height](Blackboard& b) { b.Update([&](BlackboardData& data) { data.vision_height = height; }); });
   }
-  if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.PutPreview(f); });
+  if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.previews.Put(f.camera, f); });
   ++frames_;
   unhealthy_ += !r.healthy;
 }

@@ -12,7 +12,7 @@ AvoidWorker::~AvoidWorker() {
 void AvoidWorker::Begin(int64_t utime) {
   VisionWorker::Begin(utime);
   // Taken on the clock's thread: which results a plan includes is the same in every run.
-  updates_ = board_.TakePerception();
+  updates_ = board_.perception.TakeAll();
 }
 
 void AvoidWorker::Save(Outbox* out) {

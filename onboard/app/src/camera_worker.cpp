@@ -70,7 +70,7 @@ void CameraWorker::Work(Outbox& out) {
   else
     ShareFrame(out, d, camera_.info().name, utime, frame.image, std::nullopt);
   if (preview_.Due(utime)) {
-    out.Post([f = preview_.Encode(utime, frame.image)](Blackboard& b) { b.PutPreview(f); });
+    out.Post([f = preview_.Encode(utime, frame.image)](Blackboard& b) { b.previews.Put(f.camera, f); });
     ++previews_;
   }
 
@@ -90,7 +90,7 @@ void CameraWorker::Work(Outbox& out) {
     c.height = frame.image.rows;
     c.bgr.assign(frame.image.data, frame.image.data + frame.image.total() * 3);
     c.T_NC_estimate = T_NB_estimate * camera_.info().T_BC;
-    out.Post([c = std::move(c)](Blackboard& b) { b.PushCapture(c); });
+    out.Post([c = std::move(c)](Blackboard& b) { b.captures.Push(c); });
     if (csv_) Record(utime, frame, d);
     ++captures_;
     last_capture_utime_ = utime;

@@ -7,7 +7,7 @@ CommandIntake::Result CommandIntake::Receive(const std::string& addressed_to,
                                              const std::string& text) {
   Result r;
   auto reject = [&](const std::string& command, const std::string& why) {
-    control::TaskReport rep{source, command_seq, command, control::AckResult::kRejected, 0, why};
+    CommandAck rep{source, command_seq, command, control::AckResult::kRejected, 0, why};
     Remember(rep);
     r.replies.push_back(rep);
   };
@@ -28,8 +28,8 @@ CommandIntake::Result CommandIntake::Receive(const std::string& addressed_to,
   return r;
 }
 
-void CommandIntake::Remember(const control::TaskReport& report) {
-  seen_[{report.source, report.seq}] = report;
+void CommandIntake::Remember(const CommandAck& report) {
+  seen_[{report.source, report.command_seq}] = report;
   while (seen_.size() > kMaxRemembered) {
     // Drop the lowest sequence number (oldest) of any source.
     auto oldest = seen_.begin();

@@ -11,16 +11,10 @@
 
 namespace uav::app {
 
-void SendAck(LinkContext& c, int64_t utime, const control::TaskReport& r) {
-  c.intake.Remember(r);
-  uavmsg::command_ack_t ack;
+void SendAck(LinkContext& c, int64_t utime, const CommandAck& r, bool remember) {
+  if (remember) c.intake.Remember(r);
+  uavmsg::command_ack_t ack = ToMessage(r);
   ack.utime = utime;
-  ack.source = r.source;
-  ack.command_seq = r.seq;
-  ack.command = r.command;
-  ack.result = static_cast<int8_t>(r.result);
-  ack.progress_percent = static_cast<int8_t>(r.percent);
-  ack.reason = r.reason;
   c.Publish(Topic::kCommandAck, ack);
 }
 
@@ -33,19 +27,15 @@ void SubscribeCommands(LinkContext& c) {
                                          // to (source, seq): the real sender's request may follow.
                                          // A replay's sender is not the source it names: no answer.
                                          if (v == SignatureVerdict::kReplay) return;
-                                         uavmsg::command_ack_t ack{};
-                                         ack.utime = c.now;
-                                         ack.source = m.source;
-                                         ack.command_seq = m.command_seq;
-                                         ack.command = m.text.substr(0, 256);
-                                         ack.result = uavmsg::command_ack_t::RESULT_REJECTED;
-                                         ack.reason = c.signatures.Refusal(v, m);
-                                         c.Publish(Topic::kCommandAck, ack);
+                                         SendAck(c, c.now,
+                                                 {m.source, m.command_seq, m.text.substr(0, 256),
+                                                  CommandResult::kRejected, 0, c.signatures.Refusal(v, m)},
+                                                 false);
                                          return;
                                        }
                                        auto r = c.intake.Receive(m.header.vehicle_id, m.source, m.command_seq, m.text);
                                        for (const auto& rep : r.replies) SendAck(c, c.now, rep);
-                                       if (r.request) c.board.PushCommand(*r.request);
+                                       if (r.request) c.board.commands.Push(*r.request);
                                      });
 }
 
@@ -104,13 +94,13 @@ void SubscribeTrackTargets(LinkContext& c) {
   c.bus.Subscribe<uavmsg::track_target_t>(
       Channel(c.vehicle_id, Topic::kTrackTarget), [&c](const std::string&, const uavmsg::track_target_t& m) {
         auto reject = [&](const std::string& reason) {
-          TrackReport r;
+          TrackStatus r;
           r.utime = m.frame_utime;
           r.target_seq = m.target_seq;
           r.camera = m.camera;
-          r.state = TrackReport::State::kRejected;
+          r.state = TrackStatus::State::kRejected;
           r.reason = reason;
-          c.board.PushTrackReport(r);
+          c.board.track_reports.Push(r);
           c.board.PushStatus(Severity::kWarning, "target " + std::to_string(m.target_seq) + " rejected: " + reason);
         };
         if (m.header.vehicle_id != c.vehicle_id) {
@@ -128,7 +118,7 @@ void SubscribeTrackTargets(LinkContext& c) {
           return;
         }
         try {
-          c.board.PushTrackRequest(FromMessage(m));
+          c.board.track_requests.Push(FromMessage(m));
         } catch (const std::invalid_argument& e) {
           reject(e.what());
         }

@@ -1,5 +1,5 @@
-// Outbound translators: acknowledgements, status texts, state, heartbeat, video, power lines, live-map tiles
-// and file offers and chunks. Each reads the blackboard (or a store) and publishes one topic.
+// Outbound translators: acknowledgements, status texts, state, heartbeat, video, the perception
+// reports, live-map tiles and file offers and chunks. Each reads the blackboard (or a store) and publishes one topic.
 #include "link_translators.hpp"
 
 #include <algorithm>
@@ -9,20 +9,12 @@
 #include <optional>
 
 #include "uav/app/reported_state.hpp"
+#include "uav/wire/reports.hpp"
 #include "uavmsg/file_chunk_t.hpp"
 #include "uavmsg/file_offer_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 
-#include <chrono>
-#include <optional>
 #include "uavmsg/map_tile_t.hpp"
-#include "uavmsg/active_stereo_t.hpp"
-#include "uavmsg/visual_odometry_t.hpp"
-#include "uavmsg/sensing_t.hpp"
-#include "uavmsg/mono_depth_t.hpp"
-#include "uavmsg/obstacles_t.hpp"
-#include "uavmsg/point_cloud_t.hpp"
-#include "uavmsg/power_lines_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/track_status_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
@@ -37,7 +29,7 @@ class AckTranslator : public Translator {
  public:
   explicit AckTranslator(LinkContext& c) : c_(c) {}
   void Tick(int64_t utime) override {
-    for (const auto& r : c_.board.TakeReports()) SendAck(c_, utime, r);
+    for (const auto& r : c_.board.task_reports.TakeAll()) SendAck(c_, utime, r);
   }
 
  private:
@@ -48,7 +40,7 @@ class StatusTextTranslator : public Translator {
  public:
   explicit StatusTextTranslator(LinkContext& c) : c_(c) {}
   void Tick(int64_t utime) override {
-    for (const auto& s : c_.board.TakeStatus()) {
+    for (const auto& s : c_.board.status.TakeAll()) {
       uavmsg::status_text_t m;
       m.utime = utime;
       m.severity = static_cast<int8_t>(s.severity);
@@ -118,17 +110,9 @@ class VideoTranslator : public Translator {
  public:
   explicit VideoTranslator(LinkContext& c) : c_(c) {}
   void Tick(int64_t) override {
-    for (PreviewFrame& preview : c_.board.TakePreviews()) {
+    for (VideoFrame& preview : c_.board.previews.TakeAll()) {
       if (preview.jpeg.size() > static_cast<size_t>(uavmsg::video_frame_t::MAX_JPEG_BYTES)) continue;
-      uavmsg::video_frame_t v;
-      v.utime = preview.utime;
-      v.camera = preview.camera;
-      v.width = static_cast<int16_t>(preview.width);
-      v.height = static_cast<int16_t>(preview.height);
-      v.source_width = static_cast<int16_t>(preview.source_width);
-      v.source_height = static_cast<int16_t>(preview.source_height);
-      v.size = static_cast<int32_t>(preview.jpeg.size());
-      v.jpeg = std::move(preview.jpeg);
+      uavmsg::video_frame_t v = ToMessage(preview);
       c_.Publish(Topic::kVideo, v);
     }
   }
@@ -141,7 +125,7 @@ class TrackStatusTranslator : public Translator {
  public:
   explicit TrackStatusTranslator(LinkContext& c) : c_(c) {}
   void Tick(int64_t) override {
-    for (const TrackReport& r : c_.board.TakeTrackReports()) {
+    for (const TrackStatus& r : c_.board.track_reports.TakeAll()) {
       uavmsg::track_status_t m = ToMessage(r);
       c_.Publish(Topic::kTrackStatus, m);
     }
@@ -151,97 +135,15 @@ class TrackStatusTranslator : public Translator {
   LinkContext& c_;
 };
 
-class PowerLinesTranslator : public Translator {
+// Every perception report (uav/shared/reports.hpp): each type's newest, when there is one.
+template <class T>
+class ReportTranslator : public Translator {
  public:
-  explicit PowerLinesTranslator(LinkContext& c) : c_(c) {}
+  explicit ReportTranslator(LinkContext& c) : c_(c) {}
   void Tick(int64_t) override {
-    auto lines = c_.board.TakePowerLines();
-    if (!lines) return;
-    uavmsg::power_lines_t m = ToMessage(*lines);
-    c_.Publish(Topic::kPowerLines, m);
-  }
-
- private:
-  LinkContext& c_;
-};
-
-// MDEPTH's newest grid.
-class MonoDepthTranslator : public Translator {
- public:
-  explicit MonoDepthTranslator(LinkContext& c) : c_(c) {}
-  void Tick(int64_t) override {
-    if (auto grid = c_.board.TakeDepthGrid()) {
-      uavmsg::mono_depth_t m = ToMessage(*grid);
-      c_.Publish(Topic::kMonoDepth, m);
-    }
-  }
-
- private:
-  LinkContext& c_;
-};
-
-// ASTEREO's newest report.
-class ActiveStereoTranslator : public Translator {
- public:
-  explicit ActiveStereoTranslator(LinkContext& c) : c_(c) {}
-  void Tick(int64_t) override {
-    if (auto report = c_.board.TakeActiveStereo()) {
-      uavmsg::active_stereo_t m = ToMessage(*report);
-      c_.Publish(Topic::kActiveStereo, m);
-    }
-  }
-
- private:
-  LinkContext& c_;
-};
-
-// VO's newest report, with the VO+IMU filter's track and the INS's position source.
-class VisualOdometryTranslator : public Translator {
- public:
-  explicit VisualOdometryTranslator(LinkContext& c) : c_(c) {}
-  void Tick(int64_t) override {
-    if (auto report = c_.board.TakeVisualOdometry()) {
-      const BlackboardData d = c_.board.Snapshot();
-      report->track_N = d.vo_track_N;
-      report->source = d.position_source;
-      uavmsg::visual_odometry_t m = ToMessage(*report);
-      c_.Publish(Topic::kVisualOdometry, m);
-    }
-  }
-
- private:
-  LinkContext& c_;
-};
-
-// The vision workers' health at 1 Hz (while there are any).
-class SensingTranslator : public Translator {
- public:
-  explicit SensingTranslator(LinkContext& c) : c_(c) {}
-  void Tick(int64_t utime) override {
-    if (last_utime_ >= 0 && utime - last_utime_ < 1'000'000) return;
-    const BlackboardData d = c_.board.Snapshot();
-    if (d.sensing.workers.empty()) return;
-    last_utime_ = utime;
-    uavmsg::sensing_t m = ToMessage(d.sensing);
-    c_.Publish(Topic::kSensing, m);
-  }
-
- private:
-  LinkContext& c_;
-  int64_t last_utime_ = -1;
-};
-
-class ObstaclesTranslator : public Translator {
- public:
-  explicit ObstaclesTranslator(LinkContext& c) : c_(c) {}
-  void Tick(int64_t) override {
-    if (auto obstacles = c_.board.TakeObstacles()) {
-      uavmsg::obstacles_t m = ToMessage(*obstacles);
-      c_.Publish(Topic::kObstacles, m);
-    }
-    if (auto cloud = c_.board.TakePointCloud()) {
-      uavmsg::point_cloud_t m = ToMessage(*cloud);
-      c_.Publish(Topic::kPointCloud, m);
+    if (auto report = c_.board.reports.Take<T>()) {
+      typename Report<T>::Message m = ToMessage(*report);
+      c_.Publish(Report<T>::kTopic, m);
     }
   }
 
@@ -255,21 +157,11 @@ class MapTileTranslator : public Translator {
   void Tick(int64_t utime) override {
     // One tile per period at most, the longest-waiting first.
     if (last_ >= 0 && utime - last_ < Micros(c_.params.tile_period_s)) return;
-    auto tile = c_.board.TakeTile();
+    auto tile = c_.board.tiles.TakeOldest();
     if (!tile) return;
     last_ = utime;
-    uavmsg::map_tile_t m;
+    uavmsg::map_tile_t m = ToMessage(*tile);
     m.utime = utime;
-    m.map_id = tile->map_id;
-    m.tile_x = tile->tx;
-    m.tile_y = tile->ty;
-    m.tile_px = static_cast<int16_t>(tile->tile_px);
-    m.gsd_m = tile->gsd_m;
-    m.origin_north_m = tile->origin_north_m;
-    m.origin_east_m = tile->origin_east_m;
-    m.georeferenced = tile->georeferenced;
-    m.size = static_cast<int32_t>(tile->jpeg.size());
-    m.jpeg = std::move(tile->jpeg);
     c_.Publish(Topic::kMapTile, m);
   }
 
@@ -282,7 +174,7 @@ class FileTransferTranslator : public Translator {
  public:
   FileTransferTranslator(LinkContext& c, FileSender& files) : c_(c), files_(files) {}
   void Tick(int64_t utime) override {
-    for (auto& [name, contents] : c_.board.TakeDownloads()) files_.Offer(name, contents);
+    for (auto& [name, contents] : c_.board.downloads.TakeAll()) files_.Offer(name, contents);
     const FileSender::Output out = files_.Poll(utime * 1e-6);
     for (const FileOffer& o : out.offers) {
       uavmsg::file_offer_t m;
@@ -320,12 +212,14 @@ std::unique_ptr<Translator> MakeStateTranslator(LinkContext& c) { return std::ma
 std::unique_ptr<Translator> MakeHeartbeatTranslator(LinkContext& c) { return std::make_unique<HeartbeatTranslator>(c); }
 std::unique_ptr<Translator> MakeVideoTranslator(LinkContext& c) { return std::make_unique<VideoTranslator>(c); }
 std::unique_ptr<Translator> MakeTrackStatusTranslator(LinkContext& c) { return std::make_unique<TrackStatusTranslator>(c); }
-std::unique_ptr<Translator> MakePowerLinesTranslator(LinkContext& c) { return std::make_unique<PowerLinesTranslator>(c); }
-std::unique_ptr<Translator> MakeObstaclesTranslator(LinkContext& c) { return std::make_unique<ObstaclesTranslator>(c); }
-std::unique_ptr<Translator> MakeMonoDepthTranslator(LinkContext& c) { return std::make_unique<MonoDepthTranslator>(c); }
-std::unique_ptr<Translator> MakeActiveStereoTranslator(LinkContext& c) { return std::make_unique<ActiveStereoTranslator>(c); }
-std::unique_ptr<Translator> MakeVisualOdometryTranslator(LinkContext& c) { return std::make_unique<VisualOdometryTranslator>(c); }
-std::unique_ptr<Translator> MakeSensingTranslator(LinkContext& c) { return std::make_unique<SensingTranslator>(c); }
+std::vector<std::unique_ptr<Translator>> MakeReportTranslators(LinkContext& c) {
+  std::vector<std::unique_ptr<Translator>> out;
+  ForEachType(PerceptionReports{}, [&](auto* type) {
+    using T = std::remove_pointer_t<decltype(type)>;
+    out.push_back(std::make_unique<ReportTranslator<T>>(c));
+  });
+  return out;
+}
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c) { return std::make_unique<MapTileTranslator>(c); }
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files) {
   return std::make_unique<FileTransferTranslator>(c, files);

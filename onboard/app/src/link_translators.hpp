@@ -8,14 +8,15 @@
 #include <string>
 #include <vector>
 
+#include "uav/wire/messages.hpp"
 #include "uav/app/blackboard.hpp"
 #include "uav/app/command_intake.hpp"
 #include "uav/app/link_worker.hpp"
 #include "uav/app/mission_store.hpp"
-#include "uav/shared/bus.hpp"
+#include "uav/wire/bus.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/file_transfer.hpp"
-#include "uav/shared/signed_message.hpp"
+#include "uav/wire/signed_message.hpp"
 #include "uav/shared/time.hpp"
 #include "uavmsg/header_t.hpp"
 
@@ -113,8 +114,9 @@ void SubscribeTrackTargets(LinkContext& c);
 // GCS heartbeats: posts the age of the newest to the blackboard every tick (link-loss input).
 std::unique_ptr<Translator> MakeGcsHeartbeatTranslator(LinkContext& c);
 
-// Answers a command (command_ack_t) and remembers the answer for repeats of it.
-void SendAck(LinkContext& c, int64_t utime, const control::TaskReport& r);
+// Answers a command (command_ack_t) and, unless told not to, remembers the answer for repeats
+// of it.
+void SendAck(LinkContext& c, int64_t utime, const CommandAck& r, bool remember = true);
 
 // Outbound.
 std::unique_ptr<Translator> MakeAckTranslator(LinkContext& c);
@@ -122,13 +124,9 @@ std::unique_ptr<Translator> MakeStatusTextTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeStateTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeHeartbeatTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeVideoTranslator(LinkContext& c);
-std::unique_ptr<Translator> MakePowerLinesTranslator(LinkContext& c);
-std::unique_ptr<Translator> MakeObstaclesTranslator(LinkContext& c);
-std::unique_ptr<Translator> MakeMonoDepthTranslator(LinkContext& c);
-std::unique_ptr<Translator> MakeActiveStereoTranslator(LinkContext& c);
-std::unique_ptr<Translator> MakeVisualOdometryTranslator(LinkContext& c);
-std::unique_ptr<Translator> MakeSensingTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeTrackStatusTranslator(LinkContext& c);
+// One per type of PerceptionReports.
+std::vector<std::unique_ptr<Translator>> MakeReportTranslators(LinkContext& c);
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files);
 

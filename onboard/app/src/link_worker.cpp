@@ -51,12 +51,7 @@ LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url
   im.translators.push_back(MakeStateTranslator(c));
   im.translators.push_back(MakeHeartbeatTranslator(c));
   im.translators.push_back(MakeVideoTranslator(c));
-  im.translators.push_back(MakePowerLinesTranslator(c));
-  im.translators.push_back(MakeObstaclesTranslator(c));
-  im.translators.push_back(MakeMonoDepthTranslator(c));
-  im.translators.push_back(MakeActiveStereoTranslator(c));
-  im.translators.push_back(MakeVisualOdometryTranslator(c));
-  im.translators.push_back(MakeSensingTranslator(c));
+  for (auto& t : MakeReportTranslators(c)) im.translators.push_back(std::move(t));
   im.translators.push_back(MakeTrackStatusTranslator(c));
   im.translators.push_back(MakeMapTileTranslator(c));
   im.translators.push_back(MakeFileTransferTranslator(c, im.files));

@@ -23,7 +23,7 @@ void ShareFrame(Outbox& out, const BlackboardData& d, const std::string& camera,
   f.bgr.assign(bgr.data, bgr.data + bgr.total() * bgr.elemSize());
   f.T_NC_estimate = T_NC_estimate;
   if (T_NC_estimate) f.v_N_estimate = d.estimate.v_N;
-  out.Post([f = std::move(f)](Blackboard& b) { b.PutFrame(f); });
+  out.Post([f = std::move(f)](Blackboard& b) { b.frame.Put(f); });
 }
 
 MonoDepthWorkerParams MonoDepthWorkerParams::FromParameters(const ParameterSet& p) {
@@ -40,7 +40,7 @@ MonoDepthWorker::MonoDepthWorker(const hal::CameraInfo& camera, Blackboard& boar
   board_.Update([&](BlackboardData& b) { b.depth_camera = camera_; });
 }
 
-void MonoDepthWorker::Begin(int64_t) { frame_ = board_.TakeFrame(); }
+void MonoDepthWorker::Begin(int64_t) { frame_ = board_.frame.Take(); }
 
 void MonoDepthWorker::Work(Outbox& out) {
   const std::optional<SharedFrame> f = std::move(frame_);
@@ -50,7 +50,7 @@ void MonoDepthWorker::Work(Outbox& out) {
   DepthGrid g = estimator_.Update(image, f->utime, f->T_NC_estimate, f->v_N_estimate);
   g.camera = camera_;
   ++frames_;
-  out.Post([g = std::move(g)](Blackboard& b) { b.PutDepthGrid(g); });
+  out.Post([g = std::move(g)](Blackboard& b) { b.reports.Put(g); });
 }
 
 }  // namespace uav::app

@@ -18,8 +18,8 @@ bool PreviewStream::Due(int64_t utime) {
   return true;
 }
 
-PreviewFrame PreviewStream::Encode(int64_t utime, const cv::Mat& image) const {
-  PreviewFrame preview;
+VideoFrame PreviewStream::Encode(int64_t utime, const cv::Mat& image) const {
+  VideoFrame preview;
   preview.utime = utime;
   preview.camera = camera_;
   preview.source_width = image.cols;

@@ -26,6 +26,7 @@ namespace uav::app {
 
 namespace {
 constexpr int64_t kMonitorPeriodUs = 100'000;
+constexpr int64_t kReportPeriodUs = 1'000'000;
 
 int64_t LatencyUs(const ParameterSet& p, const char* name, bool measured) {
   return measured ? 0 : static_cast<int64_t>(std::lround(p.Get(name) * 1e3));
@@ -53,6 +54,7 @@ struct Sensing::Impl {
   std::map<std::string, int64_t> latency_us;
   bool measured = false;  // latencies measured (real time), not the vehicle file's
   int64_t last_monitor_utime = -1;
+  int64_t last_report_utime = -1;  // the last sensing report for the GCS
   struct Announced {
     bool healthy = true;          // what the operator was last told
     int64_t changed_utime = -1;   // since when the worker has been otherwise (-1: it has not)
@@ -262,7 +264,11 @@ void Sensing::Monitor(int64_t utime, LockstepScheduler& scheduler) {
     s.board.PushStatus(w.healthy ? Severity::kInfo : Severity::kWarning,
                        "sensing: " + w.name + (w.healthy ? " healthy again" : " " + w.reason));
   }
-  s.board.Update([&](BlackboardData& d) { d.sensing = std::move(report); });
+  // The GCS hears the workers' health once a second.
+  if (!report.workers.empty() && (s.last_report_utime < 0 || utime - s.last_report_utime >= kReportPeriodUs)) {
+    s.last_report_utime = utime;
+    s.board.reports.Put(std::move(report));
+  }
 }
 
 std::string Sensing::BenchmarkJson(const LockstepScheduler& scheduler, double speed, double simulated_s,

@@ -81,7 +81,7 @@ void StereoWorker::Work(Outbox& out) {
   const double range_m = corridor.obstacle ? corridor.range_m : -1.0;
   out.Post([range_m](Blackboard& b) { b.Update([&](BlackboardData& d) { d.obstacle_range_m = range_m; }); });
   ReportObstacles(utime, found, T_NB, out);
-  if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.PutPreview(f); });
+  if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.previews.Put(f.camera, f); });
   std::vector<vision::Wire3D> wires;
   if (power_lines_) {
     wires = power_lines_->ProcessRectified(left_rect, right_rect);
@@ -106,7 +106,7 @@ void StereoWorker::ReportUnhealthy(int64_t utime, const std::string& reason, Out
   report.healthy = false;
   report.reason = reason;
   report.range_gate_m = obstacles_.GateDepth();
-  out.Post([report](Blackboard& b) { b.PutObstacles(report); });
+  out.Post([report](Blackboard& b) { b.reports.Put(report); });
   ++unhealthy_;
 }
 
@@ -154,7 +154,7 @@ void StereoWorker::ReportObstacles(int64_t utime, const vision::StereoObstacles&
       d.obstacle_count = static_cast<int>(report.obstacles.size());
       d.nearest_obstacle_m = report.nearest_m;
     });
-    b.PutObstacles(report);
+    b.reports.Put(report);
   });
   if (cloud_rate_hz_ > 0 && (last_cloud_utime_ < 0 || utime - last_cloud_utime_ >= static_cast<int64_t>(1e6 / cloud_rate_hz_))) {
     last_cloud_utime_ = utime;
@@ -162,7 +162,7 @@ void StereoWorker::ReportObstacles(int64_t utime, const vision::StereoObstacles&
     cloud.utime = utime;
     cloud.origin_N = T_NB.translation();
     cloud.p_N = found.cloud_W;
-    out.Post([cloud = std::move(cloud)](Blackboard& b) { b.PutPointCloud(cloud); });
+    out.Post([cloud = std::move(cloud)](Blackboard& b) { b.reports.Put(cloud); });
   }
 }
 
@@ -197,7 +197,7 @@ void StereoWorker::ReportPowerLines(const std::vector<vision::Wire3D>& wires, co
   report.nearest_m = sorted[1] == kNoWire ? -1.0 : sorted[1];
   out.Post([report](Blackboard& b) {
     b.Update([&](BlackboardData& d) { d.nearest_wire_m = report.nearest_m; });
-    b.PutPowerLines(report);
+    b.reports.Put(report);
   });
 }
 
@@ -241,7 +241,7 @@ void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& fou
       p_N.clear();
     }
   }
-  out.Post([u = std::move(u)](Blackboard& b) { b.PushPerception(u); });
+  out.Post([u = std::move(u)](Blackboard& b) { b.perception.Push(u); });
 }
 
 }  // namespace uav::app

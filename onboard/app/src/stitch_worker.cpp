@@ -22,7 +22,7 @@ StitchWorker::~StitchWorker() = default;
 int StitchWorker::frames() const { return stitcher_->frames(); }
 
 void StitchWorker::Begin(int64_t /*utime*/) {
-  captures_ = board_.TakeCaptures();
+  captures_ = board_.captures.TakeAll();
   // The survey is over when the camera is off and the vehicle is on the ground: the map is
   // written then, so it is ready at landing.
   const BlackboardData d = board_.Snapshot();
@@ -42,17 +42,17 @@ void StitchWorker::Work(Outbox& out) {
   for (vision::MapTile& t : stitcher_->TakeChangedTiles()) {
     cv::Mat shown = cv::Mat::zeros(t.bgr.size(), CV_8UC3);
     t.bgr.copyTo(shown, t.mask);
-    LiveTile live;
+    MapTile live;
     live.map_id = maps_written_ + 1;
-    live.tx = t.tx;
-    live.ty = t.ty;
+    live.tile_x = t.tx;
+    live.tile_y = t.ty;
     live.tile_px = grid.tile_px;
     live.gsd_m = grid.gsd_m;
     live.origin_north_m = grid.origin_north_m;
     live.origin_east_m = grid.origin_east_m;
     live.georeferenced = grid.georeferenced;
     cv::imencode(".jpg", shown, live.jpeg, {cv::IMWRITE_JPEG_QUALITY, 75});
-    if (live.jpeg.size() <= 60000) out.Post([live = std::move(live)](Blackboard& b) { b.PutTile(live); });
+    if (live.jpeg.size() <= 60000) out.Post([live = std::move(live)](Blackboard& b) { b.tiles.Put({live.map_id, live.tile_x, live.tile_y}, live); });
   }
   if (stitcher_->frames() > 0 && survey_over_) Finish(out);
 }
@@ -68,7 +68,7 @@ void StitchWorker::Finish(Outbox& out) {
   try {
     for (const std::string& path : vision::ExportMap(map, options_.home, prefix))
       out.Post([name = std::filesystem::path(path).filename().string(), contents = ReadTextFile(path, "map file")](
-                   Blackboard& b) { b.PushDownload(name, contents); });
+                   Blackboard& b) { b.downloads.Push({name, contents}); });
     ++maps_written_;
     last_map_ = prefix;
     char text[320];

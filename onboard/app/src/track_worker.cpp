@@ -35,7 +35,7 @@ TrackWorker::TrackWorker(hal::GimbalCamera& camera, Blackboard& board, const Tra
 
 void TrackWorker::Begin(int64_t utime) {
   VisionWorker::Begin(utime);
-  requests_ = board_.TakeTrackRequests();
+  requests_ = board_.track_requests.TakeAll();
 }
 
 void TrackWorker::Work(Outbox& out) {
@@ -43,7 +43,7 @@ void TrackWorker::Work(Outbox& out) {
   const BlackboardData& d = at_begin_;
   hal::CameraFrame frame = camera_.Capture(utime);
   ++frames_;
-  if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, frame.image)](Blackboard& b) { b.PutPreview(f); });
+  if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, frame.image)](Blackboard& b) { b.previews.Put(f.camera, f); });
   buffer_.push_back({utime, frame.image});
   if (EstimateMatchesFrame(d.estimate, utime))
     ShareFrame(out, d, camera_.info().name, utime, frame.image,
@@ -53,9 +53,9 @@ void TrackWorker::Work(Outbox& out) {
   while (!buffer_.empty() && buffer_.front().utime < utime - static_cast<int64_t>(params_.buffer_s * 1e6)) buffer_.pop_front();
 
   bool started_now = false;
-  const std::vector<TrackRequest> requests = std::move(requests_);
+  const std::vector<TrackTarget> requests = std::move(requests_);
   requests_.clear();
-  for (const TrackRequest& r : requests) started_now = Handle(r, out) || (started_now && tracker_.state() != vision::TrackState::kIdle);
+  for (const TrackTarget& r : requests) started_now = Handle(r, out) || (started_now && tracker_.state() != vision::TrackState::kIdle);
   if (tracker_.state() == vision::TrackState::kIdle) {
     target_ = TrackedTarget{};
     out.Post([](Blackboard& b) { b.Update([](BlackboardData& data) { data.target = TrackedTarget{}; }); });
@@ -72,8 +72,8 @@ void TrackWorker::Work(Outbox& out) {
   PlaceOnGround(utime, r, d.estimate, out);
 }
 
-TrackReport TrackWorker::NewReport(int64_t utime, int64_t target_seq, TrackReport::State state) const {
-  TrackReport rep;
+TrackStatus TrackWorker::NewReport(int64_t utime, int64_t target_seq, TrackStatus::State state) const {
+  TrackStatus rep;
   rep.utime = utime;
   rep.target_seq = target_seq;
   rep.camera = camera_.info().name;
@@ -82,19 +82,19 @@ TrackReport TrackWorker::NewReport(int64_t utime, int64_t target_seq, TrackRepor
   return rep;
 }
 
-void TrackWorker::Reject(const TrackRequest& request, const std::string& reason, Outbox& out) {
-  TrackReport rep = NewReport(request.frame_utime, request.target_seq, TrackReport::State::kRejected);
+void TrackWorker::Reject(const TrackTarget& request, const std::string& reason, Outbox& out) {
+  TrackStatus rep = NewReport(request.frame_utime, request.target_seq, TrackStatus::State::kRejected);
   rep.reason = reason;
-  out.Post([rep](Blackboard& b) { b.PushTrackReport(rep); });
+  out.Post([rep](Blackboard& b) { b.track_reports.Push(rep); });
   out.PushStatus(Severity::kWarning, "target " + std::to_string(request.target_seq) + " rejected: " + reason);
 }
 
-bool TrackWorker::Handle(const TrackRequest& request, Outbox& out) {
-  if (request.method == TrackRequest::Method::kCancel) {
+bool TrackWorker::Handle(const TrackTarget& request, Outbox& out) {
+  if (request.method == TrackTarget::Method::kCancel) {
     tracker_.Stop();
     target_seq_ = request.target_seq;
-    out.Post([rep = NewReport(buffer_.back().utime, request.target_seq, TrackReport::State::kIdle)](Blackboard& b) {
-      b.PushTrackReport(rep);
+    out.Post([rep = NewReport(buffer_.back().utime, request.target_seq, TrackStatus::State::kIdle)](Blackboard& b) {
+      b.track_reports.Push(rep);
     });
     out.PushStatus(Severity::kInfo, "tracking stopped");
     return false;
@@ -121,7 +121,7 @@ bool TrackWorker::Handle(const TrackRequest& request, Outbox& out) {
   const double W = image.cols, H = image.rows;
   const cv::Rect2d box(request.x * W, request.y * H, request.width * W, request.height * H);
   std::vector<cv::Point2f> polygon;
-  if (request.method == TrackRequest::Method::kFourClicks)
+  if (request.method == TrackTarget::Method::kFourClicks)
     for (const Eigen::Vector2d& c : request.corners) polygon.emplace_back(static_cast<float>(c.x() * W), static_cast<float>(c.y() * H));
   vision::TargetTracker fresh(params_.tracker);
   try {
@@ -149,10 +149,10 @@ bool TrackWorker::Handle(const TrackRequest& request, Outbox& out) {
 
 void TrackWorker::Report(int64_t utime, const vision::TrackResult& r, Outbox& out) {
   const double W = camera_.info().intrinsics.width, H = camera_.info().intrinsics.height;
-  TrackReport rep = NewReport(utime, target_seq_,
-                              r.state == vision::TrackState::kTracking ? TrackReport::State::kTracking
-                              : r.state == vision::TrackState::kLost   ? TrackReport::State::kLost
-                                                                       : TrackReport::State::kIdle);
+  TrackStatus rep = NewReport(utime, target_seq_,
+                              r.state == vision::TrackState::kTracking ? TrackStatus::State::kTracking
+                              : r.state == vision::TrackState::kLost   ? TrackStatus::State::kLost
+                                                                       : TrackStatus::State::kIdle);
   rep.center_x = r.box.center.x / W;
   rep.center_y = r.box.center.y / H;
   rep.width = r.box.size.width / W;
@@ -164,7 +164,7 @@ void TrackWorker::Report(int64_t utime, const vision::TrackResult& r, Outbox& ou
   rep.window_height = r.search_window.height / H;
   rep.confidence = r.confidence;
   if (r.state == vision::TrackState::kLost) rep.reason = "the target's colour is not in view";
-  out.Post([rep](Blackboard& b) { b.PushTrackReport(rep); });
+  out.Post([rep](Blackboard& b) { b.track_reports.Push(rep); });
 }
 
 void TrackWorker::PlaceOnGround(int64_t utime, const vision::TrackResult& r, const hal::VehicleEstimate& estimate,

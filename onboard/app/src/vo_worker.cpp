@@ -75,14 +75,18 @@ void VoWorker::Work(Outbox& out) {
   }
   // The position is stamped with its capture time: the INS fuses it against where it was then.
   out.Post([reason = r.reason, position, report = std::move(report)](Blackboard& b) {
+    VisualOdometryReport sent = report;
     b.Update([&](BlackboardData& data) {
       data.vision_unhealthy_reason = reason;
       if (position) data.vision_position = position;
+      // With the VO+IMU filter's track and where the INS takes its position from now.
+      sent.track_N = data.vo_track_N;
+      sent.source = data.position_source;
     });
-    b.PutVisualOdometry(report);
+    b.reports.Put(std::move(sent));
   });
   if (params_.stream_video && preview_.Due(utime))
-    out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.PutPreview(f); });
+    out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.previews.Put(f.camera, f); });
   ++frames_;
   unhealthy_ += !r.healthy;
   if (!r.healthy) ++reasons_[std::regex_replace(r.reason, std::regex("[0-9]+(\\.[0-9]+)?"), "#")];

@@ -59,7 +59,7 @@ ControlWorker::ControlWorker(const control::TaskParams& task_params,
       failsafes_(failsafe_params), safety_(avoidance), period_s_(period_s), board_(board) {}
 
 control::Setpoint ControlWorker::Avoid(const control::TaskManager::Output& out, const BlackboardData& d, int64_t utime,
-                                       std::vector<control::TaskReport>* reports) {
+                                       std::vector<CommandAck>* reports) {
   // Manual flight and failsafe landings are left alone; a failsafe's return goes through it.
   const std::optional<Eigen::Vector3d> goal = out.airborne ? out.goal_N : std::nullopt;
   const avoid::SafetyLayer::Output a = safety_.Apply(out.setpoint, goal, d.estimate, d.avoid_plan.get(), utime, period_s_);
@@ -96,7 +96,7 @@ control::Setpoint ControlWorker::Avoid(const control::TaskManager::Output& out, 
 void ControlWorker::Tick(int64_t utime) {
   const BlackboardData d = board_.Snapshot();
   const double t = utime * 1e-6;
-  std::vector<control::TaskReport> reports;
+  std::vector<CommandAck> reports;
   // Failsafes, then commands (refused if they would do less than the failsafes need), then the task.
   std::vector<std::string> events;
   control::FailsafeInputs fin;
@@ -117,7 +117,7 @@ void ControlWorker::Tick(int64_t utime) {
   for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? Severity::kWarning : Severity::kInfo, e);
   tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports);
   tasks_.ObserveTarget(d.target);
-  for (const auto& req : board_.TakeCommands()) tasks_.Submit(req, d.estimate, t, &reports);
+  for (const auto& req : board_.commands.TakeAll()) tasks_.Submit(req, d.estimate, t, &reports);
   const control::TaskManager::Output out = tasks_.Update(d.estimate, t, &reports);
   if (out.reset_controller) controller_.Reset();
   const control::Setpoint setpoint = Avoid(out, d, utime, &reports);
@@ -156,7 +156,7 @@ void ControlWorker::Tick(int64_t utime) {
     b.fence_radius_m = failsafe_params_.fence_radius_m;
     b.fence_alt_m = failsafe_params_.fence_alt_m;
   });
-  board_.PushReports(reports);
+  board_.task_reports.PushAll(reports);
   // Operator-facing events.
   if (out.armed != last_armed_)
     board_.PushStatus(Severity::kInfo, out.armed ? "armed" : "disarmed");

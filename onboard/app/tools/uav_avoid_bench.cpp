@@ -221,7 +221,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   // The operator's side: arm, take off, go to the far end; the flight ends at the goal.
   int stage = 0, seq = 0;
   auto send = [&](const std::string& text) {
-    board.PushCommand({"bench", ++seq, *uav::ParseCommand(text).command});
+    board.commands.Push({"bench", ++seq, *uav::ParseCommand(text).command});
   };
   char goto_text[64];
   std::snprintf(goto_text, sizeof goto_text, "goto %.1f 0 %.1f", kLength, kAltitude);

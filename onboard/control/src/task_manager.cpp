@@ -30,7 +30,7 @@ void TaskManager::Hold(const VehicleEstimate& est) {
 }
 
 void TaskManager::EnforceFailsafe(FailsafeAction required, const std::string& reason, const VehicleEstimate& est,
-                                  double t, std::vector<TaskReport>* reports) {
+                                  double t, std::vector<CommandAck>* reports) {
   required_ = required;
   failsafe_reason_ = reason;
   if (enforced_ == FailsafeAction::kManual && required != FailsafeAction::kManual) {
@@ -79,7 +79,7 @@ TaskManager::TaskManager(const TaskParams& params, MissionSource* missions)
 
 void TaskManager::BeginPath(Task task, std::vector<waypoints::MissionStep> steps,
                             const CommandRequest& req, const VehicleEstimate& est, double t,
-                            std::vector<TaskReport>* reports) {
+                            std::vector<CommandAck>* reports) {
   auto reject = [&](const std::string& why) {
     reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kRejected, 0, why});
   };
@@ -131,7 +131,7 @@ void TaskManager::StartLanding(const VehicleEstimate& est) {
 }
 
 void TaskManager::Report(AckResult result, int percent, const std::string& reason,
-                         std::vector<TaskReport>* reports) const {
+                         std::vector<CommandAck>* reports) const {
   // Only the owner of the task in flight hears of it: a command that has ended (completed,
   // replaced, cut short by a failsafe) never gets another report.
   if (active_report_) reports->push_back({active_.source, active_.seq, active_.name, result, percent, reason});
@@ -148,12 +148,12 @@ void TaskManager::Own(ReportOwner owner, const VehicleEstimate& est, double t) {
 }
 
 void TaskManager::Finish(AckResult result, const std::string& reason,
-                         std::vector<TaskReport>* reports) {
+                         std::vector<CommandAck>* reports) {
   Report(result, result == AckResult::kCompleted ? 100 : last_percent_, reason, reports);
   active_report_ = false;
 }
 
-void TaskManager::Supersede(const std::string& by, std::vector<TaskReport>* reports) {
+void TaskManager::Supersede(const std::string& by, std::vector<CommandAck>* reports) {
   if (task_ == Task::kFollow) {
     Report(AckResult::kCompleted, 100, "stopped by " + by, reports);
     active_report_ = false;
@@ -163,7 +163,7 @@ void TaskManager::Supersede(const std::string& by, std::vector<TaskReport>* repo
 }
 
 void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstimate& est, double t,
-                        std::vector<TaskReport>* reports) {
+                        std::vector<CommandAck>* reports) {
   Supersede(req.command.Name(), reports);
   chirp_ = Chirp{};
   carried_capture_.reset();
@@ -179,7 +179,7 @@ void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstim
 }
 
 void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, double t,
-                         std::vector<TaskReport>* reports) {
+                         std::vector<CommandAck>* reports) {
   auto reject = [&](const std::string& why) {
     reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kRejected, 0, why});
   };
@@ -287,7 +287,7 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
   }
 }
 
-void TaskManager::UpdateFollow(const VehicleEstimate& est, double t, std::vector<TaskReport>* reports) {
+void TaskManager::UpdateFollow(const VehicleEstimate& est, double t, std::vector<CommandAck>* reports) {
   if (!follower_) return;
   const TargetFollower::Output o = follower_->Update(target_, est, t);
   if (o.state == TargetFollower::State::kGaveUp) {
@@ -320,7 +320,7 @@ double TaskManager::Progress(const VehicleEstimate& est) const {
 }
 
 TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
-                                        std::vector<TaskReport>* reports) {
+                                        std::vector<CommandAck>* reports) {
   const double dt = std::max(0.0, t - last_t_);
   last_t_ = t;
   const bool path_task = task_ == Task::kTrack || task_ == Task::kMission || task_ == Task::kReturn;
@@ -444,7 +444,7 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
   return o;
 }
 
-void TaskManager::ReportProgressNote(const std::string& reason, std::vector<TaskReport>* reports) const {
+void TaskManager::ReportProgressNote(const std::string& reason, std::vector<CommandAck>* reports) const {
   if (active_report_) Report(AckResult::kInProgress, std::max(0, last_percent_), reason, reports);
 }
 

@@ -7,10 +7,6 @@
 
 #include <Eigen/Core>
 
-namespace uavmsg {
-class active_stereo_t;
-}
-
 namespace uav {
 
 struct LaserDotReport {
@@ -38,11 +34,5 @@ struct ActiveStereoReport {
   std::vector<LaserDotReport> dots;
   std::vector<DotCluster> clusters;
 };
-
-// Throws std::invalid_argument naming what is wrong (arrays of other lengths, too many points or
-// clusters, non-finite numbers, a cluster index out of range, an unhealthy report with a height
-// or points, a healthy one without a positive height).
-ActiveStereoReport FromMessage(const uavmsg::active_stereo_t& m);
-uavmsg::active_stereo_t ToMessage(const ActiveStereoReport& r);
 
 }  // namespace uav

@@ -5,10 +5,6 @@
 #include <string>
 #include <vector>
 
-namespace uavmsg {
-class mono_depth_t;
-}
-
 namespace uav {
 
 enum class CellState { kUnknown = 0, kFree = 1, kObstacle = 2 };
@@ -35,11 +31,5 @@ struct DepthGrid {
   int measured = 0;              // of them, with a depth measurement this frame
   const DepthCell& at(int row, int col) const { return cells[row * cols + col]; }
 };
-
-// Throws std::invalid_argument naming what is wrong (a grid that is not rows x cols or larger
-// than MAX_CELLS, arrays of other lengths, a state out of range, non-finite or negative
-// numbers, a known cell without a depth, an unhealthy report with known cells).
-DepthGrid FromMessage(const uavmsg::mono_depth_t& m);
-uavmsg::mono_depth_t ToMessage(const DepthGrid& g);
 
 }  // namespace uav

@@ -9,11 +9,6 @@
 
 #include <Eigen/Core>
 
-namespace uavmsg {
-class obstacles_t;
-class point_cloud_t;
-}  // namespace uavmsg
-
 namespace uav {
 
 // A vertical cylinder in local NED [m].
@@ -42,14 +37,5 @@ struct PointCloud {
   Eigen::Vector3d origin_N = Eigen::Vector3d::Zero();  // [m] where the vehicle was (the points are sent relative to it)
   std::vector<Eigen::Vector3f> p_N;                    // [m] local NED
 };
-
-// Throw std::invalid_argument naming what is wrong (counts that disagree with the arrays, more
-// than the maximum, non-finite values, a top below the bottom, a negative radius or variance).
-Obstacles FromMessage(const uavmsg::obstacles_t& m);
-PointCloud FromMessage(const uavmsg::point_cloud_t& m);
-// Keep the first MAX_OBSTACLES (nearest) obstacles.
-uavmsg::obstacles_t ToMessage(const Obstacles& o);
-// Keeps at most MAX_POINTS points (evenly spaced) within 327 m of the origin.
-uavmsg::point_cloud_t ToMessage(const PointCloud& c);
 
 }  // namespace uav

@@ -7,10 +7,6 @@
 
 #include <Eigen/Core>
 
-namespace uavmsg {
-class power_lines_t;
-}
-
 namespace uav {
 
 struct PowerLine {
@@ -27,12 +23,5 @@ struct PowerLines {
   double nearest_m = -1.0;  // [m] nearest ranged wire; < 0: none
   std::vector<PowerLine> wires;
 };
-
-// Throws std::invalid_argument naming what is wrong: array sizes that disagree with their
-// counts, more than MAX_WIRES wires, non-finite or out-of-image coordinates, a range without
-// points.
-PowerLines FromMessage(const uavmsg::power_lines_t& m);
-// Keeps the first MAX_WIRES wires (longest first).
-uavmsg::power_lines_t ToMessage(const PowerLines& p);
 
 }  // namespace uav

@@ -5,10 +5,6 @@
 #include <string>
 #include <vector>
 
-namespace uavmsg {
-class sensing_t;
-}
-
 namespace uav {
 
 // One perception worker (a thread with its camera or pair and its algorithm).
@@ -35,10 +31,5 @@ struct SensingReport {
   double control_period_max_ms = 0.0;
   std::vector<SensingWorker> workers;
 };
-
-// Throws std::invalid_argument naming what is wrong (a non-finite or negative figure, a nameless
-// worker, an unhealthy worker without a reason).
-SensingReport FromMessage(const uavmsg::sensing_t& m);
-uavmsg::sensing_t ToMessage(const SensingReport& r);
 
 }  // namespace uav

@@ -9,15 +9,11 @@
 
 #include <Eigen/Core>
 
-namespace uavmsg {
-class track_target_t;
-class track_status_t;
-}  // namespace uavmsg
-
 namespace uav {
 
-struct TrackRequest {
-  enum class Method { kDrag = 0, kFourClicks = 1, kCancel = 2 };
+// The operator's selection (track_target_t), as the GCS sends it and the vehicle receives it.
+struct TrackTarget {
+  enum Method { kDrag = 0, kFourClicks = 1, kCancel = 2 };
   std::string vehicle_id;  // whom it is for
   std::string source;      // GCS instance
   int64_t target_seq = 0;
@@ -28,8 +24,9 @@ struct TrackRequest {
   std::array<Eigen::Vector2d, 4> corners{};    // the four clicks (or the rectangle's corners)
 };
 
-struct TrackReport {
-  enum class State { kIdle = 0, kTracking = 1, kLost = 2, kRejected = 3 };
+// What the vehicle's tracker reports (track_status_t) about the selection target_seq.
+struct TrackStatus {
+  enum State { kIdle = 0, kTracking = 1, kLost = 2, kRejected = 3 };
   int64_t utime = 0;  // [us] frame time
   int64_t target_seq = 0;
   std::string camera, tracker;
@@ -52,9 +49,5 @@ struct TrackedTarget {
   double image_x = 0.5, image_y = 0.5;  // box centre, normalised
   double gimbal_pitch_rad = 0.0;   // [rad] the camera's pitch when it was seen (0 ahead, -pi/2 down)
 };
-
-// Throws std::invalid_argument naming the first non-finite or out-of-range field.
-TrackRequest FromMessage(const uavmsg::track_target_t& m);
-uavmsg::track_status_t ToMessage(const TrackReport& r);
 
 }  // namespace uav

@@ -15,10 +15,6 @@
 #include "uav/shared/geodesy.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
-namespace uavmsg {
-class vehicle_state_t;
-}
-
 namespace uav {
 
 struct VehicleState {
@@ -58,11 +54,6 @@ struct VehicleState {
 
   double altitude() const { return -p_N.z(); }      // [m] above home
 };
-
-// Decoding rejects, with std::invalid_argument naming the field, what the typed state cannot
-// hold: a non-finite position, attitude or home, or an enum value no version of us sends.
-VehicleState FromMessage(const uavmsg::vehicle_state_t& m);
-void ToMessage(const VehicleState& s, uavmsg::vehicle_state_t* m);  // all but the header
 
 // How a signal is shown and logged. SI inside; the UI shows angles in degrees.
 enum class SignalFormat {

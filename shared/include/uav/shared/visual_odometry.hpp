@@ -7,10 +7,6 @@
 
 #include <Eigen/Core>
 
-namespace uavmsg {
-class visual_odometry_t;
-}
-
 namespace uav {
 
 // Where the INS takes its position from (values of visual_odometry_t.SOURCE_*).
@@ -29,10 +25,5 @@ struct VisualOdometryReport {
   PositionSource source = PositionSource::kGps;
   std::optional<Eigen::Vector3d> truth_N;  // [m] simulation only
 };
-
-// Throws std::invalid_argument naming what is wrong (a non-finite number, a negative count, an
-// unknown source or method, an unhealthy report without a reason).
-VisualOdometryReport FromMessage(const uavmsg::visual_odometry_t& m);
-uavmsg::visual_odometry_t ToMessage(const VisualOdometryReport& r);
 
 }  // namespace uav

@@ -7,6 +7,9 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "uav/shared/channels.hpp"
 
 #include "uav/gcs/gcs_model.hpp"
 #include "uav/shared/signing.hpp"
@@ -33,6 +36,8 @@ class GcsLink {
   // in dropped_messages()) when the channel is not ours, the bytes do not decode, or the
   // content is refused (a vehicle id not matching the channel, an unknown enum value).
   bool Dispatch(const std::string& channel, const void* data, int size, double now);
+  // The topics Dispatch decodes, in Topic order (the fuzz target and its seeds index them).
+  static std::vector<Topic> Topics();
   int64_t dropped_messages() const;
   const std::string& last_drop_reason() const;
 

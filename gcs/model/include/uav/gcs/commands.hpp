@@ -10,17 +10,10 @@
 #include <vector>
 
 #include "uav/gcs/message_log.hpp"
+#include "uav/shared/operator_messages.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
 namespace uav::gcs {
-
-struct AckInfo {
-  int64_t command_seq = 0;
-  std::string command;
-  CommandResult result = CommandResult::kAccepted;
-  int percent = 0;
-  std::string reason;
-};
 
 struct SentCommand {
   int64_t command_seq = 0;
@@ -33,7 +26,7 @@ struct SentCommand {
   bool gave_up = false;
   // What the vehicle did on its own (a failsafe): a row of its own, numbered by the vehicle.
   bool vehicle_initiated = false;
-  std::optional<AckInfo> last_ack;
+  std::optional<CommandAck> last_ack;
 };
 
 // An outgoing message the link must send.
@@ -58,7 +51,7 @@ class CommandCenter {
   bool Submit(const std::string& text, const std::string& vehicle_id, double now, MessageLog& log);
   // Only answers to this GCS count, and the vehicle's reports of what it does on its own (source
   // kVehicleInitiatedSource), which get rows of their own; a changed result is logged.
-  void OnAck(const std::string& vehicle_id, const std::string& source, const AckInfo& ack, double now, MessageLog& log);
+  void OnAck(const std::string& vehicle_id, const CommandAck& ack, double now, MessageLog& log);
   void Tick(double now, MessageLog& log);
   std::vector<OutgoingCommand> TakeOutgoing() { return std::exchange(outgoing_, {}); }
   // Sending off (with the reason the command bar shows) or on (empty).
@@ -80,7 +73,7 @@ class CommandCenter {
   std::deque<SentCommand> sent_;
   std::vector<OutgoingCommand> outgoing_;
 
-  void OnVehicleReport(const std::string& vehicle_id, const AckInfo& ack, double now, MessageLog& log);
+  void OnVehicleReport(const std::string& vehicle_id, const CommandAck& ack, double now, MessageLog& log);
   void Keep(SentCommand c);
 };
 

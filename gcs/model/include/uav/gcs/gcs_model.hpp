@@ -42,22 +42,23 @@ class GcsModel {
   // ---- Inputs from the link, decoded once (time `now` is the GCS clock in seconds).
   void OnHeartbeat(const std::string& vehicle_id, int64_t seq, const HeartbeatInfo& hb, double now);
   void OnState(const std::string& vehicle_id, int64_t seq, const VehicleState& state, double now);
-  void OnAck(const std::string& vehicle_id, const std::string& source, const AckInfo& ack, double now);
+  void OnAck(const std::string& vehicle_id, const CommandAck& ack, double now);
   void OnStatusText(const std::string& vehicle_id, Severity severity, const std::string& text, double now);
   void OnMissionAck(const std::string& vehicle_id, const std::string& source, const waypoints::MissionUploadAck& ack,
                     double now);
-  void OnVideoFrame(const std::string& vehicle_id, const VideoFrameIn& frame, double now);
+  void OnVideoFrame(const std::string& vehicle_id, const VideoFrame& frame, double now);
   void OnFileOffer(const std::string& vehicle_id, const FileOffer& offer, double now);
   void OnFileChunk(const std::string& vehicle_id, const FileChunk& chunk, double now);
-  void OnMapTile(const std::string& vehicle_id, const MapTileIn& tile, double now);
-  void OnTrackStatus(const std::string& vehicle_id, const TrackStatus& status, double now);
-  void OnPowerLines(const std::string& vehicle_id, PowerLines lines, double now);
-  void OnObstacles(const std::string& vehicle_id, Obstacles obstacles, double now);
-  void OnPointCloud(const std::string& vehicle_id, PointCloud cloud, double now);
-  void OnDepthGrid(const std::string& vehicle_id, DepthGrid grid, double now);
-  void OnActiveStereo(const std::string& vehicle_id, ActiveStereoReport report, double now);
-  void OnVisualOdometry(const std::string& vehicle_id, VisualOdometryReport report, double now);
-  void OnSensing(const std::string& vehicle_id, const SensingReport& report, double now);
+  void OnMapTile(const std::string& vehicle_id, const MapTile& tile, double now);
+  // `seq`: the message's header.seq (telemetry counts receipts by it).
+  void OnTrackStatus(const std::string& vehicle_id, int64_t seq, const TrackStatus& status, double now);
+  void OnReport(const std::string& vehicle_id, PowerLines lines, double now);
+  void OnReport(const std::string& vehicle_id, Obstacles obstacles, double now);
+  void OnReport(const std::string& vehicle_id, PointCloud cloud, double now);
+  void OnReport(const std::string& vehicle_id, DepthGrid grid, double now);
+  void OnReport(const std::string& vehicle_id, ActiveStereoReport report, double now);
+  void OnReport(const std::string& vehicle_id, VisualOdometryReport report, double now);
+  void OnReport(const std::string& vehicle_id, SensingReport report, double now);
 
   // ---- Operator actions on the selected vehicle (false: error() of the concern says why).
   void SelectVehicle(const std::string& id);

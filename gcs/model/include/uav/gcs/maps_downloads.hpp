@@ -11,16 +11,9 @@
 
 #include "uav/gcs/message_log.hpp"
 #include "uav/shared/file_transfer.hpp"
+#include "uav/shared/operator_messages.hpp"
 
 namespace uav::gcs {
-
-// A live-map tile as received (map_tile_t).
-struct MapTileIn {
-  int map_id = 0, tile_x = 0, tile_y = 0, tile_px = 0;
-  double gsd_m = 0, origin_north_m = 0, origin_east_m = 0;
-  bool georeferenced = false;
-  std::vector<uint8_t> jpeg;
-};
 
 // The map a vehicle is stitching, as far as its tiles have arrived (the newest map only).
 struct LiveMap {
@@ -58,7 +51,7 @@ class MapsDownloads {
 
   // Decodes the tile; a tile of a newer map replaces the whole live map. A tile that does not
   // decode to tile_px x tile_px is counted as rejected (the first one logged).
-  static void OnMapTile(VehicleMaps& v, const std::string& vehicle_id, const MapTileIn& tile, double now,
+  static void OnMapTile(VehicleMaps& v, const std::string& vehicle_id, const MapTile& tile, double now,
                         MessageLog& log);
   // An invalid offer is logged with the reason; with a download directory set, a new offer
   // starts downloading at once.

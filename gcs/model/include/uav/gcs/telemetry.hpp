@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "uav/gcs/signal_series.hpp"
+#include "uav/shared/tracking.hpp"
 #include "uav/shared/active_stereo.hpp"
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/vehicle_state.hpp"
@@ -50,21 +51,6 @@ struct HeartbeatInfo {
   // A simulator running below 80 % of the pace asked ("max" asks for none): the GCS says
   // "SIM 0.37x", and judges the link on the vehicle's clock (LinkUp).
   bool SimSlow() const { return sim_rate_asked > 0 && sim_rate >= 0 && sim_rate < 0.8 * sim_rate_asked; }
-};
-
-// What the vehicle's tracker reports (track_status_t), image coordinates normalised to 0..1.
-struct TrackStatus {
-  enum State { kIdle = 0, kTracking = 1, kLost = 2, kRejected = 3 };
-  int64_t utime = 0;  // vehicle clock of the frame
-  int64_t seq = 0;    // message counter (header.seq)
-  int64_t target_seq = 0;
-  std::string camera, tracker;
-  State state = kIdle;
-  double center_x = 0, center_y = 0, width = 0, height = 0, angle_rad = 0;
-  double window_x = 0, window_y = 0, window_width = 0, window_height = 0;  // search window
-  double confidence = 0;
-  std::string reason;  // why rejected or lost
-  double received = -1.0;  // GCS clock
 };
 
 // One group's receipts (rate and age), newest values and histories (one per table row).
@@ -126,7 +112,7 @@ struct VehicleTelemetry {
 // Telemetry inputs; each updates the link statistics and the group's values and histories.
 void OnHeartbeat(VehicleTelemetry& v, int64_t seq, const HeartbeatInfo& hb, double now);
 void OnState(VehicleTelemetry& v, int64_t seq, const VehicleState& s, double now);
-void OnTrackTelemetry(VehicleTelemetry& v, const TrackStatus& st, double now);
+void OnTrackTelemetry(VehicleTelemetry& v, int64_t seq, const TrackStatus& st, double now);
 void OnDepthTelemetry(VehicleTelemetry& v, const DepthGrid& g, double now);
 void OnActiveStereoTelemetry(VehicleTelemetry& v, const ActiveStereoReport& r, double now);
 void OnVisualOdometryTelemetry(VehicleTelemetry& v, const VisualOdometryReport& r, double now);

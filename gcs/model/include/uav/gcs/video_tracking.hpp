@@ -11,21 +11,14 @@
 
 #include "uav/gcs/message_log.hpp"
 #include "uav/gcs/telemetry.hpp"
+#include "uav/shared/operator_messages.hpp"
+#include "uav/shared/tracking.hpp"
 
 namespace uav::gcs {
 
 // Largest JPEG accepted in a video frame or map tile (video_frame_t / map_tile_t.MAX_JPEG_BYTES;
 // gcs_link.cpp checks they agree).
 inline constexpr std::size_t kMaxJpegBytes = 60000;
-
-// A JPEG preview frame as received.
-struct VideoFrameIn {
-  int64_t utime = 0;
-  std::string camera;
-  int width = 0, height = 0;
-  int source_width = 0, source_height = 0;
-  std::vector<uint8_t> jpeg;
-};
 
 // The newest decoded frame of a vehicle's camera stream.
 struct VideoFeed {
@@ -40,31 +33,17 @@ struct VideoFeed {
   double Rate(double now) const;
 };
 
-// A target picked on a frozen video frame (video panel), normalised image coordinates.
-struct TrackTarget {
-  enum Method { kDrag = 0, kFourClicks = 1, kCancel = 2 };
-  int64_t frame_utime = 0;
-  std::string camera;
-  Method method = kDrag;
-  double x = 0, y = 0, width = 0, height = 0;  // axis-aligned rectangle, top-left and size
-  std::array<std::array<double, 2>, 4> corners{};  // clicked corners (x, y) in click order
-};
-
-struct OutgoingTrackTarget {
-  std::string vehicle_id;
-  int64_t target_seq = 0;
-  TrackTarget target;
-};
-
 // Per vehicle. A vehicle may stream several cameras; the panel shows one (the first seen until
 // the operator picks another).
 struct VehicleVideo {
   VideoFeed video;                   // of the chosen camera
   std::string camera;                // chosen camera; "" until the first frame
   std::vector<std::string> cameras;  // every camera seen streaming
-  std::optional<TrackTarget> track_target;  // the last selection sent
+  std::optional<TrackTarget> track_target;  // the last selection this GCS sent (with its target_seq)
   int64_t track_targets_sent = 0;
-  std::optional<TrackStatus> track;         // what its tracker reports
+  std::optional<TrackStatus> track;         // what its tracker reports about the last selection
+  double track_received = -1.0;             // [s] GCS clock of that report
+  int64_t stale_track_statuses = 0;         // statuses about an earlier selection, ignored
 };
 
 class VideoTracking {
@@ -76,7 +55,7 @@ class VideoTracking {
   static bool ChooseCamera(VehicleVideo& v, const std::string& camera);
   // Decodes the JPEG (frames of the chosen camera only); a frame that does not decode to its stated size is counted as rejected
   // (the first one is logged with the reason) and the previous frame stays on screen.
-  static void OnVideoFrame(VehicleVideo& v, const std::string& vehicle_id, const VideoFrameIn& frame, double now,
+  static void OnVideoFrame(VehicleVideo& v, const std::string& vehicle_id, const VideoFrame& frame, double now,
                            MessageLog& log);
   // A status that is not finite, names an unknown state or lies far outside the image is logged
   // and dropped (returns false).
@@ -90,7 +69,7 @@ class VideoTracking {
   // a coordinate is not finite or outside 0..1, or the rectangle is smaller than kMinTargetSide.
   bool SelectTarget(VehicleVideo* v, const std::string& vehicle_id, const TrackTarget& target, double now,
                     MessageLog& log);
-  std::vector<OutgoingTrackTarget> TakeOutgoing() { return std::exchange(outgoing_, {}); }
+  std::vector<TrackTarget> TakeOutgoing() { return std::exchange(outgoing_, {}); }
 
   const std::optional<VideoFeed>& frozen() const { return frozen_; }
   const std::string& frozen_vehicle() const { return frozen_vehicle_; }
@@ -101,7 +80,7 @@ class VideoTracking {
   std::string frozen_vehicle_;
   std::string error_;
   int64_t next_target_seq_ = 1;
-  std::vector<OutgoingTrackTarget> outgoing_;
+  std::vector<TrackTarget> outgoing_;
 };
 
 // Decodes a JPEG to RGBA of exactly `width` x `height`; on failure returns false and says why.

@@ -17,19 +17,19 @@ class CommandIntake {
 
   struct Result {
     std::optional<control::CommandRequest> request;  // to the task manager
-    std::vector<control::TaskReport> replies;        // to send back now
+    std::vector<CommandAck> replies;        // to send back now
   };
   Result Receive(const std::string& addressed_to, const std::string& source, int64_t command_seq,
                  const std::string& text);
 
   // Every report sent for a command is remembered so that a resend of it is answered with the
   // latest state instead of being executed again.
-  void Remember(const control::TaskReport& report);
+  void Remember(const CommandAck& report);
 
  private:
   std::string vehicle_id_;
   // (source, command_seq) -> latest report. Bounded: the oldest sequence numbers are dropped.
-  std::map<std::pair<std::string, int64_t>, control::TaskReport> seen_;
+  std::map<std::pair<std::string, int64_t>, CommandAck> seen_;
   static constexpr std::size_t kMaxRemembered = 256;
 };
 

@@ -17,7 +17,7 @@ class PreviewStream {
   // Whether the frame taken at utime goes out. A schedule (not "time since the last one") keeps
   // the average rate when it does not divide the frame rate.
   bool Due(int64_t utime);
-  PreviewFrame Encode(int64_t utime, const cv::Mat& image) const;
+  VideoFrame Encode(int64_t utime, const cv::Mat& image) const;
 
  private:
   std::string camera_;

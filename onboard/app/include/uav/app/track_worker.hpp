@@ -41,14 +41,14 @@ class TrackWorker : public VisionWorker {
     cv::Mat image;
   };
   // Returns true when a new target was started (and caught up to the newest frame).
-  bool Handle(const TrackRequest& request, Outbox& out);
-  void Reject(const TrackRequest& request, const std::string& reason, Outbox& out);
-  TrackReport NewReport(int64_t utime, int64_t target_seq, TrackReport::State state) const;
+  bool Handle(const TrackTarget& request, Outbox& out);
+  void Reject(const TrackTarget& request, const std::string& reason, Outbox& out);
+  TrackStatus NewReport(int64_t utime, int64_t target_seq, TrackStatus::State state) const;
   void Report(int64_t utime, const vision::TrackResult& r, Outbox& out);
   void PlaceOnGround(int64_t utime, const vision::TrackResult& r, const hal::VehicleEstimate& estimate, Outbox& out);
 
   hal::GimbalCamera& camera_;
-  std::vector<TrackRequest> requests_;  // taken at Begin
+  std::vector<TrackTarget> requests_;  // taken at Begin
   TrackWorkerParams params_;
   PreviewStream preview_;
   vision::TargetTracker tracker_;

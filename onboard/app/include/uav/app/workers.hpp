@@ -50,7 +50,7 @@ class ControlWorker {
  private:
   // The task's setpoint through the safety layer; tells the operator when its state changes.
   control::Setpoint Avoid(const control::TaskManager::Output& out, const BlackboardData& d, int64_t utime,
-                          std::vector<control::TaskReport>* reports);
+                          std::vector<CommandAck>* reports);
 
   control::TaskManager tasks_;
   control::PositionAttitudeController controller_;

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "uav/shared/operator_messages.hpp"
 #include "uav/control/chirp.hpp"
 #include "uav/hal/navigation_estimate.hpp"
 #include "uav/control/failsafe.hpp"
@@ -29,15 +30,6 @@ struct CommandRequest {
   std::string source;  // GCS instance
   int64_t seq = 0;     // command_seq
   Command command;
-};
-
-struct TaskReport {
-  std::string source;
-  int64_t seq = 0;
-  std::string command;
-  AckResult result = AckResult::kAccepted;
-  int percent = 0;
-  std::string reason;
 };
 
 struct TaskParams {
@@ -66,7 +58,7 @@ class TaskManager {
   // Handles one command; appends its ACCEPTED/REJECTED (and, for instant ones, COMPLETED)
   // reports to `reports`. A rejected command changes nothing.
   void Submit(const CommandRequest& req, const VehicleEstimate& est, double t,
-              std::vector<TaskReport>* reports);
+              std::vector<CommandAck>* reports);
 
   struct Output {
     bool armed = false;
@@ -89,36 +81,36 @@ class TaskManager {
   // nothing is downgraded when a failsafe clears. While one is required, commands that would do
   // less are refused.
   void EnforceFailsafe(FailsafeAction required, const std::string& reason, const VehicleEstimate& est,
-                       double t, std::vector<TaskReport>* reports);
+                       double t, std::vector<CommandAck>* reports);
   FailsafeAction enforced() const { return enforced_; }
 
   // The tracker's newest target (call before Submit and Update each step): follow flies on it.
   void ObserveTarget(const TrackedTarget& target) { target_ = target; }
 
   // One step at the control rate: advances the active task, appends progress reports.
-  Output Update(const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
+  Output Update(const VehicleEstimate& est, double t, std::vector<CommandAck>* reports);
 
   Task task() const { return task_; }
   // Tells the owner of the active command how its task is going (avoiding, blocked, no path):
   // an IN_PROGRESS report with the progress so far and `reason`.
-  void ReportProgressNote(const std::string& reason, std::vector<TaskReport>* reports) const;
+  void ReportProgressNote(const std::string& reason, std::vector<CommandAck>* reports) const;
   bool armed() const { return armed_; }
 
  private:
-  void Finish(AckResult result, const std::string& reason, std::vector<TaskReport>* reports);
+  void Finish(AckResult result, const std::string& reason, std::vector<CommandAck>* reports);
   void Begin(Task task, const CommandRequest& req, const VehicleEstimate& est, double t,
-             std::vector<TaskReport>* reports);
+             std::vector<CommandAck>* reports);
   double Progress(const VehicleEstimate& est) const;
   void BeginPath(Task task, std::vector<waypoints::MissionStep> steps, const CommandRequest& req,
-                 const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
+                 const VehicleEstimate& est, double t, std::vector<CommandAck>* reports);
   void StartLanding(const VehicleEstimate& est);
   void StartPath(Task task, std::vector<waypoints::MissionStep> steps, const VehicleEstimate& est, double t);
   void Hold(const VehicleEstimate& est);
   bool OutsideFence(const Eigen::Vector3d& p_N) const;
   // Ends the active command because `by` replaces it: a follow ends as the operator meant it to
   // (completed), anything else as replaced.
-  void Supersede(const std::string& by, std::vector<TaskReport>* reports);
-  void UpdateFollow(const VehicleEstimate& est, double t, std::vector<TaskReport>* reports);
+  void Supersede(const std::string& by, std::vector<CommandAck>* reports);
+  void UpdateFollow(const VehicleEstimate& est, double t, std::vector<CommandAck>* reports);
 
   TaskParams p_;
   MissionSource* missions_;
@@ -140,7 +132,7 @@ class TaskManager {
     int64_t seq = 0;
     std::string name;
   };
-  void Report(AckResult result, int percent, const std::string& reason, std::vector<TaskReport>* reports) const;
+  void Report(AckResult result, int percent, const std::string& reason, std::vector<CommandAck>* reports) const;
   // `owner` now owns the task: its progress is measured from here and now.
   void Own(ReportOwner owner, const VehicleEstimate& est, double t);
   bool active_report_ = false;

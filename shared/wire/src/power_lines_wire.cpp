@@ -1,4 +1,4 @@
-#include "uav/shared/power_lines.hpp"
+#include "uav/wire/messages.hpp"
 
 #include <cmath>
 #include <stdexcept>

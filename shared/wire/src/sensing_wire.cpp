@@ -1,4 +1,4 @@
-#include "uav/shared/sensing.hpp"
+#include "uav/wire/messages.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "uav/shared/bus.hpp"
+#include "uav/wire/bus.hpp"
 
 #include <stdexcept>
 

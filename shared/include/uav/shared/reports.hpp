@@ -1,0 +1,33 @@
+#pragma once
+// The perception reports the vehicle publishes, listed once. The vehicle's blackboard slots and
+// outbound translators, the GCS's decoders (and so the log replay), the fuzz target's topics and
+// its seeds all follow from this list; uav/wire/reports.hpp gives each its message and topic.
+// Adding a report: its plain struct here in uav/shared, its LCM type and conversions in the wire
+// (README: adding a perception algorithm).
+#include <cstddef>
+#include <type_traits>
+
+#include "uav/shared/active_stereo.hpp"
+#include "uav/shared/mono_depth.hpp"
+#include "uav/shared/obstacles.hpp"
+#include "uav/shared/power_lines.hpp"
+#include "uav/shared/sensing.hpp"
+#include "uav/shared/visual_odometry.hpp"
+
+namespace uav {
+
+template <class... Ts>
+struct TypeList {
+  static constexpr std::size_t kSize = sizeof...(Ts);
+};
+
+using PerceptionReports =
+    TypeList<PowerLines, Obstacles, PointCloud, DepthGrid, ActiveStereoReport, VisualOdometryReport, SensingReport>;
+
+// Calls f(static_cast<T*>(nullptr)) for each type T of the list, in order.
+template <class... Ts, class F>
+void ForEachType(TypeList<Ts...>, F&& f) {
+  (f(static_cast<Ts*>(nullptr)), ...);
+}
+
+}  // namespace uav

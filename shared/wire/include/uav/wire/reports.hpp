@@ -1,0 +1,49 @@
+#pragma once
+// Each perception report's wire form: its LCM message type and its topic, declared once. The
+// conversions are the FromMessage/ToMessage overloads of uav/wire/messages.hpp.
+#include "uav/shared/channels.hpp"
+#include "uav/shared/reports.hpp"
+#include "uav/wire/messages.hpp"
+
+namespace uav {
+
+template <class T>
+struct Report;  // specialised once per type of PerceptionReports
+
+template <>
+struct Report<PowerLines> {
+  using Message = uavmsg::power_lines_t;
+  static constexpr Topic kTopic = Topic::kPowerLines;
+};
+template <>
+struct Report<Obstacles> {
+  using Message = uavmsg::obstacles_t;
+  static constexpr Topic kTopic = Topic::kObstacles;
+};
+template <>
+struct Report<PointCloud> {
+  using Message = uavmsg::point_cloud_t;
+  static constexpr Topic kTopic = Topic::kPointCloud;
+};
+template <>
+struct Report<DepthGrid> {
+  using Message = uavmsg::mono_depth_t;
+  static constexpr Topic kTopic = Topic::kMonoDepth;
+};
+template <>
+struct Report<ActiveStereoReport> {
+  using Message = uavmsg::active_stereo_t;
+  static constexpr Topic kTopic = Topic::kActiveStereo;
+};
+template <>
+struct Report<VisualOdometryReport> {
+  using Message = uavmsg::visual_odometry_t;
+  static constexpr Topic kTopic = Topic::kVisualOdometry;
+};
+template <>
+struct Report<SensingReport> {
+  using Message = uavmsg::sensing_t;
+  static constexpr Topic kTopic = Topic::kSensing;
+};
+
+}  // namespace uav
