@@ -45,13 +45,18 @@ std::vector<Column> Reduce(const SignalSeries& s, double t0, double t1, int widt
   return cols;
 }
 
-void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float height) {
-  UiState& st = ctx.state;
-  const PlotSpec spec = model.plots().specs()[index];  // a copy: the buttons below may add a plot
-  const VehicleModel* v = model.selected();
-  const std::string tag = "plot:" + std::to_string(index + 1);
+// One plotted signal reduced to a column per pixel.
+struct Series {
+  SignalRef signal;
+  std::string key;
+  PlotAxis axis;
+  std::vector<Column> cols;
+};
+
+// The plot's controls: which plot ticks go to, close, and each axis auto or a fixed range.
+// Returns false when the operator closed the plot.
+bool DrawPlotControls(GcsModel& model, UiContext& ctx, int index, const PlotSpec& spec, const std::string& tag) {
   bool open = true;
-  ImGui::BeginChild(tag.c_str(), ImVec2(0, height), false, ImGuiWindowFlags_NoScrollbar);
   // Where ticks in the state list go.
   bool active = model.plots().active() == index;
   if (ImGui::RadioButton(("Plot " + std::to_string(index + 1)).c_str(), active)) model.plots().SetActive(index);
@@ -80,6 +85,38 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
     if (a == 0) ImGui::SameLine();
   }
 
+  return open;
+}
+
+// Hover readout: values of every series at the time under the cursor.
+void DrawReadout(UiContext& ctx, const VehicleModel& v, const std::vector<Series>& reduced, ImDrawList* dl, ImVec2 p0,
+                 ImVec2 p1, double t_start, double t_end) {
+  UiState& st = ctx.state;
+  const float width = p1.x - p0.x;
+  const float mx = ImGui::GetIO().MousePos.x;
+  dl->AddLine(ImVec2(mx, p0.y), ImVec2(mx, p1.y), IM_COL32(200, 200, 200, 120));
+  const double t = t_start + (mx - p0.x) / width * (t_end - t_start);
+  char line[128];
+  std::snprintf(line, sizeof line, "t = %.2f s", t);
+  st.plot_readout = line;
+  for (const auto& r : reduced) {
+    const SignalSeries& s = *v.History(r.signal);
+    const std::size_t i = std::min(s.LowerBound(t), s.size() - 1);
+    const SignalDef& def = Def(r.signal);
+    const std::string unit(DisplayUnit(def));
+    std::snprintf(line, sizeof line, "\n%s = %.6g %s", Key(r.signal).c_str(), DisplayValue(def, s.ValueAt(i)),
+                  unit.c_str());
+    st.plot_readout += line;
+  }
+  ImGui::SetTooltip("%s", st.plot_readout.c_str());
+}
+
+void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float height) {
+  const PlotSpec spec = model.plots().specs()[index];  // a copy: the buttons below may add a plot
+  const VehicleModel* v = model.selected();
+  const std::string tag = "plot:" + std::to_string(index + 1);
+  ImGui::BeginChild(tag.c_str(), ImVec2(0, height), false, ImGuiWindowFlags_NoScrollbar);
+  const bool open = DrawPlotControls(model, ctx, index, spec, tag);
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImVec2 size = ImGui::GetContentRegionAvail();
   size.x = std::max(size.x, 100.0f);
@@ -111,12 +148,6 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
     return;
   }
   const int width = std::max(2, static_cast<int>(size.x));
-  struct Series {
-    SignalRef signal;
-    std::string key;
-    PlotAxis axis;
-    std::vector<Column> cols;
-  };
   std::vector<Series> reduced;
   float lo[2] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
   float hi[2] = {-std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
@@ -193,25 +224,7 @@ void DrawOnePlot(GcsModel& model, UiContext& ctx, int index, double t_end, float
     dl->AddText(ImVec2(p0.x + 60 + 160.0f * static_cast<float>(k % 5), p0.y + 4 + 16.0f * static_cast<float>(k / 5)),
                 color, label.c_str());
   }
-  // Hover readout: values of every series at the time under the cursor.
-  if (hovered) {
-    const float mx = ImGui::GetIO().MousePos.x;
-    dl->AddLine(ImVec2(mx, p0.y), ImVec2(mx, p1.y), IM_COL32(200, 200, 200, 120));
-    const double t = t_start + (mx - p0.x) / size.x * (t_end - t_start);
-    char line[128];
-    std::snprintf(line, sizeof line, "t = %.2f s", t);
-    st.plot_readout = line;
-    for (const auto& r : reduced) {
-      const SignalSeries& s = *v->History(r.signal);
-      const std::size_t i = std::min(s.LowerBound(t), s.size() - 1);
-      const SignalDef& def = Def(r.signal);
-      const std::string unit(DisplayUnit(def));
-      std::snprintf(line, sizeof line, "\n%s = %.6g %s", Key(r.signal).c_str(), DisplayValue(def, s.ValueAt(i)),
-                    unit.c_str());
-      st.plot_readout += line;
-    }
-    ImGui::SetTooltip("%s", st.plot_readout.c_str());
-  }
+  if (hovered) DrawReadout(ctx, *v, reduced, dl, p0, p1, t_start, t_end);
   dl->PopClipRect();
   ImGui::EndChild();
   if (!open) model.plots().Remove(index);

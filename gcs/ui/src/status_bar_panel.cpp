@@ -12,13 +12,89 @@
 
 namespace uav::gcs {
 
+namespace {
+
+// One vehicle's link: up or lost, heartbeat age, rate, losses, signing, and a slow simulator.
+void DrawVehicleLink(const GcsModel& model, UiContext& ctx, const std::string& id, const VehicleModel& veh) {
+  const ImVec4 red(1, 0.3f, 0.3f, 1), green(0.4f, 0.9f, 0.4f, 1), amber(1, 0.7f, 0.2f, 1);
+  const bool up = veh.LinkUp(ctx.now, model.telemetry_params());
+  const bool sel = id == model.selected_id();
+  ImGui::TextColored(up ? ImVec4(0.4f, 0.9f, 0.4f, 1) : ImVec4(1, 0.3f, 0.3f, 1), "%s%s %s %.1fs %.0f/s %lld lost",
+                     sel ? ">" : "", id.c_str(), up ? "UP" : "LOST", std::min(veh.HeartbeatAge(ctx.now), 99.9),
+                     veh.MessageRate(ctx.now), static_cast<long long>(veh.sequence_gaps));
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("%s: heartbeat %.1f s ago, %.0f messages/s, %lld messages lost (sequence gaps)", id.c_str(),
+                      veh.HeartbeatAge(ctx.now), veh.MessageRate(ctx.now), static_cast<long long>(veh.sequence_gaps));
+  if (veh.heartbeat) {
+    ImGui::SameLine();
+    const bool signing = veh.heartbeat->signing;
+    ImGui::TextColored(signing ? green : red, signing ? "signed" : "UNSIGNED");
+    if (veh.heartbeat->signature_rejections > 0) {
+      ImGui::SameLine();
+      ImGui::TextColored(amber, "%lld refused", static_cast<long long>(veh.heartbeat->signature_rejections));
+    }
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("%s %s; %lld messages refused by its signature check since it started (the reasons are in "
+                        "the messages)",
+                        id.c_str(),
+                        signing ? "executes only messages signed with its key"
+                                : "was started with --insecure: it executes unsigned messages from anyone",
+                        static_cast<long long>(veh.heartbeat->signature_rejections));
+    if (veh.heartbeat->SimSlow()) {  // the simulator, not the link, is slow
+      ImGui::SameLine();
+      ImGui::TextColored(amber, "SIM %.2fx", veh.heartbeat->sim_rate);
+      RegisterLastItem(ctx, "status:sim:" + id);
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("%s's simulator runs at %.2fx where %.3gx was asked: its clock is slow, its link is judged on "
+                          "its clock (heartbeat %.1f s old in simulated time)",
+                          id.c_str(), veh.heartbeat->sim_rate, veh.heartbeat->sim_rate_asked,
+                          veh.HeartbeatAgeOnVehicleClock(ctx.now));
+    }
+  }
+  ImGui::SameLine();
+  ImGui::TextDisabled("|");
+  ImGui::SameLine();
+}
+
+// The selected vehicle's perception warnings: a near wire, obstacles or a stereo channel down,
+// and what obstacle avoidance is doing.
+void DrawPerceptionWarnings(UiContext& ctx, const VehicleModel* v) {
+  // A power line nearer than the warning distance, in red (the messages say when it started).
+  if (v->wire_warning && v->power_lines) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| WIRE %.1f m", v->power_lines->nearest_m);
+  }
+  // Stereo obstacles from telemetry (count, nearest surface), and a stereo channel that is down.
+  if (v->stereo_unhealthy) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| STEREO DOWN");
+  } else if (v->state && v->state->obstacle_count > 0) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(0.85f, 0.5f, 1, 1), "| OBS %d, %.1f m", v->state->obstacle_count, v->state->nearest_obstacle_m);
+  }
+  // Obstacle avoidance while a task travels: avoiding in amber, blocked, no path or no data in
+  // red (the messages say why).
+  if (v->state && v->state->avoid_state != AvoidState::kOff) {
+    const AvoidState a = v->state->avoid_state;
+    std::string name(Name(a));
+    for (char& c : name) c = c == '_' ? ' ' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    const bool bad = a == AvoidState::kBlocked || a == AvoidState::kNoPath || a == AvoidState::kNoData;
+    const ImVec4 colour = bad ? ImVec4(1, 0.3f, 0.3f, 1) : a == AvoidState::kAvoiding ? ImVec4(1, 0.75f, 0.2f, 1) : ImVec4(0.5f, 0.85f, 0.5f, 1);
+    ImGui::SameLine();
+    ImGui::TextColored(colour, "| AVOID %s, %.1f m/s", name.c_str(), v->state->avoid_speed_limit_m_s);
+    RegisterLastItem(ctx, "status:avoid:" + v->id);
+  }
+}
+
+}  // namespace
+
 void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
   const ImVec2 d = ImGui::GetIO().DisplaySize;
   ImGui::SetNextWindowPos(ImVec2(0, 0));
   ImGui::SetNextWindowSize(ImVec2(d.x, 0.04f * d.y));
   ImGui::Begin("Status", nullptr,
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
-  const ImVec4 red(1, 0.3f, 0.3f, 1), green(0.4f, 0.9f, 0.4f, 1), amber(1, 0.7f, 0.2f, 1);
+  const ImVec4 red(1, 0.3f, 0.3f, 1);
   if (model.signing_key_id().empty() && !model.replay()) {
     ImGui::TextColored(red, "INSECURE");
     if (ImGui::IsItemHovered())
@@ -32,45 +108,7 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
     ImGui::End();
     return;
   }
-  for (const auto& [id, veh] : model.vehicles()) {
-    const bool up = veh.LinkUp(ctx.now, model.telemetry_params());
-    const bool sel = id == model.selected_id();
-    ImGui::TextColored(up ? ImVec4(0.4f, 0.9f, 0.4f, 1) : ImVec4(1, 0.3f, 0.3f, 1), "%s%s %s %.1fs %.0f/s %lld lost",
-                       sel ? ">" : "", id.c_str(), up ? "UP" : "LOST", std::min(veh.HeartbeatAge(ctx.now), 99.9),
-                       veh.MessageRate(ctx.now), static_cast<long long>(veh.sequence_gaps));
-    if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("%s: heartbeat %.1f s ago, %.0f messages/s, %lld messages lost (sequence gaps)", id.c_str(),
-                        veh.HeartbeatAge(ctx.now), veh.MessageRate(ctx.now), static_cast<long long>(veh.sequence_gaps));
-    if (veh.heartbeat) {
-      ImGui::SameLine();
-      const bool signing = veh.heartbeat->signing;
-      ImGui::TextColored(signing ? green : red, signing ? "signed" : "UNSIGNED");
-      if (veh.heartbeat->signature_rejections > 0) {
-        ImGui::SameLine();
-        ImGui::TextColored(amber, "%lld refused", static_cast<long long>(veh.heartbeat->signature_rejections));
-      }
-      if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("%s %s; %lld messages refused by its signature check since it started (the reasons are in "
-                          "the messages)",
-                          id.c_str(),
-                          signing ? "executes only messages signed with its key"
-                                  : "was started with --insecure: it executes unsigned messages from anyone",
-                          static_cast<long long>(veh.heartbeat->signature_rejections));
-      if (veh.heartbeat->SimSlow()) {  // the simulator, not the link, is slow
-        ImGui::SameLine();
-        ImGui::TextColored(amber, "SIM %.2fx", veh.heartbeat->sim_rate);
-        RegisterLastItem(ctx, "status:sim:" + id);
-        if (ImGui::IsItemHovered())
-          ImGui::SetTooltip("%s's simulator runs at %.2fx where %.3gx was asked: its clock is slow, its link is judged on "
-                            "its clock (heartbeat %.1f s old in simulated time)",
-                            id.c_str(), veh.heartbeat->sim_rate, veh.heartbeat->sim_rate_asked,
-                            veh.HeartbeatAgeOnVehicleClock(ctx.now));
-      }
-    }
-    ImGui::SameLine();
-    ImGui::TextDisabled("|");
-    ImGui::SameLine();
-  }
+  for (const auto& [id, veh] : model.vehicles()) DrawVehicleLink(model, ctx, id, veh);
   const VehicleModel* v = model.selected();
   if (!v->state) {
     ImGui::Text("%s: task %s | %s | no state yet", v->id.c_str(), v->task ? std::string(Name(*v->task)).c_str() : "unknown",
@@ -102,31 +140,7 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
       }
     }
   }
-  // A power line nearer than the warning distance, in red (the messages say when it started).
-  if (v->wire_warning && v->power_lines) {
-    ImGui::SameLine();
-    ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| WIRE %.1f m", v->power_lines->nearest_m);
-  }
-  // Stereo obstacles from telemetry (count, nearest surface), and a stereo channel that is down.
-  if (v->stereo_unhealthy) {
-    ImGui::SameLine();
-    ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| STEREO DOWN");
-  } else if (v->state && v->state->obstacle_count > 0) {
-    ImGui::SameLine();
-    ImGui::TextColored(ImVec4(0.85f, 0.5f, 1, 1), "| OBS %d, %.1f m", v->state->obstacle_count, v->state->nearest_obstacle_m);
-  }
-  // Obstacle avoidance while a task travels: avoiding in amber, blocked, no path or no data in
-  // red (the messages say why).
-  if (v->state && v->state->avoid_state != AvoidState::kOff) {
-    const AvoidState a = v->state->avoid_state;
-    std::string name(Name(a));
-    for (char& c : name) c = c == '_' ? ' ' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    const bool bad = a == AvoidState::kBlocked || a == AvoidState::kNoPath || a == AvoidState::kNoData;
-    const ImVec4 colour = bad ? ImVec4(1, 0.3f, 0.3f, 1) : a == AvoidState::kAvoiding ? ImVec4(1, 0.75f, 0.2f, 1) : ImVec4(0.5f, 0.85f, 0.5f, 1);
-    ImGui::SameLine();
-    ImGui::TextColored(colour, "| AVOID %s, %.1f m/s", name.c_str(), v->state->avoid_speed_limit_m_s);
-    RegisterLastItem(ctx, "status:avoid:" + v->id);
-  }
+  DrawPerceptionWarnings(ctx, v);
   if (model.replay()) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(0.4f, 0.7f, 1, 1), "| REPLAY (nothing is sent)");

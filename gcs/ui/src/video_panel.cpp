@@ -12,6 +12,7 @@
 
 #include <imgui.h>
 
+#include "overlays/overlays.hpp"
 #include "uav/gcs/gcs_ui.hpp"
 
 namespace uav::gcs {
@@ -147,108 +148,14 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
       dl->AddCircleFilled(c, 4.0f, IM_COL32(255, 220, 80, 255));
       if (i > 0) dl->AddLine(to_screen(st.video_clicks[i - 1][0], st.video_clicks[i - 1][1]), c, IM_COL32(255, 220, 80, 255), 1.5f);
     }
-  } else {
-    // The tracker's report over the live picture.
-    if (v->track && v->track->state == TrackStatus::kRejected && ctx.now - v->track_received < 5.0) {
-      const std::string text = "TARGET REJECTED: " + v->track->reason;
-      dl->AddText(ImVec2(p0.x + 6, p0.y + 6), IM_COL32(255, 90, 90, 255), text.c_str());
-    } else if (v->track && v->track->state != TrackStatus::kIdle && ctx.now - v->track_received < 2.0 &&
-               (v->track->camera.empty() || v->track->camera == feed.camera)) {
-      const TrackStatus& t = *v->track;
-      // The search window the next frame starts from (the whole picture while lost).
-      dl->AddRect(to_screen(t.window_x, t.window_y), to_screen(t.window_x + t.window_width, t.window_y + t.window_height),
-                  IM_COL32(80, 200, 255, 160), 0.0f, 0, 1.0f);
-      const ImU32 colour = t.state == TrackStatus::kTracking ? IM_COL32(80, 255, 120, 255) : IM_COL32(255, 170, 60, 255);
-      const double c = std::cos(t.angle_rad), s = std::sin(t.angle_rad);
-      // Oriented box: normalised units scaled by the picture's aspect so the rotation is true.
-      const double aspect = static_cast<double>(size.y) / size.x;
-      ImVec2 q[4];
-      const double hx[4] = {-0.5, 0.5, 0.5, -0.5}, hy[4] = {-0.5, -0.5, 0.5, 0.5};
-      for (int i = 0; i < 4; ++i) {
-        const double dx = hx[i] * t.width, dy = hy[i] * t.height * aspect;
-        q[i] = to_screen(t.center_x + c * dx - s * dy, t.center_y + (s * dx + c * dy) / aspect);
-      }
-      dl->AddPolyline(q, 4, colour, ImDrawFlags_Closed, 2.0f);
-      const ImVec2 ctr = to_screen(t.center_x, t.center_y);
-      dl->AddLine(ImVec2(ctr.x - 8, ctr.y), ImVec2(ctr.x + 8, ctr.y), colour, 2.0f);
-      dl->AddLine(ImVec2(ctr.x, ctr.y - 8), ImVec2(ctr.x, ctr.y + 8), colour, 2.0f);
-      char label[96];
-      std::snprintf(label, sizeof label, "%s %s %.2f", t.state == TrackStatus::kTracking ? "TRACKING" : "LOST",
-                    t.tracker.c_str(), t.confidence);
-      dl->AddText(ImVec2(q[0].x, q[0].y - 16), colour, label);
-    } else if (v->track_target && v->track_target->method != TrackTarget::kCancel) {
-      // Sent, no answer yet: the selection, thin.
-      const TrackTarget& t = *v->track_target;
-      dl->AddRect(to_screen(t.x, t.y), to_screen(t.x + t.width, t.y + t.height), IM_COL32(255, 255, 255, 180));
-    }
   }
-  // Power lines over the picture, when they were found in this camera's image (thesis 3.6):
-  // red nearer than the warning distance, orange ranged, thin yellow seen but not ranged.
-  const WireWarningParams& wp = model.wires().params();
-  if (const PowerLines* lines = v->FreshPowerLines(ctx.now, wp); lines && lines->camera == feed.camera) {
-    for (const PowerLine& w : lines->wires) {
-      if (w.image_uv.size() < 2) continue;
-      const bool near = w.ranged() && w.range_m < wp.warn_distance_m;
-      const ImU32 colour = near ? IM_COL32(255, 60, 60, 255) : w.ranged() ? IM_COL32(255, 160, 40, 255) : IM_COL32(255, 230, 80, 200);
-      std::vector<ImVec2> pts;
-      for (const auto& uv : w.image_uv) pts.push_back(to_screen(uv.x(), uv.y()));
-      dl->AddPolyline(pts.data(), static_cast<int>(pts.size()), colour, ImDrawFlags_None, w.ranged() ? 2.5f : 1.5f);
-      if (w.ranged()) {
-        char label[32];
-        std::snprintf(label, sizeof label, "%.1f m", w.range_m);
-        const ImVec2 at = pts[pts.size() / 2];
-        dl->AddText(ImVec2(at.x + 4, at.y - 16), colour, label);
-      }
-    }
-  }
-  // Depth from motion (thesis 3.4, Fig. 3.11): the grid over the picture, each cell's depth and
-  // state (red obstacle, green free, grey unknown with its reason on hover).
-  if (const DepthGrid* grid = v->DepthGridOver(feed, ctx.now, model.obstacles().params())) {
-    const ImVec2 mouse = ImGui::GetIO().MousePos;
-    for (int r = 0; r < grid->rows; ++r)
-      for (int c = 0; c < grid->cols; ++c) {
-        const DepthCell& cell = grid->at(r, c);
-        const ImU32 colour = cell.state == CellState::kObstacle ? IM_COL32(255, 70, 70, 220)
-                             : cell.state == CellState::kFree   ? IM_COL32(90, 230, 110, 200)
-                                                                : IM_COL32(170, 170, 170, 150);
-        const ImVec2 a = to_screen(static_cast<double>(c) / grid->cols, static_cast<double>(r) / grid->rows);
-        const ImVec2 b = to_screen(static_cast<double>(c + 1) / grid->cols, static_cast<double>(r + 1) / grid->rows);
-        dl->AddRect(a, b, colour, 0, 0, 1.0f);
-        char label[48];
-        if (cell.state == CellState::kUnknown) std::snprintf(label, sizeof label, "?");
-        else std::snprintf(label, sizeof label, "%.1f m %s", cell.depth_m, cell.state == CellState::kObstacle ? "OBST" : "");
-        dl->AddText(ImVec2(a.x + 4, a.y + 3), colour, label);
-        if (cell.state == CellState::kUnknown && mouse.x >= a.x && mouse.x < b.x && mouse.y >= a.y && mouse.y < b.y &&
-            ImGui::IsWindowHovered())
-          ImGui::SetTooltip("%s", grid->healthy ? cell.reason.c_str() : grid->reason.c_str());
-      }
-  }
-  // Active stereo (thesis ch. 4): each triangulated laser dot, green on the ground cluster the
-  // height is measured to, orange on a nearer cluster (a table, a wall, a ledge), and the height.
-  if (const ActiveStereoReport* as = v->ActiveStereoOver(feed, ctx.now, model.obstacles().params())) {
-    for (const LaserDotReport& d : as->dots) {
-      const bool ground = d.cluster < static_cast<int>(as->clusters.size()) && as->clusters[d.cluster].ground;
-      dl->AddCircle(to_screen(d.u, d.v), 4.0f, ground ? IM_COL32(90, 230, 110, 230) : IM_COL32(255, 160, 40, 230), 0, 1.5f);
-    }
-    char label[96];
-    if (as->healthy) std::snprintf(label, sizeof label, "height %.2f m (%zu dots, %zu clusters)", as->height_m, as->dots.size(), as->clusters.size());
-    else std::snprintf(label, sizeof label, "no height: %s", as->reason.c_str());
-    const ImVec2 at = to_screen(0.02, 0.02);
-    dl->AddText(at, as->healthy ? IM_COL32(90, 230, 110, 255) : IM_COL32(255, 90, 90, 255), label);
-  }
-  // Stereo obstacles (thesis 3.5) as boxes around their projected cylinders, labelled with the
-  // horizontal distance to their surface.
-  if (const Obstacles* obstacles = v->FreshObstacles(ctx.now, model.obstacles().params());
-      obstacles && obstacles->camera == feed.camera) {
-    for (const Obstacle& o : obstacles->obstacles) {
-      const ImU32 colour = IM_COL32(200, 80, 255, 230);
-      const ImVec2 a = to_screen(o.image_box[0], o.image_box[1]), b = to_screen(o.image_box[2], o.image_box[3]);
-      dl->AddRect(a, b, colour, 0, 0, 2.0f);
-      char label[32];
-      std::snprintf(label, sizeof label, "%.1f m", o.range_m);
-      dl->AddText(ImVec2(a.x + 2, a.y + 2), colour, label);
-    }
-  }
+  // What the vehicle reports over the picture (overlays/).
+  const ImageCanvas canvas{dl, p0, size};
+  if (!frozen) DrawTrackOnImage(*v, feed, canvas, ctx.now);
+  DrawPowerLinesOnImage(model, *v, feed, canvas, ctx.now);
+  DrawDepthGridOnImage(model, *v, feed, canvas, ctx.now);
+  DrawActiveStereoOnImage(model, *v, feed, canvas, ctx.now);
+  DrawObstaclesOnImage(model, *v, feed, canvas, ctx.now);
   ImGui::Text("%s %dx%d (from %dx%d), %.0f fps, frame %lld%s", feed.camera.c_str(), feed.width, feed.height,
               feed.source_width, feed.source_height, v->video.Rate(ctx.now), static_cast<long long>(feed.frames),
               feed.rejected ? ", some frames rejected" : "");
