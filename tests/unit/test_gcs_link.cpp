@@ -34,6 +34,8 @@
 #include "uavmsg/vehicle_state_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
 #include "unit/gcs_test_util.hpp"
+#include "unit/report_examples.hpp"
+#include "uav/wire/reports.hpp"
 
 namespace uav::gcs {
 namespace {
@@ -736,6 +738,30 @@ TEST(LogReplay, TruncatedAndDamagedLogsReplayUpToTheDamageAndSayWhere) {
   Replayed r3;
   EXPECT_THROW(LogReplay("/nonexistent/events.lcmlog", [&]() -> GcsLink& { return r3.Reset(); }), std::runtime_error);
   for (const auto& p : {path, cut, bad}) std::filesystem::remove(p);
+}
+
+// Every report of PerceptionReports has a decoder in the link (so the fuzz target, which draws
+// its topics from GcsLink::Topics(), covers it) and reaches the model as that report.
+TEST(ReportSeam, EveryReportIsDecodedByTheLinkAndReachesTheModel) {
+  GcsModel model("gcs", 1);
+  GcsLink link(nullptr, model, std::nullopt);
+  const std::vector<Topic> topics = GcsLink::Topics();
+  int64_t seq = 0;
+  ForEachType(PerceptionReports{}, [&](auto* type) {
+    using T = std::remove_pointer_t<decltype(type)>;
+    const Topic topic = Report<T>::kTopic;
+    EXPECT_NE(std::find(topics.begin(), topics.end(), topic), topics.end()) << TopicName(topic);
+    auto m = ToMessage(ExampleReport<T>());
+    m.header.vehicle_id = "UAV1";
+    m.header.seq = ++seq;
+    std::vector<uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
+    m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    EXPECT_TRUE(link.Dispatch(Channel("UAV1", topic), bytes.data(), static_cast<int>(bytes.size()), 1.0))
+        << TopicName(topic) << ": " << link.last_drop_reason();
+  });
+  EXPECT_EQ(link.dropped_messages(), 0);
+  const VehicleModel& v = model.vehicles().at("UAV1");
+  EXPECT_TRUE(v.power_lines && v.obstacles && v.cloud && v.depth_grid && v.active_stereo);
 }
 
 }  // namespace

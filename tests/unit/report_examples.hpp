@@ -1,0 +1,29 @@
+#pragma once
+// A valid example of each perception report (tests of the report seam).
+#include <type_traits>
+
+#include "uav/shared/reports.hpp"
+
+namespace uav {
+
+// A report with a time and, where the type has them, a health and a reason, as workers send.
+template <class T>
+T ExampleReport() {
+  T r{};
+  r.utime = 1'795'000'000'123'456;
+  if constexpr (std::is_same_v<T, ActiveStereoReport> || std::is_same_v<T, DepthGrid> ||
+                std::is_same_v<T, VisualOdometryReport>) {
+    r.healthy = false;
+    r.reason = "too few features";
+  }
+  if constexpr (std::is_same_v<T, DepthGrid>) {  // the grid a worker sends is never empty
+    r.cols = 2, r.rows = 1;
+    r.cells.resize(2);
+    r.cells[0].reason = r.cells[1].reason = "no features";
+    r.obstacle_depth_m = 8.0;
+  }
+  if constexpr (std::is_same_v<T, VisualOdometryReport>) r.method = "pnp";
+  return r;
+}
+
+}  // namespace uav
