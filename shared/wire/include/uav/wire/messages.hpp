@@ -28,8 +28,8 @@
 
 namespace uav {
 
-// operator_messages.hpp: a JPEG's size must match its bytes (at most MAX_JPEG_BYTES); a
-// result must be one the enum names.
+// The operator's messages (uav/shared/operator_messages.hpp): a JPEG's size must match its
+// bytes (at most MAX_JPEG_BYTES); a result must be one the enum names.
 VideoFrame FromMessage(const uavmsg::video_frame_t& m);
 uavmsg::video_frame_t ToMessage(const VideoFrame& f);
 MapTile FromMessage(const uavmsg::map_tile_t& m);
@@ -37,21 +37,21 @@ uavmsg::map_tile_t ToMessage(const MapTile& t);
 CommandAck FromMessage(const uavmsg::command_ack_t& m);
 uavmsg::command_ack_t ToMessage(const CommandAck& a);
 
-// active_stereo.hpp
+// Active stereo (uav/shared/active_stereo.hpp)
 // Throws std::invalid_argument naming what is wrong (arrays of other lengths, too many points or
 // clusters, non-finite numbers, a cluster index out of range, an unhealthy report with a height
 // or points, a healthy one without a positive height).
 ActiveStereoReport FromMessage(const uavmsg::active_stereo_t& m);
 uavmsg::active_stereo_t ToMessage(const ActiveStereoReport& r);
 
-// mono_depth.hpp
+// Depth from motion (uav/shared/mono_depth.hpp)
 // Throws std::invalid_argument naming what is wrong (a grid that is not rows x cols or larger
 // than MAX_CELLS, arrays of other lengths, a state out of range, non-finite or negative
 // numbers, a known cell without a depth, an unhealthy report with known cells).
 DepthGrid FromMessage(const uavmsg::mono_depth_t& m);
 uavmsg::mono_depth_t ToMessage(const DepthGrid& g);
 
-// obstacles.hpp
+// Stereo obstacles and the point cloud (uav/shared/obstacles.hpp)
 // Throw std::invalid_argument naming what is wrong (counts that disagree with the arrays, more
 // than the maximum, non-finite values, a top below the bottom, a negative radius or variance).
 Obstacles FromMessage(const uavmsg::obstacles_t& m);
@@ -61,7 +61,7 @@ uavmsg::obstacles_t ToMessage(const Obstacles& o);
 // Keeps at most MAX_POINTS points (evenly spaced) within 327 m of the origin.
 uavmsg::point_cloud_t ToMessage(const PointCloud& c);
 
-// power_lines.hpp
+// Power lines (uav/shared/power_lines.hpp)
 // Throws std::invalid_argument naming what is wrong: array sizes that disagree with their
 // counts, more than MAX_WIRES wires, non-finite or out-of-image coordinates, a range without
 // points.
@@ -69,26 +69,26 @@ PowerLines FromMessage(const uavmsg::power_lines_t& m);
 // Keeps the first MAX_WIRES wires (longest first).
 uavmsg::power_lines_t ToMessage(const PowerLines& p);
 
-// sensing.hpp
+// Sensing health (uav/shared/sensing.hpp)
 // Throws std::invalid_argument naming what is wrong (a non-finite or negative figure, a nameless
 // worker, an unhealthy worker without a reason).
 SensingReport FromMessage(const uavmsg::sensing_t& m);
 uavmsg::sensing_t ToMessage(const SensingReport& r);
 
-// tracking.hpp
+// Tracking: the selection and the tracker's status (uav/shared/tracking.hpp)
 // Throws std::invalid_argument naming the first non-finite or out-of-range field.
 TrackTarget FromMessage(const uavmsg::track_target_t& m);
 uavmsg::track_target_t ToMessage(const TrackTarget& t);
 TrackStatus FromMessage(const uavmsg::track_status_t& m);
 uavmsg::track_status_t ToMessage(const TrackStatus& r);
 
-// vehicle_state.hpp
+// Vehicle state (uav/shared/vehicle_state.hpp)
 // Decoding rejects, with std::invalid_argument naming the field, what the typed state cannot
 // hold: a non-finite position, attitude or home, or an enum value no version of us sends.
 VehicleState FromMessage(const uavmsg::vehicle_state_t& m);
 void ToMessage(const VehicleState& s, uavmsg::vehicle_state_t* m);  // all but the header
 
-// visual_odometry.hpp
+// Visual odometry (uav/shared/visual_odometry.hpp)
 // Throws std::invalid_argument naming what is wrong (a non-finite number, a negative count, an
 // unknown source or method, an unhealthy report without a reason).
 VisualOdometryReport FromMessage(const uavmsg::visual_odometry_t& m);
