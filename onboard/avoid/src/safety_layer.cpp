@@ -85,7 +85,11 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
   // Blocked when the seen space no longer lets it move and it is not at its goal; it moves again
   // once twice the threshold is allowed (hysteresis: no creeping start-stop).
   blocked_ = blocked_ ? v_allow < 2 * kBlockedSpeed : v_allow < kBlockedSpeed;
-  if (blocked_ && to_go > 0.5 && (*goal_N - est.p_N).norm() > 0.5) {
+  // Within the clearance of its goal the vehicle's own body and margin already cover the rest of
+  // the way: it creeps there at the limit instead of holding short of a goal it was given (space
+  // just beside the goal may never be seen free when only sky is behind it).
+  const double arrival_m = p_.clearance();
+  if (blocked_ && to_go > arrival_m && (*goal_N - est.p_N).norm() > arrival_m) {
     std::snprintf(buf, sizeof buf, "stopped: %.1f m seen free ahead", d);
     out.reason = buf;
     out.setpoint = Hold(task_setpoint, est);
