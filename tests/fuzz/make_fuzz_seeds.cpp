@@ -193,7 +193,8 @@ int main(int argc, char** argv) {
     w.reason = "behind: 7.5 of 15.0 Hz, 30 frames dropped";
     m.workers = {w};
     m.num_workers = 1;
-    Write(g / uav::TopicName(uav::Topic::kSensing), selector(uav::Topic::kSensing), Encode(m));  // one unhealthy worker
+    constexpr uav::Topic kSensing = uav::Report<uav::SensingReport>::kTopic;
+    Write(g / uav::TopicName(kSensing), selector(kSensing), Encode(m));  // one unhealthy worker
   }
 
   // A short event log, as the onboard EventLog writes it (LCM log format).

@@ -70,7 +70,7 @@ class ClosedLoop : public ::testing::Test {
       const auto truth = vehicle_.TruthState();
       const auto e = EulerFromRotationNB(truth.q_NB.toRotationMatrix());
       max_tilt_ = std::max({max_tilt_, std::abs(e.phi), std::abs(e.theta)});
-      if (log_) log_->Write(t, board_.Snapshot());  // as the DLG thread does, after SVO
+      if (log_) log_->Write(t, board_.Snapshot(), board_.reports.Columns());  // as the DLG thread does, after SVO
       if (on_step_) on_step_();
       if (until_ && until_()) done = true;
       if (done) s.Stop();

@@ -52,6 +52,52 @@ TEST(FlightLog, HeaderNamesTable23SignalsAndRowsMatchIt) {
   EXPECT_EQ(value("att_mode"), "2");
 }
 
+// The perception reports' signals follow the state's columns, under their group's name: nan until
+// the first report, then the newest report's values.
+TEST(FlightLog, ReportColumnsCarryTheNewestReport) {
+  const auto dir = std::filesystem::temp_directory_path() / "uav_flight_log_reports_test";
+  std::filesystem::remove_all(dir);
+  std::string path;
+  {
+    FlightLog log(dir.string(), 0, AttitudeMode::kDirect);
+    path = log.path();
+    ReportSlots<PerceptionReports> slots;
+    log.Write(20000, BlackboardData{}, slots.Columns());
+    VisualOdometryReport vo;
+    vo.inliers = 57;
+    vo.rms_px = 0.25;
+    slots.Put(vo);
+    SensingReport sensing;
+    sensing.control_period_p99_ms = 23.5;
+    sensing.workers.resize(3);
+    slots.Put(sensing);
+    log.Write(40000, BlackboardData{}, slots.Columns());
+    EXPECT_TRUE(slots.Take<VisualOdometryReport>());  // the link's slot is unchanged
+  }
+  std::ifstream in(path);
+  std::string header, first, second;
+  std::getline(in, header);
+  std::getline(in, first);
+  std::getline(in, second);
+  auto split = [](const std::string& line) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
+    return cells;
+  };
+  const auto names = split(header);
+  auto value = [&](const std::string& row, const std::string& name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    return it == names.end() ? std::string("missing") : split(row).at(static_cast<std::size_t>(it - names.begin()));
+  };
+  EXPECT_EQ(value(first, "VO.inliers"), "nan");
+  EXPECT_EQ(value(second, "VO.inliers"), "57");
+  EXPECT_EQ(value(second, "SENSING.workers"), "3");
+  EXPECT_EQ(value(second, "SENSING.ctl_p99").rfind("23.5", 0), 0u) << value(second, "SENSING.ctl_p99");
+  EXPECT_EQ(value(second, "DEPTH.r0c0"), "nan");  // no depth report yet
+  EXPECT_EQ(split(second).size(), names.size());
+}
+
 TEST(FlightLog, UnwritableDirectoryNamesThePath) {
   try {
     FlightLog log("/proc/definitely/not/here", 1, AttitudeMode::kDirect);

@@ -294,13 +294,14 @@ TEST_F(LinkTest, PowerLinesWarnWhenAWireComesNearAndClearWithAMargin) {
   };
   publish(1, 20.0);
   const VehicleModel& v = model_.vehicles().at("UAV1");
-  ASSERT_TRUE(v.power_lines);
-  ASSERT_EQ(v.power_lines->wires.size(), 2u);
-  EXPECT_TRUE(v.power_lines->wires[0].ranged());
-  EXPECT_FALSE(v.power_lines->wires[1].ranged());
-  EXPECT_NEAR(v.power_lines->wires[0].p_N[1].z(), -8.5, 1e-5);
-  EXPECT_NEAR(v.power_lines->wires[0].image_uv[2].x(), 0.9, 1e-6);
-  EXPECT_EQ(v.power_lines->camera, "stereo_left");
+  const std::optional<PowerLines>& lines = v.reports.Get<PowerLines>().newest;
+  ASSERT_TRUE(lines);
+  ASSERT_EQ(lines->wires.size(), 2u);
+  EXPECT_TRUE(lines->wires[0].ranged());
+  EXPECT_FALSE(lines->wires[1].ranged());
+  EXPECT_NEAR(lines->wires[0].p_N[1].z(), -8.5, 1e-5);
+  EXPECT_NEAR(lines->wires[0].image_uv[2].x(), 0.9, 1e-6);
+  EXPECT_EQ(lines->camera, "stereo_left");
   EXPECT_FALSE(v.wire_warning);
   EXPECT_EQ(v.wire_map.size(), 1u);  // the ranged wire kept for the map
   publish(2, 12.0);
@@ -333,7 +334,7 @@ TEST_F(LinkTest, MalformedPowerLinesAreDroppedWithTheReason) {
   Poll();
   EXPECT_EQ(link_.dropped_messages(), 2);
   EXPECT_NE(link_.last_drop_reason().find("a range needs points"), std::string::npos);
-  EXPECT_TRUE(model_.vehicles().empty() || !model_.vehicles().at("UAV1").power_lines);
+  EXPECT_TRUE(model_.vehicles().empty() || !model_.vehicles().at("UAV1").reports.Get<PowerLines>().newest);
 }
 
 uavmsg::obstacles_t ObstaclesMsg(int64_t seq, bool healthy) {
@@ -375,23 +376,23 @@ TEST_F(LinkTest, ObstaclesAndPointCloudReachTheModelAndStaleOnesAreNotDrawn) {
   bus_.Publish("UAV1/POINT_CLOUD", cm);
   Poll();
   const VehicleModel& v = model_.vehicles().at("UAV1");
-  const Obstacles* o = v.FreshObstacles(now_, model_.obstacles().params());
+  const Obstacles* o = v.reports.Fresh<Obstacles>(now_, model_.obstacles().params().stale_after_s);
   ASSERT_NE(o, nullptr);
   ASSERT_EQ(o->obstacles.size(), 1u);
   EXPECT_NEAR(o->obstacles[0].p_NE.y(), -1.5, 1e-6);
   EXPECT_NEAR(o->obstacles[0].cov_NE(0, 1), 0.001, 1e-7);
   EXPECT_NEAR(o->obstacles[0].image_box[3], 0.9, 1e-6);
-  const PointCloud* c = v.FreshCloud(now_, model_.obstacles().params());
+  const PointCloud* c = v.reports.Fresh<PointCloud>(now_, model_.obstacles().params().cloud_stale_after_s);
   ASSERT_NE(c, nullptr);
   ASSERT_EQ(c->p_N.size(), 3u);
   EXPECT_NEAR(c->p_N[1].z(), -0.5, 0.006);  // centimetre resolution
   EXPECT_NEAR(c->p_N[2].x(), 200.0, 0.006);
-  EXPECT_EQ(v.FreshObstacles(now_ + 3.0, model_.obstacles().params()), nullptr);
+  EXPECT_EQ(v.reports.Fresh<Obstacles>(now_ + 3.0, model_.obstacles().params().stale_after_s), nullptr);
   bus_.Publish("UAV1/OBSTACLES", ObstaclesMsg(3, false));
   bus_.Publish("UAV1/OBSTACLES", ObstaclesMsg(4, false));
   Poll();
   EXPECT_TRUE(v.stereo_unhealthy);
-  EXPECT_TRUE(v.FreshObstacles(now_, model_.obstacles().params())->obstacles.empty());
+  EXPECT_TRUE(v.reports.Fresh<Obstacles>(now_, model_.obstacles().params().stale_after_s)->obstacles.empty());
   int said = 0;
   for (const auto& l : model_.log().lines()) said += l.text == "stereo obstacles unavailable: stereo: empty image";
   EXPECT_EQ(said, 1);
@@ -523,11 +524,12 @@ TEST_F(LinkTest, SensingHealthReachesTheModelAndItsSignals) {
   bus_.Publish("UAV1/SENSING", m);
   Poll();
   const VehicleModel& v = model_.vehicles().at("UAV1");
-  ASSERT_TRUE(v.sensing) << link_.last_drop_reason();
-  ASSERT_EQ(v.sensing->workers.size(), 2u);
-  EXPECT_EQ(v.sensing->workers[0].reason, stereo.reason);
-  EXPECT_NEAR(v.sensing->workers[0].compute_p50_ms, 98.6, 1e-4);
-  EXPECT_EQ(v.sensing->workers[1].rig, "downward");
+  const std::optional<SensingReport>& sensing = v.reports.Get<SensingReport>().newest;
+  ASSERT_TRUE(sensing) << link_.last_drop_reason();
+  ASSERT_EQ(sensing->workers.size(), 2u);
+  EXPECT_EQ(sensing->workers[0].reason, stereo.reason);
+  EXPECT_NEAR(sensing->workers[0].compute_p50_ms, 98.6, 1e-4);
+  EXPECT_EQ(sensing->workers[1].rig, "downward");
   EXPECT_EQ(*v.Latest(*FindSignal("SENSING.workers")), 2.0);
   EXPECT_EQ(*v.Latest(*FindSignal("SENSING.unhealthy")), 1.0);
   EXPECT_EQ(*v.Latest(*FindSignal("SENSING.dropped")), 75.0);
@@ -544,7 +546,7 @@ TEST_F(LinkTest, SensingHealthReachesTheModelAndItsSignals) {
   bus_.Publish("UAV1/SENSING", bad);
   Poll();
   EXPECT_NE(link_.last_drop_reason().find("latency_p99_ms of worker STEREO"), std::string::npos) << link_.last_drop_reason();
-  EXPECT_EQ(model_.vehicles().at("UAV1").sensing->workers[1].healthy, true);  // the good report stays
+  EXPECT_EQ(model_.vehicles().at("UAV1").reports.Get<SensingReport>().newest->workers[1].healthy, true);  // the good report stays
 }
 
 TEST_F(LinkTest, MismatchedVehicleIdsAndGarbageAreDroppedAndCounted) {
@@ -760,8 +762,23 @@ TEST(ReportSeam, EveryReportIsDecodedByTheLinkAndReachesTheModel) {
         << TopicName(topic) << ": " << link.last_drop_reason();
   });
   EXPECT_EQ(link.dropped_messages(), 0);
+  // Each is kept as the vehicle's newest of its type, and its signals are sampled.
   const VehicleModel& v = model.vehicles().at("UAV1");
-  EXPECT_TRUE(v.power_lines && v.obstacles && v.cloud && v.depth_grid && v.active_stereo);
+  ForEachType(PerceptionReports{}, [&](auto* type) {
+    using T = std::remove_pointer_t<decltype(type)>;
+    const Received<T>& r = v.reports.Get<T>();
+    EXPECT_TRUE(r.newest) << TopicName(Report<T>::kTopic);
+    EXPECT_EQ(r.at, 1.0) << TopicName(Report<T>::kTopic);
+    EXPECT_EQ(r.newest->utime, ExampleReport<T>().utime) << TopicName(Report<T>::kTopic);
+    const SignalGroupId g = ReportGroup<T>();
+    EXPECT_EQ(GroupName(g), ReportSignals<T>::kGroup);
+    EXPECT_EQ(GroupSignals(g).size(), ReportSignals<T>::Table().size());
+    if (!ReportSignals<T>::Table().empty()) {
+      EXPECT_EQ(v.group(g).received, 1) << GroupName(g);
+      ASSERT_EQ(v.group(g).latest.size(), ReportSignals<T>::Table().size());
+      EXPECT_EQ(v.group(g).latest[0], ReportSignals<T>::Table()[0].read(ExampleReport<T>())) << GroupName(g);
+    }
+  });
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <functional>
 #include <map>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "uav/wire/bus.hpp"
 #include "uav/shared/channels.hpp"
@@ -49,8 +51,10 @@ void DecodeReport(GcsModel& model, const std::string& id, const void* d, int n, 
   model.OnReport(id, FromMessage(Decode<typename Report<T>::Message>(d, n, id)), now);
 }
 
-std::map<Topic, Decoder> MakeDecoders() {
-  std::map<Topic, Decoder> k = {
+// In a fixed order, that of the fuzz seeds' topic selector (GcsLink::Topics()): the operator's
+// topics, then the reports in the order of their list.
+std::vector<std::pair<Topic, Decoder>> MakeDecoders() {
+  std::vector<std::pair<Topic, Decoder>> k = {
       {Topic::kHeartbeat,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
          const auto m = Decode<uavmsg::heartbeat_t>(d, n, id);
@@ -70,6 +74,13 @@ std::map<Topic, Decoder> MakeDecoders() {
       {Topic::kCommandAck,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
          model.OnAck(id, FromMessage(Decode<uavmsg::command_ack_t>(d, n, id)), now);
+       }},
+      {Topic::kStatusText,
+       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
+         const auto m = Decode<uavmsg::status_text_t>(d, n, id);
+         const auto severity = SeverityFromWire(m.severity);
+         if (!severity) throw std::invalid_argument("unknown severity " + std::to_string(m.severity));
+         model.OnStatusText(id, *severity, m.text, now);
        }},
       {Topic::kMissionAck,
        [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
@@ -111,23 +122,16 @@ std::map<Topic, Decoder> MakeDecoders() {
          const auto m = Decode<uavmsg::track_status_t>(d, n, id);
          model.OnTrackStatus(id, m.header.seq, FromMessage(m), now);
        }},
-      {Topic::kStatusText,
-       [](GcsModel& model, const std::string& id, const void* d, int n, double now) {
-         const auto m = Decode<uavmsg::status_text_t>(d, n, id);
-         const auto severity = SeverityFromWire(m.severity);
-         if (!severity) throw std::invalid_argument("unknown severity " + std::to_string(m.severity));
-         model.OnStatusText(id, *severity, m.text, now);
-       }},
   };
   ForEachType(PerceptionReports{}, [&](auto* type) {
     using T = std::remove_pointer_t<decltype(type)>;
-    k.emplace(Report<T>::kTopic, &DecodeReport<T>);
+    k.emplace_back(Report<T>::kTopic, &DecodeReport<T>);
   });
   return k;
 }
 
-const std::map<Topic, Decoder>& Decoders() {
-  static const std::map<Topic, Decoder> k = MakeDecoders();
+const std::vector<std::pair<Topic, Decoder>>& Decoders() {
+  static const std::vector<std::pair<Topic, Decoder>> k = MakeDecoders();
   return k;
 }
 

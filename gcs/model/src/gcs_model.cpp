@@ -90,43 +90,30 @@ void GcsModel::OnTrackStatus(const std::string& vehicle_id, int64_t seq, const T
   if (VideoTracking::OnTrackStatus(v, vehicle_id, status, now, log_)) gcs::OnTrackTelemetry(v, seq, status, now);
 }
 
-void GcsModel::OnReport(const std::string& vehicle_id, PowerLines lines, double now) {
-  wires_.OnPowerLines(Vehicle(vehicle_id), vehicle_id, std::move(lines), now, log_);
+void GcsModel::React(VehicleModel& v, const std::string& vehicle_id, const PowerLines& lines, double now) {
+  wires_.OnPowerLines(v, vehicle_id, lines, now, log_);
 }
 
-void GcsModel::OnReport(const std::string& vehicle_id, Obstacles obstacles, double now) {
-  obstacles_.OnObstacles(Vehicle(vehicle_id), vehicle_id, std::move(obstacles), now, log_);
+void GcsModel::React(VehicleModel& v, const std::string& vehicle_id, const Obstacles& obstacles, double now) {
+  obstacles_.OnObstacles(v, vehicle_id, obstacles, now, log_);
 }
 
-void GcsModel::OnReport(const std::string& vehicle_id, DepthGrid grid, double now) {
-  VehicleModel& v = Vehicle(vehicle_id);
-  OnDepthTelemetry(v, grid, now);
-  obstacles_.OnDepthGrid(v, vehicle_id, std::move(grid), now, log_);
+void GcsModel::React(VehicleModel& v, const std::string& vehicle_id, const DepthGrid& grid, double now) {
+  obstacles_.OnDepthGrid(v, vehicle_id, grid, now, log_);
 }
 
-void GcsModel::OnReport(const std::string& vehicle_id, ActiveStereoReport report, double now) {
-  VehicleModel& v = Vehicle(vehicle_id);
-  OnActiveStereoTelemetry(v, report, now);
-  obstacles_.OnActiveStereo(v, vehicle_id, std::move(report), now, log_);
+void GcsModel::React(VehicleModel& v, const std::string& vehicle_id, const ActiveStereoReport& report, double now) {
+  obstacles_.OnActiveStereo(v, vehicle_id, report, now, log_);
 }
 
-void GcsModel::OnReport(const std::string& vehicle_id, VisualOdometryReport report, double now) {
-  VehicleModel& v = Vehicle(vehicle_id);
+void GcsModel::React(VehicleModel& v, const std::string& vehicle_id, const VisualOdometryReport& report, double now) {
   const std::optional<PositionSource> before = v.position_source;
-  OnVisualOdometryTelemetry(v, report, now);
+  OnVisualOdometryTrack(v, report);
   if (before && *before != report.source)
     log_.Add(now, vehicle_id,
              std::string("position from ") + Name(report.source) +
                  (report.healthy ? std::string() : " (visual odometry: " + report.reason + ")"),
              report.source == PositionSource::kGps ? Severity::kInfo : Severity::kWarning);
-}
-
-void GcsModel::OnReport(const std::string& vehicle_id, SensingReport report, double now) {
-  OnSensingTelemetry(Vehicle(vehicle_id), report, now);
-}
-
-void GcsModel::OnReport(const std::string& vehicle_id, PointCloud cloud, double now) {
-  obstacles_.OnPointCloud(Vehicle(vehicle_id), std::move(cloud), now);
 }
 
 void GcsModel::SelectVehicle(const std::string& id) {
@@ -197,7 +184,7 @@ void GcsModel::Tick(double now) {
   for (auto& [id, v] : vehicles_) {
     maps_.Tick(v, id, now, log_);
     missions_.Tick(v, id, now, log_);
-    wires_.Tick(v, id, now, log_);
+    wires_.Tick(v, id, v.reports.Get<PowerLines>().at, now, log_);
   }
   commands_.Tick(now, log_);
   if (replay_) {  // a replay only watches: whatever the concerns queued goes nowhere

@@ -13,30 +13,19 @@ void LogAvailability(bool healthy, bool* was_unhealthy, const std::string& what,
 
 }  // namespace
 
-void ObstacleReports::OnObstacles(VehicleObstacles& v, const std::string& vehicle_id, Obstacles o, double now,
+void ObstacleReports::OnObstacles(VehicleObstacles& v, const std::string& vehicle_id, const Obstacles& o, double now,
                                   MessageLog& log) const {
   LogAvailability(o.healthy, &v.stereo_unhealthy, "stereo obstacles", o.reason, vehicle_id, now, log);
-  v.obstacles = std::move(o);
-  v.obstacles_at = now;
 }
 
-void ObstacleReports::OnDepthGrid(VehicleObstacles& v, const std::string& vehicle_id, DepthGrid g, double now,
+void ObstacleReports::OnDepthGrid(VehicleObstacles& v, const std::string& vehicle_id, const DepthGrid& g, double now,
                                   MessageLog& log) const {
   LogAvailability(g.healthy, &v.depth_unhealthy, "depth from motion", g.reason, vehicle_id, now, log);
-  v.depth_grid = std::move(g);
-  v.depth_grid_at = now;
 }
 
-void ObstacleReports::OnActiveStereo(VehicleObstacles& v, const std::string& vehicle_id, ActiveStereoReport r, double now,
-                                     MessageLog& log) const {
+void ObstacleReports::OnActiveStereo(VehicleObstacles& v, const std::string& vehicle_id, const ActiveStereoReport& r,
+                                     double now, MessageLog& log) const {
   LogAvailability(r.healthy, &v.active_stereo_unhealthy, "active stereo height", r.reason, vehicle_id, now, log);
-  v.active_stereo = std::move(r);
-  v.active_stereo_at = now;
-}
-
-void ObstacleReports::OnPointCloud(VehicleObstacles& v, PointCloud c, double now) const {
-  v.cloud = std::move(c);
-  v.cloud_at = now;
 }
 
 }  // namespace uav::gcs

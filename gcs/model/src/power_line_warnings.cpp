@@ -17,7 +17,7 @@ void WireWarningParams::Validate() const {
   if (map_capacity < 1) throw std::invalid_argument("wire map capacity must be at least 1");
 }
 
-void WireWarnings::OnPowerLines(VehiclePowerLines& v, const std::string& vehicle_id, PowerLines lines, double now,
+void WireWarnings::OnPowerLines(VehiclePowerLines& v, const std::string& vehicle_id, const PowerLines& lines, double now,
                                 MessageLog& log) const {
   const double nearest = lines.nearest_m;
   if (v.wire_map_at < 0 || now - v.wire_map_at >= params_.map_period_s) {
@@ -27,8 +27,6 @@ void WireWarnings::OnPowerLines(VehiclePowerLines& v, const std::string& vehicle
     while (v.wire_map.size() > params_.map_capacity) v.wire_map.pop_front();
     if (added) v.wire_map_at = now;
   }
-  v.power_lines = std::move(lines);
-  v.power_lines_at = now;
   const bool near = nearest >= 0 && nearest < params_.warn_distance_m;
   const bool clear = nearest < 0 || nearest > params_.warn_distance_m * params_.clear_margin;
   char text[128];
@@ -44,8 +42,9 @@ void WireWarnings::OnPowerLines(VehiclePowerLines& v, const std::string& vehicle
   }
 }
 
-void WireWarnings::Tick(VehiclePowerLines& v, const std::string& vehicle_id, double now, MessageLog& log) const {
-  if (v.wire_warning && now - v.power_lines_at > params_.stale_after_s) {
+void WireWarnings::Tick(VehiclePowerLines& v, const std::string& vehicle_id, double last_report_at, double now,
+                        MessageLog& log) const {
+  if (v.wire_warning && now - last_report_at > params_.stale_after_s) {
     v.wire_warning = false;
     log.Add(now, vehicle_id, "power-line reports stopped: wire warning no longer current", Severity::kWarning);
   }

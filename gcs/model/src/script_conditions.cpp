@@ -182,9 +182,10 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
   // Power lines: the warning (0/1), wires in the newest report, and how many were ranged.
   if (name == "wires.warning") return *num = v->wire_warning ? 1.0 : 0.0, true;
   if (name == "wires.seen" || name == "wires.ranged") {
-    if (!v->power_lines) return false;
+    const std::optional<PowerLines>& lines = v->reports.Get<PowerLines>().newest;
+    if (!lines) return false;
     int n = 0;
-    for (const PowerLine& w : v->power_lines->wires) n += name == "wires.seen" || w.ranged();
+    for (const PowerLine& w : lines->wires) n += name == "wires.seen" || w.ranged();
     return *num = n, true;
   }
   if (name == "replay.position") return replay ? (*num = replay->position(), true) : false;

@@ -1,6 +1,7 @@
 #include "uav/gcs/telemetry.hpp"
 
 #include <algorithm>
+#include <type_traits>
 
 #include "uav/shared/geodesy.hpp"
 
@@ -29,79 +30,6 @@ const std::vector<Signal<TrackStatus>>& TrackSignals() {
       {{"center_y", "center_y", "1", "image", SignalFormat::kNormalised}, [](const TrackStatus& t) { return t.center_y; }},
       {{"width", "width", "1", "image", SignalFormat::kNormalised}, [](const TrackStatus& t) { return t.width; }},
       {{"height", "height", "1", "image", SignalFormat::kNormalised}, [](const TrackStatus& t) { return t.height; }},
-  };
-  return k;
-}
-
-// Depth from motion: every cell of the thesis's 4x3 grid (Fig. 3.11) by row and column from the
-// top-left, 0 while unknown, and the feature counts.
-template <int kCell>
-double CellDepth(const DepthGrid& g) {
-  const int r = kCell / 4, c = kCell % 4;
-  return r < g.rows && c < g.cols ? g.at(r, c).depth_m : 0.0;
-}
-
-const std::vector<Signal<DepthGrid>>& DepthSignals() {
-  using F = SignalFormat;
-  static const std::vector<Signal<DepthGrid>> k = {
-      {{"r0c0", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<0>},
-      {{"r0c1", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<1>},
-      {{"r0c2", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<2>},
-      {{"r0c3", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<3>},
-      {{"r1c0", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<4>},
-      {{"r1c1", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<5>},
-      {{"r1c2", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<6>},
-      {{"r1c3", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<7>},
-      {{"r2c0", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<8>},
-      {{"r2c1", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<9>},
-      {{"r2c2", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<10>},
-      {{"r2c3", "depth_m", "m", "C, 0 unknown", F::kMetres}, CellDepth<11>},
-      {{"tracked", "tracked", "1", "", F::kInteger}, [](const DepthGrid& g) { return double(g.tracked); }},
-      {{"measured", "measured", "1", "", F::kInteger}, [](const DepthGrid& g) { return double(g.measured); }},
-  };
-  return k;
-}
-
-// Active stereo: the height over the ground cluster (0 while there is none), its standard
-// error, and the dot counts behind it.
-// Visual odometry: health, counts, where the INS's position comes from, and the VO+IMU track's
-// horizontal distance from the truth (simulation; 0 without one).
-const std::vector<Signal<VisualOdometryReport>>& VisualOdometrySignals() {
-  using F = SignalFormat;
-  using R = VisualOdometryReport;
-  static const std::vector<Signal<R>> k = {
-      {{"healthy", "healthy", "1", "1 a motion, 0 none", F::kBool}, [](const R& r) { return double(r.healthy); }},
-      {{"source", "source", "1", "0 GPS, 1 vision, 2 inertial", F::kInteger}, [](const R& r) { return double(r.source); }},
-      {{"inliers", "inliers", "1", "", F::kInteger}, [](const R& r) { return double(r.inliers); }},
-      {{"tracked", "tracked", "1", "", F::kInteger}, [](const R& r) { return double(r.tracked); }},
-      {{"segment", "segment", "1", "", F::kInteger}, [](const R& r) { return double(r.segment); }},
-      {{"rms", "rms_px", "px", "", F::kMetres}, [](const R& r) { return r.rms_px; }},
-      {{"track_n", "track_n_m", "m", "VO+IMU north", F::kMetres}, [](const R& r) { return r.track_N ? r.track_N->x() : 0.0; }},
-      {{"track_e", "track_e_m", "m", "VO+IMU east", F::kMetres}, [](const R& r) { return r.track_N ? r.track_N->y() : 0.0; }},
-      {{"truth_n", "truth_n_m", "m", "simulation", F::kMetres}, [](const R& r) { return r.truth_N ? r.truth_N->x() : 0.0; }},
-      {{"truth_e", "truth_e_m", "m", "simulation", F::kMetres}, [](const R& r) { return r.truth_N ? r.truth_N->y() : 0.0; }},
-      {{"error", "error_m", "m", "VO+IMU from truth, horizontal", F::kMetres}, [](const R& r) {
-         return r.track_N && r.truth_N ? (r.track_N->head<2>() - r.truth_N->head<2>()).norm() : 0.0;
-       }},
-      {{"truth_alt", "truth_alt_m", "m", "simulation, up from home", F::kMetres}, [](const R& r) { return r.truth_N ? -r.truth_N->z() : 0.0; }},
-      {{"error_alt", "error_alt_m", "m", "VO+IMU from truth, vertical (up +)", F::kMetres}, [](const R& r) {
-         return r.track_N && r.truth_N ? r.truth_N->z() - r.track_N->z() : 0.0;
-       }},
-  };
-  return k;
-}
-
-const std::vector<Signal<ActiveStereoReport>>& ActiveStereoSignals() {
-  using F = SignalFormat;
-  using R = ActiveStereoReport;
-  static const std::vector<Signal<R>> k = {
-      {{"height", "height_m", "m", "over the ground, 0 none", F::kMetres}, [](const R& r) { return r.height_m; }},
-      {{"height_sigma", "height_sigma_m", "m", "", F::kMetres}, [](const R& r) { return r.height_sigma_m; }},
-      {{"points", "points", "1", "", F::kInteger}, [](const R& r) { return double(r.dots.size()); }},
-      {{"left_dots", "left_dots", "1", "", F::kInteger}, [](const R& r) { return double(r.left_dots); }},
-      {{"right_dots", "right_dots", "1", "", F::kInteger}, [](const R& r) { return double(r.right_dots); }},
-      {{"ambiguous", "ambiguous", "1", "", F::kInteger}, [](const R& r) { return double(r.ambiguous); }},
-      {{"clusters", "clusters", "1", "", F::kInteger}, [](const R& r) { return double(r.clusters.size()); }},
   };
   return k;
 }
@@ -137,29 +65,21 @@ void Store(VehicleTelemetry& v, SignalGroup& g, const std::vector<Signal<T>>& ta
   for (std::size_t i = 0; i < table.size(); ++i) g.history[i].Push(t - v.first_t, g.latest[i]);
 }
 
-}  // namespace
 
-namespace {
-
-// Sensing: how many vision workers run and how many are unhealthy, their drops, and the control
-// loop's wall-clock period (vision must never stretch it).
-const std::vector<Signal<SensingReport>>& SensingSignals() {
-  using F = SignalFormat;
-  using R = SensingReport;
-  static const std::vector<Signal<R>> k = {
-      {{"workers", "workers", "1", "vision workers running", F::kInteger}, [](const R& r) { return double(r.workers.size()); }},
-      {{"unhealthy", "unhealthy", "1", "behind or stalled", F::kInteger}, [](const R& r) {
-         return double(std::count_if(r.workers.begin(), r.workers.end(), [](const SensingWorker& w) { return !w.healthy; }));
-       }},
-      {{"dropped", "dropped", "1", "frames dropped, all workers", F::kInteger}, [](const R& r) {
-         double n = 0;
-         for (const SensingWorker& w : r.workers) n += w.dropped;
-         return n;
-       }},
-      {{"ctl_p50", "control_period_p50_ms", "ms", "nominal 20", F::kMetres}, [](const R& r) { return r.control_period_p50_ms; }},
-      {{"ctl_p99", "control_period_p99_ms", "ms", "", F::kMetres}, [](const R& r) { return r.control_period_p99_ms; }},
-      {{"ctl_max", "control_period_max_ms", "ms", "", F::kMetres}, [](const R& r) { return r.control_period_max_ms; }},
-  };
+// Per report group (in the order of PerceptionReports): its name and signal definitions.
+struct ReportGroupInfo {
+  std::string_view name;
+  std::vector<SignalDef> defs;
+};
+const std::vector<ReportGroupInfo>& ReportGroups() {
+  static const std::vector<ReportGroupInfo> k = [] {
+    std::vector<ReportGroupInfo> out;
+    ForEachType(PerceptionReports{}, [&](auto* type) {
+      using T = std::remove_pointer_t<decltype(type)>;
+      out.push_back({ReportSignals<T>::kGroup, Defs(ReportSignals<T>::Table())});
+    });
+    return out;
+  }();
   return k;
 }
 
@@ -170,32 +90,23 @@ std::string_view GroupName(SignalGroupId g) {
     case SignalGroupId::kState: return "STATE";
     case SignalGroupId::kHeartbeat: return "HEARTBEAT";
     case SignalGroupId::kTrack: return "TRACK";
-    case SignalGroupId::kDepth: return "DEPTH";
-    case SignalGroupId::kActiveStereo: return "ASTEREO";
-    case SignalGroupId::kVisualOdometry: return "VO";
-    case SignalGroupId::kSensing: return "SENSING";
   }
-  return "?";
+  const int i = static_cast<int>(g) - kOperatorSignalGroups;
+  return i >= 0 && i < static_cast<int>(ReportGroups().size()) ? ReportGroups()[i].name : "?";
 }
 
 const std::vector<SignalDef>& GroupSignals(SignalGroupId g) {
   static const std::vector<SignalDef> kState = Defs(VehicleStateSignals());
   static const std::vector<SignalDef> kHeartbeat = Defs(HeartbeatSignals());
   static const std::vector<SignalDef> kTrack = Defs(TrackSignals());
-  static const std::vector<SignalDef> kDepth = Defs(DepthSignals());
-  static const std::vector<SignalDef> kActiveStereo = Defs(ActiveStereoSignals());
-  static const std::vector<SignalDef> kVisualOdometry = Defs(VisualOdometrySignals());
-  static const std::vector<SignalDef> kSensing = Defs(SensingSignals());
+  static const std::vector<SignalDef> kNone;
   switch (g) {
     case SignalGroupId::kState: return kState;
     case SignalGroupId::kHeartbeat: return kHeartbeat;
     case SignalGroupId::kTrack: return kTrack;
-    case SignalGroupId::kDepth: return kDepth;
-    case SignalGroupId::kActiveStereo: return kActiveStereo;
-    case SignalGroupId::kVisualOdometry: return kVisualOdometry;
-    case SignalGroupId::kSensing: return kSensing;
   }
-  return kState;
+  const int i = static_cast<int>(g) - kOperatorSignalGroups;
+  return i >= 0 && i < static_cast<int>(ReportGroups().size()) ? ReportGroups()[i].defs : kNone;
 }
 
 const SignalDef& Def(SignalRef s) { return GroupSignals(s.group).at(s.index); }
@@ -283,22 +194,16 @@ void OnTrackTelemetry(VehicleTelemetry& v, int64_t seq, const TrackStatus& st, d
   Store(v, g, TrackSignals(), st, st.utime * 1e-6);
 }
 
-void OnDepthTelemetry(VehicleTelemetry& v, const DepthGrid& g, double now) {
-  SignalGroup& group = v.groups[static_cast<int>(SignalGroupId::kDepth)];
-  Receipt(v, group, group.last_seq + 1, now);  // mono_depth_t's own sequence is not kept
-  Store(v, group, DepthSignals(), g, g.utime * 1e-6);
+void OnGroupSample(VehicleTelemetry& v, SignalGroupId id, const std::vector<double>& values, double t_s, double now) {
+  SignalGroup& g = v.groups[static_cast<int>(id)];
+  Receipt(v, g, g.last_seq + 1, now);  // a report's own sequence is not kept
+  g.latest = values;
+  if (v.first_t < 0.0) v.first_t = t_s;
+  g.history.resize(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) g.history[i].Push(t_s - v.first_t, values[i]);
 }
 
-void OnActiveStereoTelemetry(VehicleTelemetry& v, const ActiveStereoReport& r, double now) {
-  SignalGroup& group = v.groups[static_cast<int>(SignalGroupId::kActiveStereo)];
-  Receipt(v, group, group.last_seq + 1, now);  // active_stereo_t's own sequence is not kept
-  Store(v, group, ActiveStereoSignals(), r, r.utime * 1e-6);
-}
-
-void OnVisualOdometryTelemetry(VehicleTelemetry& v, const VisualOdometryReport& r, double now) {
-  SignalGroup& group = v.groups[static_cast<int>(SignalGroupId::kVisualOdometry)];
-  Receipt(v, group, group.last_seq + 1, now);  // visual_odometry_t's own sequence is not kept
-  Store(v, group, VisualOdometrySignals(), r, r.utime * 1e-6);
+void OnVisualOdometryTrack(VehicleTelemetry& v, const VisualOdometryReport& r) {
   v.position_source = r.source;
   auto push = [](std::deque<Eigen::Vector2d>& trail, const std::optional<Eigen::Vector3d>& p_N) {
     if (!p_N) return;
@@ -307,14 +212,6 @@ void OnVisualOdometryTelemetry(VehicleTelemetry& v, const VisualOdometryReport& 
   };
   push(v.vo_trail, r.track_N);
   push(v.truth_trail, r.truth_N);
-}
-
-void OnSensingTelemetry(VehicleTelemetry& v, const SensingReport& r, double now) {
-  SignalGroup& group = v.groups[static_cast<int>(SignalGroupId::kSensing)];
-  Receipt(v, group, group.last_seq + 1, now);  // sensing_t's own sequence is not kept
-  Store(v, group, SensingSignals(), r, r.utime * 1e-6);
-  v.sensing = r;
-  v.sensing_received = now;
 }
 
 }  // namespace uav::gcs

@@ -24,8 +24,8 @@ ImU32 HeightColour(double up_m) {
 void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx) {
   ImGui::Begin("Obstacles");
   const VehicleModel* v = model.selected();
-  const Obstacles* obstacles = v ? v->FreshObstacles(ctx.now, model.obstacles().params()) : nullptr;
-  const PointCloud* cloud = v ? v->FreshCloud(ctx.now, model.obstacles().params()) : nullptr;
+  const Obstacles* obstacles = v ? v->reports.Fresh<Obstacles>(ctx.now, model.obstacles().params().stale_after_s) : nullptr;
+  const PointCloud* cloud = v ? v->reports.Fresh<PointCloud>(ctx.now, model.obstacles().params().cloud_stale_after_s) : nullptr;
   if (!v || !v->state || (!obstacles && !cloud)) {
     ImGui::TextDisabled(v && v->stereo_unhealthy ? "stereo unavailable" : "no stereo obstacle reports");
     ImGui::End();

@@ -14,14 +14,15 @@ namespace uav::gcs {
 void DrawSensingPanel(GcsModel& model, UiContext& ctx) {
   ImGui::Begin("Sensing");
   const VehicleModel* v = model.selected();
-  if (!v || !v->sensing) {
+  const Received<SensingReport>* received = v ? &v->reports.Get<SensingReport>() : nullptr;
+  if (!received || !received->newest) {
     ImGui::TextDisabled("no sensing report (the vehicle runs no cameras)");
     ImGui::End();
     return;
   }
   const ImVec4 red(1, 0.3f, 0.3f, 1), amber(1, 0.7f, 0.2f, 1);
-  const SensingReport& r = *v->sensing;
-  const double age_s = ctx.now - v->sensing_received;
+  const SensingReport& r = *received->newest;
+  const double age_s = ctx.now - received->at;
   if (age_s > 3.0 && v->LinkUp(ctx.now, model.telemetry_params()))
     ImGui::TextColored(amber, "no sensing report for %.0f s", age_s);
   ImGui::Text("control period %.1f ms p50, %.1f p99, %.1f max (nominal 20); latency %s", r.control_period_p50_ms,

@@ -60,9 +60,10 @@ void DrawVehicleLink(const GcsModel& model, UiContext& ctx, const std::string& i
 // and what obstacle avoidance is doing.
 void DrawPerceptionWarnings(UiContext& ctx, const VehicleModel* v) {
   // A power line nearer than the warning distance, in red (the messages say when it started).
-  if (v->wire_warning && v->power_lines) {
+  const std::optional<PowerLines>& lines = v->reports.Get<PowerLines>().newest;
+  if (v->wire_warning && lines) {
     ImGui::SameLine();
-    ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| WIRE %.1f m", v->power_lines->nearest_m);
+    ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "| WIRE %.1f m", lines->nearest_m);
   }
   // Stereo obstacles from telemetry (count, nearest surface), and a stereo channel that is down.
   if (v->stereo_unhealthy) {

@@ -1,6 +1,8 @@
 #include "uav/app/flight_log.hpp"
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 
 #include "uav/app/reported_state.hpp"
@@ -25,16 +27,22 @@ FlightLog::~FlightLog() {
 std::string FlightLog::Header() {
   std::string h = "t";
   for (const auto& s : VehicleStateSignals()) h += "," + std::string(s.def.name);
+  for (const std::string& name : ReportSlots<PerceptionReports>::ColumnNames()) h += "," + name;
   return h;
 }
 
-void FlightLog::Write(int64_t utime, const BlackboardData& d) {
+void FlightLog::Write(int64_t utime, const BlackboardData& d, const std::vector<double>& reports) {
   const VehicleState state = ReportedState(d, home_, attitude_mode_);
   std::string row;
   char t[32];
   std::snprintf(t, sizeof t, "%.3f", (utime - start_utime_) * 1e-6);
   row += t;
   for (const auto& s : VehicleStateSignals()) row += "," + FormatForLog(s.def, s.read(state));
+  const std::vector<SignalDef>& report_defs = ReportSlots<PerceptionReports>::ColumnDefs();
+  for (std::size_t i = 0; i < report_defs.size(); ++i) {
+    const double v = i < reports.size() ? reports[i] : std::numeric_limits<double>::quiet_NaN();
+    row += "," + (std::isfinite(v) ? FormatForLog(report_defs[i], v) : std::string("nan"));
+  }
   row += '\n';
   std::fputs(row.c_str(), file_);
   // Flush every 5 rows (0.1 s) so that a crash or kill -9 loses at most that much (the limit is

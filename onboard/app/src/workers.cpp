@@ -195,7 +195,7 @@ void ServoWorker::Tick(int64_t utime) {
 }
 
 void LogWorker::Tick(int64_t utime) {
-  if (log_) log_->Write(utime, board_.Snapshot());
+  if (log_) log_->Write(utime, board_.Snapshot(), board_.reports.Columns());
 }
 
 }  // namespace uav::app

@@ -152,6 +152,11 @@ LogTable LogTable::Parse(const std::string& text, const std::string& source) {
     for (std::size_t i = 0; i < fields.size(); ++i) {
       char* end = nullptr;
       const double v = std::strtod(fields[i].c_str(), &end);
+      if (fields[i] == "nan") {
+        t.first_nan_line_.emplace(names[i], line_no);
+        cols[i]->push_back(v);
+        continue;
+      }
       if (fields[i].empty() || *end != '\0' || !std::isfinite(v))
         throw std::runtime_error(source + ":" + std::to_string(line_no) + ": column " + names[i] + " is '" +
                                  fields[i] + "', not a finite number");
@@ -166,6 +171,10 @@ LogTable LogTable::Parse(const std::string& text, const std::string& source) {
 const std::vector<double>& LogTable::Column(const std::string& name) const {
   auto it = columns_.find(name);
   if (it == columns_.end()) throw std::runtime_error(source_ + ": no column '" + name + "'");
+  auto nan = first_nan_line_.find(name);
+  if (nan != first_nan_line_.end())
+    throw std::runtime_error(source_ + ":" + std::to_string(nan->second) + ": column " + name +
+                             " is 'nan', not a finite number");
   return it->second;
 }
 

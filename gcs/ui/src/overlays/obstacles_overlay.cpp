@@ -11,7 +11,7 @@ constexpr ImU32 kObstacle = IM_COL32(200, 80, 255, 230);
 void DrawObstaclesOnMap(const GcsModel& model, const VehicleModel& v, const MapCanvas& m, double now) {
   // To scale: the seen radius filled, the safety radius (radius plus margin) as a ring the
   // vehicle keeps out of.
-  const Obstacles* obstacles = v.FreshObstacles(now, model.obstacles().params());
+  const Obstacles* obstacles = v.reports.Fresh<Obstacles>(now, model.obstacles().params().stale_after_s);
   if (!obstacles) return;
   for (const Obstacle& o : obstacles->obstacles) {
     const ImVec2 c = m.ToScreen(o.p_NE.x(), o.p_NE.y());
@@ -24,7 +24,7 @@ void DrawObstaclesOnMap(const GcsModel& model, const VehicleModel& v, const MapC
 void DrawObstaclesOnImage(const GcsModel& model, const VehicleModel& v, const VideoFeed& feed, const ImageCanvas& c,
                           double now) {
   // Boxes around their projected cylinders, labelled with the horizontal distance to their surface.
-  const Obstacles* obstacles = v.FreshObstacles(now, model.obstacles().params());
+  const Obstacles* obstacles = v.reports.Fresh<Obstacles>(now, model.obstacles().params().stale_after_s);
   if (!obstacles || obstacles->camera != feed.camera) return;
   for (const Obstacle& o : obstacles->obstacles) {
     const ImVec2 a = c.ToScreen(o.image_box[0], o.image_box[1]), b = c.ToScreen(o.image_box[2], o.image_box[3]);

@@ -15,7 +15,7 @@ void DrawPowerLinesOnMap(const GcsModel& model, const VehicleModel& v, const Map
   };
   for (const auto& w : v.wire_map) draw_wire(w, IM_COL32(255, 120, 40, 110), 1.5f);
   const WireWarningParams& wp = model.wires().params();
-  if (const PowerLines* lines = v.FreshPowerLines(now, wp))
+  if (const PowerLines* lines = v.reports.Fresh<PowerLines>(now, wp.stale_after_s))
     for (const PowerLine& w : lines->wires)
       draw_wire(w.p_N, w.range_m < wp.warn_distance_m ? IM_COL32(255, 60, 60, 255) : IM_COL32(255, 160, 40, 255), 3.0f);
 }
@@ -25,7 +25,7 @@ void DrawPowerLinesOnImage(const GcsModel& model, const VehicleModel& v, const V
   // When they were found in this camera's image: red nearer than the warning distance, orange
   // ranged, thin yellow seen but not ranged.
   const WireWarningParams& wp = model.wires().params();
-  const PowerLines* lines = v.FreshPowerLines(now, wp);
+  const PowerLines* lines = v.reports.Fresh<PowerLines>(now, wp.stale_after_s);
   if (!lines || lines->camera != feed.camera) return;
   for (const PowerLine& w : lines->wires) {
     if (w.image_uv.size() < 2) continue;

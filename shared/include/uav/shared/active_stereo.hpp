@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include "uav/shared/signals.hpp"
+
 namespace uav {
 
 struct LaserDotReport {
@@ -33,6 +35,13 @@ struct ActiveStereoReport {
   int left_dots = 0, right_dots = 0, ambiguous = 0;
   std::vector<LaserDotReport> dots;
   std::vector<DotCluster> clusters;
+};
+
+// Its signals (the height over the ground and the dot counts): group "ASTEREO".
+template <>
+struct ReportSignals<ActiveStereoReport> {
+  static constexpr std::string_view kGroup = "ASTEREO";
+  static const std::vector<Signal<ActiveStereoReport>>& Table();
 };
 
 }  // namespace uav

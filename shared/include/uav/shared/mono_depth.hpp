@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "uav/shared/signals.hpp"
+
 namespace uav {
 
 enum class CellState { kUnknown = 0, kFree = 1, kObstacle = 2 };
@@ -30,6 +32,13 @@ struct DepthGrid {
   int tracked = 0;               // features tracked into this frame
   int measured = 0;              // of them, with a depth measurement this frame
   const DepthCell& at(int row, int col) const { return cells[row * cols + col]; }
+};
+
+// Its signals (every cell of the 4x3 grid and the feature counts): group "DEPTH".
+template <>
+struct ReportSignals<DepthGrid> {
+  static constexpr std::string_view kGroup = "DEPTH";
+  static const std::vector<Signal<DepthGrid>>& Table();
 };
 
 }  // namespace uav

@@ -2,6 +2,8 @@
 // The perception reports the vehicle publishes, listed once. The vehicle's blackboard slots and
 // outbound translators, the GCS's decoders (and so the log replay), the fuzz target's topics and
 // its seeds all follow from this list; uav/wire/reports.hpp gives each its message and topic.
+// Each report's signals (ReportSignals<T>, uav/shared/signals.hpp) are declared beside its
+// struct: the GCS's telemetry groups and the vehicle's flight-log columns follow from them.
 // Adding a report: its plain struct here in uav/shared, its LCM type and conversions in the wire
 // (README: adding a perception algorithm).
 #include <cstddef>
@@ -23,6 +25,15 @@ struct TypeList {
 
 using PerceptionReports =
     TypeList<PowerLines, Obstacles, PointCloud, DepthGrid, ActiveStereoReport, VisualOdometryReport, SensingReport>;
+
+// The position of T in a TypeList (a compile error when it is not in it).
+template <class T, class... Ts>
+constexpr std::size_t IndexOf(TypeList<Ts...>) {
+  constexpr bool kIs[] = {std::is_same_v<T, Ts>...};
+  for (std::size_t i = 0; i < sizeof...(Ts); ++i)
+    if (kIs[i]) return i;
+  throw "not in the list";
+}
 
 // Calls f(static_cast<T*>(nullptr)) for each type T of the list, in order.
 template <class... Ts, class F>

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "uav/shared/signals.hpp"
+
 namespace uav {
 
 // One perception worker (a thread with its camera or pair and its algorithm).
@@ -30,6 +32,13 @@ struct SensingReport {
   double control_period_p99_ms = 0.0;
   double control_period_max_ms = 0.0;
   std::vector<SensingWorker> workers;
+};
+
+// Its signals (workers, unhealthy, drops and the control period): group "SENSING".
+template <>
+struct ReportSignals<SensingReport> {
+  static constexpr std::string_view kGroup = "SENSING";
+  static const std::vector<Signal<SensingReport>>& Table();
 };
 
 }  // namespace uav

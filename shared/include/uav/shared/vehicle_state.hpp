@@ -13,6 +13,7 @@
 
 #include "uav/shared/frames.hpp"
 #include "uav/shared/geodesy.hpp"
+#include "uav/shared/signals.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
 namespace uav {
@@ -53,35 +54,6 @@ struct VehicleState {
   double sim_clearance_m = -1.0;                    // [m] simulator's true clearance; < 0 none (hardware)
 
   double altitude() const { return -p_N.z(); }      // [m] above home
-};
-
-// How a signal is shown and logged. SI inside; the UI shows angles in degrees.
-enum class SignalFormat {
-  kMetres, kSpeed, kAccel, kAngle, kAngularRate, kLatLon, kGeodeticAlt, kNormalised, kVolts, kFraction,
-  kInteger, kBool, kTask, kFailsafe, kFlightMode, kAttitudeMode, kAvoidState, kMilliseconds
-};
-
-struct SignalDef {
-  std::string_view name;   // as in scripts, plots and the flight-log header ("phi")
-  std::string_view field;  // the message field it reads ("rotor_input[0]"); empty: derived
-  std::string_view unit;   // SI unit of the value ("rad", "m/s", "1" dimensionless)
-  std::string_view frame;  // "N", "B", "WGS84", or empty
-  SignalFormat format;
-};
-
-// The unit the UI shows ("deg" for angles) and the value converted to it.
-std::string_view DisplayUnit(const SignalDef& d);
-double DisplayValue(const SignalDef& d, double si);
-// The value as the operator reads it: "12.35 m", "-3.1 deg", "hover", "yes", "75 %".
-std::string FormatForDisplay(const SignalDef& d, double si);
-// The value as the flight log writes it (fixed decimals per format, integers as integers).
-std::string FormatForLog(const SignalDef& d, double si);
-
-// A signal of a typed message T: its declaration and how to read it.
-template <class T>
-struct Signal {
-  SignalDef def;
-  double (*read)(const T&);
 };
 
 // Every signal of vehicle_state_t, in Table 2.3 order first.

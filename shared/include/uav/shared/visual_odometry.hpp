@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include "uav/shared/signals.hpp"
+
 namespace uav {
 
 // Where the INS takes its position from (values of visual_odometry_t.SOURCE_*).
@@ -24,6 +26,13 @@ struct VisualOdometryReport {
   std::optional<Eigen::Vector3d> track_N;  // [m] the VO+IMU filter's body position
   PositionSource source = PositionSource::kGps;
   std::optional<Eigen::Vector3d> truth_N;  // [m] simulation only
+};
+
+// Its signals (health, counts, the position source and the track against the truth): group "VO".
+template <>
+struct ReportSignals<VisualOdometryReport> {
+  static constexpr std::string_view kGroup = "VO";
+  static const std::vector<Signal<VisualOdometryReport>>& Table();
 };
 
 }  // namespace uav

@@ -25,12 +25,12 @@ struct VehicleModel : VehicleTelemetry, VehicleVideo, VehicleMaps, VehicleMissio
   // The depth-from-motion grid drawn over `feed` (the live video or a frozen frame): fresh, and
   // computed on that feed's camera.
   const DepthGrid* DepthGridOver(const VideoFeed& feed, double now, const ObstacleReportParams& p) const {
-    const DepthGrid* g = FreshDepthGrid(now, p);
+    const DepthGrid* g = reports.Fresh<DepthGrid>(now, p.stale_after_s);
     return g && g->camera == feed.camera ? g : nullptr;
   }
   // The active stereo dots drawn over `feed`: fresh, and found in that feed's camera.
   const ActiveStereoReport* ActiveStereoOver(const VideoFeed& feed, double now, const ObstacleReportParams& p) const {
-    const ActiveStereoReport* r = FreshActiveStereo(now, p);
+    const ActiveStereoReport* r = reports.Fresh<ActiveStereoReport>(now, p.stale_after_s);
     return r && r->camera == feed.camera ? r : nullptr;
   }
 };
@@ -52,13 +52,15 @@ class GcsModel {
   void OnMapTile(const std::string& vehicle_id, const MapTile& tile, double now);
   // `seq`: the message's header.seq (telemetry counts receipts by it).
   void OnTrackStatus(const std::string& vehicle_id, int64_t seq, const TrackStatus& status, double now);
-  void OnReport(const std::string& vehicle_id, PowerLines lines, double now);
-  void OnReport(const std::string& vehicle_id, Obstacles obstacles, double now);
-  void OnReport(const std::string& vehicle_id, PointCloud cloud, double now);
-  void OnReport(const std::string& vehicle_id, DepthGrid grid, double now);
-  void OnReport(const std::string& vehicle_id, ActiveStereoReport report, double now);
-  void OnReport(const std::string& vehicle_id, VisualOdometryReport report, double now);
-  void OnReport(const std::string& vehicle_id, SensingReport report, double now);
+  // Any perception report (uav/shared/reports.hpp): kept as the vehicle's newest of its type
+  // (VehicleTelemetry::reports, what panels and overlays draw), its signals sampled, and acted
+  // on by the concerns that act on it (warnings, the obstacle map, messages).
+  template <class T>
+  void OnReport(const std::string& vehicle_id, T report, double now) {
+    VehicleModel& v = Vehicle(vehicle_id);
+    React(v, vehicle_id, report, now);
+    OnReportTelemetry(v, std::move(report), now);
+  }
 
   // ---- Operator actions on the selected vehicle (false: error() of the concern says why).
   void SelectVehicle(const std::string& id);
@@ -115,6 +117,14 @@ class GcsModel {
  private:
   VehicleModel& Vehicle(const std::string& id);
   VehicleModel* Selected();
+  // The reports a concern acts on; any other is only kept.
+  template <class T>
+  void React(VehicleModel&, const std::string&, const T&, double) {}
+  void React(VehicleModel& v, const std::string& vehicle_id, const PowerLines& lines, double now);
+  void React(VehicleModel& v, const std::string& vehicle_id, const Obstacles& obstacles, double now);
+  void React(VehicleModel& v, const std::string& vehicle_id, const DepthGrid& grid, double now);
+  void React(VehicleModel& v, const std::string& vehicle_id, const ActiveStereoReport& report, double now);
+  void React(VehicleModel& v, const std::string& vehicle_id, const VisualOdometryReport& report, double now);
 
   std::map<std::string, VehicleModel> vehicles_;
   std::string selected_;

@@ -1,6 +1,6 @@
 #pragma once
-// Power lines the vehicle sees (thesis 3.6): each vehicle's newest power_lines_t, decoded, for
-// the video and map panels, and the operator's warning when a ranged wire comes closer than a
+// Power lines the vehicle sees (thesis 3.6; the newest power_lines_t is kept with the vehicle's
+// telemetry, VehicleTelemetry::reports): the operator's warning when a ranged wire comes closer than a
 // set distance (status bar and messages). The warning clears with a margin, so a wire hovering
 // at the threshold does not flood the messages, and when the reports stop (stale data must not
 // look like clear air, nor keep a warning up forever). Ranged wires are also kept, sampled once a
@@ -29,26 +29,22 @@ struct WireWarningParams {
 
 // Per vehicle.
 struct VehiclePowerLines {
-  std::optional<PowerLines> power_lines;  // newest report
-  double power_lines_at = -1.0;           // [s] GCS clock it arrived
   bool wire_warning = false;
   // Ranged wires seen during the flight (NED polylines), for the map: what is out of view now
   // is still there.
   std::deque<std::vector<Eigen::Vector3d>> wire_map;
   double wire_map_at = -1.0;  // [s] GCS clock of the last addition
-  // The newest report while it is fresh.
-  const PowerLines* FreshPowerLines(double now, const WireWarningParams& p) const {
-    return power_lines && now - power_lines_at <= p.stale_after_s ? &*power_lines : nullptr;
-  }
 };
 
 class WireWarnings {
  public:
   WireWarningParams& params() { return params_; }
   const WireWarningParams& params() const { return params_; }
-  void OnPowerLines(VehiclePowerLines& v, const std::string& vehicle_id, PowerLines lines, double now, MessageLog& log) const;
+  void OnPowerLines(VehiclePowerLines& v, const std::string& vehicle_id, const PowerLines& lines, double now,
+                    MessageLog& log) const;
   // Clears the warning of a vehicle whose reports went stale.
-  void Tick(VehiclePowerLines& v, const std::string& vehicle_id, double now, MessageLog& log) const;
+  // `last_report_at`: when the newest power_lines_t came (GCS clock).
+  void Tick(VehiclePowerLines& v, const std::string& vehicle_id, double last_report_at, double now, MessageLog& log) const;
 
  private:
   WireWarningParams params_;

@@ -1,28 +1,33 @@
 #pragma once
-// Vehicles and their telemetry: link quality, the newest typed state, and the history of every
-// signal of the signal tables (uav/shared/vehicle_state.hpp for STATE; the heartbeat and tracker
-// groups below). A signal is addressed by its group and its row in the group's table.
+// Vehicles and their telemetry: link quality, the newest typed state and perception reports, and
+// the history of every signal of the signal tables (uav/shared/vehicle_state.hpp for STATE, the
+// heartbeat and tracker groups here, one group per perception report that declares signals:
+// ReportSignals<T>). A signal is addressed by its group and its row in the group's table.
 #include <cstdint>
 #include <algorithm>
 #include <deque>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <vector>
 
 #include "uav/gcs/signal_series.hpp"
+#include "uav/shared/reports.hpp"
 #include "uav/shared/tracking.hpp"
-#include "uav/shared/active_stereo.hpp"
-#include "uav/shared/mono_depth.hpp"
 #include "uav/shared/vehicle_state.hpp"
-#include "uav/shared/sensing.hpp"
-#include "uav/shared/visual_odometry.hpp"
 
 namespace uav::gcs {
 
-// The telemetry tree's groups, one per message.
-enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2, kDepth = 3, kActiveStereo = 4, kVisualOdometry = 5, kSensing = 6 };
-inline constexpr int kSignalGroups = 7;
+// The telemetry tree's groups, one per message: the operator's three, then one per perception
+// report (ReportGroup<T>(); empty for a report that declares no signals).
+enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2 };
+inline constexpr int kOperatorSignalGroups = 3;
+inline constexpr int kSignalGroups = kOperatorSignalGroups + static_cast<int>(PerceptionReports::kSize);
+template <class T>
+constexpr SignalGroupId ReportGroup() {
+  return static_cast<SignalGroupId>(kOperatorSignalGroups + static_cast<int>(IndexOf<T>(PerceptionReports{})));
+}
 std::string_view GroupName(SignalGroupId g);  // "STATE", "HEARTBEAT", "TRACK", "DEPTH"
 const std::vector<SignalDef>& GroupSignals(SignalGroupId g);
 
@@ -65,6 +70,29 @@ struct SignalGroup {
   double Age(double now) const { return last_receipt < 0 ? 1e9 : now - last_receipt; }
 };
 
+// The newest report of one type and when it came (GCS clock, -1: never).
+template <class T>
+struct Received {
+  std::optional<T> newest;
+  double at = -1.0;
+};
+template <class List>
+struct ReceivedReports;
+template <class... Ts>
+struct ReceivedReports<TypeList<Ts...>> {
+  std::tuple<Received<Ts>...> slots;
+  template <class T>
+  const Received<T>& Get() const { return std::get<Received<T>>(slots); }
+  template <class T>
+  Received<T>& Get() { return std::get<Received<T>>(slots); }
+  // The newest T while it is at most max_age_s old (stale reports must not look current).
+  template <class T>
+  const T* Fresh(double now, double max_age_s) const {
+    const Received<T>& r = Get<T>();
+    return r.newest && now - r.at <= max_age_s ? &*r.newest : nullptr;
+  }
+};
+
 struct TelemetryParams {
   double link_up_age_s = 3.0;     // a vehicle whose heartbeat is older is shown as LOST
 };
@@ -91,8 +119,7 @@ struct VehicleTelemetry {
   // truth, north and east [m] from home, at most kTrailPoints each.
   std::deque<Eigen::Vector2d> gps_trail, vo_trail, truth_trail;
   std::optional<PositionSource> position_source;  // where the INS takes its position from
-  std::optional<SensingReport> sensing;            // newest SENSING: the vision workers' health
-  double sensing_received = -1.0;                  // [s] GCS clock
+  ReceivedReports<PerceptionReports> reports;     // the newest of each perception report
 
   const SignalGroup& group(SignalGroupId g) const { return groups[static_cast<int>(g)]; }
   // Newest value and history of a signal; nullopt / nullptr before its first sample.
@@ -113,9 +140,25 @@ struct VehicleTelemetry {
 void OnHeartbeat(VehicleTelemetry& v, int64_t seq, const HeartbeatInfo& hb, double now);
 void OnState(VehicleTelemetry& v, int64_t seq, const VehicleState& s, double now);
 void OnTrackTelemetry(VehicleTelemetry& v, int64_t seq, const TrackStatus& st, double now);
-void OnDepthTelemetry(VehicleTelemetry& v, const DepthGrid& g, double now);
-void OnActiveStereoTelemetry(VehicleTelemetry& v, const ActiveStereoReport& r, double now);
-void OnVisualOdometryTelemetry(VehicleTelemetry& v, const VisualOdometryReport& r, double now);
-void OnSensingTelemetry(VehicleTelemetry& v, const SensingReport& r, double now);
+// One sample of a group: its values (the table's rows) at vehicle time t_s [s].
+void OnGroupSample(VehicleTelemetry& v, SignalGroupId g, const std::vector<double>& values, double t_s, double now);
+
+// Any perception report: kept as the newest of its type, and its signals sampled.
+template <class T>
+void OnReportTelemetry(VehicleTelemetry& v, T r, double now) {
+  const auto& table = ReportSignals<T>::Table();
+  if (!table.empty()) {
+    std::vector<double> values;
+    values.reserve(table.size());
+    for (const auto& s : table) values.push_back(s.read(r));
+    OnGroupSample(v, ReportGroup<T>(), values, r.utime * 1e-6, now);
+  }
+  Received<T>& slot = v.reports.Get<T>();
+  slot.newest = std::move(r);
+  slot.at = now;
+}
+
+// The visual odometry's track and truth trails and the INS's position source.
+void OnVisualOdometryTrack(VehicleTelemetry& v, const VisualOdometryReport& r);
 
 }  // namespace uav::gcs

@@ -1,9 +1,11 @@
 #pragma once
-// DLG thread's CSV flight log (thesis 2.3.2): a header row, then one row per 20 ms with time and
-// every signal of the vehicle-state table (Table 2.3's first, under the thesis's names), the same
-// table the GCS shows; readable by MATLAB, Excel and pandas.
+// DLG thread's CSV flight log (thesis 2.3.2): a header row, then one row per 20 ms with time,
+// every signal of the vehicle-state table (Table 2.3's first, under the thesis's names), then
+// every perception report's signals ("VO.inliers", the newest report's, nan before the first):
+// the same tables the GCS shows; readable by MATLAB, Excel and pandas.
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "uav/app/blackboard.hpp"
 #include "uav/shared/vehicle_enums.hpp"
@@ -22,7 +24,8 @@ class FlightLog {
   FlightLog& operator=(const FlightLog&) = delete;
 
   static std::string Header();
-  void Write(int64_t utime, const BlackboardData& d);
+  // `reports`: the perception reports' columns (ReportSlots::Columns()); empty: all nan.
+  void Write(int64_t utime, const BlackboardData& d, const std::vector<double>& reports = {});
   const std::string& path() const { return path_; }
 
  private:

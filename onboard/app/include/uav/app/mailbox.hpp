@@ -5,10 +5,13 @@
 #include <cstddef>
 #include <deque>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "uav/shared/reports.hpp"
@@ -93,7 +96,9 @@ class KeyedLatest {
   std::deque<K> order_;
 };
 
-// One Latest<T> per type T of a TypeList: Put(report), Take<T>().
+// One Latest<T> per type T of a TypeList: Put(report), Take<T>(). Beside them, every report's
+// signals (ReportSignals<T>) as the flight log's columns: named "<GROUP>.<signal>", in the list's
+// order, holding the newest report's values (NaN before its first).
 template <class List>
 class ReportSlots;
 template <class... Ts>
@@ -101,6 +106,12 @@ class ReportSlots<TypeList<Ts...>> {
  public:
   template <class T>
   void Put(T report) {
+    const auto& table = ReportSignals<T>::Table();
+    if (!table.empty()) {
+      std::lock_guard<std::mutex> lock(columns_mutex_);
+      double* out = columns_.data() + Offset<T>();
+      for (const auto& s : table) *out++ = s.read(report);
+    }
     std::get<Latest<T>>(slots_).Put(std::move(report));
   }
   template <class T>
@@ -108,8 +119,56 @@ class ReportSlots<TypeList<Ts...>> {
     return std::get<Latest<T>>(slots_).Take();
   }
 
+  static const std::vector<std::string>& ColumnNames() {
+    static const std::vector<std::string> k = [] {
+      std::vector<std::string> names;
+      auto add = [&](auto* type) {
+        using T = std::remove_pointer_t<decltype(type)>;
+        for (const auto& s : ReportSignals<T>::Table())
+          names.push_back(std::string(ReportSignals<T>::kGroup) + "." + std::string(s.def.name));
+      };
+      (add(static_cast<Ts*>(nullptr)), ...);
+      return names;
+    }();
+    return k;
+  }
+  static const std::vector<SignalDef>& ColumnDefs() {
+    static const std::vector<SignalDef> k = [] {
+      std::vector<SignalDef> defs;
+      auto add = [&](auto* type) {
+        for (const auto& s : ReportSignals<std::remove_pointer_t<decltype(type)>>::Table()) defs.push_back(s.def);
+      };
+      (add(static_cast<Ts*>(nullptr)), ...);
+      return defs;
+    }();
+    return k;
+  }
+  std::vector<double> Columns() const {
+    std::lock_guard<std::mutex> lock(columns_mutex_);
+    return columns_;
+  }
+
  private:
+  // Where T's columns start.
+  template <class T>
+  static std::size_t Offset() {
+    static const std::size_t k = [] {
+      std::size_t offset = 0;
+      bool before = true;
+      auto step = [&](auto* type) {
+        using U = std::remove_pointer_t<decltype(type)>;
+        before = before && !std::is_same_v<T, U>;
+        if (before) offset += ReportSignals<U>::Table().size();
+      };
+      (step(static_cast<Ts*>(nullptr)), ...);
+      return offset;
+    }();
+    return k;
+  }
+
   std::tuple<Latest<Ts>...> slots_;
+  mutable std::mutex columns_mutex_;
+  std::vector<double> columns_ = std::vector<double>(ColumnNames().size(), std::numeric_limits<double>::quiet_NaN());
 };
 
 }  // namespace uav::app

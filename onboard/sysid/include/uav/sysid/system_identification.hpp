@@ -22,10 +22,12 @@ namespace uav::sysid {
 class LogTable {
  public:
   // Throws std::runtime_error naming the file and line of the first bad row (wrong number of
-  // fields, not a number), or the file when it is missing or empty.
+  // fields, not a number), or the file when it is missing or empty. A "nan" cell (a perception
+  // report's column before its first report) is kept: only a column that is used must have none.
   static LogTable ReadCsv(const std::string& path);
   static LogTable Parse(const std::string& text, const std::string& source);
-  // Throws std::runtime_error naming the column and the file when it is missing.
+  // Throws std::runtime_error naming the column and the file when it is missing, or the line of
+  // its first "nan".
   const std::vector<double>& Column(const std::string& name) const;
   bool Has(const std::string& name) const { return columns_.count(name) != 0; }
   std::size_t rows() const { return rows_; }
@@ -33,6 +35,7 @@ class LogTable {
  private:
   std::string source_;
   std::map<std::string, std::vector<double>> columns_;
+  std::map<std::string, int> first_nan_line_;
   std::size_t rows_ = 0;
 };
 
