@@ -15,6 +15,13 @@ double B(bool b) { return b ? 1.0 : 0.0; }
 
 }  // namespace
 
+double VehicleState::ground_speed() const { return (RotationNBFromEuler(euler) * v_B).head<2>().norm(); }
+
+double VehicleState::heading() const {
+  const double h = std::fmod(euler.psi, 2 * M_PI);
+  return h < 0 ? h + 2 * M_PI : h;
+}
+
 const std::vector<Signal<VehicleState>>& VehicleStateSignals() {
   // Table 2.3's signals first, under the thesis's names, then the rest of vehicle_state_t.
   static const std::vector<Signal<VehicleState>> kSignals = {
@@ -51,6 +58,10 @@ const std::vector<Signal<VehicleState>>& VehicleStateSignals() {
       {{"obstacles", "obstacle_count", "1", "", F::kInteger}, [](const S& s) { return double(s.obstacle_count); }},
       {{"obstacle_nearest", "nearest_obstacle_m", "m", "N", F::kMetres}, [](const S& s) { return s.nearest_obstacle_m; }},
       {{"alt", "", "m", "above home", F::kMetres}, [](const S& s) { return s.altitude(); }},
+      // What an operator reads at a glance (the status bar shows them).
+      {{"gspeed", "", "m/s", "N, horizontal", F::kSpeed}, [](const S& s) { return s.ground_speed(); }},
+      {{"heading", "", "rad", "N, 0 north, [0, 2 pi)", F::kAngle}, [](const S& s) { return s.heading(); }},
+      {{"home_dist", "", "m", "N, horizontal", F::kMetres}, [](const S& s) { return s.home_distance(); }},
       {{"gps_lat", "gps_latitude_deg", "deg", "WGS84", F::kLatLon}, [](const S& s) { return s.gps.latitude_deg; }},
       {{"gps_lon", "gps_longitude_deg", "deg", "WGS84", F::kLatLon}, [](const S& s) { return s.gps.longitude_deg; }},
       {{"gps_alt", "gps_altitude_m", "m", "WGS84", F::kGeodeticAlt}, [](const S& s) { return s.gps.altitude_m; }},

@@ -71,6 +71,46 @@ TEST(GcsModel, InvalidCommandIsNotSentAndSaysWhy) {
   EXPECT_TRUE(m.commands().sent().empty());
 }
 
+// The map draws the goto a vehicle flies for this GCS: from its acceptance until it ends or
+// another command supersedes it.
+TEST(GcsModel, ActiveGotoLastsFromAcceptanceToItsEnd) {
+  GcsModel m("gcs", 100);
+  m.OnHeartbeat("UAV1", 1, Hb(0, false), 0.0);
+  ASSERT_TRUE(m.SubmitCommand("goto 12 -3 8", 0.0));
+  EXPECT_FALSE(m.commands().ActiveGoto("UAV1"));  // not yet accepted
+  m.OnAck("UAV1", {"gcs", 100, "goto", CommandResult::kAccepted, 0, ""}, 0.2);
+  ASSERT_TRUE(m.commands().ActiveGoto("UAV1"));
+  EXPECT_EQ(*m.commands().ActiveGoto("UAV1"), Eigen::Vector3d(12, -3, -8));
+  EXPECT_FALSE(m.commands().ActiveGoto("UAV2"));
+  m.OnAck("UAV1", {"gcs", 100, "goto", CommandResult::kInProgress, 40, ""}, 1.0);
+  EXPECT_TRUE(m.commands().ActiveGoto("UAV1"));
+  ASSERT_TRUE(m.SubmitCommand("gps 1", 1.1));  // not a move: the goto goes on
+  m.OnAck("UAV1", {"gcs", 101, "gps", CommandResult::kCompleted, 100, ""}, 1.2);
+  EXPECT_TRUE(m.commands().ActiveGoto("UAV1"));
+  m.OnAck("UAV1", {"gcs", 100, "goto", CommandResult::kReplaced, 60, "replaced by hover"}, 2.0);
+  EXPECT_FALSE(m.commands().ActiveGoto("UAV1"));
+  ASSERT_TRUE(m.SubmitCommand("goto 1 2 3", 3.0));
+  m.OnAck("UAV1", {"gcs", 102, "goto", CommandResult::kAccepted, 0, ""}, 3.1);
+  EXPECT_EQ(*m.commands().ActiveGoto("UAV1"), Eigen::Vector3d(1, 2, -3));
+  m.OnAck("UAV1", {"gcs", 102, "goto", CommandResult::kCompleted, 100, ""}, 5.0);
+  EXPECT_FALSE(m.commands().ActiveGoto("UAV1"));
+}
+
+// What the status bar shows at a glance, from the state: ground speed over N (not the body's),
+// heading in [0, 360) degrees and the horizontal distance to home.
+TEST(VehicleStateGlance, GroundSpeedHeadingAndHomeDistance) {
+  VehicleState s;
+  s.euler.psi = -M_PI / 2;        // facing west
+  s.v_B = {3, 0, 1};              // 3 m/s forward, 1 m/s down
+  s.p_N = {30, -40, -10};
+  EXPECT_NEAR(s.ground_speed(), 3.0, 1e-12);
+  EXPECT_NEAR(s.heading(), 1.5 * M_PI, 1e-12);
+  EXPECT_NEAR(s.home_distance(), 50.0, 1e-12);
+  const std::optional<SignalRef> gs = FindSignal("gspeed"), hdg = FindSignal("heading");
+  ASSERT_TRUE(gs && hdg && FindSignal("home_dist"));
+  EXPECT_EQ(FormatForDisplay(Def(*hdg), s.heading()), "270.0 deg");
+}
+
 TEST(GcsModel, CommandNeedsASelectedVehicle) {
   GcsModel m("gcs", 100);
   EXPECT_FALSE(m.SubmitCommand("arm", 1.0));

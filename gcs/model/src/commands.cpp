@@ -36,6 +36,22 @@ bool CommandCenter::Submit(const std::string& text, const std::string& vehicle_i
   return true;
 }
 
+std::optional<Eigen::Vector3d> CommandCenter::ActiveGoto(const std::string& vehicle_id) const {
+  for (auto it = sent_.rbegin(); it != sent_.rend(); ++it) {
+    if (it->vehicle_id != vehicle_id || it->vehicle_initiated) continue;
+    const ParseResult parsed = ParseCommand(it->text);
+    if (!parsed.ok() || parsed.command->id != CommandId::kGoto) continue;
+    // A task that ends, or another that supersedes it (a hover, a failsafe), sends its owner the
+    // final result: only the newest goto counts, and only while it runs.
+    if (!it->last_ack) return std::nullopt;
+    const CommandResult r = it->last_ack->result;
+    if (r != CommandResult::kAccepted && r != CommandResult::kInProgress) return std::nullopt;
+    const std::vector<double>& a = parsed.command->args;
+    return Eigen::Vector3d(a[0], a[1], -a[2]);
+  }
+  return std::nullopt;
+}
+
 void CommandCenter::Keep(SentCommand c) {
   sent_.push_back(std::move(c));
   while (sent_.size() > kMaxSentKept) sent_.pop_front();

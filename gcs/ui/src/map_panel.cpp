@@ -78,7 +78,37 @@ void HandleMapInput(GcsModel& model, UiContext& ctx, const MapCanvas& m, bool ho
     const int v = vertex_at(io.MousePos);
     if (v >= 0) planner.DeleteVertex(static_cast<std::size_t>(v));
   }
+  // Click-to-go: outside the survey editor a right click offers a goto there, to be confirmed.
+  if (hovered && !st.map_edit_survey && ImGui::IsMouseReleased(1)) {
+    const Eigen::Vector2d ne = to_map(io.MousePos);
+    st.map_goto_n = ne.x(), st.map_goto_e = ne.y();
+    ImGui::OpenPopup("map:goto");
+  }
 
+}
+
+// The confirmation of a click-to-go: the selected vehicle flies to the point at its altitude.
+void DrawClickToGo(GcsModel& model, UiContext& ctx) {
+  UiState& st = ctx.state;
+  if (!ImGui::BeginPopup("map:goto")) return;
+  const VehicleModel* v = model.selected();
+  const bool flying = v && v->state && !v->state->landed;
+  const double alt = flying ? v->state->altitude() : 0.0;
+  char command[96];
+  std::snprintf(command, sizeof command, "goto %.1f %.1f %.1f", st.map_goto_n, st.map_goto_e, alt);
+  if (flying) ImGui::Text("Go to N %.1f m, E %.1f m at %.1f m?", st.map_goto_n, st.map_goto_e, alt);
+  else ImGui::TextDisabled("%s is not flying: take off first", v ? v->id.c_str() : "no vehicle");
+  BeginDisabledBecause(ctx, !flying, "the selected vehicle is not flying");
+  if (ImGui::Button("Go here")) {
+    model.SubmitCommand(command, ctx.now);
+    ImGui::CloseCurrentPopup();
+  }
+  RegisterLastItem(ctx, "map:goto_confirm");
+  EndDisabledBecause(ctx);
+  ImGui::SameLine();
+  if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+  RegisterLastItem(ctx, "map:goto_cancel");
+  ImGui::EndPopup();
 }
 
 // The basemap (a GeoTIFF) under everything, by its four corners.
@@ -149,7 +179,8 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
     if (ImGui::Button("Clear basemap")) model.ClearBasemap();
     RegisterLastItem(ctx, "map:clear_basemap");
   }
-  ImGui::TextDisabled("wheel: zoom  drag: pan  click: add vertex  drag vertex: move  right click: delete");
+  ImGui::TextDisabled(st.map_edit_survey ? "wheel: zoom  drag: pan  click: add vertex  drag vertex: move  right click: delete"
+                                         : "wheel: zoom  drag: pan  right click: go there (confirmed)");
 
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImVec2 size = ImGui::GetContentRegionAvail();
@@ -164,6 +195,7 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
 
   ImDrawList* dl = ImGui::GetWindowDrawList();
   HandleMapInput(model, ctx, {dl, c, st.map_center_n, st.map_center_e, st.map_px_per_m}, hovered);
+  DrawClickToGo(model, ctx);
   ctx.map = {true, c.x, c.y, st.map_center_n, st.map_center_e, st.map_px_per_m};
   const MapCanvas m{dl, c, st.map_center_n, st.map_center_e, st.map_px_per_m};
 

@@ -1,8 +1,10 @@
 // One line across the top: whether this GCS signs what it sends (red when not), every vehicle's
 // link quality (heartbeat age, message rate, messages lost to sequence gaps) and signing state
-// (red when it executes unsigned messages, with the count it refused), then the selected vehicle's flight mode, task, battery, failsafe and
-// a power-line warning, stereo obstacles and obstacle avoidance's state.
+// (red when it executes unsigned messages, with the count it refused), then the selected vehicle's
+// flight mode, task, battery, ground speed, heading, GPS fix and satellites, distance to home,
+// failsafe, a power-line warning, stereo obstacles and obstacle avoidance's state.
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <string>
 
@@ -54,6 +56,18 @@ void DrawVehicleLink(const GcsModel& model, UiContext& ctx, const std::string& i
   ImGui::SameLine();
   ImGui::TextDisabled("|");
   ImGui::SameLine();
+}
+
+// Ground speed, heading, the GPS fix (amber without a 3-D fix) and the distance to home.
+void DrawGlance(const VehicleState& s) {
+  ImGui::SameLine();
+  ImGui::Text("| GS %.1f m/s | HDG %03.0f |", s.ground_speed(), s.heading() * 180.0 / M_PI);
+  ImGui::SameLine();
+  const char* fix = s.gps_fix >= 3 ? "3D" : s.gps_fix == 2 ? "2D" : "no fix";
+  if (s.gps_fix >= 3) ImGui::Text("GPS %s %d sats", fix, s.gps_satellites);
+  else ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1), "GPS %s %d sats", fix, s.gps_satellites);
+  ImGui::SameLine();
+  ImGui::Text("| HOME %.0f m", s.home_distance());
 }
 
 // The selected vehicle's perception warnings: a near wire, obstacles or a stereo channel down,
@@ -120,6 +134,7 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
                 std::string(Name(s.task)).c_str(), s.armed ? "ARMED" : "disarmed",
                 std::string(Name(s.flight_mode)).c_str(), s.altitude(), s.battery_voltage_v,
                 100.0 * s.battery_remaining);
+    DrawGlance(s);
     // The vehicle's failsafe in red, so it cannot be missed (the reason is in the messages).
     if (s.failsafe != FailsafeAction::kNone) {
       std::string name(Name(s.failsafe));

@@ -1,4 +1,5 @@
-// The selected vehicle on the map: its accepted mission, home, geofence, trails and itself.
+// The selected vehicle on the map: its accepted mission, home, geofence, trails, the target of
+// the goto it flies (this GCS's) and itself.
 #include <cmath>
 #include <cstdio>
 #include <deque>
@@ -15,6 +16,7 @@ constexpr ImU32 kTrail = IM_COL32(255, 80, 80, 200);         // the flown estima
 constexpr ImU32 kGpsTrail = IM_COL32(255, 230, 80, 180);     // GPS fixes
 constexpr ImU32 kVoTrail = IM_COL32(80, 220, 255, 220);      // the VO+IMU filter
 constexpr ImU32 kTruthTrail = IM_COL32(255, 255, 255, 160);  // simulation's truth
+constexpr ImU32 kGotoTarget = IM_COL32(80, 255, 120, 255);
 
 void DrawVehicleOnMap(GcsModel& model, const VehicleModel* v, const MapCanvas& m) {
   const SurveyPlanner& planner = model.missions().planner();
@@ -51,6 +53,17 @@ void DrawVehicleOnMap(GcsModel& model, const VehicleModel* v, const MapCanvas& m
   polyline(v->gps_trail, kGpsTrail, 1.0f);
   polyline(v->vo_trail, kVoTrail, 1.5f);
   polyline(v->trail, kTrail, 1.5f);
+  if (const auto target_N = model.commands().ActiveGoto(v->id)) {
+    const ImVec2 t = m.ToScreen(target_N->x(), target_N->y());
+    m.dl->AddCircle(t, 9.0f, kGotoTarget, 24, 2.0f);
+    m.dl->AddLine(ImVec2(t.x - 13, t.y), ImVec2(t.x + 13, t.y), kGotoTarget, 1.5f);
+    m.dl->AddLine(ImVec2(t.x, t.y - 13), ImVec2(t.x, t.y + 13), kGotoTarget, 1.5f);
+    char label[48];
+    std::snprintf(label, sizeof label, "goto %.0f m", -target_N->z());
+    m.dl->AddText(ImVec2(t.x + 12, t.y + 2), kGotoTarget, label);
+    if (v->state)
+      m.dl->AddLine(m.ToScreen(v->state->p_N.x(), v->state->p_N.y()), t, kGotoTarget & IM_COL32(255, 255, 255, 110), 1.0f);
+  }
   if (v->state) {
     const double h = v->state->euler.psi;
     const ImVec2 s = m.ToScreen(v->state->p_N.x(), v->state->p_N.y());

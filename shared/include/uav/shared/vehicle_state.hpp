@@ -54,6 +54,9 @@ struct VehicleState {
   double sim_clearance_m = -1.0;                    // [m] simulator's true clearance; < 0 none (hardware)
 
   double altitude() const { return -p_N.z(); }      // [m] above home
+  double ground_speed() const;                      // [m/s] horizontal, of v_N = R_NB v_B
+  double heading() const;                           // [rad] psi in [0, 2 pi): 0 north, pi/2 east
+  double home_distance() const { return p_N.head<2>().norm(); }  // [m] horizontal, from home
 };
 
 // Every signal of vehicle_state_t, in Table 2.3 order first.

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "uav/gcs/message_log.hpp"
 #include "uav/shared/operator_messages.hpp"
 #include "uav/shared/vehicle_enums.hpp"
@@ -63,6 +65,9 @@ class CommandCenter {
   const std::string& refusal() const { return refusal_; }
   const std::vector<std::string>& history() const { return history_; }
   const std::deque<SentCommand>& sent() const { return sent_; }
+  // Where this GCS's newest goto to `vehicle_id` goes (north, east, down [m] in the vehicle's N),
+  // while the vehicle flies it: accepted and not yet completed, replaced or refused.
+  std::optional<Eigen::Vector3d> ActiveGoto(const std::string& vehicle_id) const;
 
  private:
   std::string gcs_name_;

@@ -33,7 +33,8 @@ struct UiState {
   // Map view: centre [m north, east of the map origin] and zoom.
   double map_center_n = 0.0, map_center_e = 0.0;
   double map_px_per_m = 3.0;
-  bool map_edit_survey = true;   // clicks edit the survey polygon
+  bool map_edit_survey = false;  // clicks edit the survey polygon (off: a click only pans)
+  double map_goto_n = 0.0, map_goto_e = 0.0;  // [m] where a right click offered to go
   int map_pressed_vertex = -1;   // vertex under the pointer when the button went down
   bool map_dragged = false;
   float map_press_x = 0, map_press_y = 0;
