@@ -1,5 +1,5 @@
 #pragma once
-// A valid example of each perception report (tests of the report seam).
+// A valid example of each report of the list (tests of the report seam).
 #include <type_traits>
 
 #include "uav/shared/reports.hpp"
@@ -23,6 +23,8 @@ T ExampleReport() {
     r.obstacle_depth_m = 8.0;
   }
   if constexpr (std::is_same_v<T, VisualOdometryReport>) r.method = "pnp";
+  if constexpr (std::is_same_v<T, PreArmReport>)
+    r.checks = {{"gps", false, "no 3-D fix (fix 0, 0 satellites)"}, {"battery", true, "100 % remaining"}};
   return r;
 }
 

@@ -40,14 +40,29 @@ class ClosedLoop : public ::testing::Test {
         imu_(vehicle_, board_, nav::InsParams::FromParameters(params_), kHome),
         ctl_(control::TaskParams::FromParameters(params_),
              control::ControllerParams::FromParameters(params_),
-             control::FailsafeParams::FromParameters(params_), kPeriod * 1e-6, board_, &missions_),
+             control::FailsafeParams::FromParameters(params_), kPeriod * 1e-6, board_, &missions_,
+             avoid::AvoidanceParams::FromParameters(params_), control::PreArmParams::FromParameters(params_)),
         svo_(vehicle_, board_, params_.Get("rotor_input_idle"),
              hal::VehicleParams::FromParameters(params_).attitude_mode) {}
 
   // Sends `text` and flies until its completion (or failure) report, at most `limit_s`.
   // Returns the final report; records the worst attitude seen on the way.
   // With an empty `text`, flies without a new command until `until_` holds or the limit.
+  // `arm` is sent as an operator does: again every 0.5 s while the pre-arm checks refuse it (the
+  // GPS's first fix, the INS converging), for at most 20 s.
   CommandAck Fly(const std::string& text, double limit_s) {
+    if (text != "arm") return FlyOnce(text, limit_s);
+    CommandAck a;
+    for (int tries = 0; tries < 40; ++tries) {
+      a = FlyOnce(text, limit_s);
+      if (a.result != control::AckResult::kRejected || a.reason.rfind("pre-arm checks failed", 0) != 0) break;
+      pre_arm_refusals_.push_back(a.reason);
+      FlyOnce("", 0.5);
+    }
+    return a;
+  }
+
+  CommandAck FlyOnce(const std::string& text, double limit_s) {
     if (!text.empty()) {
       const auto parsed = ParseCommand(text);
       EXPECT_TRUE(parsed.ok()) << parsed.error;
@@ -125,14 +140,31 @@ class ClosedLoop : public ::testing::Test {
   ControlWorker ctl_;
   ServoWorker svo_;
   int64_t seq_ = 0;
+  std::vector<std::string> pre_arm_refusals_;  // what the checks said before `arm` was accepted
   int64_t start_utime_ = 0;
   double elapsed_s_ = 0.0;
   double max_tilt_ = 0.0;
 };
 
+// Pre-arm: without a GPS fix (and no visual odometry) `arm` is refused naming the GPS check; the
+// fix back, it arms.
+TEST_F(ClosedLoop, ArmIsRefusedWithoutAGpsFixAndAllowedWithIt) {
+  vehicle_.SetGpsEnabled(false);
+  FlyOnce("", 3.0);  // the INS converges meanwhile: only the GPS check is left
+  const CommandAck refused = FlyOnce("arm", 1);
+  EXPECT_EQ(refused.result, control::AckResult::kRejected);
+  EXPECT_EQ(refused.reason.rfind("pre-arm checks failed: gps: ", 0), 0u) << refused.reason;
+  EXPECT_EQ(refused.reason.find("ins:"), std::string::npos) << refused.reason;
+  vehicle_.SetGpsEnabled(true);
+  FlyOnce("", 2.0);
+  EXPECT_EQ(FlyOnce("arm", 1).result, control::AckResult::kCompleted);
+}
+
 TEST_F(ClosedLoop, ArmTakeoffGotoLandReachesEachTarget) {
   EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
-  EXPECT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
+  // At start the INS's attitude has not converged (about 11 deg 1-sigma): refused, then armed.
+  ASSERT_FALSE(pre_arm_refusals_.empty());
+  EXPECT_NE(pre_arm_refusals_[0].find("ins: attitude not converged"), std::string::npos) << pre_arm_refusals_[0];  EXPECT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
   EXPECT_NEAR(-EstimatedPosition().z(), 10.0, 0.3);
   EXPECT_NEAR(EstimatedPosition().head<2>().norm(), 0.0, 0.3);
   const double takeoff_s = elapsed_s_;

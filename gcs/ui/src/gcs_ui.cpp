@@ -71,8 +71,9 @@ void DrawGcs(GcsModel& model, UiContext& ctx) {
   DrawSurveyPanel(model, ctx);
   Place(0.62f, 0.82f, 0.38f, 0.18f);
   DrawLiveMapPanel(model, ctx);
-  Place(0.0f, 0.10f, 0.22f, 0.12f);  // over the Vehicles panel's empty lower half
-  DrawReplayPanel(model, ctx);
+  Place(0.0f, 0.10f, 0.22f, 0.12f);  // over the Vehicles panel's empty lower half: the replay's
+  if (ctx.replay) DrawReplayPanel(model, ctx);  // controls, or live, the pre-arm checklist
+  else DrawPreArmPanel(model, ctx);
   Place(0.0f, 0.50f, 0.22f, 0.14f);  // over the state list's lower rows
   DrawSensingPanel(model, ctx);
 }

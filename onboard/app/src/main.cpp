@@ -150,7 +150,8 @@ int Fly(const CommandLine& o) {
   uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
                               uav::control::ControllerParams::FromParameters(params),
                               uav::control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6, board, &missions,
-                              uav::avoid::AvoidanceParams::FromParameters(params));
+                              uav::avoid::AvoidanceParams::FromParameters(params),
+                              uav::control::PreArmParams::FromParameters(params));
   uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"), vehicle_params.attitude_mode);
   std::unique_ptr<uav::app::FlightLog> log;
   if (!o.log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(o.log_dir, start, vehicle_params.attitude_mode, home);

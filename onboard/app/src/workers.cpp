@@ -54,8 +54,8 @@ ControlWorker::ControlWorker(const control::TaskParams& task_params,
                              const control::ControllerParams& controller_params,
                              const control::FailsafeParams& failsafe_params, double period_s,
                              Blackboard& board, control::MissionSource* missions,
-                             const avoid::AvoidanceParams& avoidance)
-    : tasks_(task_params, missions), controller_(controller_params), failsafe_params_(failsafe_params),
+                             const avoid::AvoidanceParams& avoidance, const control::PreArmParams& pre_arm)
+    : tasks_(task_params, missions), controller_(controller_params), pre_arm_params_(pre_arm), failsafe_params_(failsafe_params),
       failsafes_(failsafe_params), safety_(avoidance), period_s_(period_s), board_(board) {}
 
 control::Setpoint ControlWorker::Avoid(const control::TaskManager::Output& out, const BlackboardData& d, int64_t utime,
@@ -93,6 +93,31 @@ control::Setpoint ControlWorker::Avoid(const control::TaskManager::Output& out, 
   return a.setpoint;
 }
 
+void ControlWorker::CheckPreArm(const BlackboardData& d, int64_t utime) {
+  if (d.armed) {
+    tasks_.ObservePreArm("");
+    return;
+  }
+  control::PreArmInputs in;
+  in.gps_fix = d.sample.gps_fix;
+  in.gps_satellites = d.sample.gps_satellites;
+  in.position_source = d.position_source;
+  in.p_N = d.estimate.p_N;
+  in.v_N = d.estimate.v_N;
+  in.attitude_covariance_B = d.estimate.attitude_covariance_B;
+  in.sensor_age_s = (utime - d.sample.utime) * 1e-6;
+  in.sensors_finite = d.sample.gyro_B.allFinite() && d.sample.accel_B.allFinite();
+  in.battery_remaining = d.sample.battery_remaining;
+  PreArmReport report;
+  report.utime = utime;
+  report.checks = control::EvaluatePreArm(in, pre_arm_params_);
+  tasks_.ObservePreArm(report.Failing());
+  if (last_pre_arm_report_ < 0 || utime - last_pre_arm_report_ >= 1000000) {
+    board_.reports.Put(std::move(report));
+    last_pre_arm_report_ = utime;
+  }
+}
+
 void ControlWorker::Tick(int64_t utime) {
   const BlackboardData d = board_.Snapshot();
   const double t = utime * 1e-6;
@@ -117,6 +142,7 @@ void ControlWorker::Tick(int64_t utime) {
   for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? Severity::kWarning : Severity::kInfo, e);
   tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports);
   tasks_.ObserveTarget(d.target);
+  CheckPreArm(d, utime);
   for (const auto& req : board_.commands.TakeAll()) tasks_.Submit(req, d.estimate, t, &reports);
   const control::TaskManager::Output out = tasks_.Update(d.estimate, t, &reports);
   if (out.reset_controller) controller_.Reset();

@@ -209,6 +209,7 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
   switch (c.id) {
     case CommandId::kArm:
       if (armed_) return reject("already armed");
+      if (!pre_arm_failing_.empty()) return reject("pre-arm checks failed: " + pre_arm_failing_);
       armed_ = true;
       reset_pending_ = true;
       return instant();

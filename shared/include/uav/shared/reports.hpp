@@ -1,5 +1,6 @@
 #pragma once
-// The perception reports the vehicle publishes, listed once. The vehicle's blackboard slots and
+// The reports the vehicle publishes (its perception, its sensing health, its pre-arm checks),
+// listed once. The vehicle's blackboard slots and
 // outbound translators, the GCS's decoders (and so the log replay), the fuzz target's topics and
 // its seeds all follow from this list; uav/wire/reports.hpp gives each its message and topic.
 // Each report's signals (ReportSignals<T>, uav/shared/signals.hpp) are declared beside its
@@ -13,6 +14,7 @@
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/obstacles.hpp"
 #include "uav/shared/power_lines.hpp"
+#include "uav/shared/pre_arm.hpp"
 #include "uav/shared/sensing.hpp"
 #include "uav/shared/visual_odometry.hpp"
 
@@ -24,7 +26,8 @@ struct TypeList {
 };
 
 using PerceptionReports =
-    TypeList<PowerLines, Obstacles, PointCloud, DepthGrid, ActiveStereoReport, VisualOdometryReport, SensingReport>;
+    TypeList<PowerLines, Obstacles, PointCloud, DepthGrid, ActiveStereoReport, VisualOdometryReport, SensingReport,
+             PreArmReport>;
 
 // The position of T in a TypeList (a compile error when it is not in it).
 template <class T, class... Ts>

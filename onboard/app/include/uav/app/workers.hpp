@@ -6,6 +6,7 @@
 
 #include "uav/app/blackboard.hpp"
 #include "uav/app/flight_log.hpp"
+#include "uav/control/pre_arm.hpp"
 #include "uav/avoid/safety_layer.hpp"
 #include "uav/control/position_attitude_controller.hpp"
 #include "uav/control/task_manager.hpp"
@@ -44,7 +45,8 @@ class ControlWorker {
   ControlWorker(const control::TaskParams& task_params,
                 const control::ControllerParams& controller_params,
                 const control::FailsafeParams& failsafe_params, double period_s, Blackboard& board,
-                control::MissionSource* missions = nullptr, const avoid::AvoidanceParams& avoidance = {});
+                control::MissionSource* missions = nullptr, const avoid::AvoidanceParams& avoidance = {},
+                const control::PreArmParams& pre_arm = {});
   void Tick(int64_t utime);
 
  private:
@@ -52,8 +54,13 @@ class ControlWorker {
   control::Setpoint Avoid(const control::TaskManager::Output& out, const BlackboardData& d, int64_t utime,
                           std::vector<CommandAck>* reports);
 
+  // The pre-arm checks on the ground, given to the task manager and, once a second, to the link.
+  void CheckPreArm(const BlackboardData& d, int64_t utime);
+
   control::TaskManager tasks_;
   control::PositionAttitudeController controller_;
+  control::PreArmParams pre_arm_params_;
+  int64_t last_pre_arm_report_ = -1;
   control::FailsafeParams failsafe_params_;
   control::FailsafeMonitor failsafes_;
   avoid::SafetyLayer safety_;

@@ -86,6 +86,9 @@ class TaskManager {
 
   // The tracker's newest target (call before Submit and Update each step): follow flies on it.
   void ObserveTarget(const TrackedTarget& target) { target_ = target; }
+  // The pre-arm checks' failures ("gps: no 3-D fix ...; battery: ..."; "" when all pass), from
+  // the control thread's newest evaluation (call before Submit): arm is refused while any fails.
+  void ObservePreArm(std::string failing) { pre_arm_failing_ = std::move(failing); }
 
   // One step at the control rate: advances the active task, appends progress reports.
   Output Update(const VehicleEstimate& est, double t, std::vector<CommandAck>* reports);
@@ -118,6 +121,7 @@ class TaskManager {
   MissionRunner::Output path_;             // its last output
   double last_t_ = 0.0;
   bool armed_ = false;
+  std::string pre_arm_failing_;
   bool airborne_ = false;
   FailsafeAction required_ = FailsafeAction::kNone;  // what the failsafes ask for now
   FailsafeAction enforced_ = FailsafeAction::kNone;  // what they made the vehicle do

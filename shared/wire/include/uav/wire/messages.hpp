@@ -8,6 +8,7 @@
 #include "uav/shared/obstacles.hpp"
 #include "uav/shared/operator_messages.hpp"
 #include "uav/shared/power_lines.hpp"
+#include "uav/shared/pre_arm.hpp"
 #include "uav/shared/sensing.hpp"
 #include "uav/shared/tracking.hpp"
 #include "uav/shared/vehicle_state.hpp"
@@ -20,6 +21,7 @@
 #include "uavmsg/obstacles_t.hpp"
 #include "uavmsg/point_cloud_t.hpp"
 #include "uavmsg/power_lines_t.hpp"
+#include "uavmsg/pre_arm_t.hpp"
 #include "uavmsg/sensing_t.hpp"
 #include "uavmsg/track_status_t.hpp"
 #include "uavmsg/track_target_t.hpp"
@@ -74,6 +76,12 @@ uavmsg::power_lines_t ToMessage(const PowerLines& p);
 // worker, an unhealthy worker without a reason).
 SensingReport FromMessage(const uavmsg::sensing_t& m);
 uavmsg::sensing_t ToMessage(const SensingReport& r);
+
+// Pre-arm checks (uav/shared/pre_arm.hpp)
+// Throws std::invalid_argument naming what is wrong (a count that disagrees, a nameless check, a
+// failing check without a reason).
+PreArmReport FromMessage(const uavmsg::pre_arm_t& m);
+uavmsg::pre_arm_t ToMessage(const PreArmReport& r);
 
 // Tracking: the selection and the tracker's status (uav/shared/tracking.hpp)
 // Throws std::invalid_argument naming the first non-finite or out-of-range field.

@@ -46,5 +46,10 @@ struct Report<SensingReport> {
   using Message = uavmsg::sensing_t;
   static constexpr Topic kTopic{"SENSING"};
 };
+template <>
+struct Report<PreArmReport> {
+  using Message = uavmsg::pre_arm_t;
+  static constexpr Topic kTopic{"PRE_ARM"};
+};
 
 }  // namespace uav
