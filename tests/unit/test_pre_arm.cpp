@@ -71,6 +71,13 @@ TEST(PreArm, EachCheckFailsWithItsReason) {
   vision.gps_fix = 0;
   vision.position_source = PositionSource::kVision;
   EXPECT_TRUE(Check(EvaluatePreArm(vision, p), "gps").passed);
+  // Nor does one configured with visual odometry, on the ground before it has seen the floor.
+  PreArmInputs indoors = Ready();
+  indoors.gps_fix = 0;
+  PreArmParams with_vo = p;
+  with_vo.visual_odometry = true;
+  EXPECT_FALSE(Check(EvaluatePreArm(indoors, p), "gps").passed);
+  EXPECT_TRUE(Check(EvaluatePreArm(indoors, with_vo), "gps").passed);
 }
 
 TEST(PreArm, TheTaskManagerRefusesArmNamingTheFailures) {

@@ -8,7 +8,7 @@ namespace uav::control {
 
 PreArmParams PreArmParams::FromParameters(const ParameterSet& p) {
   return {static_cast<int>(p.Get("prearm_min_sats")), p.Get("prearm_max_att_sigma") * M_PI / 180.0, p.Get("prearm_max_sensor_age"),
-          p.Get("fs_battery_return"), p.Get("fs_fence_radius"), p.Get("fs_fence_alt")};
+          p.Get("fs_battery_return"), p.Get("fs_fence_radius"), p.Get("fs_fence_alt"), p.Get("vo_enable") != 0.0};
 }
 
 namespace {
@@ -19,11 +19,13 @@ std::string Format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
   return buf;
 }
 
-// GPS: a 3-D fix from enough satellites, unless the INS takes its position from vision (a
+// GPS: a 3-D fix from enough satellites, unless the position comes from visual odometry (a
 // GPS-denied start); never with no position source at all.
 PreArmCheck CheckGps(const PreArmInputs& in, const PreArmParams& p) {
   if (in.position_source == PositionSource::kVision) return {"gps", true, "position from visual odometry"};
   if (in.position_source == PositionSource::kInertial) return {"gps", false, "no position source (no GPS fix, no visual odometry)"};
+  if (in.gps_fix < 3 && p.visual_odometry)
+    return {"gps", true, "no GPS fix: the position comes from visual odometry once it sees the ground"};
   if (in.gps_fix < 3) return {"gps", false, Format("no 3-D fix (fix %.0f, %.0f satellites)", in.gps_fix, in.gps_satellites)};
   if (in.gps_satellites < p.min_satellites)
     return {"gps", false, Format("%.0f satellites, at least %.0f needed", in.gps_satellites, p.min_satellites)};

@@ -21,6 +21,9 @@ struct PreArmParams {
   double max_sensor_age_s = 0.1;               // [s] the newest IMU sample must be younger
   double battery_min = 0.25;                   // [0..1] arming at or below the return threshold is refused
   double fence_radius_m = 500, fence_alt_m = 120;
+  // Visual odometry runs (vo_enable): without a GPS fix the position comes from it once it sees
+  // the ground (an indoor, GPS-denied start, thesis ch. 5), so a missing fix does not refuse.
+  bool visual_odometry = false;
   static PreArmParams FromParameters(const ParameterSet& p);
 };
 
