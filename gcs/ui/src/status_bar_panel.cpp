@@ -61,7 +61,8 @@ void DrawVehicleLink(const GcsModel& model, UiContext& ctx, const std::string& i
 // Ground speed, heading, the GPS fix (amber without a 3-D fix) and the distance to home.
 void DrawGlance(const VehicleState& s) {
   ImGui::SameLine();
-  ImGui::Text("| GS %.1f m/s | HDG %03.0f |", s.ground_speed(), s.heading() * 180.0 / M_PI);
+  const double heading_deg = std::fmod(std::round(s.heading() * 180.0 / M_PI), 360.0);  // 359.7 reads 000
+  ImGui::Text("| GS %.1f m/s | HDG %03.0f |", s.ground_speed(), heading_deg);
   ImGui::SameLine();
   const char* fix = s.gps_fix >= 3 ? "3D" : s.gps_fix == 2 ? "2D" : "no fix";
   if (s.gps_fix >= 3) ImGui::Text("GPS %s %d sats", fix, s.gps_satellites);
