@@ -170,7 +170,7 @@ int main(int argc, char** argv) {
   Write(g / "map_tile", selector(uav::Topic::kMapTile), Encode(ForVehicle<uavmsg::map_tile_t>()));
   Write(g / "track_status", selector(uav::Topic::kTrackStatus), Encode(ForVehicle<uavmsg::track_status_t>()));
   // Every perception report: an empty one (the harness varies it from there).
-  uav::ForEachType(uav::PerceptionReports{}, [&](auto* type) {
+  uav::ForEachType(uav::VehicleReports{}, [&](auto* type) {
     using T = std::remove_pointer_t<decltype(type)>;
     auto m = uav::ToMessage(T{});
     m.utime = kUtime;

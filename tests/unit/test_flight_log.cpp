@@ -52,7 +52,7 @@ TEST(FlightLog, HeaderNamesTable23SignalsAndRowsMatchIt) {
   EXPECT_EQ(value("att_mode"), "2");
 }
 
-// The perception reports' signals follow the state's columns, under their group's name: nan until
+// The vehicle reports' signals follow the state's columns, under their group's name: nan until
 // the first report, then the newest report's values.
 TEST(FlightLog, ReportColumnsCarryTheNewestReport) {
   const auto dir = std::filesystem::temp_directory_path() / "uav_flight_log_reports_test";
@@ -61,7 +61,7 @@ TEST(FlightLog, ReportColumnsCarryTheNewestReport) {
   {
     FlightLog log(dir.string(), 0, AttitudeMode::kDirect);
     path = log.path();
-    ReportSlots<PerceptionReports> slots;
+    ReportSlots<VehicleReports> slots;
     log.Write(20000, BlackboardData{}, slots.Columns());
     VisualOdometryReport vo;
     vo.inliers = 57;

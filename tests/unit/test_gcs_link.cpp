@@ -742,14 +742,14 @@ TEST(LogReplay, TruncatedAndDamagedLogsReplayUpToTheDamageAndSayWhere) {
   for (const auto& p : {path, cut, bad}) std::filesystem::remove(p);
 }
 
-// Every report of PerceptionReports has a decoder in the link (so the fuzz target, which draws
+// Every report of VehicleReports has a decoder in the link (so the fuzz target, which draws
 // its topics from GcsLink::Topics(), covers it) and reaches the model as that report.
 TEST(ReportSeam, EveryReportIsDecodedByTheLinkAndReachesTheModel) {
   GcsModel model("gcs", 1);
   GcsLink link(nullptr, model, std::nullopt);
   const std::vector<Topic> topics = GcsLink::Topics();
   int64_t seq = 0;
-  ForEachType(PerceptionReports{}, [&](auto* type) {
+  ForEachType(VehicleReports{}, [&](auto* type) {
     using T = std::remove_pointer_t<decltype(type)>;
     const Topic topic = Report<T>::kTopic;
     EXPECT_NE(std::find(topics.begin(), topics.end(), topic), topics.end()) << TopicName(topic);
@@ -764,7 +764,7 @@ TEST(ReportSeam, EveryReportIsDecodedByTheLinkAndReachesTheModel) {
   EXPECT_EQ(link.dropped_messages(), 0);
   // Each is kept as the vehicle's newest of its type, and its signals are sampled.
   const VehicleModel& v = model.vehicles().at("UAV1");
-  ForEachType(PerceptionReports{}, [&](auto* type) {
+  ForEachType(VehicleReports{}, [&](auto* type) {
     using T = std::remove_pointer_t<decltype(type)>;
     const Received<T>& r = v.reports.Get<T>();
     EXPECT_TRUE(r.newest) << TopicName(Report<T>::kTopic);

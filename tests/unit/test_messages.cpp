@@ -214,8 +214,8 @@ TEST(Channels, NamesAndIds) {
   EXPECT_TRUE(IsValidVehicleId(std::string(32, 'a')));
 }
 
-// Every perception report round-trips through the seam: struct -> message -> bytes -> message ->
-// struct, and the struct encodes to the same bytes again. The types are PerceptionReports
+// Every vehicle report round-trips through the seam: struct -> message -> bytes -> message ->
+// struct, and the struct encodes to the same bytes again. The types are VehicleReports
 // itself, so a report added to the list is tested here without a line more.
 template <class List>
 struct GtestTypes;
@@ -226,7 +226,7 @@ struct GtestTypes<TypeList<Ts...>> {
 
 template <class T>
 class ReportSeam : public ::testing::Test {};
-TYPED_TEST_SUITE(ReportSeam, GtestTypes<PerceptionReports>::type);
+TYPED_TEST_SUITE(ReportSeam, GtestTypes<VehicleReports>::type);
 
 template <class Msg>
 std::vector<uint8_t> Bytes(const Msg& m) {
@@ -247,7 +247,7 @@ TYPED_TEST(ReportSeam, RoundTripsThroughItsMessage) {
   EXPECT_EQ(Bytes(ToMessage(received)), bytes);
   // Its channel is its own: no two reports share a topic.
   int same_topic = 0;
-  ForEachType(PerceptionReports{}, [&](auto* other) {
+  ForEachType(VehicleReports{}, [&](auto* other) {
     same_topic += Report<std::remove_pointer_t<decltype(other)>>::kTopic == Report<T>::kTopic;
   });
   EXPECT_EQ(same_topic, 1);

@@ -45,7 +45,7 @@ Msg Decode(const void* data, int size, const std::string& vehicle) {
   return m;
 }
 
-// A perception report (uav/shared/reports.hpp): decoded and checked by its FromMessage.
+// A vehicle report (uav/shared/reports.hpp): decoded and checked by its FromMessage.
 template <class T>
 void DecodeReport(GcsModel& model, const std::string& id, const void* d, int n, double now) {
   model.OnReport(id, FromMessage(Decode<typename Report<T>::Message>(d, n, id)), now);
@@ -123,7 +123,7 @@ std::vector<std::pair<Topic, Decoder>> MakeDecoders() {
          model.OnTrackStatus(id, m.header.seq, FromMessage(m), now);
        }},
   };
-  ForEachType(PerceptionReports{}, [&](auto* type) {
+  ForEachType(VehicleReports{}, [&](auto* type) {
     using T = std::remove_pointer_t<decltype(type)>;
     k.emplace_back(Report<T>::kTopic, &DecodeReport<T>);
   });

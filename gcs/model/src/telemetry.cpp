@@ -66,7 +66,7 @@ void Store(VehicleTelemetry& v, SignalGroup& g, const std::vector<Signal<T>>& ta
 }
 
 
-// Per report group (in the order of PerceptionReports): its name and signal definitions.
+// Per report group (in the order of VehicleReports): its name and signal definitions.
 struct ReportGroupInfo {
   std::string_view name;
   std::vector<SignalDef> defs;
@@ -74,7 +74,7 @@ struct ReportGroupInfo {
 const std::vector<ReportGroupInfo>& ReportGroups() {
   static const std::vector<ReportGroupInfo> k = [] {
     std::vector<ReportGroupInfo> out;
-    ForEachType(PerceptionReports{}, [&](auto* type) {
+    ForEachType(VehicleReports{}, [&](auto* type) {
       using T = std::remove_pointer_t<decltype(type)>;
       out.push_back({ReportSignals<T>::kGroup, Defs(ReportSignals<T>::Table())});
     });

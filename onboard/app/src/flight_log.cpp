@@ -27,7 +27,7 @@ FlightLog::~FlightLog() {
 std::string FlightLog::Header() {
   std::string h = "t";
   for (const auto& s : VehicleStateSignals()) h += "," + std::string(s.def.name);
-  for (const std::string& name : ReportSlots<PerceptionReports>::ColumnNames()) h += "," + name;
+  for (const std::string& name : ReportSlots<VehicleReports>::ColumnNames()) h += "," + name;
   return h;
 }
 
@@ -38,7 +38,7 @@ void FlightLog::Write(int64_t utime, const BlackboardData& d, const std::vector<
   std::snprintf(t, sizeof t, "%.3f", (utime - start_utime_) * 1e-6);
   row += t;
   for (const auto& s : VehicleStateSignals()) row += "," + FormatForLog(s.def, s.read(state));
-  const std::vector<SignalDef>& report_defs = ReportSlots<PerceptionReports>::ColumnDefs();
+  const std::vector<SignalDef>& report_defs = ReportSlots<VehicleReports>::ColumnDefs();
   for (std::size_t i = 0; i < report_defs.size(); ++i) {
     const double v = i < reports.size() ? reports[i] : std::numeric_limits<double>::quiet_NaN();
     row += "," + (std::isfinite(v) ? FormatForLog(report_defs[i], v) : std::string("nan"));

@@ -135,7 +135,7 @@ class TrackStatusTranslator : public Translator {
   LinkContext& c_;
 };
 
-// Every perception report (uav/shared/reports.hpp): each type's newest, when there is one.
+// Every vehicle report (uav/shared/reports.hpp): each type's newest, when there is one.
 template <class T>
 class ReportTranslator : public Translator {
  public:
@@ -214,7 +214,7 @@ std::unique_ptr<Translator> MakeVideoTranslator(LinkContext& c) { return std::ma
 std::unique_ptr<Translator> MakeTrackStatusTranslator(LinkContext& c) { return std::make_unique<TrackStatusTranslator>(c); }
 std::vector<std::unique_ptr<Translator>> MakeReportTranslators(LinkContext& c) {
   std::vector<std::unique_ptr<Translator>> out;
-  ForEachType(PerceptionReports{}, [&](auto* type) {
+  ForEachType(VehicleReports{}, [&](auto* type) {
     using T = std::remove_pointer_t<decltype(type)>;
     out.push_back(std::make_unique<ReportTranslator<T>>(c));
   });

@@ -125,7 +125,7 @@ std::unique_ptr<Translator> MakeStateTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeHeartbeatTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeVideoTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeTrackStatusTranslator(LinkContext& c);
-// One per type of PerceptionReports.
+// One per type of VehicleReports.
 std::vector<std::unique_ptr<Translator>> MakeReportTranslators(LinkContext& c);
 std::unique_ptr<Translator> MakeMapTileTranslator(LinkContext& c);
 std::unique_ptr<Translator> MakeFileTransferTranslator(LinkContext& c, FileSender& files);

@@ -6,7 +6,7 @@
 namespace uav {
 
 // A topic: the last part of a channel's name. The operator's own topics are declared here; each
-// perception report declares its own beside its message (Report<T>::kTopic in uav/wire/reports.hpp).
+// vehicle report declares its own beside its message (Report<T>::kTopic in uav/wire/reports.hpp).
 struct Topic {
   const char* name;
 

@@ -1,5 +1,5 @@
 #pragma once
-// The operator's messages that are not perception reports, as plain data shared by the vehicle
+// The operator's messages that are not vehicle reports, as plain data shared by the vehicle
 // and the GCS: one struct per message, converted to and from its LCM type once, in the wire
 // (uav/wire/messages.hpp).
 #include <cstdint>

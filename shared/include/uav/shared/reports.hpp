@@ -25,7 +25,7 @@ struct TypeList {
   static constexpr std::size_t kSize = sizeof...(Ts);
 };
 
-using PerceptionReports =
+using VehicleReports =
     TypeList<PowerLines, Obstacles, PointCloud, DepthGrid, ActiveStereoReport, VisualOdometryReport, SensingReport,
              PreArmReport>;
 

@@ -37,7 +37,7 @@ struct Signal {
   double (*read)(const T&);
 };
 
-// A perception report's signals (uav/shared/reports.hpp): the group they go by ("DEPTH": keys
+// A vehicle report's signals (uav/shared/reports.hpp): the group they go by ("DEPTH": keys
 // "DEPTH.r0c0" in the GCS and flight-log columns of that name) and their table. Specialised
 // beside each report's struct; a report without one has no signals.
 template <class T>

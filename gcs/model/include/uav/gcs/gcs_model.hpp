@@ -52,7 +52,7 @@ class GcsModel {
   void OnMapTile(const std::string& vehicle_id, const MapTile& tile, double now);
   // `seq`: the message's header.seq (telemetry counts receipts by it).
   void OnTrackStatus(const std::string& vehicle_id, int64_t seq, const TrackStatus& status, double now);
-  // Any perception report (uav/shared/reports.hpp): kept as the vehicle's newest of its type
+  // Any vehicle report (uav/shared/reports.hpp): kept as the vehicle's newest of its type
   // (VehicleTelemetry::reports, what panels and overlays draw), its signals sampled, and acted
   // on by the concerns that act on it (warnings, the obstacle map, messages).
   template <class T>

@@ -1,7 +1,7 @@
 #pragma once
-// Vehicles and their telemetry: link quality, the newest typed state and perception reports, and
+// Vehicles and their telemetry: link quality, the newest typed state and vehicle reports, and
 // the history of every signal of the signal tables (uav/shared/vehicle_state.hpp for STATE, the
-// heartbeat and tracker groups here, one group per perception report that declares signals:
+// heartbeat and tracker groups here, one group per vehicle report that declares signals:
 // ReportSignals<T>). A signal is addressed by its group and its row in the group's table.
 #include <cstdint>
 #include <algorithm>
@@ -23,10 +23,10 @@ namespace uav::gcs {
 // report (ReportGroup<T>(); empty for a report that declares no signals).
 enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2 };
 inline constexpr int kOperatorSignalGroups = 3;
-inline constexpr int kSignalGroups = kOperatorSignalGroups + static_cast<int>(PerceptionReports::kSize);
+inline constexpr int kSignalGroups = kOperatorSignalGroups + static_cast<int>(VehicleReports::kSize);
 template <class T>
 constexpr SignalGroupId ReportGroup() {
-  return static_cast<SignalGroupId>(kOperatorSignalGroups + static_cast<int>(IndexOf<T>(PerceptionReports{})));
+  return static_cast<SignalGroupId>(kOperatorSignalGroups + static_cast<int>(IndexOf<T>(VehicleReports{})));
 }
 std::string_view GroupName(SignalGroupId g);  // "STATE", "HEARTBEAT", "TRACK", "DEPTH"
 const std::vector<SignalDef>& GroupSignals(SignalGroupId g);
@@ -119,7 +119,7 @@ struct VehicleTelemetry {
   // truth, north and east [m] from home, at most kTrailPoints each.
   std::deque<Eigen::Vector2d> gps_trail, vo_trail, truth_trail;
   std::optional<PositionSource> position_source;  // where the INS takes its position from
-  ReceivedReports<PerceptionReports> reports;     // the newest of each perception report
+  ReceivedReports<VehicleReports> reports;     // the newest of each vehicle report
 
   const SignalGroup& group(SignalGroupId g) const { return groups[static_cast<int>(g)]; }
   // Newest value and history of a signal; nullopt / nullptr before its first sample.
@@ -143,7 +143,7 @@ void OnTrackTelemetry(VehicleTelemetry& v, int64_t seq, const TrackStatus& st, d
 // One sample of a group: its values (the table's rows) at vehicle time t_s [s].
 void OnGroupSample(VehicleTelemetry& v, SignalGroupId g, const std::vector<double>& values, double t_s, double now);
 
-// Any perception report: kept as the newest of its type, and its signals sampled.
+// Any vehicle report: kept as the newest of its type, and its signals sampled.
 template <class T>
 void OnReportTelemetry(VehicleTelemetry& v, T r, double now) {
   const auto& table = ReportSignals<T>::Table();

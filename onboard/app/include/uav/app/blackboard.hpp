@@ -163,7 +163,7 @@ class Blackboard {
   Queue<avoid::PerceptionUpdate> perception{8};
   // Vision workers (and the sensing monitor) -> CMM: each report type's newest replaces one not
   // yet sent (uav/shared/reports.hpp lists them).
-  ReportSlots<PerceptionReports> reports;
+  ReportSlots<VehicleReports> reports;
 
  private:
   mutable std::mutex mutex_;

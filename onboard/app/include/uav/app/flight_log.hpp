@@ -1,7 +1,7 @@
 #pragma once
 // DLG thread's CSV flight log (thesis 2.3.2): a header row, then one row per 20 ms with time,
 // every signal of the vehicle-state table (Table 2.3's first, under the thesis's names), then
-// every perception report's signals ("VO.inliers", the newest report's, nan before the first):
+// every vehicle report's signals ("VO.inliers", the newest report's, nan before the first):
 // the same tables the GCS shows; readable by MATLAB, Excel and pandas.
 #include <cstdio>
 #include <string>
@@ -24,7 +24,7 @@ class FlightLog {
   FlightLog& operator=(const FlightLog&) = delete;
 
   static std::string Header();
-  // `reports`: the perception reports' columns (ReportSlots::Columns()); empty: all nan.
+  // `reports`: the vehicle reports' columns (ReportSlots::Columns()); empty: all nan.
   void Write(int64_t utime, const BlackboardData& d, const std::vector<double>& reports = {});
   const std::string& path() const { return path_; }
 

@@ -1,7 +1,7 @@
 #pragma once
 // The hand-over shapes between onboard threads, each with its own lock: the newest value
 // (Latest), every value in order (Queue, optionally bounded), the newest value per key in the
-// order keys first waited (KeyedLatest), and one Latest per perception report (ReportSlots).
+// order keys first waited (KeyedLatest), and one Latest per vehicle report (ReportSlots).
 #include <cstddef>
 #include <deque>
 #include <iterator>

@@ -1,5 +1,5 @@
 #pragma once
-// Each perception report's wire form: its LCM message type and its topic (the channel is
+// Each vehicle report's wire form: its LCM message type and its topic (the channel is
 // "<vehicle>/<topic>"), declared once, here only. The conversions are the FromMessage/ToMessage
 // overloads of uav/wire/messages.hpp.
 #include "uav/shared/channels.hpp"
@@ -9,7 +9,7 @@
 namespace uav {
 
 template <class T>
-struct Report;  // specialised once per type of PerceptionReports
+struct Report;  // specialised once per type of VehicleReports
 
 template <>
 struct Report<PowerLines> {
