@@ -19,7 +19,7 @@
 
 namespace uav::gcs {
 
-// The telemetry tree's groups, one per message: the operator's three, then one per perception
+// The telemetry tree's groups, one per message: the operator's three, then one per vehicle
 // report (ReportGroup<T>(); empty for a report that declares no signals).
 enum class SignalGroupId { kState = 0, kHeartbeat = 1, kTrack = 2 };
 inline constexpr int kOperatorSignalGroups = 3;
