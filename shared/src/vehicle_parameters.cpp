@@ -179,6 +179,7 @@ const ParameterSchema& VehicleParameterSchema() {
     {"trk_tracker", "-", 3, 0, 3, "0: CamShift (thesis 3.7), 1: KCF, 2: CSRT (opencv-contrib), 3: auto (CamShift where the target's colour stands out, else CSRT)"},
     {"trk_window", "-", 0, 0, 1, "CamShift search window 0: adaptive (moments), 1: static (selection's size)"},
     {"trk_gimbal_gain", "-", 0.5, 0, 1, "fraction of the target's vertical offset the gimbal corrects per frame (0: gimbal fixed)"},
+    {"trk_buffer_s", "s", 10, 1, 30, "frames kept for a target picked on an older (frozen) frame; the tracker catches up through them (about 0.9 MB per 640x480 frame)"},
     {"gimbal_pitch", "deg", -20, -90, 20, "gimbal pitch before a target is locked (0 ahead, -90 straight down)"},
     {"flw_distance", "m", 8, 2, 50, "follow: horizontal distance kept from the target"},
     {"flw_height", "m", 5, 2, 50, "follow: height kept above the target's ground"},

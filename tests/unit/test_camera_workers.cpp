@@ -358,7 +358,7 @@ TEST(TrackWorker, TracksThePickedTargetCentresItAndPlacesItOnTheGround) {
   ASSERT_EQ(reports.size(), 4u);
   EXPECT_EQ(reports[0].state, TrackStatus::State::kRejected);
   EXPECT_NE(reports[0].reason.find("camera 'downward'"), std::string::npos);
-  EXPECT_NE(reports[1].reason.find("not in the buffer"), std::string::npos);
+  EXPECT_NE(reports[1].reason.find("is not among the 10.0 s kept"), std::string::npos);
   EXPECT_NE(reports[2].reason.find("smaller than"), std::string::npos);
   EXPECT_EQ(reports[3].state, TrackStatus::State::kTracking);
   EXPECT_EQ(reports[3].target_seq, 7);

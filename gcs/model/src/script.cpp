@@ -11,6 +11,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace uav::gcs {
 using script_detail::Clauses;
@@ -107,9 +108,16 @@ void ScriptRunner::Pass(const ScriptStep& s, double now, const std::string& deta
   step_started_ = false;
 }
 
-void ScriptRunner::Fail(const ScriptStep& s, double now, const std::string& why) {
+void ScriptRunner::Fail(const GcsModel& model, const ScriptStep& s, double now, const std::string& why) {
   std::fprintf(out_, "[%7.2fs] FAIL  %3d: %s  -> %s\n", now - script_start_, s.line, s.text.c_str(),
                why.c_str());
+  constexpr int kWarningsShown = 3;
+  std::vector<const LogLine*> warnings;
+  const auto& lines = model.log().lines();
+  for (auto it = lines.rbegin(); it != lines.rend() && static_cast<int>(warnings.size()) < kWarningsShown; ++it)
+    if (it->severity <= Severity::kWarning) warnings.push_back(&*it);
+  for (auto it = warnings.rbegin(); it != warnings.rend(); ++it)
+    std::fprintf(out_, "           log: [%s] %s\n", (*it)->vehicle_id.c_str(), (*it)->text.c_str());
   std::fflush(out_);
   failed_ = true;
 }
@@ -133,7 +141,7 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
     Pass(s, now, "");
   } else if (s.verb == "seek" || s.verb == "pause" || s.verb == "play") {
     if (!replay_) {
-      Fail(s, now, s.verb + " needs a replay (uav-gcs --replay LOG)");
+      Fail(model, s, now, s.verb + " needs a replay (uav-gcs --replay LOG)");
     } else {
       if (s.verb == "seek") replay_->Seek(std::atof(s.args[0].c_str()));
       else if (s.verb == "pause") replay_->Pause();
@@ -179,21 +187,21 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
         ok = driver.StartKey(ctrl ? chord.substr(5) : chord, ctrl, &err);
       }
       else ok = driver.StartClick(label, &err);
-      if (!ok) Fail(s, now, err);
+      if (!ok) Fail(model, s, now, err);
     } else if (s.verb == "tick" && !tick_searched_ && !driver.InputPending()) {
       tick_searched_ = true;
       if (!driver.StartClick(TickLabel(s.args[0]), &err))
-        Fail(s, now, err);
+        Fail(model, s, now, err);
     } else if (!driver.InputPending()) {
       Pass(s, now, s.verb == "type" && !model.commands().error().empty()
                        ? "command bar says: " + model.commands().error() : "");
     } else if (now - step_start_ > 10.0 * timeout_scale_) {
-      Fail(s, now, "input was not consumed within " + Format(10.0 * timeout_scale_) + " s");
+      Fail(model, s, now, "input was not consumed within " + Format(10.0 * timeout_scale_) + " s");
     }
   } else if (s.verb == "screenshot") {
     const int r = driver.Screenshot(s.args[0], &err);
     if (r > 0) Pass(s, now, "saved " + s.args[0]);
-    else if (r < 0) Fail(s, now, err);
+    else if (r < 0) Fail(model, s, now, err);
   } else {  // wait_until, assert
     std::vector<std::string> cond = s.args;
     double timeout = 30.0;
@@ -203,11 +211,11 @@ bool ScriptRunner::Update(GcsModel& model, ScriptDriver& driver, double now) {
     }
     timeout *= timeout_scale_;
     const ConditionResult r = EvaluateCondition(cond, model, now, replay_);
-    if (!r.error.empty()) Fail(s, now, r.error);
+    if (!r.error.empty()) Fail(model, s, now, r.error);
     else if (r.holds) Pass(s, now, r.observed);
-    else if (s.verb == "assert") Fail(s, now, "observed " + r.observed);
+    else if (s.verb == "assert") Fail(model, s, now, "observed " + r.observed);
     else if (now - step_start_ > timeout)
-      Fail(s, now, "not true within " + Format(timeout) + " s; observed " + r.observed);
+      Fail(model, s, now, "not true within " + Format(timeout) + " s; observed " + r.observed);
   }
   return !finished();
 }

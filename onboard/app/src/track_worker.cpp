@@ -3,6 +3,7 @@
 #include "uav/app/mono_depth_worker.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "uav/shared/frames.hpp"
@@ -20,6 +21,7 @@ TrackWorkerParams TrackWorkerParams::FromParameters(const ParameterSet& p) {
   t.tracker.Validate();
   t.gimbal_pitch_rad = p.Get("gimbal_pitch") * M_PI / 180.0;
   t.gimbal_gain = p.Get("trk_gimbal_gain");
+  t.buffer_s = p.Get("trk_buffer_s");
   return t;
 }
 
@@ -112,9 +114,10 @@ bool TrackWorker::Handle(const TrackTarget& request, Outbox& out) {
       break;
     }
   if (k == buffer_.size()) {
-    Reject(request, "frame at " + std::to_string(request.frame_utime * 1e-6) + " s is not in the buffer (" +
-                        std::to_string(buffer_.front().utime * 1e-6) + " to " + std::to_string(buffer_.back().utime * 1e-6) + " s)",
-           out);
+    char why[160];
+    std::snprintf(why, sizeof why, "the frame it was picked in (%.1f s before the newest) is not among the %.1f s kept (trk_buffer_s): pick again",
+                  (buffer_.back().utime - request.frame_utime) * 1e-6, params_.buffer_s);
+    Reject(request, why, out);
     return false;
   }
   const cv::Mat& image = buffer_[k].image;

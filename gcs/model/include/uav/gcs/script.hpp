@@ -106,7 +106,8 @@ class ScriptRunner {
 
  private:
   void Pass(const ScriptStep& s, double now, const std::string& detail);
-  void Fail(const ScriptStep& s, double now, const std::string& why);
+  // Prints why the step failed and the vehicle's last warnings, which often say the cause.
+  void Fail(const GcsModel& model, const ScriptStep& s, double now, const std::string& why);
 
   Script script_;
   std::FILE* out_;

@@ -24,7 +24,7 @@ struct TrackWorkerParams {
   vision::TrackerParams tracker;  // trk_tracker, trk_window
   double gimbal_pitch_rad = -0.35;  // gimbal_pitch: where the gimbal points before a target is locked
   double gimbal_gain = 0.5;         // trk_gimbal_gain: fraction of the vertical offset corrected per frame (0: fixed)
-  double buffer_s = 3.0;            // frames kept for selections picked on older frames
+  double buffer_s = 10.0;           // trk_buffer_s: frames kept for selections picked on older frames
   static TrackWorkerParams FromParameters(const ParameterSet& p);
 };
 
