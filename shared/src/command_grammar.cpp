@@ -1,6 +1,7 @@
 #include "uav/shared/command_grammar.hpp"
 
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/parameters.hpp"
 
 #include <cctype>
 #include <cmath>
@@ -76,6 +77,11 @@ const std::vector<CommandSpec>& CommandSpecs() {
       // GPS fails is what visual odometry is for (thesis ch. 5).
       {CommandId::kGps, "gps", "simulator fault: 0 takes the GPS fix away, 1 gives it back",
        {{"on", 0.0, 1.0, "0 no fix (jammed, indoors), 1 fix", true}}},
+      // Parameters over the link (as QGroundControl's parameter editor): the vehicle applies the
+      // value at once where that is safe and answers with the value it now uses.
+      {CommandId::kParam, "param", "set vehicle parameter name to value (its unit, within its limits)",
+       {{"name", 0.0, 0.0, "a parameter of the vehicle file (uav-onboard --list-params)", false, true},
+        {"value", 0.0, 0.0, "the parameter's own limits"}}},
   };
   return kSpecs;
 }
@@ -90,6 +96,7 @@ std::string Command::Name() const { return SpecOf(id).name; }
 
 std::string Command::Text() const {
   std::string t = Name();
+  if (!parameter.empty()) t += " " + parameter;
   for (double a : args) t += " " + FormatNumber(a);
   return t;
 }
@@ -128,10 +135,20 @@ ParseResult ParseCommand(std::string_view line) {
               ArgumentHint(name) + ")";
     return r;
   }
-  Command cmd{spec->id, {}};
+  Command cmd{spec->id, {}, {}};
+  const ParameterSpec* parameter = nullptr;
   for (std::size_t i = 0; i < spec->args.size(); ++i) {
     const ArgumentSpec& a = spec->args[i];
     const std::string& w = words[i + 1];
+    if (a.parameter_name) {
+      parameter = VehicleParameterSchema().Find(w);
+      if (!parameter) {
+        r.error = name + ": unknown parameter '" + w + "' (uav-onboard --list-params lists them)";
+        return r;
+      }
+      cmd.parameter = w;
+      continue;
+    }
     const std::optional<double> parsed = ParseDecimal(w);
     if (!parsed) {
       // strtod would take "nan", "inf", "1e400" and "0x10": say why those are refused too.
@@ -149,7 +166,13 @@ ParseResult ParseCommand(std::string_view line) {
       r.error = name + ": argument " + a.name + " must be a whole number: '" + w + "'";
       return r;
     }
-    if (v < a.min || v > a.max) {
+    if (parameter) {
+      if (v < parameter->min || v > parameter->max) {
+        r.error = name + ": " + parameter->name + " = " + w + " is outside [" + FormatNumber(parameter->min) + ", " +
+                  FormatNumber(parameter->max) + "] " + parameter->unit;
+        return r;
+      }
+    } else if (v < a.min || v > a.max) {
       r.error = name + ": argument " + a.name + " = " + w + " is outside [" + FormatNumber(a.min) +
                 ", " + FormatNumber(a.max) + "]: " + a.why;
       return r;
@@ -175,8 +198,20 @@ std::string ArgumentHint(std::string_view line) {
   const CommandSpec* spec = FindSpec(Lower(words[0]));
   if (!spec) return "";
   std::string h = spec->name;
-  for (const auto& a : spec->args)
-    h += std::string(" <") + a.name + " " + FormatNumber(a.min) + ".." + FormatNumber(a.max) + ">";
+  const ParameterSpec* parameter = nullptr;
+  for (std::size_t i = 0; i < spec->args.size(); ++i) {
+    const ArgumentSpec& a = spec->args[i];
+    if (a.parameter_name) {
+      parameter = words.size() > i + 1 ? VehicleParameterSchema().Find(words[i + 1]) : nullptr;
+      h += std::string(" <") + (parameter ? parameter->name : std::string(a.name)) + ">";
+    } else if (parameter) {
+      h += " <" + FormatNumber(parameter->min) + ".." + FormatNumber(parameter->max) + " " + parameter->unit + ">";
+    } else if (spec->args.size() > i && i > 0 && spec->args[i - 1].parameter_name) {
+      h += std::string(" <") + a.name + ">";
+    } else {
+      h += std::string(" <") + a.name + " " + FormatNumber(a.min) + ".." + FormatNumber(a.max) + ">";
+    }
+  }
   return h;
 }
 

@@ -1,5 +1,8 @@
 #include "uav/shared/parameters.hpp"
 
+#include <cstdio>
+#include <cstdlib>
+
 #include "uav/shared/decimal.hpp"
 #include "uav/shared/text_file.hpp"
 
@@ -11,11 +14,7 @@
 namespace uav {
 namespace {
 
-std::string Format(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
+std::string Format(double v) { return FormatParameterValue(v); }
 
 std::size_t EditDistance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> row(b.size() + 1);
@@ -132,11 +131,30 @@ ParameterSet ParameterSet::WithAssignment(const std::string& assignment) const {
   return With(assignment.substr(0, eq), *value);
 }
 
+std::string FormatParameterValue(double v) {
+  char buf[40];
+  for (int precision = 6; precision <= 17; ++precision) {
+    std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
+  return buf;
+}
+
+const char* Name(ParamApply a) {
+  switch (a) {
+    case ParamApply::kAtStart: return "start";
+    case ParamApply::kOnGround: return "ground";
+    case ParamApply::kInFlight: return "flight";
+  }
+  return "?";
+}
+
 std::string DescribeSchema(const ParameterSchema& schema) {
   std::ostringstream os;
   for (const auto& s : schema.specs) {
     os << s.name << "  " << (s.default_value ? Format(*s.default_value) : std::string(s.optional ? "(optional)" : "(required)"))
-       << "  " << s.unit << "  [" << Format(s.min) << ", " << Format(s.max) << "]  " << s.description << "\n";
+       << "  " << s.unit << "  [" << Format(s.min) << ", " << Format(s.max) << "]  changes: " << Name(s.apply) << "  "
+       << s.description << "\n";
   }
   return os.str();
 }

@@ -5,9 +5,31 @@
 
 namespace uav {
 
+namespace {
+
+// Which parameters may change over the link, and when. The control thread re-reads its
+// parameters when they change (PX4's parameter_update): the position and attitude loops, the
+// task manager, the failsafes, the pre-arm checks, follow and the avoidance planner and safety
+// layer. The rest build the vehicle at start.
+ParamApply ApplyOf(const std::string& name) {
+  static const char* const kOnGround[] = {"fs_fence_radius", "fs_fence_alt", "fs_fence_action"};
+  // Avoidance settings that size the map or the thread, or switch the thread on.
+  static const char* const kAvoidAtStart[] = {"avd_enable", "avd_rate", "avd_latency", "avd_grid", "avd_map_res", "avd_map_cells"};
+  for (const char* n : kOnGround)
+    if (name == n) return ParamApply::kOnGround;
+  for (const char* n : kAvoidAtStart)
+    if (name == n) return ParamApply::kAtStart;
+  for (const char* prefix : {"ctl_", "task_", "fs_", "prearm_", "flw_", "avd_"})
+    if (name.rfind(prefix, 0) == 0) return ParamApply::kInFlight;
+  return name == "obs_margin" ? ParamApply::kInFlight : ParamApply::kAtStart;
+}
+
+}  // namespace
+
 const ParameterSchema& VehicleParameterSchema() {
   // {name, unit, default, min, max, description}
-  static const ParameterSchema kSchema{"vehicle", {
+  static const ParameterSchema kSchema = [] {
+  ParameterSchema schema{"vehicle", {
     // --- Rigid body (thesis Eq. 2.1, Table 2.2) ---
     {"mass", "kg", 1.37, 0.1, 50, "total platform mass m (Table 2.2)"},
     {"inertia_xx", "kg.m2", 0.03356, 1e-4, 10, "rolling moment of inertia J_xx (Table 2.2)"},
@@ -229,6 +251,9 @@ const ParameterSchema& VehicleParameterSchema() {
     {"avd_yaw_rate", "deg/s", 60, 5, 360, "turn rate toward the way the vehicle flies (the forward cameras look ahead)"},
     {"fs_nav_land_s", "s", 5, 0, 60, "no position source (GPS lost, VO unhealthy): hold this long, then land"},
   }};
+  for (ParameterSpec& spec : schema.specs) spec.apply = ApplyOf(spec.name);
+  return schema;
+  }();
   return kSchema;
 }
 

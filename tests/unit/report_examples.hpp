@@ -25,6 +25,11 @@ T ExampleReport() {
   if constexpr (std::is_same_v<T, VisualOdometryReport>) r.method = "pnp";
   if constexpr (std::is_same_v<T, PreArmReport>)
     r.checks = {{"gps", false, "no 3-D fix (fix 0, 0 satellites)"}, {"battery", true, "100 % remaining"}};
+  if constexpr (std::is_same_v<T, ParameterTable>) {
+    r.version = 2;
+    r.entries = {{"ctl_speed_max_xy", "m/s", "horizontal speed limit", 4.0, 5.0, 0.5, 15.0, ParamApply::kInFlight},
+                 {"mass", "kg", "total platform mass", 1.37, 1.37, 0.1, 50.0, ParamApply::kAtStart}};
+  }
   return r;
 }
 

@@ -160,6 +160,52 @@ TEST_F(ClosedLoop, ArmIsRefusedWithoutAGpsFixAndAllowedWithIt) {
   EXPECT_EQ(FlyOnce("arm", 1).result, control::AckResult::kCompleted);
 }
 
+// Parameters over the link: a speed limit lowered in flight takes effect on the next leg; the
+// geofence is refused while armed and the mass always (read at start), each saying why; the
+// table the link sends carries the new value and the version.
+TEST_F(ClosedLoop, ParameterSetInFlightAppliesAtOnceAndRefusesWhatMayNotChange) {
+  ctl_.ServeParameters(params_);
+  ASSERT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  ASSERT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
+  const CommandAck set = FlyOnce("param ctl_speed_max_xy 2", 1);
+  EXPECT_EQ(set.result, control::AckResult::kCompleted);
+  EXPECT_EQ(set.reason, "ctl_speed_max_xy = 2 m/s (was " + std::to_string(static_cast<int>(params_.Get("ctl_speed_max_xy"))) + ")");
+  // The same 30 m leg at 2 m/s, then back at the file's limit.
+  auto fastest_on = [&](const std::string& go) {
+    double fastest = 0.0;
+    on_step_ = [&] {
+      const auto truth = vehicle_.TruthState();
+      fastest = std::max(fastest, (truth.q_NB * truth.v_B).head<2>().norm());
+    };
+    EXPECT_EQ(Fly(go, 60).result, control::AckResult::kCompleted);
+    on_step_ = nullptr;
+    return fastest;
+  };
+  const double slow = fastest_on("goto 30 0 10");
+  ASSERT_EQ(FlyOnce("param ctl_speed_max_xy " + std::to_string(params_.Get("ctl_speed_max_xy")), 1).result,
+            control::AckResult::kCompleted);
+  const double fast = fastest_on("goto 0 0 10");
+  std::printf("fastest at 2 m/s: %.2f m/s, at %.1f m/s: %.2f m/s\n", slow, params_.Get("ctl_speed_max_xy"), fast);
+  // The velocity loop overshoots its limit by about a third on a 30 m step (2.8 and 3.7 m/s
+  // measured): the lowered limit shows as a proportionally slower leg.
+  EXPECT_LT(slow, 2.0 * 1.45);
+  EXPECT_LT(slow, fast * 0.85);
+  const CommandAck fence = FlyOnce("param fs_fence_radius 60", 1);
+  EXPECT_EQ(fence.result, control::AckResult::kRejected);
+  EXPECT_NE(fence.reason.find("fs_fence_radius changes only while disarmed"), std::string::npos) << fence.reason;
+  const CommandAck mass = FlyOnce("param mass 2", 1);
+  EXPECT_EQ(mass.result, control::AckResult::kRejected);
+  EXPECT_NE(mass.reason.find("mass is read only at start"), std::string::npos) << mass.reason;
+  // Inconsistent with the rest: landing on battery above the return threshold.
+  const CommandAck battery = FlyOnce("param fs_battery_land " + std::to_string(params_.Get("fs_battery_return") + 0.05), 1);
+  EXPECT_EQ(battery.result, control::AckResult::kRejected) << battery.reason;
+  std::optional<ParameterTable> table = board_.reports.Take<ParameterTable>();
+  ASSERT_TRUE(table);
+  EXPECT_EQ(table->version, 2);
+  EXPECT_EQ(table->Find("ctl_speed_max_xy")->value, params_.Get("ctl_speed_max_xy"));
+  EXPECT_EQ(board_.Snapshot().params_version, 2);
+}
+
 TEST_F(ClosedLoop, ArmTakeoffGotoLandReachesEachTarget) {
   EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
   // At start the INS's attitude has not converged (about 11 deg 1-sigma): refused, then armed.

@@ -30,6 +30,23 @@ TEST(CommandGrammar, TextRoundTrips) {
   }
 }
 
+// `param NAME VALUE`: the name is a vehicle parameter, the value held to that parameter's limits.
+TEST(CommandGrammar, ParamNamesAVehicleParameterAndHoldsTheValueToItsLimits) {
+  const auto p = ParseCommand("param ctl_speed_max_xy 4.5");
+  ASSERT_TRUE(p.ok()) << p.error;
+  EXPECT_EQ(p.command->id, CommandId::kParam);
+  EXPECT_EQ(p.command->parameter, "ctl_speed_max_xy");
+  EXPECT_EQ(p.command->args, std::vector<double>{4.5});
+  EXPECT_EQ(p.command->Text(), "param ctl_speed_max_xy 4.5");
+  EXPECT_EQ(ParseCommand(p.command->Text()).command->parameter, "ctl_speed_max_xy");
+  EXPECT_NE(ParseCommand("param ctl_speed_max 4").error.find("unknown parameter 'ctl_speed_max'"), std::string::npos);
+  EXPECT_NE(ParseCommand("param ctl_speed_max_xy 400").error.find("ctl_speed_max_xy = 400 is outside ["), std::string::npos);
+  EXPECT_NE(ParseCommand("param ctl_speed_max_xy nan").error.find("not a finite number"), std::string::npos);
+  EXPECT_NE(ParseCommand("param ctl_speed_max_xy").error.find("missing argument value"), std::string::npos);
+  EXPECT_NE(ParseCommand("param").error.find("missing argument name"), std::string::npos);
+  EXPECT_NE(ArgumentHint("param ctl_speed_max_xy").find("m/s"), std::string::npos);
+}
+
 struct BadCase {
   const char* text;
   const char* error_contains;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <random>
 
 #include <imgui.h>
@@ -16,6 +17,7 @@
 #include "uav/gcs/script.hpp"
 #include "uav/gcs/script_input.hpp"
 #include "uav/gcs/signal_series.hpp"
+#include "uav/shared/text_file.hpp"
 
 namespace uav::gcs {
 namespace {
@@ -345,6 +347,66 @@ TEST_F(Panels, ShortcutsAskForConfirmationAndGoToTheSelectedVehicle) {
   EXPECT_EQ(model_.commands().sent().back().text, "land");
   EXPECT_EQ(model_.commands().sent().back().vehicle_id, "UAV2");
   EXPECT_FALSE(driver_.StartKey("f13", false, &err_));
+}
+
+// Parameters: opened from the status bar, searched, a value typed is checked against the
+// vehicle's table and sent as a `param` command; one outside its limits or read only at start is
+// not sent and the log says why; reset sends the default; save and load go through both formats.
+TEST_F(Panels, ParametersAreSearchedEditedResetSavedAndLoaded) {
+  ParameterTable table = ParameterTable::Of(ParameterSet::Defaults(VehicleParameterSchema()).With("ctl_tilt_max", 0.35), 1, 5);
+  model_.OnReport("UAV1", table, now_);
+  Frames(2);
+  ASSERT_TRUE(driver_.StartClick("status:params", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_TRUE(ctx_.state.show_parameters);
+  ASSERT_TRUE(driver_.StartSet("params:search", "horizontal speed", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_TRUE(ctx_.widgets.count("params:value:ctl_speed_max_xy"));
+  EXPECT_FALSE(ctx_.widgets.count("params:value:mass"));  // filtered out
+  ASSERT_TRUE(driver_.StartSet("params:value:ctl_speed_max_xy", "4.5", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_EQ(model_.commands().sent().size(), 1u);
+  EXPECT_EQ(model_.commands().sent().back().text, "param ctl_speed_max_xy 4.5");
+  ASSERT_TRUE(driver_.StartSet("params:value:ctl_speed_max_xy", "400", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_EQ(model_.commands().sent().size(), 1u);
+  EXPECT_NE(model_.log().lines().back().text.find("ctl_speed_max_xy = 400 is outside [0.1, 15] m/s"), std::string::npos)
+      << model_.log().lines().back().text;
+  // Read only at start: the field is disabled, saying why.
+  ASSERT_TRUE(driver_.StartSet("params:search", "mass", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_TRUE(ctx_.widgets.count("params:value:mass"));
+  EXPECT_EQ(ctx_.widgets.at("params:value:mass").disabled, "mass is read only at start");
+  // Reset to the default.
+  ASSERT_TRUE(driver_.StartSet("params:search", "ctl_tilt", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_TRUE(driver_.StartClick("params:reset:ctl_tilt_max", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_EQ(model_.commands().sent().size(), 2u);
+  EXPECT_EQ(model_.commands().sent().back().text, "param ctl_tilt_max 0.45");
+  // Saved as QGroundControl's file, edited, loaded: only what differs and may change is sent.
+  const std::string path = ::testing::TempDir() + "uav_params_panel.params";
+  ctx_.state.params_file = path;
+  ctx_.state.params_format = 1;
+  ASSERT_TRUE(driver_.StartClick("params:save", &err_)) << err_;
+  RunUntilIdle();
+  std::string text = ReadTextFile(path, "saved");
+  EXPECT_NE(text.find("1\t1\tctl_tilt_max\t0.35\t9\n"), std::string::npos);
+  auto replace = [&](const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };
+  replace("\tflw_distance\t8\t", "\tflw_distance\t12\t");
+  replace("\tmass\t1.37\t", "\tmass\t2\t");
+  text += "1\t1\tno_such_param\t3\t9\n";
+  WriteFileAtomically(path, text);
+  ASSERT_TRUE(driver_.StartClick("params:load", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_EQ(model_.commands().sent().size(), 3u);
+  EXPECT_EQ(model_.commands().sent().back().text, "param flw_distance 12");
+  std::string logged;
+  for (const LogLine& l : model_.log().lines()) logged += l.text + "\n";
+  EXPECT_NE(logged.find("parameter file: mass is read only at start"), std::string::npos) << logged;
+  EXPECT_NE(logged.find("parameter file: the vehicle has no parameter 'no_such_param'"), std::string::npos) << logged;
+  EXPECT_NE(logged.find(": 1 changes sent, "), std::string::npos) << logged;
+  std::filesystem::remove(path);
 }
 
 TEST_F(Panels, LiveMapZoomsAboutTheCursorAndPans) {

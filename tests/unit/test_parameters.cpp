@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "uav/shared/parameter_table.hpp"
 #include "uav/shared/parameters.hpp"
 
 namespace uav {
@@ -128,8 +129,64 @@ TEST(Parameters, ShippedCameraFilesLoad) {
 
 TEST(Parameters, DescribeSchemaListsEveryDeclaration) {
   const std::string text = DescribeSchema(TestSchema());
-  EXPECT_NE(text.find("mass  1.37  kg  [0.1, 50]  total mass"), std::string::npos) << text;
+  EXPECT_NE(text.find("mass  1.37  kg  [0.1, 50]  changes: start  total mass"), std::string::npos) << text;
   EXPECT_NE(text.find("focal  (required)  mm"), std::string::npos) << text;
+}
+
+// When each vehicle parameter may change over the link: the control thread's settings at once,
+// the geofence only on the ground, what builds the vehicle (its model, sensors, threads) at start.
+TEST(Parameters, EveryVehicleParameterSaysWhenItMayChange) {
+  const ParameterSchema& s = VehicleParameterSchema();
+  EXPECT_EQ(s.Find("ctl_pos_gain_xy")->apply, ParamApply::kInFlight);
+  EXPECT_EQ(s.Find("fs_battery_return")->apply, ParamApply::kInFlight);
+  EXPECT_EQ(s.Find("obs_margin")->apply, ParamApply::kInFlight);
+  EXPECT_EQ(s.Find("fs_fence_radius")->apply, ParamApply::kOnGround);
+  EXPECT_EQ(s.Find("avd_enable")->apply, ParamApply::kAtStart);
+  EXPECT_EQ(s.Find("avd_map_res")->apply, ParamApply::kAtStart);
+  EXPECT_EQ(s.Find("mass")->apply, ParamApply::kAtStart);
+  EXPECT_EQ(s.Find("trk_tracker")->apply, ParamApply::kAtStart);
+  EXPECT_NE(DescribeSchema(s).find("changes: flight"), std::string::npos);
+}
+
+// The table round-trips through both file formats, and a bad file names its line.
+TEST(ParameterFiles, BothFormatsRoundTripAndBadLinesNameThemselves) {
+  const ParameterSet set = ParameterSet::Defaults(VehicleParameterSchema()).With("ctl_speed_max_xy", 4.25);
+  const ParameterTable table = ParameterTable::Of(set, 3, 1'000'000);
+  ASSERT_EQ(table.entries.size(), VehicleParameterSchema().specs.size());
+  const ParameterEntry* e = table.Find("ctl_speed_max_xy");
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->value, 4.25);
+  EXPECT_EQ(e->unit, "m/s");
+  EXPECT_EQ(e->apply, ParamApply::kInFlight);
+  for (ParameterFileFormat f : {ParameterFileFormat::kVehicle, ParameterFileFormat::kQgc}) {
+    const std::string text = FormatParameterFile(table, f, "UAV1");
+    const auto values = ParseParameterFile(text, "p.params");
+    ASSERT_EQ(values.size(), table.entries.size());
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      EXPECT_EQ(values[i].first, table.entries[i].name);
+      EXPECT_EQ(values[i].second, table.entries[i].value) << values[i].first;  // exact: shortest round-trip digits
+    }
+  }
+  // Our format is a vehicle file: the vehicle loads it as one.
+  const ParameterSet again = ParameterSet::Parse(FormatParameterFile(table, ParameterFileFormat::kVehicle, "UAV1"), "saved.params",
+                                                 VehicleParameterSchema());
+  EXPECT_EQ(again.Get("ctl_speed_max_xy"), 4.25);
+  // A QGroundControl file as QGC writes it (CRLF, header comments, type column).
+  const auto qgc = ParseParameterFile("# Onboard parameters for Vehicle 1\r\n#\r\n1\t1\tctl_tilt_max\t25\t9\r\n", "qgc.params");
+  ASSERT_EQ(qgc.size(), 1u);
+  EXPECT_EQ(qgc[0], (std::pair<std::string, double>{"ctl_tilt_max", 25.0}));
+  auto error_of = [](const std::string& text) {
+    try {
+      ParseParameterFile(text, "bad.params");
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error_of("mass 1\nmass nan\n"), "bad.params:2: mass: 'nan' is not a finite decimal number");
+  EXPECT_EQ(error_of("mass 1\nmass 2\n"), "bad.params:2: mass is set twice");
+  EXPECT_EQ(error_of("\nmass\n"), "bad.params:2: 'mass' has no value");
+  EXPECT_EQ(error_of("mass 1 2\n"), "bad.params:1: 'mass' is followed by '2' (expected: name value)");
 }
 
 }  // namespace

@@ -155,6 +155,12 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
     const ActiveStereoReport* r = v ? v->ActiveStereoOver(v->video, now, m.obstacles().params()) : nullptr;
     return *num = !r ? 0.0 : name == "asv.points" ? static_cast<double>(r->dots.size()) : static_cast<double>(r->clusters.size()), true;
   }
+  // A parameter's value as the vehicle last reported it (param.ctl_speed_max_xy).
+  if (name.rfind("param.", 0) == 0) {
+    const auto* table = v ? &v->reports.Get<ParameterTable>() : nullptr;
+    const ParameterEntry* e = table && table->newest ? table->newest->Find(name.substr(6)) : nullptr;
+    return e ? (*num = e->value, true) : false;
+  }
   if (name == "video.frozen") return *num = m.video().frozen() ? 1.0 : 0.0, true;
   if (name == "track.sent") return *num = v ? static_cast<double>(v->track_targets_sent) : 0.0, true;
   if (name.rfind("track.", 0) == 0) {

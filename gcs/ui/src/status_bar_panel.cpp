@@ -111,6 +111,12 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
   ImGui::Begin("Status", nullptr,
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
   const ImVec4 red(1, 0.3f, 0.3f, 1);
+  // The Parameters window of the selected vehicle, where it is always in reach.
+  if (model.selected()) {
+    if (ImGui::SmallButton("Parameters")) ctx.state.show_parameters = !ctx.state.show_parameters;
+    RegisterLastItem(ctx, "status:params");
+    ImGui::SameLine();
+  }
   if (model.signing_key_id().empty() && !model.replay()) {
     ImGui::TextColored(red, "INSECURE");
     if (ImGui::IsItemHovered())

@@ -13,6 +13,11 @@ void AvoidWorker::Begin(int64_t utime) {
   VisionWorker::Begin(utime);
   // Taken on the clock's thread: which results a plan includes is the same in every run.
   updates_ = board_.perception.TakeAll();
+  // Settings changed over the link (the control thread checked them before accepting).
+  if (at_begin_.params && at_begin_.params_version != params_version_) {
+    planner_.SetParams(avoid::AvoidanceParams::FromParameters(*at_begin_.params));
+    params_version_ = at_begin_.params_version;
+  }
 }
 
 void AvoidWorker::Save(Outbox* out) {

@@ -152,6 +152,7 @@ int Fly(const CommandLine& o) {
                               uav::control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6, board, &missions,
                               uav::avoid::AvoidanceParams::FromParameters(params),
                               uav::control::PreArmParams::FromParameters(params));
+  ctl.ServeParameters(params);
   uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"), vehicle_params.attitude_mode);
   std::unique_ptr<uav::app::FlightLog> log;
   if (!o.log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(o.log_dir, start, vehicle_params.attitude_mode, home);

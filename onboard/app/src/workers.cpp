@@ -58,6 +58,57 @@ ControlWorker::ControlWorker(const control::TaskParams& task_params,
     : tasks_(task_params, missions), controller_(controller_params), pre_arm_params_(pre_arm), failsafe_params_(failsafe_params),
       failsafes_(failsafe_params), safety_(avoidance), period_s_(period_s), board_(board) {}
 
+void ControlWorker::ServeParameters(const ParameterSet& params) {
+  // Every setting a change reaches, built from the candidate set: what the constructors refuse
+  // (inconsistent thresholds, a planning cell off the map's grid) refuses the change.
+  parameters_.emplace(params, [](const ParameterSet& p) {
+    control::TaskParams::FromParameters(p);
+    control::ControllerParams::FromParameters(p);
+    control::FailsafeParams::FromParameters(p);
+    control::PreArmParams::FromParameters(p);
+    avoid::AvoidancePlanner planner_check(avoid::AvoidanceParams::FromParameters(p));
+  });
+  board_.Update([&](BlackboardData& b) {
+    b.params = std::make_shared<const ParameterSet>(params);
+    b.params_version = 0;
+  });
+}
+
+void ControlWorker::SetParameter(const control::CommandRequest& req, const BlackboardData& d, int64_t utime,
+                                 std::vector<CommandAck>* reports) {
+  CommandAck ack{req.source, req.seq, "param", CommandResult::kRejected, 0, ""};
+  if (!parameters_) {
+    ack.reason = "this vehicle does not serve its parameters";
+    reports->push_back(ack);
+    return;
+  }
+  const ParameterServer::Outcome o = parameters_->Set(req.command.parameter, req.command.args.at(0), d.armed);
+  ack.result = o.accepted ? CommandResult::kCompleted : CommandResult::kRejected;
+  ack.percent = o.accepted ? 100 : 0;
+  ack.reason = o.message;
+  reports->push_back(ack);
+  board_.PushStatus(o.accepted ? Severity::kInfo : Severity::kWarning, "parameter " + o.message);
+  if (!o.changed) return;
+  const ParameterSet& p = parameters_->params();
+  tasks_.SetParams(control::TaskParams::FromParameters(p));
+  controller_.SetParams(control::ControllerParams::FromParameters(p));
+  failsafe_params_ = control::FailsafeParams::FromParameters(p);
+  failsafes_.SetParams(failsafe_params_);
+  pre_arm_params_ = control::PreArmParams::FromParameters(p);
+  safety_.SetParams(avoid::AvoidanceParams::FromParameters(p));
+  board_.Update([&](BlackboardData& b) {
+    b.params = std::make_shared<const ParameterSet>(p);
+    b.params_version = parameters_->version();
+  });
+  PublishParameters(utime);
+}
+
+void ControlWorker::PublishParameters(int64_t utime) {
+  if (!parameters_) return;
+  board_.reports.Put(ParameterTable::Of(parameters_->params(), parameters_->version(), utime));
+  last_parameters_report_ = utime;
+}
+
 control::Setpoint ControlWorker::Avoid(const control::TaskManager::Output& out, const BlackboardData& d, int64_t utime,
                                        std::vector<CommandAck>* reports) {
   // Manual flight and failsafe landings are left alone; a failsafe's return goes through it.
@@ -143,7 +194,11 @@ void ControlWorker::Tick(int64_t utime) {
   tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports);
   tasks_.ObserveTarget(d.target);
   CheckPreArm(d, utime);
-  for (const auto& req : board_.commands.TakeAll()) tasks_.Submit(req, d.estimate, t, &reports);
+  for (const auto& req : board_.commands.TakeAll()) {
+    if (req.command.id == CommandId::kParam) SetParameter(req, d, utime, &reports);
+    else tasks_.Submit(req, d.estimate, t, &reports);
+  }
+  if (parameters_ && (last_parameters_report_ < 0 || utime - last_parameters_report_ >= 5'000'000)) PublishParameters(utime);
   const control::TaskManager::Output out = tasks_.Update(d.estimate, t, &reports);
   if (out.reset_controller) controller_.Reset();
   const control::Setpoint setpoint = Avoid(out, d, utime, &reports);

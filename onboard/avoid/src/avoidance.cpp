@@ -61,12 +61,19 @@ Eigen::Vector3d PointAt(const std::vector<Eigen::Vector3d>& path, double s) {
   return path.back();
 }
 
-AvoidancePlanner::AvoidancePlanner(const AvoidanceParams& params) : p_(params), map_(params.map) {
-  if (p_.GridLevels() < 0) throw std::invalid_argument("the planning cell must be the map's cell times 1, 2, 4, 8 or 16");
-  planner_.clearance_m = p_.clearance();
-  planner_.soft_clearance_m = p_.clearance() + 1.5;
-  planner_.floor_down_m = -p_.min_alt_m;
-  planner_.Validate();
+AvoidancePlanner::AvoidancePlanner(const AvoidanceParams& params) : p_(params), map_(params.map) { SetParams(params); }
+
+void AvoidancePlanner::SetParams(const AvoidanceParams& params) {
+  if (params.GridLevels() < 0) throw std::invalid_argument("the planning cell must be the map's cell times 1, 2, 4, 8 or 16");
+  if (params.map.resolution_m != p_.map.resolution_m || params.grid_m != p_.grid_m)
+    throw std::invalid_argument("the map's and the planning cell's sizes are set at start");
+  PlannerParams planner;
+  planner.clearance_m = params.clearance();
+  planner.soft_clearance_m = params.clearance() + 1.5;
+  planner.floor_down_m = -params.min_alt_m;
+  planner.Validate();
+  p_ = params;
+  planner_ = planner;
 }
 
 std::string AvoidancePlanner::Add(const PerceptionUpdate& u, const Eigen::Vector3d& p_N) {

@@ -9,7 +9,7 @@
 
 namespace uav {
 
-enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto, kTrack, kMission, kReturn, kChirp, kFollow, kGps };
+enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto, kTrack, kMission, kReturn, kChirp, kFollow, kGps, kParam };
 
 struct ArgumentSpec {
   const char* name;   // e.g. "alt_m"
@@ -17,6 +17,9 @@ struct ArgumentSpec {
   double max;         // inclusive
   const char* why;    // why the limit is where it is
   bool integer = false;  // whole numbers only (a path number)
+  // A word naming a vehicle parameter (VehicleParameterSchema), not a number; the next argument
+  // is its value, held to that parameter's limits instead of min/max.
+  bool parameter_name = false;
 };
 
 struct CommandSpec {
@@ -35,6 +38,7 @@ const CommandSpec& SpecOf(CommandId id);
 struct Command {
   CommandId id;
   std::vector<double> args;  // validated: finite, within the spec's limits
+  std::string parameter;     // `param`: the parameter named (a declared vehicle parameter)
   std::string Name() const;
   std::string Text() const;  // canonical text, parses back to the same command
 };

@@ -3,12 +3,21 @@
 // limits, default and description (a ParameterSchema); a file sets values only:
 //   name  value   # comment
 // Limits are the program's, never the file's: a file cannot widen them.
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace uav {
+
+// When a change over the link may take effect (the vehicle refuses it otherwise, saying why).
+enum class ParamApply : int8_t {
+  kAtStart = 0,   // builds the vehicle (its model, sensors, cameras, threads, map): the file or --param
+  kOnGround = 1,  // while disarmed (a geofence redrawn under a flying vehicle could breach it at once)
+  kInFlight = 2,  // at once, armed or not (gains, speed limits, failsafe thresholds, avoidance)
+};
+const char* Name(ParamApply a);  // "start", "ground", "flight"
 
 struct ParameterSpec {
   std::string name;
@@ -18,6 +27,7 @@ struct ParameterSpec {
   double max;
   std::string description;
   bool optional = false;  // without a default: may be left out (ParameterSet::Has says)
+  ParamApply apply = ParamApply::kAtStart;
 };
 
 struct ParameterSchema {
@@ -59,6 +69,7 @@ class ParameterSet {
   // Applies "name=value" (the --param option). Same errors as With, plus malformed text.
   ParameterSet WithAssignment(const std::string& assignment) const;
   const std::map<std::string, Parameter>& all() const { return params_; }
+  const ParameterSchema* schema() const { return schema_; }
   const std::string& source() const { return source_; }
 
  private:
@@ -66,6 +77,10 @@ class ParameterSet {
   const ParameterSchema* schema_ = nullptr;
   std::map<std::string, Parameter> params_;
 };
+
+// A parameter's value as text: the shortest decimal that reads back as the same double ("2.5",
+// "0.45", "3"), in files, commands and messages alike.
+std::string FormatParameterValue(double v);
 
 // One line per declared parameter: name, default, unit, limits, description (--list-params).
 std::string DescribeSchema(const ParameterSchema& schema);

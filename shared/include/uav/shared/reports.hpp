@@ -1,5 +1,6 @@
 #pragma once
-// The reports the vehicle publishes (its perception, its sensing health, its pre-arm checks),
+// The reports the vehicle publishes (its perception, its sensing health, its pre-arm checks, its
+// parameter table),
 // listed once. The vehicle's blackboard slots and
 // outbound translators, the GCS's decoders (and so the log replay), the fuzz target's topics and
 // its seeds all follow from this list; uav/wire/reports.hpp gives each its message and topic.
@@ -13,6 +14,7 @@
 #include "uav/shared/active_stereo.hpp"
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/obstacles.hpp"
+#include "uav/shared/parameter_table.hpp"
 #include "uav/shared/power_lines.hpp"
 #include "uav/shared/pre_arm.hpp"
 #include "uav/shared/sensing.hpp"
@@ -27,7 +29,7 @@ struct TypeList {
 
 using VehicleReports =
     TypeList<PowerLines, Obstacles, PointCloud, DepthGrid, ActiveStereoReport, VisualOdometryReport, SensingReport,
-             PreArmReport>;
+             PreArmReport, ParameterTable>;
 
 // The position of T in a TypeList (a compile error when it is not in it).
 template <class T, class... Ts>

@@ -73,6 +73,13 @@ class GcsModel {
   bool ExportSurvey(const std::string& path, double now);
   bool ImportSurvey(const std::string& path, double now);
   bool StartDownload(const std::string& dir, double now);
+  // Parameters of the selected vehicle (its newest ParameterTable): a typed value checked against
+  // the table and sent as a signed `param NAME VALUE` command; the table saved to a file (ours or
+  // QGroundControl's .params); a file loaded: the values that differ and may change now are sent,
+  // the rest are logged with why not. False (and why in the log) when nothing could be done.
+  bool SetParameter(const std::string& name, const std::string& text, double now);
+  bool SaveParameters(const std::string& path, ParameterFileFormat format, double now);
+  bool LoadParameters(const std::string& path, double now);
   bool ExportPlotCsv(const std::string& path, double t0, double t1, double now);
   // A GeoTIFF under the map (basemap.hpp); the reason in the log when it cannot be shown.
   // Without a vehicle's home, the map's origin moves to the basemap's centre (planning over it).

@@ -20,6 +20,7 @@ void DrawLiveMapPanel(GcsModel& model, UiContext& ctx);
 void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx);
 void DrawSensingPanel(GcsModel& model, UiContext& ctx);
 void DrawPreArmPanel(GcsModel& model, UiContext& ctx);
+void DrawParametersPanel(GcsModel& model, UiContext& ctx);
 // Uploads the selected vehicle's changed live-map tiles into textures (shared by the Map and
 // Live map panels).
 void SyncLiveMapTextures(const VehicleModel& v, UiContext& ctx);

@@ -66,6 +66,12 @@ struct UiState {
   std::string video_vehicle;
   int64_t video_frames_shown = -1;
   void* video_texture = nullptr;
+  // Parameters panel: open, its search, the values being typed (by name) and the file.
+  bool show_parameters = false;
+  std::string params_filter;
+  std::map<std::string, std::string> params_edits;
+  std::string params_file = "vehicle.params";
+  int params_format = 0;  // 0 our vehicle file, 1 QGroundControl's .params
   float replay_seek = -1.0f;  // the seek slider while it is being dragged [s]; < 0: follows the replay
   std::string replay_speed_text;   // the speed being typed
   std::string replay_speed_error;  // why the typed speed was refused

@@ -29,6 +29,7 @@ class AvoidWorker : public VisionWorker {
   std::vector<avoid::PerceptionUpdate> updates_;  // taken at Begin
   bool was_airborne_ = false;
   bool saved_since_landing_ = true;
+  int64_t params_version_ = 0;
 };
 
 }  // namespace uav::app

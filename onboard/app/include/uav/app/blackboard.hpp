@@ -119,6 +119,10 @@ struct BlackboardData {
   // distance from the body centre to the nearest true surface other than the ground [m], < 0
   // when the world has none.
   double sim_clearance_m = -1.0;
+  // CTL: the parameters as they are now (null: the vehicle does not serve them) and how many
+  // changes over the link they carry; a thread with live settings re-reads them on a new version.
+  std::shared_ptr<const ParameterSet> params;
+  int64_t params_version = 0;
 };
 
 // A finished file STITCH offers for download.

@@ -2,10 +2,12 @@
 // The thread bodies of thesis Table 2.1. Each is a thin shell: read the blackboard, call the
 // algorithm class, write the blackboard. The scheduler owns the threads.
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "uav/app/blackboard.hpp"
 #include "uav/app/flight_log.hpp"
+#include "uav/app/parameter_server.hpp"
 #include "uav/control/pre_arm.hpp"
 #include "uav/avoid/safety_layer.hpp"
 #include "uav/control/position_attitude_controller.hpp"
@@ -48,8 +50,17 @@ class ControlWorker {
                 control::MissionSource* missions = nullptr, const avoid::AvoidanceParams& avoidance = {},
                 const control::PreArmParams& pre_arm = {});
   void Tick(int64_t utime);
+  // Serves the vehicle's parameters over the link: `param NAME VALUE` commands change them where
+  // their ParamApply allows, and the table goes out every 5 s and after each change. Without it
+  // a `param` command is refused.
+  void ServeParameters(const ParameterSet& params);
 
  private:
+  // A `param` command: set, apply to every setting it reaches, answer with the value now used.
+  void SetParameter(const control::CommandRequest& req, const BlackboardData& d, int64_t utime,
+                    std::vector<CommandAck>* reports);
+  void PublishParameters(int64_t utime);
+
   // The task's setpoint through the safety layer; tells the operator when its state changes.
   control::Setpoint Avoid(const control::TaskManager::Output& out, const BlackboardData& d, int64_t utime,
                           std::vector<CommandAck>* reports);
@@ -59,6 +70,8 @@ class ControlWorker {
 
   control::TaskManager tasks_;
   control::PositionAttitudeController controller_;
+  std::optional<ParameterServer> parameters_;
+  int64_t last_parameters_report_ = -1;
   control::PreArmParams pre_arm_params_;
   int64_t last_pre_arm_report_ = -1;
   control::FailsafeParams failsafe_params_;

@@ -88,6 +88,9 @@ class AvoidancePlanner {
   // mission's reference on its leg; the goal itself for goto): the task flies as it planned
   // while the straight way through it to the goal is clear.
   AvoidancePlan Plan(int64_t utime, const Eigen::Vector3d& p_N, const Eigen::Vector3d& via_N, const Eigen::Vector3d& goal_N);
+  // New settings (a parameter changed over the link). The map is kept: its resolution and bound
+  // are set at start only (std::invalid_argument when they differ or the cell does not fit).
+  void SetParams(const AvoidanceParams& params);
   // Forgets the current detour (a new goal).
   void Reset() { previous_.clear(); }
 

@@ -25,6 +25,7 @@ namespace uav::avoid {
 class SafetyLayer {
  public:
   explicit SafetyLayer(const AvoidanceParams& params) : p_(params) {}
+  void SetParams(const AvoidanceParams& params) { p_ = params; }
 
   struct Output {
     control::Setpoint setpoint;

@@ -62,6 +62,7 @@ std::string CheckSetpoint(const struct Setpoint& sp, const FailsafeParams& p, do
 class FailsafeMonitor {
  public:
   explicit FailsafeMonitor(const FailsafeParams& p);
+  void SetParams(const FailsafeParams& p) { p_ = p; }  // a failsafe already taken stays
 
   // One step; appends operator messages (a failsafe triggering, escalating or clearing) and
   // returns the strictest action required now.

@@ -50,6 +50,8 @@ class PositionAttitudeController {
   void Reset();
 
   const ControllerParams& params() const { return p_; }
+  // New gains and limits (a parameter changed over the link); the integrators carry on.
+  void SetParams(const ControllerParams& params) { p_ = params; }
 
  private:
   ControllerParams p_;

@@ -54,6 +54,9 @@ class MissionSource {
 class TaskManager {
  public:
   TaskManager(const TaskParams& params, MissionSource* missions = nullptr);
+  // New settings (a parameter changed over the link): limits apply at once, a follow's or a
+  // path's own settings from its next start.
+  void SetParams(const TaskParams& params) { p_ = params; }
 
   // Handles one command; appends its ACCEPTED/REJECTED (and, for instant ones, COMPLETED)
   // reports to `reports`. A rejected command changes nothing.

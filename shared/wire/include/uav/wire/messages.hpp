@@ -8,6 +8,7 @@
 #include "uav/shared/obstacles.hpp"
 #include "uav/shared/operator_messages.hpp"
 #include "uav/shared/power_lines.hpp"
+#include "uav/shared/parameter_table.hpp"
 #include "uav/shared/pre_arm.hpp"
 #include "uav/shared/sensing.hpp"
 #include "uav/shared/tracking.hpp"
@@ -21,6 +22,7 @@
 #include "uavmsg/obstacles_t.hpp"
 #include "uavmsg/point_cloud_t.hpp"
 #include "uavmsg/power_lines_t.hpp"
+#include "uavmsg/param_table_t.hpp"
 #include "uavmsg/pre_arm_t.hpp"
 #include "uavmsg/sensing_t.hpp"
 #include "uavmsg/track_status_t.hpp"
@@ -82,6 +84,12 @@ uavmsg::sensing_t ToMessage(const SensingReport& r);
 // failing check without a reason).
 PreArmReport FromMessage(const uavmsg::pre_arm_t& m);
 uavmsg::pre_arm_t ToMessage(const PreArmReport& r);
+
+// The parameter table (uav/shared/parameter_table.hpp)
+// Throws std::invalid_argument naming what is wrong (a count that disagrees, a nameless
+// parameter, a value outside its limits or not finite, an unknown apply).
+ParameterTable FromMessage(const uavmsg::param_table_t& m);
+uavmsg::param_table_t ToMessage(const ParameterTable& t);
 
 // Tracking: the selection and the tracker's status (uav/shared/tracking.hpp)
 // Throws std::invalid_argument naming the first non-finite or out-of-range field.

@@ -52,4 +52,10 @@ struct Report<PreArmReport> {
   static constexpr Topic kTopic{"PRE_ARM"};
 };
 
+template <>
+struct Report<ParameterTable> {
+  using Message = uavmsg::param_table_t;
+  static constexpr Topic kTopic{"PARAMS"};
+};
+
 }  // namespace uav
