@@ -77,6 +77,9 @@ const std::vector<CommandSpec>& CommandSpecs() {
       // GPS fails is what visual odometry is for (thesis ch. 5).
       {CommandId::kGps, "gps", "simulator fault: 0 takes the GPS fix away, 1 gives it back",
        {{"on", 0.0, 1.0, "0 no fix (jammed, indoors), 1 fix", true}}},
+      // QGroundControl's emergency stop, PX4's kill: the last resort when a vehicle flies away or
+      // into people. The GCS asks twice before it sends it.
+      {CommandId::kEmergencyStop, "emergency_stop", "stop the motors at once, in flight too: the vehicle falls", {}},
       // Parameters over the link (as QGroundControl's parameter editor): the vehicle applies the
       // value at once where that is safe and answers with the value it now uses.
       {CommandId::kParam, "param", "set vehicle parameter name to value (its unit, within its limits)",

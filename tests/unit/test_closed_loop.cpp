@@ -76,6 +76,7 @@ class ClosedLoop : public ::testing::Test {
     s.AddWorker("SVO", 2, kPeriod, [&](int64_t t) {
       svo_.Tick(t);
       for (const auto& r : board_.task_reports.TakeAll()) {
+        all_reports_.push_back(r);
         if (r.command_seq != seq_ || r.source != "test") continue;  // not a failsafe's own row
         last = r;
         if (r.result == control::AckResult::kCompleted || r.result == control::AckResult::kFailed ||
@@ -140,6 +141,7 @@ class ClosedLoop : public ::testing::Test {
   ControlWorker ctl_;
   ServoWorker svo_;
   int64_t seq_ = 0;
+  std::vector<CommandAck> all_reports_;  // every report, of any command
   std::vector<std::string> pre_arm_refusals_;  // what the checks said before `arm` was accepted
   int64_t start_utime_ = 0;
   double elapsed_s_ = 0.0;
@@ -204,6 +206,35 @@ TEST_F(ClosedLoop, ParameterSetInFlightAppliesAtOnceAndRefusesWhatMayNotChange) 
   EXPECT_EQ(table->version, 2);
   EXPECT_EQ(table->Find("ctl_speed_max_xy")->value, params_.Get("ctl_speed_max_xy"));
   EXPECT_EQ(board_.Snapshot().params_version, 2);
+}
+
+// Emergency stop: refused while the motors are off; in flight it stops them at once (the goto
+// being flown fails, saying why) and the vehicle falls, whatever the failsafes would do.
+TEST_F(ClosedLoop, EmergencyStopStopsTheMotorsInFlightAndIsRefusedOnTheGround) {
+  const CommandAck grounded = FlyOnce("emergency_stop", 1);
+  EXPECT_EQ(grounded.result, control::AckResult::kRejected);
+  EXPECT_EQ(grounded.reason, "already disarmed: the motors are off");
+  ASSERT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  ASSERT_EQ(Fly("takeoff 10", 40).result, control::AckResult::kCompleted);
+  FlyOnce("goto 30 0 10", 2);  // under way
+  const int64_t goto_seq = seq_;
+  const double alt = -TruthPosition().z();
+  EXPECT_GT(alt, 9.0);
+  const CommandAck stop = FlyOnce("emergency_stop", 0.1);
+  EXPECT_EQ(stop.result, control::AckResult::kCompleted);
+  EXPECT_FALSE(board_.Snapshot().armed);
+  EXPECT_EQ(board_.Snapshot().rotor_inputs[0], -1.0);  // idle: the servo outputs off
+  // A fall from 10 m: about 1.4 s in vacuum, longer with drag; on the ground within 3 s.
+  until_ = [&] { return TruthPosition().z() > -0.01; };
+  FlyOnce("", 3.0);
+  until_ = nullptr;
+  EXPECT_GT(TruthPosition().z(), -0.01);
+  EXPECT_GT(elapsed_s_, 1.2);
+  bool failed = false;
+  for (const CommandAck& r : all_reports_)
+    failed |= r.command_seq == goto_seq && r.result == control::AckResult::kFailed &&
+              r.reason.find("emergency stop") != std::string::npos;
+  EXPECT_TRUE(failed);
 }
 
 TEST_F(ClosedLoop, ArmTakeoffGotoLandReachesEachTarget) {

@@ -409,6 +409,37 @@ TEST_F(Panels, ParametersAreSearchedEditedResetSavedAndLoaded) {
   std::filesystem::remove(path);
 }
 
+// Emergency stop: off while the vehicle is disarmed, saying why; armed, the button and the typed
+// command each ask twice before `emergency_stop` goes out, and Cancel withdraws.
+TEST_F(Panels, EmergencyStopAsksTwiceAndIsOffWhileDisarmed) {
+  Frames(2);
+  ASSERT_TRUE(driver_.StartClick("vehicle:UAV2", &err_)) << err_;  // disarmed
+  RunUntilIdle();
+  ASSERT_TRUE(ctx_.widgets.count("button:emergency_stop"));
+  EXPECT_EQ(ctx_.widgets.at("button:emergency_stop").disabled, "disarmed: the motors are off");
+  ASSERT_TRUE(driver_.StartClick("vehicle:UAV1", &err_)) << err_;  // armed
+  RunUntilIdle();
+  EXPECT_EQ(ctx_.widgets.at("button:emergency_stop").disabled, "");
+  ASSERT_TRUE(driver_.StartClick("button:emergency_stop", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_TRUE(driver_.StartClick("emergency_stop:confirm", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_TRUE(model_.commands().sent().empty());  // asked once more
+  ASSERT_TRUE(driver_.StartClick("emergency_stop:cancel", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_FALSE(ctx_.widgets.count("emergency_stop:confirm_again"));
+  ASSERT_TRUE(driver_.StartType("emergency_stop", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_TRUE(model_.commands().sent().empty());
+  ASSERT_TRUE(driver_.StartClick("emergency_stop:confirm", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_TRUE(driver_.StartClick("emergency_stop:confirm_again", &err_)) << err_;
+  RunUntilIdle();
+  ASSERT_EQ(model_.commands().sent().size(), 1u);
+  EXPECT_EQ(model_.commands().sent().back().text, "emergency_stop");
+  EXPECT_EQ(model_.commands().sent().back().vehicle_id, "UAV1");
+}
+
 TEST_F(Panels, LiveMapZoomsAboutTheCursorAndPans) {
   cv::Mat tile(64, 64, CV_8UC3, cv::Scalar(30, 120, 200));
   MapTile t;

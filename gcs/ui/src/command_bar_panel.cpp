@@ -37,6 +37,44 @@ int OnInputEvent(ImGuiInputTextCallbackData* data) {
   return 0;
 }
 
+// Emergency stop (QGroundControl's): a red button, off while the vehicle is disarmed; it asks
+// twice, in red, before `emergency_stop` goes out. Typing the command asks the same way.
+void DrawEmergencyStop(GcsModel& model, UiContext& ctx) {
+  UiState& st = ctx.state;
+  const VehicleModel* v = model.selected();
+  const bool disarmed = !v || !v->armed;
+  if (disarmed) st.emergency_stop_asked = 0;
+  BeginDisabledBecause(ctx, disarmed || model.replay(), model.replay() ? model.commands().refusal() : "disarmed: the motors are off");
+  const ImVec4 red(0.75f, 0.1f, 0.1f, 1), bright(1, 0.3f, 0.3f, 1);
+  ImGui::PushStyleColor(ImGuiCol_Button, red);
+  if (ImGui::Button("EMERGENCY STOP")) st.emergency_stop_asked = 1;
+  RegisterLastItem(ctx, "button:emergency_stop");
+  if (st.emergency_stop_asked == 1) {
+    ImGui::SameLine();
+    ImGui::TextColored(bright, "stop the motors of %s now? It falls.", model.selected_id().c_str());
+    ImGui::SameLine();
+    if (ImGui::Button("Yes, stop the motors")) st.emergency_stop_asked = 2;
+    RegisterLastItem(ctx, "emergency_stop:confirm");
+  } else if (st.emergency_stop_asked == 2) {
+    ImGui::SameLine();
+    ImGui::TextColored(bright, "really? %s will fall from %.0f m.", model.selected_id().c_str(),
+                       v && v->state ? v->state->altitude() : 0.0);
+    ImGui::SameLine();
+    if (ImGui::Button("STOP MOTORS NOW")) {
+      model.SubmitCommand("emergency_stop", ctx.now);
+      st.emergency_stop_asked = 0;
+    }
+    RegisterLastItem(ctx, "emergency_stop:confirm_again");
+  }
+  ImGui::PopStyleColor();
+  if (st.emergency_stop_asked > 0) {
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel##emergency")) st.emergency_stop_asked = 0;
+    RegisterLastItem(ctx, "emergency_stop:cancel");
+  }
+  EndDisabledBecause(ctx);
+}
+
 }  // namespace
 
 void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
@@ -57,7 +95,15 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
       OnInputEvent, &cb);
   RegisterLastItem(ctx, "command");
   if (entered && !model.replay()) {
-    if (model.SubmitCommand(st.command_text, ctx.now)) st.command_text.clear();
+    // A typed emergency stop asks twice, as the button does (disarmed, it goes: the vehicle says so).
+    const ParseResult typed = ParseCommand(st.command_text);
+    const bool ask = typed.ok() && typed.command->id == CommandId::kEmergencyStop && model.selected() && model.selected()->armed;
+    if (ask) {
+      st.emergency_stop_asked = 1;
+      st.command_text.clear();
+    } else if (model.SubmitCommand(st.command_text, ctx.now)) {
+      st.command_text.clear();
+    }
     st.history_pos = -1;
     st.focus_command_bar = true;  // keep typing
   }
@@ -115,6 +161,7 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
     RegisterLastItem(ctx, "cancel");
   }
   EndDisabledBecause(ctx);
+  DrawEmergencyStop(model, ctx);
 
   ImGui::Separator();
   // Acknowledgements of the most recent commands, newest first.

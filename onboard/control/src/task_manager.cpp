@@ -193,6 +193,19 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
     sim_gps_enabled_ = c.args[0] != 0;
     return instant();
   }
+  // Emergency stop: the motors off at once, wherever the vehicle is. Nothing refuses it (not a
+  // failsafe, not the RC switch) but a vehicle whose motors are already off.
+  if (c.id == CommandId::kEmergencyStop) {
+    if (!armed_) return reject("already disarmed: the motors are off");
+    if (active_report_) Finish(AckResult::kFailed, "motors stopped by the operator (emergency stop)", reports);
+    armed_ = false;
+    airborne_ = false;
+    enforced_ = FailsafeAction::kNone;
+    task_ = Task::kIdle;
+    carried_capture_.reset();
+    setpoint_.descent_rate.reset();
+    return instant();
+  }
   // Failsafes first: nothing less strict than what they require is accepted.
   if (required_ == FailsafeAction::kManual && c.id != CommandId::kDisarm)
     return reject("pilot has control (RC fail-safe switch)");

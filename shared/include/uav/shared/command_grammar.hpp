@@ -9,7 +9,8 @@
 
 namespace uav {
 
-enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto, kTrack, kMission, kReturn, kChirp, kFollow, kGps, kParam };
+enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto, kTrack, kMission, kReturn, kChirp, kFollow, kGps, kParam,
+                       kEmergencyStop };
 
 struct ArgumentSpec {
   const char* name;   // e.g. "alt_m"
