@@ -87,8 +87,8 @@ void ControlWorker::SetParameter(const control::CommandRequest& req, const Black
   ack.percent = o.accepted ? 100 : 0;
   ack.reason = o.message;
   reports->push_back(ack);
-  board_.PushStatus(o.accepted ? Severity::kInfo : Severity::kWarning, "parameter " + o.message);
-  if (!o.changed) return;
+  if (!o.changed) return;  // the answer says why; a change is news for every GCS
+  board_.PushStatus(Severity::kInfo, "parameter " + o.message);
   const ParameterSet& p = parameters_->params();
   tasks_.SetParams(control::TaskParams::FromParameters(p));
   controller_.SetParams(control::ControllerParams::FromParameters(p));
