@@ -13,6 +13,8 @@
 #include <imgui.h>
 
 #include "demo_script.hpp"
+#include "uav/gcs/speaker.hpp"
+#include "uav/gcs/spoken_alerts.hpp"
 #include "uav/gcs/gcs_link.hpp"
 #include "uav/gcs/log_replay.hpp"
 #include "uav/wire/bus.hpp"
@@ -79,6 +81,8 @@ int main(int argc, char** argv) {
   cli.add_flag("--headless", headless, "no window: ImGui null backend, same panels");
   cli.add_option("--script", script_path, "run a script of operator steps, exit 0 only if all pass");
   cli.add_flag("--demo", demo, "run the built-in demo flight script")->excludes("--script");
+  bool no_speech = false;
+  cli.add_flag("--no-speech", no_speech, "do not speak warnings and failsafes (spoken with espeak-ng when installed)");
   cli.add_option("--vehicle", vehicle, "vehicle to show first (default: the first one heard)");
   cli.add_option("--layout", layout, "window layout file, kept between runs")->capture_default_str();
   std::string basemap;
@@ -176,6 +180,12 @@ int main(int argc, char** argv) {
                  : uav::gcs::MakeGlfwPlatform(1600, 900, "uav-gcs", layout);
     if (!download_dir.empty()) ctx.state.download_dir = download_dir;
     if (!basemap.empty()) ctx.state.basemap_file = basemap;
+    // Spoken alerts (as QGroundControl's): live only, never in a replay or headless.
+    uav::gcs::Speaker speaker;
+    uav::gcs::SpokenAlerts alerts;
+    ctx.state.speak_alerts = !no_speech && !replaying && !headless;
+    if (replaying || headless) ctx.state.speech_unavailable = replaying ? "a replay is not spoken" : "headless";
+    else if (!speaker.available()) ctx.state.speech_unavailable = "espeak-ng is not installed (Debian: apt-get install espeak-ng)";
     uav::gcs::Platform* p = platform.get();
     uav::gcs::ImGuiScriptDriver driver(
         ctx, p->has_display() ? uav::gcs::ImGuiScriptDriver::ScreenshotFn(
@@ -216,6 +226,8 @@ int main(int argc, char** argv) {
       ImGui::NewFrame();
       uav::gcs::DrawGcs(model, ctx);
       p->Render();
+      for (const std::string& sentence : alerts.Take(model.log(), now))
+        if (ctx.state.speak_alerts && ctx.state.speech_unavailable.empty()) speaker.Say(sentence);
       frame_ms.push_back(1e3 * (Now() - work_start));
       if (runner && !runner->Update(model, driver, Now())) break;
       if (exit_after > 0 && wall - start > exit_after) break;

@@ -7,6 +7,10 @@ namespace uav::gcs {
 
 void DrawMessagesPanel(GcsModel& model, UiContext& ctx) {
   ImGui::Begin("Messages");
+  BeginDisabledBecause(ctx, !ctx.state.speech_unavailable.empty(), ctx.state.speech_unavailable);
+  ImGui::Checkbox("speak warnings", &ctx.state.speak_alerts);
+  RegisterLastItem(ctx, "messages:speak");
+  EndDisabledBecause(ctx);
   ImGui::BeginChild("log");
   // Whole texts, wrapped at the panel's edge: "failsafe land: ... (landing where it is)" must
   // never end at "(landing".

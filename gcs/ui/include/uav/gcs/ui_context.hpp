@@ -25,7 +25,9 @@ struct UiState {
   int history_pos = -1;            // -1: editing a new line
   bool focus_command_bar = false;
   std::string pending_confirmation;  // command text awaiting "Confirm"
-  int emergency_stop_asked = 0;      // emergency stop: 0 not asked, 1 asked once, 2 asked twice
+  int emergency_stop_asked = 0;
+  bool speak_alerts = true;         // warnings and failsafes spoken (uav-gcs --no-speech: off)
+  std::string speech_unavailable;   // why they cannot be ("" : they can)      // emergency stop: 0 not asked, 1 asked once, 2 asked twice
   std::string signal_filter;
   std::string plot_csv_file = "plot.csv";
   // CSV export range [s of plot time]; empty: that end of the visible window.
