@@ -62,6 +62,8 @@ const std::vector<CommandSpec>& CommandSpecs() {
       {CommandId::kTrack, "track", "fly stored path N (waypoints/paths/track_N.waypoints)",
        {{"N", 1.0, 99.0, "paths are numbered 1 to 99", true}}},
       {CommandId::kMission, "mission", "fly the mission uploaded from the GCS", {}},
+      {CommandId::kResume, "resume",
+       "fly the interrupted mission on from where it stopped (a survey from the start of the capture leg it was on)", {}},
       {CommandId::kReturn, "return", "fly home at a safe altitude and land", {}},
       {CommandId::kFollow, "follow", "keep the tracked target centred from a set distance and height (hover stops)", {}},
       // System identification (thesis 2.4.5): a linear chirp (Eq. 2.14) added to one servo

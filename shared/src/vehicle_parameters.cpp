@@ -174,7 +174,7 @@ const ParameterSchema& VehicleParameterSchema() {
     {"fs_battery_land", "-", 0.10, 0.01, 0.5, "battery remaining below this: land where it is"},
     {"fs_fence_radius", "m", 500, 10, 5000, "geofence: horizontal distance from home"},
     {"fs_fence_alt", "m", 120, 5, 500, "geofence: altitude above home (legal ceiling)"},
-    {"fs_fence_action", "-", 2, 1, 2, "on a fence breach: 1 hold, 2 return home"},
+    {"fs_fence_action", "-", 2, 1, 3, "on a fence breach (the circle, the ceiling, the uploaded zones): 1 hold, 2 return (to the nearest rally point, else home), 3 land"},
     {"task_stall_time", "s", 60.0, 5, 600, "a path task that makes no progress this long fails and holds"},
     {"task_landed_alt", "m", 0.15, 0.01, 1, "landed when below this altitude ..."},
     {"task_landed_time", "s", 0.5, 0.1, 10, "... and still for this long"},

@@ -387,6 +387,160 @@ TEST_F(ClosedLoop, SurveyMissionFromTheGroundCapturesOnTheLinesAndLandsHome) {
               elapsed_s_, plan.lines, worst_cross, mean_speed);
 }
 
+// A mission of every simple item the editor makes: a waypoint held for 3 s, a loiter of 4 s at
+// another point, one photo there, and a landing at a third point.
+TEST_F(ClosedLoop, MixedMissionHoldsLoitersTakesOnePhotoAndLandsAtItsPoint) {
+  const LocalNedFrame frame(kHome);
+  waypoints::Mission m;
+  m.home = kHome;
+  m.cruise_speed_m_s = 3.0;
+  auto item = [&](int command, std::array<double, 4> param, const Eigen::Vector3d& p_N) {
+    waypoints::MissionItem it;
+    it.command = command;
+    it.param = param;
+    const GeodeticPoint g = frame.ToGeodetic(Eigen::Vector3d(p_N.x(), p_N.y(), 0));
+    it.latitude_deg = g.latitude_deg, it.longitude_deg = g.longitude_deg, it.altitude_m = -p_N.z();
+    if (command == waypoints::mav_cmd::kImageStartCapture) it.frame = waypoints::mav_frame::kMission, it.latitude_deg = it.longitude_deg = it.altitude_m = 0;
+    m.items.push_back(it);
+  };
+  const double nan = std::nan("");
+  item(waypoints::mav_cmd::kNavTakeoff, {0, 0, 0, nan}, Eigen::Vector3d(0, 0, -8));
+  item(waypoints::mav_cmd::kNavWaypoint, {3, 0, 0, nan}, Eigen::Vector3d(12, 0, -8));
+  item(waypoints::mav_cmd::kNavLoiterTime, {4, 0, 0, nan}, Eigen::Vector3d(12, 10, -10));
+  item(waypoints::mav_cmd::kImageStartCapture, {0, 0, 1, 0}, Eigen::Vector3d::Zero());
+  item(waypoints::mav_cmd::kNavLand, {0, 0, 0, nan}, Eigen::Vector3d(4, 6, 0));
+  ASSERT_EQ(missions_.AcceptUpload(m), "");
+  // Time spent still (under 0.2 m/s) near each point, and the camera's on-time.
+  double at_wp = 0, at_loiter = 0, camera_on = 0;
+  Eigen::Vector3d camera_at = Eigen::Vector3d::Constant(nan);
+  on_step_ = [&] {
+    const auto d = board_.Snapshot();
+    const double dt = kPeriod * 1e-6;
+    const bool still = d.estimate.v_N.norm() < 0.2;
+    if (still && (d.estimate.p_N - Eigen::Vector3d(12, 0, -8)).norm() < 0.5) at_wp += dt;
+    if (still && (d.estimate.p_N - Eigen::Vector3d(12, 10, -10)).norm() < 0.5) at_loiter += dt;
+    if (d.capture_interval_s) camera_on += dt, camera_at = d.estimate.p_N;
+  };
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  const auto last = Fly("mission", 150);
+  on_step_ = nullptr;
+  EXPECT_EQ(last.result, control::AckResult::kCompleted) << last.reason;
+  EXPECT_GE(at_wp, 3.0);
+  EXPECT_LT(at_wp, 5.0);
+  EXPECT_GE(at_loiter, 4.0);
+  EXPECT_LT(at_loiter, 6.0);
+  // The camera was on for the photo's half second, at the loiter point, and only then.
+  EXPECT_NEAR(camera_on, 0.5, 0.05);
+  EXPECT_LT((camera_at - Eigen::Vector3d(12, 10, -10)).norm(), 0.5);
+  EXPECT_LT((TruthPosition().head<2>() - Eigen::Vector2d(4, 6)).norm(), NavBoundH());
+  EXPECT_NEAR(TruthPosition().z(), 0.0, 1e-9);
+  EXPECT_FALSE(board_.Snapshot().armed);
+  std::printf("mixed mission: %.1f s; still %.1f s at the waypoint (hold 3 s), %.1f s at the loiter (4 s); camera on %.2f s\n",
+              elapsed_s_, at_wp, at_loiter, camera_on);
+}
+
+// The geofence uploaded with a mission: a goto into its exclusion zone is refused with the
+// reason; a mission leg across the zone breaches it, and the return (fs_fence_action 2) goes to
+// the rally point and lands there.
+TEST_F(ClosedLoop, UploadedExclusionZoneRefusesGotoAndABreachReturnsToTheRallyPoint) {
+  const LocalNedFrame frame(kHome);
+  waypoints::Mission m;
+  m.home = kHome;
+  m.cruise_speed_m_s = 3.0;
+  auto item = [&](int command, int mav_frame, std::array<double, 4> param, const Eigen::Vector3d& p_N) {
+    waypoints::MissionItem it;
+    it.command = command, it.frame = mav_frame, it.param = param;
+    const GeodeticPoint g = frame.ToGeodetic(Eigen::Vector3d(p_N.x(), p_N.y(), 0));
+    it.latitude_deg = g.latitude_deg, it.longitude_deg = g.longitude_deg, it.altitude_m = -p_N.z();
+    m.items.push_back(it);
+  };
+  const double nan = std::nan("");
+  item(waypoints::mav_cmd::kNavTakeoff, waypoints::mav_frame::kGlobalRelativeAlt, {0, 0, 0, nan}, Eigen::Vector3d(0, 0, -8));
+  item(waypoints::mav_cmd::kNavWaypoint, waypoints::mav_frame::kGlobalRelativeAlt, {0, 0, 0, nan}, Eigen::Vector3d(40, 0, -8));
+  // The exclusion zone: 10 m x 10 m across the leg, 15..25 m north.
+  for (const Eigen::Vector2d& v : {Eigen::Vector2d(15, -5), Eigen::Vector2d(25, -5), Eigen::Vector2d(25, 5), Eigen::Vector2d(15, 5)})
+    item(waypoints::mav_cmd::kNavFencePolygonVertexExclusion, waypoints::mav_frame::kGlobalRelativeAlt, {4, 0, 0, 0},
+         Eigen::Vector3d(v.x(), v.y(), 0));
+  item(waypoints::mav_cmd::kNavRallyPoint, waypoints::mav_frame::kGlobalRelativeAlt, {0, 0, 0, 0}, Eigen::Vector3d(-10, 10, -8));
+  ASSERT_EQ(missions_.AcceptUpload(m), "");
+
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  EXPECT_EQ(Fly("takeoff 8", 40).result, control::AckResult::kCompleted);
+  const auto refused = Fly("goto 20 0 8", 1);
+  EXPECT_EQ(refused.result, control::AckResult::kRejected);
+  EXPECT_NE(refused.reason.find("inside exclusion zone 1"), std::string::npos) << refused.reason;
+  EXPECT_EQ(Fly("goto 0 0 8", 30).result, control::AckResult::kCompleted);
+  // The mission's leg crosses the zone: the fence stops it and the vehicle returns to the rally point.
+  double deepest = 0;  // [m] into the zone
+  on_step_ = [&] {
+    const Eigen::Vector3d p = board_.Snapshot().estimate.p_N;
+    if (std::abs(p.y()) < 5) deepest = std::max(deepest, p.x() - 15);
+  };
+  const auto mission = Fly("mission", 60);
+  EXPECT_EQ(mission.result, control::AckResult::kFailed);
+  EXPECT_NE(mission.reason.find("inside exclusion zone 1"), std::string::npos) << mission.reason;
+  until_ = [&] { return !board_.Snapshot().armed; };
+  Fly("", 120);
+  on_step_ = nullptr;
+  until_ = nullptr;
+  EXPECT_LT(deepest, 3.0);  // braked within a few metres of the zone's edge
+  EXPECT_LT((TruthPosition().head<2>() - Eigen::Vector2d(-10, 10)).norm(), NavBoundH());
+  EXPECT_NEAR(TruthPosition().z(), 0.0, 1e-9);
+  std::printf("geofence: %.1f m into the exclusion zone at most; landed %.1f m from the rally point\n", std::max(deepest, 0.0),
+              (TruthPosition().head<2>() - Eigen::Vector2d(-10, 10)).norm());
+}
+
+// Mission resume (QGroundControl's "resume mission"): a survey stopped by a return in the middle
+// of a capture leg goes on, after landing and arming again, from that leg's first point.
+TEST_F(ClosedLoop, ResumeAfterAReturnFliesTheInterruptedLegWholeAndTheRest) {
+  waypoints::SurveyParams p;
+  waypoints::SurveyPlan plan;
+  ASSERT_NO_FATAL_FAILURE(UploadFieldSurvey(&p, &plan));
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  const auto nothing = Fly("resume", 1);
+  EXPECT_EQ(nothing.result, control::AckResult::kRejected);
+  EXPECT_NE(nothing.reason.find("nothing to resume"), std::string::npos) << nothing.reason;
+  // Capture legs are counted as the camera comes on; stop 2 s into the third.
+  int legs = 0;
+  bool was_on = false;
+  std::vector<Eigen::Vector3d> leg_starts;
+  on_step_ = [&] {
+    const auto d = board_.Snapshot();
+    const bool on = d.capture_interval_s.has_value();
+    if (on && !was_on) ++legs, leg_starts.push_back(d.estimate.p_N);
+    was_on = on;
+  };
+  double third_on_at = -1;
+  until_ = [&] {
+    if (legs == 3 && third_on_at < 0) third_on_at = vehicle_.utime() * 1e-6;
+    return third_on_at > 0 && vehicle_.utime() * 1e-6 > third_on_at + 2.0;
+  };
+  Fly("mission", 200);
+  until_ = nullptr;
+  ASSERT_EQ(legs, 3);
+  const Eigen::Vector3d third_start = leg_starts[2];
+  EXPECT_EQ(Fly("return", 150).result, control::AckResult::kCompleted);
+  EXPECT_FALSE(board_.Snapshot().armed);
+  // Arm again and resume: take off, fly to the third leg's start, photograph it whole, go on.
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  leg_starts.clear();
+  legs = 0;
+  was_on = false;
+  const auto resumed = Fly("resume", 400);
+  on_step_ = nullptr;
+  EXPECT_EQ(resumed.result, control::AckResult::kCompleted) << resumed.reason;
+  ASSERT_FALSE(leg_starts.empty());
+  EXPECT_LT((leg_starts[0] - third_start).norm(), 1.0);  // the camera comes on where the leg begins
+  int total_legs = 0;
+  for (const auto& w : plan.waypoints) total_legs += w.kind == waypoints::SurveyWaypoint::Kind::kCaptureStart;
+  EXPECT_EQ(legs, total_legs - 2);  // the two finished legs are not flown again
+  EXPECT_LT(EstimatedPosition().head<2>().norm(), 0.5);  // the mission's return: home
+  // Completed: nothing is left to resume.
+  EXPECT_EQ(Fly("resume", 1).result, control::AckResult::kRejected);
+  std::printf("resume: third leg began at (%.1f, %.1f), resumed leg at (%.1f, %.1f); %d of %d legs after the resume\n",
+              third_start.x(), third_start.y(), leg_starts[0].x(), leg_starts[0].y(), legs, total_legs);
+}
+
 // ---- Failsafes in closed loop (the integration over LCM is integration.link_loss).
 
 TEST_F(ClosedLoop, LinkLossHoldsAtFiveSecondsThenReturnsHomeAndLands) {

@@ -227,9 +227,9 @@ TEST_F(Enforcement, NoDowngradeWhenTheFailsafeClearsAndCommandsThatDoLessAreRefu
 
 TEST_F(Enforcement, GeofenceTargetsAreRefusedBeforeAnythingMoves) {
   EXPECT_EQ(Run("goto 499 0 10").result, AckResult::kAccepted);
-  const CommandAck r = Run("goto 400 301 10");  // 500.2 m from home
+  const CommandAck r = Run("goto 400 301 10");  // 500.6 m from home
   EXPECT_EQ(r.result, AckResult::kRejected);
-  EXPECT_EQ(r.reason, "target is outside the geofence");
+  EXPECT_EQ(r.reason, "target is outside the geofence: 500.6 m from home, beyond the 500 m circle");
 }
 
 TEST_F(Enforcement, PilotOverrideRefusesAutopilotCommands) {

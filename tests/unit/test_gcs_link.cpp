@@ -241,7 +241,7 @@ TEST_F(LinkTest, MissionUploadGoesOutAndItsAcknowledgementComesBack) {
   planner.AddVertex({60, 0});
   planner.AddVertex({60, 60});
   planner.AddVertex({0, 60});
-  ASSERT_TRUE(model_.UploadSurvey(now_)) << model_.missions().error();
+  ASSERT_TRUE(model_.UploadMission(now_)) << model_.missions().error();
   std::vector<uavmsg::mission_upload_t> chunks;
   bus_.Subscribe<uavmsg::mission_upload_t>("UAV1/MISSION_UPLOAD", [&](const std::string&, const uavmsg::mission_upload_t& m) { chunks.push_back(m); });
   waypoints::MissionAssembler assembler;

@@ -1,5 +1,7 @@
 // Mission files: round trips keep the mission; every malformed case is rejected with a message
 // that names the field or line; nothing is half-loaded or half-written.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -28,6 +30,8 @@ Mission SurveyMission(bool by_distance) {
   return MissionFromSurvey(area, kHome, p, PlanSurvey(area, kHome, p));
 }
 
+void ExpectSameSurvey(const SurveyDefinition& a, const SurveyDefinition& b);
+
 void ExpectSameMission(const Mission& a, const Mission& b, bool with_survey) {
   EXPECT_EQ(a.home.latitude_deg, b.home.latitude_deg);
   EXPECT_EQ(a.home.longitude_deg, b.home.longitude_deg);
@@ -35,15 +39,19 @@ void ExpectSameMission(const Mission& a, const Mission& b, bool with_survey) {
   ASSERT_EQ(a.items.size(), b.items.size());
   for (std::size_t i = 0; i < a.items.size(); ++i) EXPECT_TRUE(a.items[i] == b.items[i]) << "item " << i;
   if (!with_survey) return;
-  ASSERT_TRUE(a.survey && b.survey);
-  EXPECT_EQ(a.survey->first_item, b.survey->first_item);
-  EXPECT_EQ(a.survey->item_count, b.survey->item_count);
-  ASSERT_EQ(a.survey->polygon.size(), b.survey->polygon.size());
-  for (std::size_t i = 0; i < a.survey->polygon.size(); ++i) {
-    EXPECT_EQ(a.survey->polygon[i].latitude_deg, b.survey->polygon[i].latitude_deg);
-    EXPECT_EQ(a.survey->polygon[i].longitude_deg, b.survey->polygon[i].longitude_deg);
+  ASSERT_EQ(a.surveys.size(), b.surveys.size());
+  for (std::size_t k = 0; k < a.surveys.size(); ++k) ExpectSameSurvey(a.surveys[k], b.surveys[k]);
+}
+
+void ExpectSameSurvey(const SurveyDefinition& a, const SurveyDefinition& b) {
+  EXPECT_EQ(a.first_item, b.first_item);
+  EXPECT_EQ(a.item_count, b.item_count);
+  ASSERT_EQ(a.polygon.size(), b.polygon.size());
+  for (std::size_t i = 0; i < a.polygon.size(); ++i) {
+    EXPECT_EQ(a.polygon[i].latitude_deg, b.polygon[i].latitude_deg);
+    EXPECT_EQ(a.polygon[i].longitude_deg, b.polygon[i].longitude_deg);
   }
-  const SurveyParams &p = a.survey->params, &q = b.survey->params;
+  const SurveyParams &p = a.params, &q = b.params;
   EXPECT_EQ(p.altitude_m, q.altitude_m);
   EXPECT_NEAR(p.front_overlap, q.front_overlap, 1e-12);
   EXPECT_NEAR(p.side_overlap, q.side_overlap, 1e-12);
@@ -81,7 +89,7 @@ TEST(MissionFile, WplRoundTripKeepsTheItems) {
   const Mission m = SurveyMission(true);
   const Mission back = ParseWpl(FormatWpl(m), "test.waypoints");
   ExpectSameMission(m, back, false);
-  EXPECT_FALSE(back.survey.has_value());
+  EXPECT_TRUE(back.surveys.empty());
   EXPECT_EQ(FormatWpl(back), FormatWpl(m));
 }
 
@@ -263,6 +271,137 @@ TEST(CompileMission, RejectsWhatTheVehicleCannotFly) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("item 2 (command 183): this vehicle cannot fly it"), std::string::npos) << e.what();
   }
+}
+
+// Every item type the editor makes, mixed with two surveys: take off, a waypoint with a hold, a
+// loiter, a photo, the first survey, a speed change, a waypoint, the second survey, a land.
+Mission MixedMission() {
+  Mission a = SurveyMission(false), b = SurveyMission(true);
+  Mission m;
+  m.home = kHome;
+  m.cruise_speed_m_s = 3.0;
+  const double nan = std::nan("");
+  auto item = [&](int command, int frame, std::array<double, 4> param, double lat, double lon, double alt) {
+    MissionItem it;
+    it.command = command, it.frame = frame, it.param = param;
+    it.latitude_deg = lat, it.longitude_deg = lon, it.altitude_m = alt;
+    m.items.push_back(it);
+  };
+  item(mav_cmd::kNavTakeoff, mav_frame::kGlobalRelativeAlt, {0, 0, 0, nan}, kHome.latitude_deg, kHome.longitude_deg, 12);
+  item(mav_cmd::kNavWaypoint, mav_frame::kGlobalRelativeAlt, {4, 0, 0, nan}, 1.2967, 103.7765, 12);
+  item(mav_cmd::kNavLoiterTime, mav_frame::kGlobalRelativeAlt, {6, 0, 0, nan}, 1.2968, 103.7765, 15);
+  item(mav_cmd::kImageStartCapture, mav_frame::kMission, {0, 0, 1, 0}, 0, 0, 0);
+  for (const Mission* s : {&a, &b}) {
+    SurveyDefinition def = s->surveys.at(0);
+    const std::size_t from = def.first_item;
+    def.first_item = m.items.size();
+    m.items.insert(m.items.end(), s->items.begin() + from, s->items.begin() + from + def.item_count);
+    m.surveys.push_back(def);
+    if (s == &a) {
+      item(mav_cmd::kDoChangeSpeed, mav_frame::kMission, {1, 2.5, -1, 0}, 0, 0, 0);
+      item(mav_cmd::kNavWaypoint, mav_frame::kGlobalRelativeAlt, {0, 0, 0, nan}, 1.2970, 103.7770, 25);
+    }
+  }
+  item(mav_cmd::kNavLand, mav_frame::kGlobalRelativeAlt, {0, 0, 0, nan}, 1.2966, 103.7765, 0);
+  ValidateMission(m);
+  return m;
+}
+
+TEST(MissionFile, MixedMissionRoundTripsThroughPlanAndWpl) {
+  const Mission m = MixedMission();
+  const Mission plan = ParsePlan(FormatPlan(m), "mixed.plan");
+  ExpectSameMission(m, plan, true);
+  EXPECT_EQ(plan.surveys.size(), 2u);
+  EXPECT_EQ(FormatPlan(plan), FormatPlan(m));
+  // QGroundControl's shape: simple items around two ComplexItem surveys.
+  const auto j = nlohmann::json::parse(FormatPlan(m));
+  std::vector<std::string> types;
+  for (const auto& it : j["mission"]["items"]) types.push_back(it["type"]);
+  ASSERT_EQ(types.size(), 9u);
+  EXPECT_EQ(types[4], "ComplexItem");
+  EXPECT_EQ(types[7], "ComplexItem");
+  EXPECT_EQ(std::count(types.begin(), types.end(), "SimpleItem"), 7);
+  const Mission wpl = ParseWpl(FormatWpl(m), "mixed.waypoints");
+  ExpectSameMission(m, wpl, false);
+  EXPECT_EQ(FormatWpl(wpl), FormatWpl(m));
+}
+
+TEST(CompileMission, HoldsLoitersAndTakesOnePhoto) {
+  const Mission m = MixedMission();
+  LocalNedFrame frame(kHome);
+  const auto steps = CompileMission(m, frame, 3.0);
+  using Kind = MissionStep::Kind;
+  auto of_item = [&](std::size_t item) {
+    std::vector<MissionStep> r;
+    for (const auto& s : steps) if (s.item == item && !(s.kind == Kind::kSetSpeed && item == 0 && &s == &steps[0])) r.push_back(s);
+    return r;
+  };
+  const auto wp = of_item(1);
+  ASSERT_EQ(wp.size(), 2u);
+  EXPECT_EQ(wp[0].kind, Kind::kWaypoint);
+  EXPECT_EQ(wp[1].kind, Kind::kHold);
+  EXPECT_EQ(wp[1].value, 4.0);
+  const auto loiter = of_item(2);
+  ASSERT_EQ(loiter.size(), 2u);
+  EXPECT_EQ(loiter[0].kind, Kind::kWaypoint);
+  EXPECT_NEAR(-loiter[0].p_N.z(), 15.0, 1e-9);
+  EXPECT_EQ(loiter[1].kind, Kind::kHold);
+  EXPECT_EQ(loiter[1].value, 6.0);
+  // One photo: the camera on at one a second for half a second, then off.
+  const auto photo = of_item(3);
+  ASSERT_EQ(photo.size(), 3u);
+  EXPECT_EQ(photo[0].kind, Kind::kCaptureStart);
+  EXPECT_EQ(photo[1].kind, Kind::kHold);
+  EXPECT_EQ(photo[2].kind, Kind::kCaptureStop);
+  EXPECT_LT(photo[1].value, photo[0].value);
+  EXPECT_EQ(steps.back().kind, Kind::kLand);
+  // A hold time out of range is refused naming the item.
+  Mission bad = m;
+  bad.items[1].param[0] = -1;
+  try {
+    CompileMission(bad, frame, 3.0);
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("item 1 (NAV_WAYPOINT): param1 (hold time)"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ResumeSteps, StartsAtTheInterruptedStepOrItsCaptureLegWithTheSettingsInForce) {
+  const Mission m = SurveyMission(false);
+  LocalNedFrame frame(kHome);
+  const auto steps = CompileMission(m, frame, 3.0);
+  using Kind = MissionStep::Kind;
+  // The end point of the third capture leg: the camera is on while the vehicle flies to it.
+  std::vector<std::size_t> starts;
+  for (std::size_t i = 0; i < steps.size(); ++i)
+    if (steps[i].kind == Kind::kCaptureStart) starts.push_back(i);
+  ASSERT_GE(starts.size(), 3u);
+  const std::size_t leg_end = starts[2] + 1, leg_start = starts[2] - 1;
+  ASSERT_EQ(steps[leg_end].kind, Kind::kWaypoint);
+  ASSERT_EQ(steps[leg_start].kind, Kind::kWaypoint);
+  ASSERT_TRUE(CaptureBefore(steps, leg_end).has_value());
+
+  // In the air: the speed in force, then the leg from its first point with the camera off there.
+  const auto air = ResumeSteps(steps, leg_end, true);
+  ASSERT_GE(air.steps.size(), 2u);
+  EXPECT_EQ(air.first, leg_start);
+  EXPECT_EQ(air.prefix, 1u);
+  EXPECT_EQ(air.steps[0].kind, Kind::kSetSpeed);
+  EXPECT_EQ(air.steps[1].item, steps[leg_start].item);
+  EXPECT_EQ(air.steps[1].kind, Kind::kWaypoint);
+  EXPECT_FALSE(CaptureBefore(air.steps, 2).has_value());
+  EXPECT_EQ(air.steps.size(), 1 + steps.size() - leg_start);
+  // On the ground (after a return): a take-off to the mission's altitude first.
+  const auto ground = ResumeSteps(steps, leg_end, false);
+  ASSERT_EQ(ground.steps[0].kind, Kind::kTakeoff);
+  EXPECT_NEAR(ground.steps[0].altitude_m, steps[1].altitude_m, 1e-9);
+  EXPECT_EQ(ground.steps.size(), air.steps.size() + 1);
+  EXPECT_EQ(ground.prefix, 2u);
+  // Between legs (flying to a leg's first point) it resumes exactly there, camera off.
+  const auto between = ResumeSteps(steps, leg_start, true);
+  EXPECT_EQ(between.first, leg_start);
+  EXPECT_EQ(between.steps[1].item, steps[leg_start].item);
+  EXPECT_THROW(ResumeSteps(steps, steps.size(), true), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "uav/waypoints/mission.hpp"
 
+#include "uav/waypoints/geofence.hpp"
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -11,8 +13,13 @@ bool SameNumber(double a, double b) { return a == b || (std::isnan(a) && std::is
 
 bool HasPosition(const MissionItem& it) {
   return it.command == mav_cmd::kNavWaypoint || it.command == mav_cmd::kNavTakeoff ||
-         it.command == mav_cmd::kNavLand;
+         it.command == mav_cmd::kNavLand || it.command == mav_cmd::kNavLoiterTime || IsFenceItem(it.command) ||
+         IsRallyItem(it.command);
 }
+
+// A single photo is taken by the camera on at one frame a second while the vehicle holds still
+// for half a second: exactly one frame is due in that time.
+constexpr double kPhotoInterval_s = 1.0, kPhotoHold_s = 0.5;
 
 std::string ItemName(std::size_t i, const MissionItem& it) {
   std::ostringstream s;
@@ -47,6 +54,7 @@ bool MissionItem::operator==(const MissionItem& o) const {
 const char* CommandName(int command) {
   switch (command) {
     case mav_cmd::kNavWaypoint: return "NAV_WAYPOINT";
+    case mav_cmd::kNavLoiterTime: return "NAV_LOITER_TIME";
     case mav_cmd::kNavReturnToLaunch: return "NAV_RETURN_TO_LAUNCH";
     case mav_cmd::kNavLand: return "NAV_LAND";
     case mav_cmd::kNavTakeoff: return "NAV_TAKEOFF";
@@ -54,6 +62,11 @@ const char* CommandName(int command) {
     case mav_cmd::kDoSetCamTriggDist: return "DO_SET_CAM_TRIGG_DIST";
     case mav_cmd::kImageStartCapture: return "IMAGE_START_CAPTURE";
     case mav_cmd::kImageStopCapture: return "IMAGE_STOP_CAPTURE";
+    case mav_cmd::kNavFencePolygonVertexInclusion: return "NAV_FENCE_POLYGON_VERTEX_INCLUSION";
+    case mav_cmd::kNavFencePolygonVertexExclusion: return "NAV_FENCE_POLYGON_VERTEX_EXCLUSION";
+    case mav_cmd::kNavFenceCircleInclusion: return "NAV_FENCE_CIRCLE_INCLUSION";
+    case mav_cmd::kNavFenceCircleExclusion: return "NAV_FENCE_CIRCLE_EXCLUSION";
+    case mav_cmd::kNavRallyPoint: return "NAV_RALLY_POINT";
     default: return "";
   }
 }
@@ -72,6 +85,10 @@ void ValidateMissionItem(const MissionItem& it, const GeodeticPoint& home, const
       Fail(where, "param1 (trigger distance) = " + Num(it.param[0]) + " m is outside [0, 1000]");
     if (it.command == mav_cmd::kImageStartCapture && (!std::isfinite(it.param[1]) || it.param[1] < 0 || it.param[1] > 3600))
       Fail(where, "param2 (interval) = " + Num(it.param[1]) + " s is outside [0, 3600]");
+    // Hold times: NaN is "none" (QGroundControl writes null for unused parameters).
+    if ((it.command == mav_cmd::kNavWaypoint || it.command == mav_cmd::kNavLoiterTime) && !std::isnan(it.param[0]) &&
+        (it.param[0] < 0 || it.param[0] > 3600))
+      Fail(where, "param1 (hold time) = " + Num(it.param[0]) + " s is outside [0, 3600]");
     if (!HasPosition(it)) return;
     if (it.frame == mav_frame::kMission) Fail(where, "a position item needs frame 0 or 3, not 2");
     if (!std::isfinite(it.latitude_deg) || std::abs(it.latitude_deg) > 90)
@@ -79,7 +96,7 @@ void ValidateMissionItem(const MissionItem& it, const GeodeticPoint& home, const
     if (!std::isfinite(it.longitude_deg) || std::abs(it.longitude_deg) > 180)
       Fail(where, "longitude = " + Num(it.longitude_deg) + " is outside [-180, 180]");
     if (!std::isfinite(it.altitude_m)) Fail(where, "altitude is not a finite number");
-    if (it.command != mav_cmd::kNavLand) {
+    if (it.command != mav_cmd::kNavLand && !IsFenceItem(it.command)) {
       const double above_home = it.frame == mav_frame::kGlobal ? it.altitude_m - home.altitude_m : it.altitude_m;
       if (above_home < 0 || above_home > kMaxSurveyAltitude_m)
         Fail(where, "altitude = " + Num(it.altitude_m) + " m is " + Num(above_home) +
@@ -100,12 +117,18 @@ void ValidateMission(const Mission& m) {
     Fail("mission", "has " + std::to_string(m.items.size()) + " items, more than " +
                         std::to_string(kMaxMissionItems));
   for (std::size_t i = 0; i < m.items.size(); ++i) ValidateMissionItem(m.items[i], m.home, ItemName(i, m.items[i]));
-  if (m.survey) {
-    const SurveyDefinition& s = *m.survey;
-    if (s.item_count == 0 || s.first_item + s.item_count > m.items.size())
+  try {
+    CompileGeofence(m, LocalNedFrame(m.home));
+  } catch (const std::invalid_argument& e) {
+    Fail("geofence", e.what());
+  }
+  std::size_t free_from = 0;  // surveys in item order, not overlapping
+  for (const SurveyDefinition& s : m.surveys) {
+    if (s.item_count == 0 || s.first_item < free_from || s.first_item + s.item_count > m.items.size())
       Fail("survey", "its items [" + std::to_string(s.first_item) + ", " +
                          std::to_string(s.first_item + s.item_count) + ") are not within the mission's " +
-                         std::to_string(m.items.size()) + " items");
+                         std::to_string(m.items.size()) + " items after the previous survey's");
+    free_from = s.first_item + s.item_count;
     try {
       LocalNedFrame frame(m.home);
       ValidatePolygon(PolygonToNed(s.polygon, frame));
@@ -156,7 +179,7 @@ Mission MissionFromSurvey(const std::vector<GeodeticPoint>& area, const Geodetic
     }
   }
   def.item_count = m.items.size() - def.first_item;
-  m.survey = def;
+  m.surveys.push_back(def);
   add(mav_cmd::kNavReturnToLaunch, mav_frame::kMission, {0, 0, 0, 0}, 0, 0, 0);
   ValidateMission(m);
   return m;
@@ -182,13 +205,32 @@ std::vector<MissionStep> CompileMission(const Mission& m, const LocalNedFrame& h
       p.z() = -above_home;
       return p;
     };
+    auto hold = [&](double seconds) {
+      MissionStep h{MissionStep::Kind::kHold};
+      h.item = i;
+      h.value = seconds;
+      steps.push_back(h);
+    };
+    if (IsFenceItem(it.command) || IsRallyItem(it.command)) continue;  // CompileGeofence's
     switch (it.command) {
       case mav_cmd::kNavWaypoint:
         s.p_N = position();
         s.yaw_rad = std::isnan(it.param[3]) ? std::nan("") : it.param[3] * M_PI / 180.0;
         if (s.p_N.head<2>().norm() > 20000.0)
           Fail(ItemName(i, it), "is " + Num(s.p_N.head<2>().norm() / 1000.0) + " km from home (limit 20 km)");
-        break;
+        steps.push_back(s);
+        if (it.param[0] > 0) hold(it.param[0]);
+        continue;
+      case mav_cmd::kNavLoiterTime:  // at its point, or here (latitude/longitude 0)
+        if (!here) {
+          s.p_N = position();
+          s.yaw_rad = std::nan("");
+          if (s.p_N.head<2>().norm() > 20000.0)
+            Fail(ItemName(i, it), "is " + Num(s.p_N.head<2>().norm() / 1000.0) + " km from home (limit 20 km)");
+          steps.push_back(s);
+        }
+        hold(std::isnan(it.param[0]) ? 0.0 : it.param[0]);
+        continue;
       case mav_cmd::kNavTakeoff:
         s.kind = MissionStep::Kind::kTakeoff;
         s.altitude_m = it.frame == mav_frame::kGlobal ? it.altitude_m - m.home.altitude_m : it.altitude_m;
@@ -214,20 +256,89 @@ std::vector<MissionStep> CompileMission(const Mission& m, const LocalNedFrame& h
         break;
       case mav_cmd::kImageStartCapture:
         s.kind = MissionStep::Kind::kCaptureStart;
-        if (!(it.param[1] > 0)) Fail(ItemName(i, it), "param2 (interval) must be positive to capture");
+        if (IsSinglePhoto(it)) {
+          s.value = kPhotoInterval_s;
+          steps.push_back(s);
+          hold(kPhotoHold_s);
+          s.kind = MissionStep::Kind::kCaptureStop;
+          break;
+        }
+        if (!(it.param[1] > 0)) Fail(ItemName(i, it), "param2 (interval) must be positive to capture (or param3 = 1 for one photo)");
         s.value = it.param[1];
         break;
       case mav_cmd::kImageStopCapture:
         s.kind = MissionStep::Kind::kCaptureStop;
         break;
       default:
-        Fail(ItemName(i, it), "this vehicle cannot fly it (supported: NAV_WAYPOINT, NAV_TAKEOFF, NAV_LAND, "
-                              "NAV_RETURN_TO_LAUNCH, DO_CHANGE_SPEED, DO_SET_CAM_TRIGG_DIST, "
+        Fail(ItemName(i, it), "this vehicle cannot fly it (supported: NAV_WAYPOINT, NAV_LOITER_TIME, NAV_TAKEOFF, "
+                              "NAV_LAND, NAV_RETURN_TO_LAUNCH, DO_CHANGE_SPEED, DO_SET_CAM_TRIGG_DIST, "
                               "IMAGE_START_CAPTURE, IMAGE_STOP_CAPTURE)");
     }
     steps.push_back(s);
   }
   return steps;
+}
+
+bool IsFenceItem(int command) {
+  return command >= mav_cmd::kNavFencePolygonVertexInclusion && command <= mav_cmd::kNavFenceCircleExclusion;
+}
+bool IsRallyItem(int command) { return command == mav_cmd::kNavRallyPoint; }
+
+bool IsSinglePhoto(const MissionItem& it) {
+  return it.command == mav_cmd::kImageStartCapture && it.param[2] == 1 && !(it.param[1] > 0);
+}
+
+std::optional<double> CaptureBefore(const std::vector<MissionStep>& steps, std::size_t i) {
+  std::optional<double> on;
+  for (std::size_t k = 0; k < i && k < steps.size(); ++k) {
+    if (steps[k].kind == MissionStep::Kind::kCaptureStart) on = steps[k].value;
+    if (steps[k].kind == MissionStep::Kind::kCaptureStop) on.reset();
+  }
+  return on;
+}
+
+ResumedMission ResumeSteps(const std::vector<MissionStep>& steps, std::size_t from, bool airborne) {
+  using Kind = MissionStep::Kind;
+  if (from >= steps.size())
+    throw std::invalid_argument("nothing to resume: step " + std::to_string(from) + " is past the mission's " +
+                                std::to_string(steps.size()) + " steps");
+  std::size_t start = from;
+  if (CaptureBefore(steps, from)) {
+    // Inside a capture leg: back to the point where its camera was switched on.
+    std::size_t c = from;
+    while (steps[c - 1].kind != Kind::kCaptureStart) --c;
+    start = c - 1;
+    while (start > 0 && steps[start].kind != Kind::kWaypoint) --start;
+  }
+  std::vector<MissionStep> out;
+  if (!airborne && steps[start].kind != Kind::kTakeoff) {
+    MissionStep takeoff{Kind::kTakeoff};
+    takeoff.item = steps[start].item;
+    takeoff.altitude_m = std::nan("");
+    for (std::size_t k = 0; k < start && std::isnan(takeoff.altitude_m); ++k)
+      if (steps[k].kind == Kind::kTakeoff) takeoff.altitude_m = steps[k].altitude_m;
+    for (std::size_t k = start; k < steps.size() && std::isnan(takeoff.altitude_m); ++k)
+      if (steps[k].kind == Kind::kWaypoint) takeoff.altitude_m = -steps[k].p_N.z();
+    if (std::isnan(takeoff.altitude_m) || takeoff.altitude_m < 1.0) takeoff.altitude_m = 1.0;
+    out.push_back(takeoff);
+  }
+  for (std::size_t k = start; k-- > 0;)
+    if (steps[k].kind == Kind::kSetSpeed) {
+      out.push_back(steps[k]);
+      break;
+    }
+  if (const auto capture = CaptureBefore(steps, start)) {
+    MissionStep on{Kind::kCaptureStart};
+    on.item = steps[start].item;
+    on.value = *capture;
+    out.push_back(on);
+  }
+  ResumedMission r;
+  r.first = start;
+  r.prefix = out.size();
+  out.insert(out.end(), steps.begin() + static_cast<std::ptrdiff_t>(start), steps.end());
+  r.steps = std::move(out);
+  return r;
 }
 
 }  // namespace uav::waypoints

@@ -113,6 +113,87 @@ Json LatLonArray(const std::vector<GeodeticPoint>& pts) {
 
 }  // namespace
 
+namespace {
+
+// QGroundControl's geoFence (polygons and circles) and rallyPoints, appended to the items as
+// MAVLink's fence and rally items. Both sections are optional.
+void ReadFenceAndRally(const PlanReader& r, const Json& root, Mission* m) {
+  auto lat_lon = [&](const Json& v, const std::string& path) {
+    if (!v.is_array() || v.size() < 2 || !v[0].is_number() || !v[1].is_number()) r.Fail(path, "is not [latitude, longitude]");
+    return std::pair<double, double>(v[0].get<double>(), v[1].get<double>());
+  };
+  auto add = [&](int command, double param1, double lat, double lon, double alt) {
+    MissionItem it;
+    it.command = command;
+    it.frame = mav_frame::kGlobalRelativeAlt;
+    it.param = {param1, 0, 0, 0};
+    it.latitude_deg = lat, it.longitude_deg = lon, it.altitude_m = alt;
+    if (m->items.size() >= kMaxMissionItems) r.Fail("geoFence", "brings the mission over " + std::to_string(kMaxMissionItems) + " items");
+    m->items.push_back(it);
+  };
+  if (root.contains("geoFence")) {
+    const Json& g = root["geoFence"];
+    if (g.contains("polygons")) {
+      const Json& polys = r.Array(g, "geoFence", "polygons");
+      for (std::size_t i = 0; i < polys.size(); ++i) {
+        const std::string path = "geoFence.polygons[" + std::to_string(i) + "]";
+        const bool inclusion = r.Bool(polys[i], path, "inclusion");
+        const Json& pts = r.Array(polys[i], path, "polygon");
+        if (pts.size() < 3) r.Fail(path + ".polygon", "has fewer than 3 vertices");
+        for (std::size_t k = 0; k < pts.size(); ++k) {
+          const auto [lat, lon] = lat_lon(pts[k], path + ".polygon[" + std::to_string(k) + "]");
+          add(inclusion ? mav_cmd::kNavFencePolygonVertexInclusion : mav_cmd::kNavFencePolygonVertexExclusion,
+              static_cast<double>(pts.size()), lat, lon, 0);
+        }
+      }
+    }
+    if (g.contains("circles")) {
+      const Json& circles = r.Array(g, "geoFence", "circles");
+      for (std::size_t i = 0; i < circles.size(); ++i) {
+        const std::string path = "geoFence.circles[" + std::to_string(i) + "]";
+        const bool inclusion = r.Bool(circles[i], path, "inclusion");
+        const Json& c = r.Field(circles[i], path, "circle");
+        const auto [lat, lon] = lat_lon(r.Field(c, path + ".circle", "center"), path + ".circle.center");
+        add(inclusion ? mav_cmd::kNavFenceCircleInclusion : mav_cmd::kNavFenceCircleExclusion,
+            r.Number(c, path + ".circle", "radius"), lat, lon, 0);
+      }
+    }
+  }
+  if (root.contains("rallyPoints")) {
+    const Json& pts = r.Array(root["rallyPoints"], "rallyPoints", "points");
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      const std::string path = "rallyPoints.points[" + std::to_string(k) + "]";
+      const auto [lat, lon] = lat_lon(pts[k], path);
+      if (pts[k].size() < 3 || !pts[k][2].is_number()) r.Fail(path, "is not [latitude, longitude, altitude]");
+      add(mav_cmd::kNavRallyPoint, 0, lat, lon, pts[k][2].get<double>());
+    }
+  }
+}
+
+// The fence and rally items of `m` as QGroundControl's geoFence and rallyPoints.
+std::pair<Json, Json> FenceAndRallyJson(const Mission& m) {
+  Json polygons = Json::array(), circles = Json::array(), points = Json::array();
+  for (std::size_t i = 0; i < m.items.size(); ++i) {
+    const MissionItem& it = m.items[i];
+    if (it.command == mav_cmd::kNavFencePolygonVertexInclusion || it.command == mav_cmd::kNavFencePolygonVertexExclusion) {
+      const auto n = static_cast<std::size_t>(it.param[0]);  // validated: the run of vertices
+      Json poly = Json::array();
+      for (std::size_t k = 0; k < n; ++k) poly.push_back({m.items[i + k].latitude_deg, m.items[i + k].longitude_deg});
+      polygons.push_back({{"inclusion", it.command == mav_cmd::kNavFencePolygonVertexInclusion}, {"polygon", poly}, {"version", 1}});
+      i += n - 1;
+    } else if (it.command == mav_cmd::kNavFenceCircleInclusion || it.command == mav_cmd::kNavFenceCircleExclusion) {
+      circles.push_back({{"circle", {{"center", {it.latitude_deg, it.longitude_deg}}, {"radius", it.param[0]}}},
+                         {"inclusion", it.command == mav_cmd::kNavFenceCircleInclusion},
+                         {"version", 1}});
+    } else if (IsRallyItem(it.command)) {
+      points.push_back({it.latitude_deg, it.longitude_deg, it.altitude_m});
+    }
+  }
+  return {{{"circles", circles}, {"polygons", polygons}, {"version", 2}}, {{"points", points}, {"version", 2}}};
+}
+
+}  // namespace
+
 Mission ParsePlan(const std::string& text, const std::string& origin) {
   Json root;
   try {
@@ -213,12 +294,13 @@ Mission ParsePlan(const std::string& text, const std::string& origin) {
         } catch (const std::invalid_argument& e) {
           r.Fail(path, e.what());
         }
-        m.survey = def;
+        m.surveys.push_back(def);
       }
     } else {
       r.Fail(path + ".type", "must be \"SimpleItem\" or \"ComplexItem\", not " + t.dump());
     }
   }
+  ReadFenceAndRally(r, root, &m);
   try {
     ValidateMission(m);
   } catch (const std::invalid_argument& e) {
@@ -231,9 +313,10 @@ std::string FormatPlan(const Mission& m) {
   ValidateMission(m);
   Json items = Json::array();
   int jump = 1;
+  std::size_t next_survey = 0;
   for (std::size_t i = 0; i < m.items.size();) {
-    if (m.survey && i == m.survey->first_item) {
-      const SurveyDefinition& s = *m.survey;
+    if (next_survey < m.surveys.size() && i == m.surveys[next_survey].first_item) {
+      const SurveyDefinition& s = m.surveys[next_survey++];
       const SurveyParams& p = s.params;
       Json sub = Json::array();
       std::vector<GeodeticPoint> visual;
@@ -286,16 +369,19 @@ std::string FormatPlan(const Mission& m) {
                          {"camera_mount_yaw_deg", p.camera_mount_yaw_deg},
                          {"accel_m_s2", p.accel_m_s2}}}});
       i += s.item_count;
+    } else if (IsFenceItem(m.items[i].command) || IsRallyItem(m.items[i].command)) {
+      ++i;  // in geoFence and rallyPoints
     } else {
       items.push_back(ItemJson(m.items[i], jump++));
       ++i;
     }
   }
+  const auto [fence, rally] = FenceAndRallyJson(m);
   Json root = {{"fileType", "Plan"},
                {"groundStation", "uav-gcs"},
                {"version", 1},
-               {"geoFence", {{"circles", Json::array()}, {"polygons", Json::array()}, {"version", 2}}},
-               {"rallyPoints", {{"points", Json::array()}, {"version", 2}}},
+               {"geoFence", fence},
+               {"rallyPoints", rally},
                {"mission",
                 {{"version", 2},
                  {"firmwareType", kFirmwarePx4},

@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "uav/waypoints/mission_file.hpp"
+
 namespace uav::gcs {
 
 VehicleModel& GcsModel::Vehicle(const std::string& id) {
@@ -141,20 +143,49 @@ bool GcsModel::SelectTarget(const TrackTarget& target, double now) {
   return video_.SelectTarget(Selected(), selected_, target, now, log_);
 }
 
-bool GcsModel::UploadSurvey(double now) {
+bool GcsModel::UploadMission(double now) {
   VehicleModel* v = Selected();
-  return missions_.UploadSurvey(v, selected_, v ? v->home : std::nullopt, commands_, now, log_);
+  return missions_.UploadMission(v, selected_, v ? v->home : std::nullopt, commands_, now, log_);
 }
 
-bool GcsModel::ExportSurvey(const std::string& path, double now) { return missions_.ExportSurvey(path, now, log_); }
+bool GcsModel::ExportMission(const std::string& path, double now) { return missions_.ExportMission(path, now, log_); }
 
-bool GcsModel::ImportSurvey(const std::string& path, double now) {
+bool GcsModel::ImportMission(const std::string& path, double now) {
   const VehicleModel* v = selected();
-  return missions_.ImportSurvey(path, v ? v->home : std::nullopt, now, log_);
+  return missions_.ImportMission(path, v ? v->home : std::nullopt, now, log_);
 }
 
 bool GcsModel::StartDownload(const std::string& dir, double now) {
   return maps_.StartDownload(Selected(), selected_, dir, now, log_);
+}
+
+bool GcsModel::DownloadMission(double now) {
+  VehicleModel* v = Selected();
+  if (!v) {
+    log_.Add(now, "", "no vehicle selected to download a mission from", Severity::kWarning);
+    return false;
+  }
+  const FileOffer* newest = nullptr;
+  long newest_n = -1;
+  const std::vector<FileOffer> offers = v->files.offers();
+  for (const FileOffer& o : offers) {
+    long n = -1;
+    char tail[8] = {0};
+    if (std::sscanf(o.name.c_str(), "mission_%ld.%5s", &n, tail) == 2 && std::string(tail) == "plan" && n > newest_n)
+      newest = &o, newest_n = n;
+  }
+  if (!newest) {
+    log_.Add(now, selected_, "no mission offered yet (the vehicle offers each mission it accepts)", Severity::kWarning);
+    return false;
+  }
+  std::string error;
+  if (!v->files.Start(newest->transfer_id, &error)) {
+    log_.Add(now, selected_, "download of " + newest->name + ": " + error, Severity::kError);
+    return false;
+  }
+  v->for_editor.insert(newest->transfer_id);
+  log_.Add(now, selected_, "downloading " + newest->name + " into the mission editor", Severity::kInfo);
+  return true;
 }
 
 bool GcsModel::LoadBasemap(const std::string& path, double now) {
@@ -183,6 +214,23 @@ void GcsModel::SetReplay(bool replay) {
 void GcsModel::Tick(double now) {
   for (auto& [id, v] : vehicles_) {
     maps_.Tick(v, id, now, log_);
+    for (auto it = v.for_editor.begin(); it != v.for_editor.end();) {
+      const auto p = v.files.progress(*it);
+      const std::string* contents = v.files.Contents(*it);
+      if (!p || p->failed) {
+        it = v.for_editor.erase(it);  // the failure is logged by the downloads
+      } else if (contents) {
+        try {
+          missions_.LoadMission(waypoints::ParsePlan(*contents, id + ":" + p->offer.name), id + ":" + p->offer.name,
+                                v.home, now, log_);
+        } catch (const std::exception& e) {
+          log_.Add(now, id, e.what(), Severity::kWarning);
+        }
+        it = v.for_editor.erase(it);
+      } else {
+        ++it;
+      }
+    }
     missions_.Tick(v, id, now, log_);
     wires_.Tick(v, id, v.reports.Get<PowerLines>().at, now, log_);
   }

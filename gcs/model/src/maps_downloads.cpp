@@ -97,6 +97,7 @@ void MapsDownloads::Tick(VehicleMaps& v, const std::string& id, double now, Mess
       log.Add(now, id, "download of " + o.name + " failed: " + p->error, Severity::kError);
     }
     if (!p->complete || v.saved.count(o.transfer_id) || v.unsaved.count(o.transfer_id)) continue;
+    if (dir_.empty()) continue;  // fetched for the mission editor, not asked to be saved
     const std::string path = (std::filesystem::path(dir_) / o.name).string();
     try {
       // Through a temporary name: on a full disk nothing is left behind, not even half a file.

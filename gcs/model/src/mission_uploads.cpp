@@ -1,8 +1,10 @@
 #include "uav/gcs/mission_uploads.hpp"
 
+#include "uav/waypoints/mission_file.hpp"
+
 namespace uav::gcs {
 
-bool MissionUploads::UploadSurvey(VehicleMission* v, const std::string& vehicle_id,
+bool MissionUploads::UploadMission(VehicleMission* v, const std::string& vehicle_id,
                                   const std::optional<GeodeticPoint>& home, CommandCenter& commands, double now,
                                   MessageLog& log) {
   error_.clear();
@@ -16,7 +18,7 @@ bool MissionUploads::UploadSurvey(VehicleMission* v, const std::string& vehicle_
   }
   if (home) planner_.SetOrigin(*home);  // the vehicle's home is the mission's
   std::string error;
-  const auto mission = planner_.MakeMission(&error);
+  const auto mission = editor_.MakeMission(planner_, planner_.origin(), &error);
   if (!mission) {
     error_ = error;
     return false;
@@ -51,20 +53,48 @@ void MissionUploads::Tick(VehicleMission& v, const std::string& id, double now, 
   if (before != v.upload->state()) log.Add(now, id, "mission upload failed: " + v.upload->reason(), Severity::kError);
 }
 
-bool MissionUploads::ExportSurvey(const std::string& path, double now, MessageLog& log) {
-  std::string message;
-  const bool ok = planner_.Export(path, &message);
-  log.Add(now, "", message, ok ? Severity::kInfo : Severity::kWarning);
-  return ok;
+bool MissionUploads::ExportMission(const std::string& path, double now, MessageLog& log) {
+  std::string error;
+  const auto mission = editor_.MakeMission(planner_, planner_.origin(), &error);
+  if (!mission) {
+    log.Add(now, "", "nothing exported: " + error, Severity::kWarning);
+    return false;
+  }
+  try {
+    waypoints::WriteMissionFile(path, *mission);
+  } catch (const std::exception& e) {
+    log.Add(now, "", e.what(), Severity::kWarning);
+    return false;
+  }
+  log.Add(now, "", "exported " + std::to_string(mission->items.size()) + " items to " + path, Severity::kInfo);
+  return true;
 }
 
-bool MissionUploads::ImportSurvey(const std::string& path, const std::optional<GeodeticPoint>& home, double now,
-                                  MessageLog& log) {
-  std::string message;
-  const bool ok = planner_.Import(path, &message);
-  if (ok && home) planner_.SetOrigin(*home);  // keep the map on the selected vehicle's home
-  log.Add(now, "", message, ok ? Severity::kInfo : Severity::kWarning);
-  return ok;
+bool MissionUploads::ImportMission(const std::string& path, const std::optional<GeodeticPoint>& home, double now,
+                                   MessageLog& log) {
+  waypoints::Mission m;
+  try {
+    m = waypoints::ReadMissionFile(path);
+  } catch (const std::exception& e) {
+    log.Add(now, "", e.what(), Severity::kWarning);
+    return false;
+  }
+  return LoadMission(m, path, home, now, log);
+}
+
+bool MissionUploads::LoadMission(const waypoints::Mission& m, const std::string& origin,
+                                 const std::optional<GeodeticPoint>& home, double now, MessageLog& log) {
+  std::string error;
+  if (!editor_.Load(m, &planner_, &error)) {
+    log.Add(now, "", origin + ": " + error, Severity::kWarning);
+    return false;
+  }
+  if (home) planner_.SetOrigin(*home);  // keep the map on the selected vehicle's home
+  const std::size_t n = editor_.items().size();
+  log.Add(now, "", "loaded " + (n ? std::to_string(n) + "-item mission" : std::string("survey")) + " (" +
+                       std::to_string(m.items.size()) + " mission items) from " + origin,
+          Severity::kInfo);
+  return true;
 }
 
 }  // namespace uav::gcs

@@ -107,6 +107,10 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
   *is_number = true;
   if (key == "ack.percent") return *num = last && last->last_ack ? last->last_ack->percent : -1, true;
   if (name == "tries") return *num = last ? last->tries : 0, true;
+  if (name == "plan.items") return *num = static_cast<double>(m.missions().editor().items().size()), true;
+  if (name == "plan.fences") return *num = static_cast<double>(m.missions().editor().fences.size()), true;
+  if (name == "plan.rally") return *num = static_cast<double>(m.missions().editor().rally.size()), true;
+  if (name == "plan.selected") return *num = m.missions().editor().selected + 1.0, true;  // 1-based, 0: none
   if (name == "survey.vertices") return *num = static_cast<double>(m.missions().planner().polygon().size()), true;
   if (name == "survey.images") return *num = m.missions().planner().plan() ? static_cast<double>(m.missions().planner().plan()->captures.size()) : 0.0, true;
   if (name == "survey.lines") return *num = m.missions().planner().plan() ? m.missions().planner().plan()->lines : 0, true;

@@ -4,7 +4,6 @@
 #include <filesystem>
 
 #include "uav/shared/parameters.hpp"
-#include "uav/waypoints/mission_file.hpp"
 
 namespace uav::gcs {
 
@@ -135,47 +134,15 @@ std::optional<waypoints::Mission> SurveyPlanner::MakeMission(std::string* error)
   }
 }
 
-bool SurveyPlanner::Export(const std::string& path, std::string* message) const {
-  std::string error;
-  const auto mission = MakeMission(&error);
-  if (!mission) {
-    *message = "nothing exported: " + error;
-    return false;
-  }
-  try {
-    waypoints::WriteMissionFile(path, *mission);
-  } catch (const std::exception& e) {
-    *message = e.what();
-    return false;
-  }
-  *message = "exported " + std::to_string(mission->items.size()) + " items to " + path;
-  return true;
-}
-
-bool SurveyPlanner::Import(const std::string& path, std::string* message) {
-  try {
-    const waypoints::Mission m = waypoints::ReadMissionFile(path);
-    if (!m.survey) {
-      // A QGC WPL .waypoints file, or a .plan of waypoints only, holds no survey polygon.
-      *message = path + " has no survey (polygon and camera) to edit: this planner imports survey missions only "
-                 "(a .plan with a survey); a list of waypoints (" + std::to_string(m.items.size()) +
-                 " items) cannot be edited or flown from here";
-      return false;
-    }
-    polygon_ = m.survey->polygon;
-    params_ = m.survey->params;
-    camera_index_ = 0;
-    for (std::size_t i = 0; i < cameras_.size(); ++i)
-      if (cameras_[i].name == m.survey->camera_name) camera_index_ = static_cast<int>(i);
-    origin_ = m.home;
-    frame_ = std::make_unique<LocalNedFrame>(m.home);
-    Replan();
-    *message = "imported " + std::to_string(polygon_.size()) + "-vertex survey from " + path;
-    return true;
-  } catch (const std::exception& e) {
-    *message = e.what();
-    return false;
-  }
+void SurveyPlanner::SetSurvey(const waypoints::SurveyDefinition& survey, const GeodeticPoint& home) {
+  polygon_ = survey.polygon;
+  params_ = survey.params;
+  camera_index_ = 0;
+  for (std::size_t i = 0; i < cameras_.size(); ++i)
+    if (cameras_[i].name == survey.camera_name) camera_index_ = static_cast<int>(i);
+  origin_ = home;
+  frame_ = std::make_unique<LocalNedFrame>(home);
+  Replan();
 }
 
 }  // namespace uav::gcs

@@ -77,6 +77,7 @@ void DrawGcs(GcsModel& model, UiContext& ctx) {
   Place(0.0f, 0.50f, 0.22f, 0.14f);  // over the state list's lower rows
   DrawSensingPanel(model, ctx);
   DrawParametersPanel(model, ctx);  // a window of its own, opened from the status bar
+  DrawMissionPanel(model, ctx);     // a window of its own, while the map edits the mission
 }
 
 }  // namespace uav::gcs

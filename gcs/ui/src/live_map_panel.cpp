@@ -1,5 +1,6 @@
 // Live map panel: the map the selected vehicle is stitching, growing as its tiles arrive, with
-// the vehicle's position on it; below, the files it offers (its finished maps), a save location
+// the vehicle's position on it; below, the files it offers (its finished maps, its flight log at
+// each landing, the mission it holds), a save location
 // and the Download action, with a progress bar per file.
 #include <imgui.h>
 #include <algorithm>
@@ -120,7 +121,7 @@ void DrawLiveMapPanel(GcsModel& model, UiContext& ctx) {
   if (!model.maps().error().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", model.maps().error().c_str());
   const std::vector<FileOffer> offers = v->files.offers();
   DrawTiles(*v, ctx, (offers.size() + 2) * ImGui::GetFrameHeightWithSpacing());
-  if (offers.empty()) ImGui::TextDisabled("no map offered yet: the vehicle offers it after the survey, at landing");
+  if (offers.empty()) ImGui::TextDisabled("no file offered yet: the vehicle offers its map after a survey, its flight log at each landing, its mission on each upload");
   for (const FileOffer& o : offers) {
     const auto p = v->files.progress(o.transfer_id);
     const float fraction = o.chunks ? static_cast<float>(p->received) / o.chunks : 1.0f;

@@ -35,7 +35,8 @@ double NiceStep(double px_per_m, double min_px) {
 
 
 // Wheel zooms about the pointer; a drag on empty ground pans; with "Edit survey" a click adds a
-// vertex, a drag on a vertex moves it and a right click deletes it.
+// vertex, a drag on a vertex moves it and a right click deletes it; with "Edit mission" the same
+// for the mission's items (a click adds a waypoint after the selected item).
 void HandleMapInput(GcsModel& model, UiContext& ctx, const MapCanvas& m, bool hovered) {
   UiState& st = ctx.state;
   SurveyPlanner& planner = model.missions().planner();
@@ -54,8 +55,12 @@ void HandleMapInput(GcsModel& model, UiContext& ctx, const MapCanvas& m, bool ho
   auto vertex_at = [&](ImVec2 s) {
     return planner.VertexNear(to_map(s), kVertexPickPx / st.map_px_per_m);
   };
+  MissionEditor& editor = model.missions().editor();
+  auto item_at = [&](ImVec2 s) { return editor.ItemNear(planner, to_map(s), kVertexPickPx / st.map_px_per_m); };
   if (ImGui::IsItemActivated() && ImGui::IsMouseDown(0)) {
     st.map_pressed_vertex = st.map_edit_survey ? vertex_at(io.MousePos) : -1;
+    st.map_pressed_item = st.map_edit_mission ? item_at(io.MousePos) : -1;
+    if (st.map_pressed_item >= 0) editor.selected = st.map_pressed_item;
     st.map_dragged = false;
     st.map_press_x = io.MousePos.x, st.map_press_y = io.MousePos.y;
   }
@@ -65,21 +70,50 @@ void HandleMapInput(GcsModel& model, UiContext& ctx, const MapCanvas& m, bool ho
     if (st.map_dragged) {
       if (st.map_pressed_vertex >= 0) {
         planner.MoveVertex(static_cast<std::size_t>(st.map_pressed_vertex), to_map(io.MousePos));
+      } else if (st.map_pressed_item >= 0) {
+        editor.MoveTo(static_cast<std::size_t>(st.map_pressed_item), planner.FromMap(to_map(io.MousePos)));
       } else {
         st.map_center_n += io.MouseDelta.y / st.map_px_per_m;
         st.map_center_e -= io.MouseDelta.x / st.map_px_per_m;
       }
     }
   }
-  if (ImGui::IsItemDeactivated() && !st.map_dragged && st.map_pressed_vertex < 0 && st.map_edit_survey)
+  // Adds happen on the left button's release only (a right click also activates the canvas).
+  const bool left_click = ImGui::IsItemDeactivated() && ImGui::IsMouseReleased(0) && !st.map_dragged;
+  if (left_click && st.map_pressed_vertex < 0 && st.map_edit_survey)
     planner.AddVertex(to_map(ImVec2(st.map_press_x, st.map_press_y)));
-  if (ImGui::IsItemDeactivated()) st.map_pressed_vertex = -1;
+  if (left_click && st.map_pressed_item < 0 && st.map_edit_mission) {
+    const GeodeticPoint g = planner.FromMap(to_map(ImVec2(st.map_press_x, st.map_press_y)));
+    if (editor.tool == MapTool::kFenceVertex) {
+      editor.AddFenceVertex(g);
+    } else if (editor.tool == MapTool::kRallyPoint) {
+      editor.rally.push_back({g.latitude_deg, g.longitude_deg, editor.takeoff_alt_m});
+    } else {
+      // A waypoint after the selected item, at the altitude of the position item before it.
+      PlanItem w;
+      w.latitude_deg = g.latitude_deg, w.longitude_deg = g.longitude_deg;
+      const std::size_t at = editor.selected >= 0 ? static_cast<std::size_t>(editor.selected) + 1 : editor.items().size();
+      w.altitude_m = editor.takeoff_alt_m;
+      for (std::size_t k = at; k-- > 0;)
+        if (editor.items()[k].HasPosition() && editor.items()[k].action != PlanAction::kLand) {
+          w.altitude_m = editor.items()[k].altitude_m;
+          break;
+        }
+      editor.Insert(at, w);
+    }
+  }
+  if (ImGui::IsItemDeactivated()) st.map_pressed_vertex = -1, st.map_pressed_item = -1;
   if (hovered && st.map_edit_survey && ImGui::IsMouseReleased(1)) {
     const int v = vertex_at(io.MousePos);
     if (v >= 0) planner.DeleteVertex(static_cast<std::size_t>(v));
   }
-  // Click-to-go: outside the survey editor a right click offers a goto there, to be confirmed.
-  if (hovered && !st.map_edit_survey && ImGui::IsMouseReleased(1)) {
+  if (hovered && st.map_edit_mission && ImGui::IsMouseReleased(1) &&
+      !editor.DeleteFenceNear(planner, to_map(io.MousePos), kVertexPickPx / st.map_px_per_m)) {
+    const int i = item_at(io.MousePos);
+    if (i >= 0) editor.Delete(static_cast<std::size_t>(i));
+  }
+  // Click-to-go: outside the editors a right click offers a goto there, to be confirmed.
+  if (hovered && !st.map_edit_survey && !st.map_edit_mission && ImGui::IsMouseReleased(1)) {
     const Eigen::Vector2d ne = to_map(io.MousePos);
     st.map_goto_n = ne.x(), st.map_goto_e = ne.y();
     ImGui::OpenPopup("map:goto");
@@ -159,8 +193,11 @@ void DrawLiveMap(const GcsModel& model, UiContext& ctx, const MapCanvas& m) {
 void DrawMapPanel(GcsModel& model, UiContext& ctx) {
   UiState& st = ctx.state;
   ImGui::Begin("Map");
-  ImGui::Checkbox("Edit survey", &st.map_edit_survey);
+  if (ImGui::Checkbox("Edit survey", &st.map_edit_survey) && st.map_edit_survey) st.map_edit_mission = false;
   RegisterLastItem(ctx, "map:edit");
+  ImGui::SameLine();
+  if (ImGui::Checkbox("Edit mission", &st.map_edit_mission) && st.map_edit_mission) st.map_edit_survey = false;
+  RegisterLastItem(ctx, "map:edit_mission");
   ImGui::SameLine();
   if (ImGui::Button("Centre on vehicle")) {
     if (const VehicleModel* v = model.selected(); v && v->state)
@@ -179,8 +216,9 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
     if (ImGui::Button("Clear basemap")) model.ClearBasemap();
     RegisterLastItem(ctx, "map:clear_basemap");
   }
-  ImGui::TextDisabled(st.map_edit_survey ? "wheel: zoom  drag: pan  click: add vertex  drag vertex: move  right click: delete"
-                                         : "wheel: zoom  drag: pan  right click: go there (confirmed)");
+  ImGui::TextDisabled(st.map_edit_survey    ? "wheel: zoom  drag: pan  click: add vertex  drag vertex: move  right click: delete"
+                      : st.map_edit_mission ? "wheel: zoom  drag: pan  click: add (the Mission window's tool)  drag item: move  right click: delete"
+                                            : "wheel: zoom  drag: pan  right click: go there (confirmed)");
 
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImVec2 size = ImGui::GetContentRegionAvail();
@@ -212,6 +250,7 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
   DrawBasemap(model, ctx, m);
   DrawLiveMap(model, ctx, m);
   DrawSurveyOnMap(model, m);
+  DrawMissionPlanOnMap(model, m);
   const VehicleModel* v = model.selected();
   if (v) {
     DrawPowerLinesOnMap(model, *v, m, ctx.now);

@@ -87,7 +87,7 @@ void DrawSurveyPanel(GcsModel& model, UiContext& ctx) {
   if (!planner.problem().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", planner.problem().c_str());
 
   ImGui::BeginDisabled(!planner.problem().empty() || !model.selected());
-  if (ImGui::Button("Upload to vehicle")) model.UploadSurvey(ctx.now);
+  if (ImGui::Button("Upload to vehicle")) model.UploadMission(ctx.now);
   ImGui::EndDisabled();
   RegisterLastItem(ctx, "survey:upload");
   ImGui::SameLine();
@@ -114,10 +114,10 @@ void DrawSurveyPanel(GcsModel& model, UiContext& ctx) {
   ImGui::SetNextItemWidth(260);
   ImGui::InputText("##survey:file", &ctx.state.survey_file);
   RegisterLastItem(ctx, "survey:file");
-  if (ImGui::Button("Export")) model.ExportSurvey(ctx.state.survey_file, ctx.now);
+  if (ImGui::Button("Export")) model.ExportMission(ctx.state.survey_file, ctx.now);
   RegisterLastItem(ctx, "survey:export");
   ImGui::SameLine();
-  if (ImGui::Button("Import")) model.ImportSurvey(ctx.state.survey_file, ctx.now);
+  if (ImGui::Button("Import")) model.ImportMission(ctx.state.survey_file, ctx.now);
   RegisterLastItem(ctx, "survey:import");
   ImGui::End();
 }

@@ -24,6 +24,11 @@ FlightLog::~FlightLog() {
   if (file_) std::fclose(file_);
 }
 
+void FlightLog::Flush() {
+  std::fflush(file_);
+  rows_since_flush_ = 0;
+}
+
 std::string FlightLog::Header() {
   std::string h = "t";
   for (const auto& s : VehicleStateSignals()) h += "," + std::string(s.def.name);

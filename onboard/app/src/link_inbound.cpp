@@ -2,6 +2,7 @@
 #include "link_translators.hpp"
 
 #include "uav/shared/time.hpp"
+#include "uav/waypoints/mission_file.hpp"
 #include "uav/waypoints/mission_messages.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
@@ -55,7 +56,13 @@ void SubscribeMissionUploads(LinkContext& c) {
           ack.reason = c.signatures.Refusal(v, m);
         } else try {
           ack = (*uploads)[m.source].Receive(waypoints::FromMessage(m), [&c](const waypoints::Mission& mission) {
-            return c.missions.AcceptUpload(mission);
+            std::string refused = c.missions.AcceptUpload(mission);
+            // The mission the vehicle now holds, offered as a .plan: any GCS can download it
+            // into its editor (QGroundControl's "download from vehicle").
+            if (refused.empty())
+              c.board.downloads.Push({"mission_" + std::to_string(c.missions.upload_count()) + ".plan",
+                                      waypoints::FormatPlan(mission)});
+            return refused;
           });
         } catch (const std::invalid_argument& e) {
           ack.upload_id = m.upload_id;

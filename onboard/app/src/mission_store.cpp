@@ -23,11 +23,24 @@ std::optional<std::vector<waypoints::MissionStep>> MissionStore::UploadedMission
   return uploaded_;
 }
 
+int64_t MissionStore::upload_count() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return upload_count_;
+}
+
+waypoints::Geofence MissionStore::UploadedGeofence() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return geofence_;
+}
+
 std::string MissionStore::AcceptUpload(const waypoints::Mission& m) {
   try {
     auto steps = waypoints::CompileMission(m, frame_, max_speed_m_s_);
+    auto fence = waypoints::CompileGeofence(m, frame_);
     std::lock_guard<std::mutex> lock(mutex_);
     uploaded_ = std::move(steps);
+    geofence_ = std::move(fence);
+    ++upload_count_;
     return "";
   } catch (const std::exception& e) {
     return e.what();

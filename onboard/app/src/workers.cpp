@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 
 #include "uav/control/mixer.hpp"
+#include "uav/shared/text_file.hpp"
 
 namespace uav::app {
 
@@ -55,7 +57,7 @@ ControlWorker::ControlWorker(const control::TaskParams& task_params,
                              const control::FailsafeParams& failsafe_params, double period_s,
                              Blackboard& board, control::MissionSource* missions,
                              const avoid::AvoidanceParams& avoidance, const control::PreArmParams& pre_arm)
-    : tasks_(task_params, missions), controller_(controller_params), pre_arm_params_(pre_arm), failsafe_params_(failsafe_params),
+    : tasks_(task_params, missions), missions_(missions), controller_(controller_params), pre_arm_params_(pre_arm), failsafe_params_(failsafe_params),
       failsafes_(failsafe_params), safety_(avoidance), period_s_(period_s), board_(board) {}
 
 void ControlWorker::ServeParameters(const ParameterSet& params) {
@@ -175,6 +177,16 @@ void ControlWorker::Tick(int64_t utime) {
   std::vector<CommandAck> reports;
   // Failsafes, then commands (refused if they would do less than the failsafes need), then the task.
   std::vector<std::string> events;
+  if (missions_ && missions_->upload_count() != geofence_upload_) {
+    // A new mission brings its geofence and rally points: in force at once, as PX4's.
+    geofence_upload_ = missions_->upload_count();
+    waypoints::Geofence fence = missions_->UploadedGeofence();
+    if (!fence.empty())
+      board_.PushStatus(Severity::kInfo, "geofence: " + std::to_string(fence.zones.size()) + " zones, " +
+                                             std::to_string(fence.rally_N.size()) + " rally points in force");
+    failsafes_.SetGeofence(fence);
+    tasks_.SetGeofence(std::move(fence));
+  }
   control::FailsafeInputs fin;
   fin.t = t;
   fin.airborne = d.airborne;
@@ -276,7 +288,21 @@ void ServoWorker::Tick(int64_t utime) {
 }
 
 void LogWorker::Tick(int64_t utime) {
-  if (log_) log_->Write(utime, board_.Snapshot(), board_.reports.Columns());
+  if (!log_) return;
+  const BlackboardData d = board_.Snapshot();
+  log_->Write(utime, d, board_.reports.Columns());
+  if (was_airborne_ && !d.airborne) {
+    // Touchdown: the log up to here, named by the landing (a later offer holds the next flight).
+    log_->Flush();
+    const std::filesystem::path path(log_->path());
+    const std::string name = path.stem().string() + "_landing" + std::to_string(++landings_) + ".csv";
+    try {
+      board_.downloads.Push({name, ReadTextFile(path.string(), "flight log")});
+    } catch (const std::exception& e) {
+      board_.PushStatus(Severity::kWarning, std::string("flight log not offered for download: ") + e.what());
+    }
+  }
+  was_airborne_ = d.airborne;
 }
 
 }  // namespace uav::app

@@ -20,8 +20,9 @@ FailsafeParams FailsafeParams::FromParameters(const ParameterSet& ps) {
                    ps.Get("fs_battery_land"),    ps.Get("fs_fence_radius"),     ps.Get("fs_fence_alt"),
                    FailsafeAction::kHold};
   const double action = ps.Get("fs_fence_action");
-  if (action != 1.0 && action != 2.0) throw std::invalid_argument(ps.source() + ": fs_fence_action must be 1 (hold) or 2 (return)");
-  p.fence_action = action == 1.0 ? FailsafeAction::kHold : FailsafeAction::kReturn;
+  if (action != 1.0 && action != 2.0 && action != 3.0)
+    throw std::invalid_argument(ps.source() + ": fs_fence_action must be 1 (hold), 2 (return) or 3 (land)");
+  p.fence_action = action == 1.0 ? FailsafeAction::kHold : action == 2.0 ? FailsafeAction::kReturn : FailsafeAction::kLand;
   p.nav_land_s = ps.Get("fs_nav_land_s");
   if (p.link_return_s <= p.link_hold_s)
     throw std::invalid_argument(ps.source() + ": fs_link_return_time must be longer than fs_link_hold_time");
@@ -83,10 +84,12 @@ FailsafeAction FailsafeMonitor::Update(const FailsafeInputs& in, std::vector<std
   // Geofence.
   const double dist = in.p_N.head<2>().norm(), alt = -in.p_N.z();
   FailsafeAction fence = FailsafeAction::kNone;
-  if (in.airborne && (dist > p_.fence_radius_m || alt > p_.fence_alt_m)) {
+  const std::string zone = fence_zones_.Breach(in.p_N.head<2>());
+  if (in.airborne && (dist > p_.fence_radius_m || alt > p_.fence_alt_m || !zone.empty())) {
     fence = p_.fence_action;
     fence_reason_ = dist > p_.fence_radius_m ? Format("%.1f m from home, fence %.0f m", dist, p_.fence_radius_m)
-                                             : Format("%.1f m high, fence %.0f m", alt, p_.fence_alt_m);
+                    : alt > p_.fence_alt_m   ? Format("%.1f m high, fence %.0f m", alt, p_.fence_alt_m)
+                                             : zone;
   }
   if (fence > fence_) events->push_back("failsafe: geofence breached (" + fence_reason_ + "): " + std::string(Name(fence)));
   if (fence == FailsafeAction::kNone && fence_ != FailsafeAction::kNone) events->push_back("back inside the geofence");

@@ -76,20 +76,31 @@ void MissionRunner::Advance() {
         moving_ = true;
         return;
       case Kind::kReturnHome: {
-        // Climb (or stay) to the return altitude over here, fly home at it, then land.
+        // Climb (or stay) to the return altitude over here, fly home (or to the nearest rally
+        // point) at it, then land.
+        if (!return_to_) {
+          return_to_ = Eigen::Vector2d::Zero();
+          for (std::size_t k = 0; k < p_.rally_N.size(); ++k)
+            if (k == 0 || (p_.rally_N[k] - ref_.head<2>()).norm() < (*return_to_ - ref_.head<2>()).norm())
+              return_to_ = p_.rally_N[k];
+        }
         const double alt = std::max(-ref_.z(), p_.return_alt);
         if (-ref_.z() < alt - 0.5 * p_.reached_radius) {
           target_ = Eigen::Vector3d(ref_.x(), ref_.y(), -alt);
-        } else if (ref_.head<2>().norm() > 0.5 * p_.reached_radius) {
-          target_ = Eigen::Vector3d(0, 0, -alt);
+        } else if ((ref_.head<2>() - *return_to_).norm() > 0.5 * p_.reached_radius) {
+          target_ = Eigen::Vector3d(return_to_->x(), return_to_->y(), -alt);
         } else {
           landing_ = true;
-          target_ = Eigen::Vector3d(0, 0, ref_.z());
+          target_ = Eigen::Vector3d(return_to_->x(), return_to_->y(), ref_.z());
           return;
         }
         moving_ = true;
         return;
       }
+      case Kind::kHold:  // at the point just reached (a stop: see IsStopAfter)
+        hold_left_s_ = s.value;
+        holding_ = true;
+        return;
       case Kind::kLand:
         if (!std::isnan(s.p_N.x()) && (s.p_N.head<2>() - ref_.head<2>()).norm() > 0.5 * p_.reached_radius) {
           target_ = Eigen::Vector3d(s.p_N.x(), s.p_N.y(), ref_.z());
@@ -106,6 +117,14 @@ void MissionRunner::Advance() {
 MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double dt) {
   Output o;
   Eigen::Vector3d v_ff = Eigen::Vector3d::Zero();
+  if (holding_) {
+    hold_left_s_ -= dt;
+    if (hold_left_s_ <= 0.0) {
+      holding_ = false;
+      ++index_;
+      Advance();
+    }
+  }
   if (moving_ && !landing_) {
     const Eigen::Vector3d to_go = target_ - ref_;
     double dist = to_go.norm();
@@ -165,6 +184,8 @@ MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double d
   o.land = landing_;
   o.done = done_;
   o.item = index_ < steps_.size() ? static_cast<int>(steps_[index_].item) : -1;
+  o.step = index_;
+  o.holding = holding_;
   o.percent = total_length_ > 1e-6 ? static_cast<int>(std::clamp(100.0 * flown_length_ / total_length_, 0.0, 100.0)) : 100;
   o.capture_interval_s = capture_interval_s_;
   o.capture_distance_m = capture_distance_m_;

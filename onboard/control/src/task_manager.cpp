@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace uav::control {
 
@@ -14,8 +15,17 @@ TaskParams TaskParams::FromParameters(const ParameterSet& p) {
           FollowParams::FromParameters(p)};
 }
 
-bool TaskManager::OutsideFence(const Eigen::Vector3d& p_N) const {
-  return p_N.head<2>().norm() > p_.fence_radius || -p_N.z() > p_.fence_alt;
+std::string TaskManager::OutsideFence(const Eigen::Vector3d& p_N) const {
+  char why[96];
+  if (p_N.head<2>().norm() > p_.fence_radius) {
+    std::snprintf(why, sizeof why, "%.1f m from home, beyond the %.0f m circle", p_N.head<2>().norm(), p_.fence_radius);
+    return why;
+  }
+  if (-p_N.z() > p_.fence_alt) {
+    std::snprintf(why, sizeof why, "%.1f m high, above the %.0f m ceiling", -p_N.z(), p_.fence_alt);
+    return why;
+  }
+  return fence_.Breach(p_N.head<2>());
 }
 
 // Holds the current position and heading (hover command, failsafe hold, stalled path).
@@ -98,10 +108,9 @@ void TaskManager::BeginPath(Task task, std::vector<waypoints::MissionStep> steps
   }
   // Steps outside the geofence are refused before anything moves.
   for (const auto& s : steps)
-    if (s.kind == waypoints::MissionStep::Kind::kWaypoint && OutsideFence(s.p_N))
-      return reject("item " + std::to_string(s.item) + " is outside the geofence (" +
-                    std::to_string(static_cast<int>(p_.fence_radius)) + " m, " +
-                    std::to_string(static_cast<int>(p_.fence_alt)) + " m high)");
+    if (s.kind == waypoints::MissionStep::Kind::kWaypoint)
+      if (const std::string why = OutsideFence(s.p_N); !why.empty())
+        return reject("item " + std::to_string(s.item) + " is outside the geofence: " + why);
   StartPath(task, std::move(steps), est, t);
   Begin(task, req, est, t, reports);
   deadline_ = t + p_.stall_time;  // extended whenever progress is made
@@ -109,8 +118,9 @@ void TaskManager::BeginPath(Task task, std::vector<waypoints::MissionStep> steps
 
 void TaskManager::StartPath(Task task, std::vector<waypoints::MissionStep> steps, const VehicleEstimate& est,
                             double t) {
-  const MissionRunnerParams rp{p_.reached_radius, p_.reached_speed, p_.speed_max_xy, p_.speed_max_up,
-                               p_.speed_max_down, p_.path_accel,    p_.path_leash,   p_.return_alt};
+  MissionRunnerParams rp{p_.reached_radius, p_.reached_speed, p_.speed_max_xy, p_.speed_max_up,
+                         p_.speed_max_down, p_.path_accel,    p_.path_leash,   p_.return_alt};
+  for (const Eigen::Vector3d& r : fence_.rally_N) rp.rally_N.push_back(r.head<2>());
   runner_ = std::make_unique<MissionRunner>(std::move(steps), rp, est);
   path_ = runner_->Update(est, 0.0);
   setpoint_ = path_.setpoint;
@@ -215,8 +225,9 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
                                                             : FailsafeAction::kNone;
   if (c.id != CommandId::kDisarm && level < required_)
     return reject("failsafe " + std::string(Name(required_)) + " active: " + failsafe_reason_);
-  if (c.id == CommandId::kGoto && OutsideFence(Eigen::Vector3d(c.args[0], c.args[1], -c.args[2])))
-    return reject("target is outside the geofence");
+  if (c.id == CommandId::kGoto)
+    if (const std::string why = OutsideFence(Eigen::Vector3d(c.args[0], c.args[1], -c.args[2])); !why.empty())
+      return reject("target is outside the geofence: " + why);
   if (c.id == CommandId::kTakeoff && c.args[0] > p_.fence_alt) return reject("altitude is above the geofence");
   if (airborne_ && c.id != CommandId::kArm && c.id != CommandId::kDisarm) enforced_ = level;
   switch (c.id) {
@@ -269,7 +280,36 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       auto steps = c.id == CommandId::kTrack ? missions_->StoredPath(static_cast<int>(c.args[0]), &error)
                                              : missions_->UploadedMission(&error);
       if (!steps) return reject(error);
-      return BeginPath(c.id == CommandId::kTrack ? Task::kTrack : Task::kMission, std::move(*steps), req, est, t, reports);
+      BeginPath(c.id == CommandId::kTrack ? Task::kTrack : Task::kMission, std::move(*steps), req, est, t, reports);
+      if (task_ == Task::kMission && runner_) {
+        resume_upload_ = missions_->upload_count();
+        resume_offset_ = 0;
+        resume_first_ = 0;
+        resume_step_ = 0;
+      }
+      return;
+    }
+    case CommandId::kResume: {
+      // QGroundControl's "resume mission" after a return, a failsafe or a pause.
+      if (!missions_) return reject("this vehicle has no mission store");
+      if (!resume_step_) return reject("nothing to resume: no mission has been interrupted (fly one with 'mission')");
+      std::string error;
+      auto steps = missions_->UploadedMission(&error);
+      if (!steps) return reject(error);
+      if (missions_->upload_count() != resume_upload_)
+        return reject("a new mission was uploaded since the last one stopped: fly it with 'mission'");
+      waypoints::ResumedMission resumed;
+      try {
+        resumed = waypoints::ResumeSteps(*steps, *resume_step_, airborne_);
+      } catch (const std::invalid_argument& e) {
+        return reject(e.what());
+      }
+      BeginPath(Task::kMission, std::move(resumed.steps), req, est, t, reports);
+      if (task_ == Task::kMission && runner_) {
+        resume_first_ = resumed.first;
+        resume_offset_ = static_cast<std::ptrdiff_t>(resumed.first) - static_cast<std::ptrdiff_t>(resumed.prefix);
+      }
+      return;
     }
     case CommandId::kReturn: {
       if (!airborne_) return reject("not flying");
@@ -342,7 +382,13 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
     const int before = path_.percent;
     path_ = runner_->Update(est, dt);
     setpoint_ = path_.setpoint;
-    if (path_.percent > before) deadline_ = t + p_.stall_time;
+    if (path_.percent > before || path_.holding) deadline_ = t + p_.stall_time;
+    if (task_ == Task::kMission) {
+      // Where a resume would start: this mission's step being flown (until it is done).
+      const std::ptrdiff_t step = static_cast<std::ptrdiff_t>(path_.step) + resume_offset_;
+      if (path_.done) resume_step_.reset();
+      else resume_step_ = static_cast<std::size_t>(std::max<std::ptrdiff_t>(step, static_cast<std::ptrdiff_t>(resume_first_)));
+    }
     if (path_.percent != last_percent_ && t - last_progress_t_ >= 0.5 && path_.percent < 100) {
       last_percent_ = path_.percent;
       last_progress_t_ = t;

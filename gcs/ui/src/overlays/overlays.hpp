@@ -30,6 +30,8 @@ struct ImageCanvas {
 
 // The survey being planned: coverage of each capture leg (until the real map arrives), path, polygon.
 void DrawSurveyOnMap(GcsModel& model, const MapCanvas& m);
+// The mission being edited (the mission editor's items).
+void DrawMissionPlanOnMap(GcsModel& model, const MapCanvas& m);
 // The accepted mission, home, the geofence, the trails and the vehicle.
 void DrawVehicleOnMap(GcsModel& model, const VehicleModel* v, const MapCanvas& m);
 // Power lines (thesis 3.6).

@@ -69,10 +69,14 @@ class GcsModel {
   // The selected vehicle's video shows `camera` (one it streams); false otherwise.
   bool ChooseVideoCamera(const std::string& camera);
   bool SelectTarget(const TrackTarget& target, double now);
-  bool UploadSurvey(double now);
-  bool ExportSurvey(const std::string& path, double now);
-  bool ImportSurvey(const std::string& path, double now);
+  bool UploadMission(double now);
+  bool ExportMission(const std::string& path, double now);
+  bool ImportMission(const std::string& path, double now);
   bool StartDownload(const std::string& dir, double now);
+  // Fetches the mission the selected vehicle holds (the newest it offers, mission_N.plan) and
+  // loads it into the mission editor when it has arrived, verified. False (logged) when there is
+  // no vehicle or it has offered no mission.
+  bool DownloadMission(double now);
   // Parameters of the selected vehicle (its newest ParameterTable): a typed value checked against
   // the table and sent as a signed `param NAME VALUE` command; the table saved to a file (ours or
   // QGroundControl's .params); a file loaded: the values that differ and may change now are sent,

@@ -43,6 +43,9 @@ struct VehicleMaps {
   // Verified in memory but not written (a full disk, a removed directory): kept, and written
   // when the operator asks to download again.
   std::set<int64_t> unsaved;
+  // Wanted in memory only, not saved unless the operator downloads everything: the mission the
+  // vehicle holds, on its way into the mission editor.
+  std::set<int64_t> for_editor;
 };
 
 class MapsDownloads {
@@ -63,7 +66,8 @@ class MapsDownloads {
   bool StartDownload(VehicleMaps* v, const std::string& vehicle_id, const std::string& dir, double now, MessageLog& log);
   // From now on every file any vehicle offers is downloaded into `dir` as soon as it is offered.
   void SetDownloadDir(const std::string& dir) { dir_ = dir; }
-  // Requests missing chunks and saves finished files (through a temporary name).
+  // Requests missing chunks and saves finished files (through a temporary name) once the
+  // operator has asked for them.
   void Tick(VehicleMaps& v, const std::string& vehicle_id, double now, MessageLog& log);
   std::vector<OutgoingFileRequest> TakeOutgoing() { return std::exchange(outgoing_, {}); }
 

@@ -1,6 +1,6 @@
 #pragma once
-// Mission planning and upload: the survey planner, the upload in progress to each vehicle and
-// the mission each vehicle accepted (which the map draws).
+// Mission planning and upload: the mission editor and the survey planner, the upload in progress
+// to each vehicle and the mission each vehicle accepted (which the map draws).
 #include <optional>
 #include <string>
 #include <utility>
@@ -8,6 +8,7 @@
 
 #include "uav/gcs/commands.hpp"
 #include "uav/gcs/message_log.hpp"
+#include "uav/gcs/mission_editor.hpp"
 #include "uav/gcs/survey_planner.hpp"
 #include "uav/waypoints/mission_transfer.hpp"
 
@@ -30,25 +31,33 @@ class MissionUploads {
   static constexpr GeodeticPoint kDefaultMapOrigin{1.2966, 103.7764, 15.0};
   MissionUploads() : planner_(UAV_CAMERA_DIR, kDefaultMapOrigin) {}
 
-  // Uploads the planner's survey to `v` (its home is the mission's origin). Returns false and
-  // sets error() when there is no vehicle, no valid plan, or an upload is already running.
-  bool UploadSurvey(VehicleMission* v, const std::string& vehicle_id, const std::optional<GeodeticPoint>& home,
+  // Uploads the editor's mission (the planner's survey when it has no items) to `v` (its home is
+  // the mission's origin). Returns false and sets error() when there is no vehicle, no valid
+  // mission, or an upload is already running.
+  bool UploadMission(VehicleMission* v, const std::string& vehicle_id, const std::optional<GeodeticPoint>& home,
                     CommandCenter& commands, double now, MessageLog& log);
   // Only answers to this GCS (`gcs_name`) count.
   void OnMissionAck(VehicleMission& v, const std::string& vehicle_id, const waypoints::MissionUploadAck& ack,
                     double now, MessageLog& log);
   void Tick(VehicleMission& v, const std::string& vehicle_id, double now, MessageLog& log);
   std::vector<OutgoingMissionChunk> TakeOutgoing() { return std::exchange(outgoing_, {}); }
-  // The planner's file actions; the outcome is logged. Import keeps the map on `home` if given.
-  bool ExportSurvey(const std::string& path, double now, MessageLog& log);
-  bool ImportSurvey(const std::string& path, const std::optional<GeodeticPoint>& home, double now, MessageLog& log);
+  // The editor's file actions (.plan, or WPL by extension); the outcome is logged. Import keeps
+  // the map on `home` if given, and changes nothing when the file cannot be loaded.
+  bool ExportMission(const std::string& path, double now, MessageLog& log);
+  bool ImportMission(const std::string& path, const std::optional<GeodeticPoint>& home, double now, MessageLog& log);
 
+  // Loads a mission (downloaded from a vehicle) into the editor; logged like an import.
+  bool LoadMission(const waypoints::Mission& m, const std::string& origin, const std::optional<GeodeticPoint>& home,
+                   double now, MessageLog& log);
+  MissionEditor& editor() { return editor_; }
+  const MissionEditor& editor() const { return editor_; }
   SurveyPlanner& planner() { return planner_; }
   const SurveyPlanner& planner() const { return planner_; }
   const std::string& error() const { return error_; }
 
  private:
   SurveyPlanner planner_;
+  MissionEditor editor_;
   std::string error_;
   std::vector<OutgoingMissionChunk> outgoing_;
 };

@@ -1,7 +1,7 @@
 #pragma once
 // The survey planner behind the map and survey panels: the area polygon (latitude/longitude, so
 // it does not move when the map origin does), the survey parameters, and the plan, recomputed
-// on every edit. Import and export of .plan / QGC WPL files. No ImGui here.
+// on every edit. The mission editor (mission_editor.hpp) places it among other items. No ImGui here.
 #include <memory>
 #include <optional>
 #include <string>
@@ -57,9 +57,10 @@ class SurveyPlanner {
   // The mission to upload or export; nullopt and *error when there is none.
   std::optional<waypoints::Mission> MakeMission(std::string* error) const;
 
-  // ---- Files. Return false and set *message on failure; nothing changes then.
-  bool Export(const std::string& path, std::string* message) const;
-  bool Import(const std::string& path, std::string* message);
+  // Takes over a survey of a loaded mission (its polygon, parameters and camera by name), with
+  // `home` as the origin.
+  void SetSurvey(const waypoints::SurveyDefinition& survey, const GeodeticPoint& home);
+
 
  private:
   void Replan();

@@ -16,6 +16,7 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx);
 void DrawMessagesPanel(GcsModel& model, UiContext& ctx);
 void DrawMapPanel(GcsModel& model, UiContext& ctx);
 void DrawSurveyPanel(GcsModel& model, UiContext& ctx);
+void DrawMissionPanel(GcsModel& model, UiContext& ctx);  // while the map edits the mission
 void DrawLiveMapPanel(GcsModel& model, UiContext& ctx);
 void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx);
 void DrawSensingPanel(GcsModel& model, UiContext& ctx);

@@ -37,6 +37,8 @@ struct UiState {
   double map_center_n = 0.0, map_center_e = 0.0;
   double map_px_per_m = 3.0;
   bool map_edit_survey = false;  // clicks edit the survey polygon (off: a click only pans)
+  bool map_edit_mission = false; // clicks edit the mission's items (never both at once)
+  int map_pressed_item = -1;     // the mission item under the pointer when the button went down
   double map_goto_n = 0.0, map_goto_e = 0.0;  // [m] where a right click offered to go
   int map_pressed_vertex = -1;   // vertex under the pointer when the button went down
   bool map_dragged = false;

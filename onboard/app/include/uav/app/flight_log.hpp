@@ -27,6 +27,7 @@ class FlightLog {
   // `reports`: the vehicle reports' columns (ReportSlots::Columns()); empty: all nan.
   void Write(int64_t utime, const BlackboardData& d, const std::vector<double>& reports = {});
   const std::string& path() const { return path_; }
+  void Flush();  // every row written so far is in the file
 
  private:
   std::string path_;

@@ -20,6 +20,8 @@ class MissionStore : public control::MissionSource {
 
   std::optional<std::vector<waypoints::MissionStep>> StoredPath(int n, std::string* error) override;
   std::optional<std::vector<waypoints::MissionStep>> UploadedMission(std::string* error) override;
+  int64_t upload_count() override;
+  waypoints::Geofence UploadedGeofence() override;
 
   // Checks and compiles an uploaded mission; on success it replaces the stored one and ""
   // is returned, else the reason (and the stored mission is unchanged).
@@ -33,6 +35,8 @@ class MissionStore : public control::MissionSource {
   double max_speed_m_s_;
   std::mutex mutex_;
   std::optional<std::vector<waypoints::MissionStep>> uploaded_;
+  int64_t upload_count_ = 0;
+  waypoints::Geofence geofence_;
 };
 
 }  // namespace uav::app

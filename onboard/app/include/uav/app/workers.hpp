@@ -69,6 +69,8 @@ class ControlWorker {
   void CheckPreArm(const BlackboardData& d, int64_t utime);
 
   control::TaskManager tasks_;
+  control::MissionSource* missions_;
+  int64_t geofence_upload_ = 0;  // the upload whose geofence is in force
   control::PositionAttitudeController controller_;
   std::optional<ParameterServer> parameters_;
   int64_t last_parameters_report_ = -1;
@@ -103,6 +105,8 @@ class ServoWorker {
 };
 
 // DLG: CSV flight log (only when a log directory was given).
+// Writes the flight log; at every touchdown it offers the log so far for download (the GCS lists
+// it beside the maps), as QGroundControl's log download.
 class LogWorker {
  public:
   LogWorker(std::unique_ptr<FlightLog> log, Blackboard& board)
@@ -112,6 +116,8 @@ class LogWorker {
  private:
   std::unique_ptr<FlightLog> log_;
   Blackboard& board_;
+  bool was_airborne_ = false;
+  int landings_ = 0;
 };
 
 }  // namespace uav::app

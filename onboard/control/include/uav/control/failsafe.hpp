@@ -8,8 +8,9 @@
 //              comes back it is reported; the action already taken is not downgraded.
 //   battery    remaining below battery_return: return home; below battery_land: land now.
 //              Latched: a battery does not recover in flight.
-//   geofence   farther than fence_radius_m from home or higher than fence_alt_m: hold or return
-//              (fence_action). Clears when back inside.
+//   geofence   farther than fence_radius_m from home, higher than fence_alt_m, or outside the
+//              uploaded zones (SetGeofence): hold, return or land (fence_action). Clears when
+//              back inside.
 //   position   no position source (GPS lost and visual odometry unhealthy or absent): hold at
 //              once on the IMU alone, land after nav_land_s (latched: a landing that began
 //              without position is finished). Clears when a source returns before that.
@@ -21,6 +22,7 @@
 
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/vehicle_enums.hpp"
+#include "uav/waypoints/geofence.hpp"
 
 namespace uav::control {
 
@@ -34,7 +36,7 @@ struct FailsafeParams {
   double battery_land;     // [0..1] remaining, < battery_return
   double fence_radius_m;   // [m] horizontal distance from home
   double fence_alt_m;      // [m] above home
-  FailsafeAction fence_action;  // kHold or kReturn
+  FailsafeAction fence_action;  // kHold, kReturn or kLand
   double nav_land_s = 5.0;      // [s] without a position source before landing
   static FailsafeParams FromParameters(const ParameterSet& p);
 };
@@ -63,6 +65,7 @@ class FailsafeMonitor {
  public:
   explicit FailsafeMonitor(const FailsafeParams& p);
   void SetParams(const FailsafeParams& p) { p_ = p; }  // a failsafe already taken stays
+  void SetGeofence(waypoints::Geofence fence) { fence_zones_ = std::move(fence); }  // uploaded zones
 
   // One step; appends operator messages (a failsafe triggering, escalating or clearing) and
   // returns the strictest action required now.
@@ -73,6 +76,7 @@ class FailsafeMonitor {
 
  private:
   FailsafeParams p_;
+  waypoints::Geofence fence_zones_;
   FailsafeAction link_ = FailsafeAction::kNone, battery_ = FailsafeAction::kNone;
   FailsafeAction fence_ = FailsafeAction::kNone, manual_ = FailsafeAction::kNone;
   FailsafeAction position_ = FailsafeAction::kNone;

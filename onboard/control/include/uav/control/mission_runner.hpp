@@ -4,7 +4,8 @@
 // fed forward to the position loop, so straight survey lines are flown at constant speed; it
 // slows to a stop at corners sharper than 30 degrees and waits there until the vehicle has stopped within
 // the acceptance radius; it never runs more than a leash length ahead of the vehicle. Speed and
-// camera steps take effect as the reference passes them. Plain class on the simulated clock.
+// camera steps take effect as the reference passes them; a hold keeps the vehicle at the point
+// it stopped at for its time. Plain class on the simulated clock.
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +27,7 @@ struct MissionRunnerParams {
   double accel;            // [m/s^2] of the reference along the path
   double leash;            // [m] longest lead of the reference over the vehicle
   double return_alt;       // [m] lowest altitude for the flight home
+  std::vector<Eigen::Vector2d> rally_N = {};  // [m] a return lands at the nearest (none: home)
 };
 
 class MissionRunner {
@@ -42,6 +44,8 @@ class MissionRunner {
     bool done = false;        // every step flown (holding at the last point)
     int percent = 0;          // of the path length flown
     int item = -1;            // mission item of the current step
+    std::size_t step = 0;     // the current step (where a resume starts)
+    bool holding = false;     // at a hold step (a loiter, a photo)
     std::optional<double> capture_interval_s;  // camera on: every this many seconds ...
     std::optional<double> capture_distance_m;  // ... or every this many metres
   };
@@ -65,8 +69,11 @@ class MissionRunner {
   bool waiting_ = false;    // reference at a stop waypoint, waiting for the vehicle
   bool landing_ = false;
   bool done_ = false;
+  bool holding_ = false;    // at a hold step, for hold_left_s_ more
+  double hold_left_s_ = 0.0;
   double total_length_ = 0.0, flown_length_ = 0.0;
   std::optional<double> capture_interval_s_, capture_distance_m_;
+  std::optional<Eigen::Vector2d> return_to_;  // where the return step lands, once chosen
 };
 
 }  // namespace uav::control

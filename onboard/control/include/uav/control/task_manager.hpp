@@ -15,6 +15,7 @@
 #include "uav/control/mission_runner.hpp"
 #include "uav/control/position_attitude_controller.hpp"
 #include "uav/control/target_follower.hpp"
+#include "uav/waypoints/geofence.hpp"
 #include "uav/shared/command_grammar.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/vehicle_enums.hpp"
@@ -49,6 +50,10 @@ class MissionSource {
   // Steps to fly, or nullopt with `error` naming why not (no such path, invalid file, ...).
   virtual std::optional<std::vector<waypoints::MissionStep>> StoredPath(int n, std::string* error) = 0;
   virtual std::optional<std::vector<waypoints::MissionStep>> UploadedMission(std::string* error) = 0;
+  // Missions accepted so far: a resume continues only the mission it interrupted.
+  virtual int64_t upload_count() = 0;
+  // The geofence and rally points uploaded with the last accepted mission (empty: none).
+  virtual waypoints::Geofence UploadedGeofence() = 0;
 };
 
 class TaskManager {
@@ -57,6 +62,9 @@ class TaskManager {
   // New settings (a parameter changed over the link): limits apply at once, a follow's or a
   // path's own settings from its next start.
   void SetParams(const TaskParams& params) { p_ = params; }
+  // The uploaded geofence (targets in an exclusion zone or outside every inclusion zone are
+  // refused) and rally points (a return goes to the nearest).
+  void SetGeofence(waypoints::Geofence fence) { fence_ = std::move(fence); }
 
   // Handles one command; appends its ACCEPTED/REJECTED (and, for instant ones, COMPLETED)
   // reports to `reports`. A rejected command changes nothing.
@@ -112,13 +120,16 @@ class TaskManager {
   void StartLanding(const VehicleEstimate& est);
   void StartPath(Task task, std::vector<waypoints::MissionStep> steps, const VehicleEstimate& est, double t);
   void Hold(const VehicleEstimate& est);
-  bool OutsideFence(const Eigen::Vector3d& p_N) const;
+  // Why p_N is outside the geofence (the circle and ceiling of the vehicle file, the uploaded
+  // zones), or "" when it is inside.
+  std::string OutsideFence(const Eigen::Vector3d& p_N) const;
   // Ends the active command because `by` replaces it: a follow ends as the operator meant it to
   // (completed), anything else as replaced.
   void Supersede(const std::string& by, std::vector<CommandAck>* reports);
   void UpdateFollow(const VehicleEstimate& est, double t, std::vector<CommandAck>* reports);
 
   TaskParams p_;
+  waypoints::Geofence fence_;
   MissionSource* missions_;
   std::unique_ptr<MissionRunner> runner_;  // track, mission and return
   MissionRunner::Output path_;             // its last output
@@ -160,6 +171,13 @@ class TaskManager {
   std::unique_ptr<TargetFollower> follower_;  // while following
   TargetFollower::State follow_state_ = TargetFollower::State::kFollowing;
   bool sim_gps_enabled_ = true;
+  // Mission resume: the step of the uploaded mission (upload number resume_upload_) being flown
+  // when it stopped; a resumed run's step k is the mission's step k + resume_offset_ (its
+  // first steps, which re-establish the settings, count as step resume_first_).
+  std::optional<std::size_t> resume_step_;
+  int64_t resume_upload_ = -1;
+  std::ptrdiff_t resume_offset_ = 0;
+  std::size_t resume_first_ = 0;
 };
 
 }  // namespace uav::control
