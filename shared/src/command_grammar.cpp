@@ -65,6 +65,9 @@ const std::vector<CommandSpec>& CommandSpecs() {
       {CommandId::kResume, "resume",
        "fly the interrupted mission on from where it stopped (a survey from the start of the capture leg it was on)", {}},
       {CommandId::kReturn, "return", "fly home at a safe altitude and land", {}},
+      // PX4's Position mode from the GCS's sticks (a gamepad or the virtual sticks).
+      {CommandId::kSticks, "sticks",
+       "fly by the GCS's sticks: velocity and yaw rate while the deadman is held, holding when it is released", {}},
       {CommandId::kFollow, "follow", "keep the tracked target centred from a set distance and height (hover stops)", {}},
       // System identification (thesis 2.4.5): a linear chirp (Eq. 2.14) added to one servo
       // channel while hovering; the flight log records it for uav-sysid.

@@ -13,7 +13,7 @@ struct Entry {
 constexpr Entry<Task> kTasks[] = {{Task::kIdle, "idle"}, {Task::kTakeoff, "takeoff"}, {Task::kHover, "hover"},
                                   {Task::kGoto, "goto"}, {Task::kLand, "land"},       {Task::kTrack, "track"},
                                   {Task::kMission, "mission"}, {Task::kReturn, "return"},
-                                  {Task::kFollow, "follow"}};
+                                  {Task::kFollow, "follow"}, {Task::kSticks, "sticks"}};
 constexpr Entry<CommandResult> kResults[] = {{CommandResult::kAccepted, "accepted"},
                                              {CommandResult::kRejected, "rejected"},
                                              {CommandResult::kInProgress, "in_progress"},

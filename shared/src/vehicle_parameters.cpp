@@ -176,6 +176,8 @@ const ParameterSchema& VehicleParameterSchema() {
     {"fs_fence_alt", "m", 120, 5, 500, "geofence: altitude above home (legal ceiling)"},
     {"fs_fence_action", "-", 2, 1, 3, "on a fence breach (the circle, the ceiling, the uploaded zones): 1 hold, 2 return (to the nearest rally point, else home), 3 land"},
     {"task_stall_time", "s", 60.0, 5, 600, "a path task that makes no progress this long fails and holds"},
+    {"task_stick_yaw_rate", "deg/s", 45.0, 5, 180, "sticks: the yaw rate at full deflection (full forward, right or up is the speed limit)"},
+    {"task_stick_timeout", "s", 0.5, 0.1, 2, "sticks: silent this long (no manual_control_t), the vehicle holds where it is"},
     {"task_landed_alt", "m", 0.15, 0.01, 1, "landed when below this altitude ..."},
     {"task_landed_time", "s", 0.5, 0.1, 10, "... and still for this long"},
 

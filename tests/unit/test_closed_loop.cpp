@@ -16,6 +16,7 @@
 #include "uav/app/flight_log.hpp"
 #include "uav/app/mission_store.hpp"
 #include "uav/app/workers.hpp"
+#include "uav/shared/manual_control.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/sim/sim_cameras.hpp"
@@ -488,6 +489,82 @@ TEST_F(ClosedLoop, UploadedExclusionZoneRefusesGotoAndABreachReturnsToTheRallyPo
   EXPECT_NEAR(TruthPosition().z(), 0.0, 1e-9);
   std::printf("geofence: %.1f m into the exclusion zone at most; landed %.1f m from the rally point\n", std::max(deepest, 0.0),
               (TruthPosition().head<2>() - Eigen::Vector2d(-10, 10)).norm());
+}
+
+// Manual flight from the GCS's sticks (PX4's Position mode): half forward flies at half the
+// speed limit along the heading, the yaw stick turns at its rate, releasing the deadman or
+// falling silent holds the position.
+TEST_F(ClosedLoop, SticksFlyAtTheirDeflectionAndReleasedOrSilentSticksHold) {
+  EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  const auto grounded = Fly("sticks", 1);
+  EXPECT_EQ(grounded.result, control::AckResult::kRejected);
+  EXPECT_NE(grounded.reason.find("take off first"), std::string::npos) << grounded.reason;
+  EXPECT_EQ(Fly("takeoff 8", 40).result, control::AckResult::kCompleted);
+  EXPECT_EQ(Fly("sticks", 1).result, control::AckResult::kCompleted);
+  EXPECT_EQ(board_.Snapshot().task, control::Task::kSticks);
+  ManualSticks sticks;
+  bool sending = true;
+  on_step_ = [&] {
+    if (!sending) return;
+    board_.Update([&](BlackboardData& b) {
+      b.sticks = sticks;
+      b.sticks->utime = vehicle_.utime();  // arriving at 50 Hz
+    });
+  };
+  const double speed_max = params_.Get("ctl_speed_max_xy");
+  auto ground_speed = [&] {
+    const auto t = vehicle_.TruthState();
+    return Eigen::Vector3d(t.q_NB * t.v_B);
+  };
+  // Half forward for 8 s along the heading.
+  const double psi0 = board_.Snapshot().estimate.euler.psi;
+  sticks.forward = 0.5;
+  sticks.deadman = true;
+  const Eigen::Vector3d start = EstimatedPosition();
+  Fly("", 8);
+  const Eigen::Vector3d v = ground_speed();
+  const Eigen::Vector2d heading(std::cos(psi0), std::sin(psi0));
+  EXPECT_NEAR(v.head<2>().dot(heading), 0.5 * speed_max, 0.2);
+  EXPECT_LT(std::abs(v.x() * heading.y() - v.y() * heading.x()), 0.2);  // no sideways drift
+  EXPECT_GT((EstimatedPosition() - start).head<2>().dot(heading), 0.5 * speed_max * 6);
+  EXPECT_NEAR(-EstimatedPosition().z(), 8.0, 0.4);
+  // The deadman released: it stops and holds.
+  sticks.deadman = false;
+  Fly("", 4);
+  const Eigen::Vector3d held = EstimatedPosition();
+  Fly("", 5);
+  EXPECT_LT((EstimatedPosition() - held).norm(), 0.3);
+  EXPECT_LT(ground_speed().norm(), 0.2);
+  // Full yaw for 2 s: 2 s at task_stick_yaw_rate.
+  sticks = ManualSticks{};
+  sticks.yaw = 1.0;
+  sticks.deadman = true;
+  const double psi1 = board_.Snapshot().estimate.euler.psi;
+  Fly("", 2);
+  sticks.yaw = 0.0;
+  Fly("", 2);
+  const double turned = std::remainder(board_.Snapshot().estimate.euler.psi - psi1, 2 * M_PI) * 180 / M_PI;
+  EXPECT_NEAR(turned, 2 * params_.Get("task_stick_yaw_rate"), 10.0);
+  // Full climb for 2 s, then silence with full forward held: it holds after task_stick_timeout.
+  sticks.up = 1.0;
+  const double alt0 = -EstimatedPosition().z();
+  Fly("", 2);
+  sticks.up = 0.0;
+  Fly("", 2);
+  const double climbed = -EstimatedPosition().z() - alt0;
+  EXPECT_NEAR(climbed, 2 * params_.Get("ctl_speed_max_up"), 1.0);
+  sticks.forward = 1.0;
+  sending = true;
+  Fly("", 0.1);
+  sending = false;  // the GCS falls silent with the stick pushed
+  Fly("", 4);
+  const Eigen::Vector3d silent = EstimatedPosition();
+  Fly("", 4);
+  on_step_ = nullptr;
+  EXPECT_LT((EstimatedPosition() - silent).norm(), 0.3);
+  EXPECT_EQ(board_.Snapshot().task, control::Task::kSticks);
+  std::printf("sticks: %.2f m/s at half forward (limit %.1f), turned %.0f deg in 2 s at full yaw, climbed %.1f m in 2 s\n",
+              v.head<2>().dot(heading), speed_max, turned, climbed);
 }
 
 // Mission resume (QGroundControl's "resume mission"): a survey stopped by a return in the middle

@@ -114,12 +114,12 @@ TEST(VehicleStateMessage, RoundTripsAndRefusesWhatTheTypedStateCannotHold) {
 }
 
 TEST(VehicleEnums, NamesAndWireValuesGoBothWays) {
-  for (int i = 0; i < 9; ++i) {
+  for (int i = 0; i < 10; ++i) {
     const auto t = TaskFromWire(i);
     ASSERT_TRUE(t);
     EXPECT_EQ(TaskFromName(Name(*t)), t);
   }
-  EXPECT_FALSE(TaskFromWire(9));
+  EXPECT_FALSE(TaskFromWire(10));
   EXPECT_EQ(Name(CommandResult::kInProgress), "in_progress");
   EXPECT_EQ(CommandResultFromName("failed"), CommandResult::kFailed);
   EXPECT_FALSE(SeverityFromWire(5));

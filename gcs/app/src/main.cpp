@@ -217,6 +217,9 @@ int main(int argc, char** argv) {
       }
       ctx.now = now;
       uav::gcs::GcsModel& model = *model_ptr;
+      uav::gcs::GamepadState pad;
+      if (p->ReadGamepad(pad.axes.data(), pad.buttons.data())) model.sticks().SetGamepad(pad);
+      else model.sticks().SetGamepad(std::nullopt);
       model.Tick(now);
       if (!vehicle.empty() && model.selected_id() != vehicle) model.SelectVehicle(vehicle);
       if (!p->NewFrame(now - last)) break;

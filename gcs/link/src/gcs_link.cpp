@@ -22,6 +22,7 @@
 #include "uavmsg/map_tile_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/track_status_t.hpp"
+#include "uavmsg/manual_control_t.hpp"
 #include "uavmsg/track_target_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
@@ -234,6 +235,11 @@ void GcsLink::Poll(int timeout_ms, double now) {
     }
     m.n_ranges = static_cast<int16_t>(m.first.size());
     im.Publish(r.vehicle_id, Topic::kFileRequest, m);
+  }
+  for (const auto& [vehicle_id, sticks] : im.model.sticks().TakeOutgoing()) {
+    uavmsg::manual_control_t m = ToMessage(sticks);
+    m.source = im.model.gcs_name();
+    im.Publish(vehicle_id, Topic::kManualControl, m);
   }
   for (const auto& t : im.model.video().TakeOutgoing()) {
     uavmsg::track_target_t m = ToMessage(t);

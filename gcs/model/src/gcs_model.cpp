@@ -235,8 +235,10 @@ void GcsModel::Tick(double now) {
     wires_.Tick(v, id, v.reports.Get<PowerLines>().at, now, log_);
   }
   commands_.Tick(now, log_);
+  sticks_.Tick(selected_, now);
   if (replay_) {  // a replay only watches: whatever the concerns queued goes nowhere
     commands_.TakeOutgoing();
+    sticks_.TakeOutgoing();
     missions_.TakeOutgoing();
     maps_.TakeOutgoing();
     video_.TakeOutgoing();

@@ -102,6 +102,16 @@ class GlfwPlatform : public Platform {
     return 1;
   }
   bool has_display() const override { return true; }
+  bool ReadGamepad(float axes[6], bool buttons[15]) override {
+    for (int jid = GLFW_JOYSTICK_1; jid <= GLFW_JOYSTICK_LAST; ++jid) {
+      GLFWgamepadstate state;
+      if (!glfwJoystickIsGamepad(jid) || !glfwGetGamepadState(jid, &state)) continue;
+      for (int i = 0; i < 6; ++i) axes[i] = state.axes[i];
+      for (int i = 0; i < 15; ++i) buttons[i] = state.buttons[i] == GLFW_PRESS;
+      return true;
+    }
+    return false;
+  }
 
  private:
   GLFWwindow* window_ = nullptr;

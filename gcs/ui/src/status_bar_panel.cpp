@@ -116,6 +116,9 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
     if (ImGui::SmallButton("Parameters")) ctx.state.show_parameters = !ctx.state.show_parameters;
     RegisterLastItem(ctx, "status:params");
     ImGui::SameLine();
+    if (ImGui::SmallButton(model.sticks().enabled() ? "STICKS ON" : "Sticks")) ctx.state.show_sticks = !ctx.state.show_sticks;
+    RegisterLastItem(ctx, "status:sticks");
+    ImGui::SameLine();
   }
   if (model.signing_key_id().empty() && !model.replay()) {
     ImGui::TextColored(red, "INSECURE");

@@ -1,6 +1,8 @@
 // Inbound translators: commands, mission uploads, file requests and GCS heartbeats.
 #include "link_translators.hpp"
 
+#include <memory>
+
 #include "uav/shared/time.hpp"
 #include "uav/waypoints/mission_file.hpp"
 #include "uav/waypoints/mission_messages.hpp"
@@ -8,6 +10,7 @@
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/file_request_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
+#include "uavmsg/manual_control_t.hpp"
 #include "uavmsg/track_target_t.hpp"
 
 namespace uav::app {
@@ -94,6 +97,30 @@ void SubscribeFileRequests(LinkContext& c, FileSender& files) {
         for (int i = 0; i < m.n_ranges && i < static_cast<int>(m.first.size()) && i < static_cast<int>(m.count.size()); ++i)
           r.ranges.push_back({m.first[i], m.count[i]});
         files.OnRequest(r);
+      });
+}
+
+void SubscribeManualControl(LinkContext& c) {
+  auto last_said = std::make_shared<int64_t>(-1'000'000'000);  // a refusal, said once a second at most
+  c.bus.Subscribe<uavmsg::manual_control_t>(
+      Channel(c.vehicle_id, Topic::kManualControl), [&c, last_said](const std::string&, const uavmsg::manual_control_t& m) {
+        if (m.header.vehicle_id != c.vehicle_id) return;
+        // Unsigned or a stranger's sticks are dropped, and said (they come at 20 Hz).
+        const SignatureVerdict v = c.signatures.Check(Topic::kManualControl, m, m.source);
+        if (v == SignatureVerdict::kReplay) return;
+        auto refuse = [&c, &last_said](const std::string& why) {
+          if (c.now - *last_said < 1'000'000) return;
+          *last_said = c.now;
+          c.board.PushStatus(Severity::kWarning, "sticks refused: " + why);
+        };
+        if (v != SignatureVerdict::kAccepted) return refuse(c.signatures.Refusal(v, m));
+        try {
+          ManualSticks s = FromMessage(m);
+          s.utime = c.now;  // the vehicle's clock: how fresh they are is judged against it
+          c.board.Update([&](BlackboardData& b) { b.sticks = s; });
+        } catch (const std::invalid_argument& e) {
+          refuse(e.what());
+        }
       });
 }
 

@@ -111,6 +111,8 @@ void SubscribeMissionUploads(LinkContext& c);
 void SubscribeFileRequests(LinkContext& c, FileSender& files);
 // Targets for the tracker; a malformed one, or one for another vehicle, is answered as rejected.
 void SubscribeTrackTargets(LinkContext& c);
+// The operator's sticks (manual_control_t), signed, into the blackboard for the `sticks` task.
+void SubscribeManualControl(LinkContext& c);
 // GCS heartbeats: posts the age of the newest to the blackboard every tick (link-loss input).
 std::unique_ptr<Translator> MakeGcsHeartbeatTranslator(LinkContext& c);
 

@@ -45,6 +45,7 @@ LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url
   SubscribeCommands(c);
   SubscribeFileRequests(c, im.files);
   SubscribeTrackTargets(c);
+  SubscribeManualControl(c);
   im.translators.push_back(MakeGcsHeartbeatTranslator(c));
   im.translators.push_back(MakeAckTranslator(c));
   im.translators.push_back(MakeStatusTextTranslator(c));

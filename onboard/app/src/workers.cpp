@@ -205,6 +205,7 @@ void ControlWorker::Tick(int64_t utime) {
   for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? Severity::kWarning : Severity::kInfo, e);
   tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports);
   tasks_.ObserveTarget(d.target);
+  tasks_.ObserveSticks(d.sticks);
   CheckPreArm(d, utime);
   for (const auto& req : board_.commands.TakeAll()) {
     if (req.command.id == CommandId::kParam) SetParameter(req, d, utime, &reports);
@@ -213,6 +214,11 @@ void ControlWorker::Tick(int64_t utime) {
   if (parameters_ && (last_parameters_report_ < 0 || utime - last_parameters_report_ >= 5'000'000)) PublishParameters(utime);
   const control::TaskManager::Output out = tasks_.Update(d.estimate, t, &reports);
   if (out.reset_controller) controller_.Reset();
+  if (tasks_.sticks_holding() != last_sticks_said_) {
+    last_sticks_said_ = tasks_.sticks_holding();
+    if (out.task == control::Task::kSticks)
+      board_.PushStatus(Severity::kInfo, last_sticks_said_.empty() ? "sticks: flying" : "sticks: " + last_sticks_said_);
+  }
   const control::Setpoint setpoint = Avoid(out, d, utime, &reports);
   // A setpoint that is not finite or leaves the envelope never reaches the controller.
   const std::string bad = control::CheckSetpoint(setpoint, failsafe_params_, controller_.params().speed_max_xy);

@@ -7,12 +7,15 @@
 namespace uav::control {
 
 TaskParams TaskParams::FromParameters(const ParameterSet& p) {
-  return {p.Get("task_reached_radius"), p.Get("task_reached_speed"), p.Get("task_land_speed"),
+  TaskParams t{p.Get("task_reached_radius"), p.Get("task_reached_speed"), p.Get("task_land_speed"),
           p.Get("task_land_slow_alt"),  p.Get("task_landed_alt"),    p.Get("task_landed_time"),
           p.Get("ctl_speed_max_xy"),    p.Get("ctl_speed_max_up"),   p.Get("ctl_speed_max_down"),
           p.Get("task_path_accel"),     p.Get("task_path_leash"),    p.Get("task_return_alt"),
           p.Get("task_stall_time"),     p.Get("fs_fence_radius"),    p.Get("fs_fence_alt"),
           FollowParams::FromParameters(p)};
+  t.stick_yaw_rate = p.Get("task_stick_yaw_rate") * M_PI / 180.0;
+  t.stick_timeout = p.Get("task_stick_timeout");
+  return t;
 }
 
 std::string TaskManager::OutsideFence(const Eigen::Vector3d& p_N) const {
@@ -253,6 +256,14 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       airborne_ = true;
       return Begin(Task::kTakeoff, req, est, t, reports);
     }
+    case CommandId::kSticks:
+      if (!airborne_) return reject("not flying: take off first");
+      Supersede("sticks", reports);
+      carried_capture_.reset();
+      Hold(est);
+      task_ = Task::kSticks;
+      sticks_holding_ = "waiting for the sticks' deadman";
+      return instant();
     case CommandId::kHover:
       if (!airborne_) return reject("not flying");
       Supersede("hover", reports);
@@ -410,6 +421,8 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
     }
   }
   if (task_ == Task::kFollow) UpdateFollow(est, t, reports);
+  if (task_ == Task::kSticks) UpdateSticks(est, t, dt);
+  else sticks_holding_.clear();
   if (task_ != Task::kFollow) follower_.reset();
   if (task_ == Task::kLand && setpoint_.descent_rate) {
     // Slow down for the touchdown.
@@ -506,6 +519,41 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
 
 void TaskManager::ReportProgressNote(const std::string& reason, std::vector<CommandAck>* reports) const {
   if (active_report_) Report(AckResult::kInProgress, std::max(0, last_percent_), reason, reports);
+}
+
+void TaskManager::UpdateSticks(const VehicleEstimate& est, double t, double dt) {
+  const bool fresh = sticks_ && t - sticks_->utime * 1e-6 <= p_.stick_timeout;
+  setpoint_.v_ff_N.setZero();
+  setpoint_.yaw_rate_ff = 0.0;
+  setpoint_.speed_max_xy.reset();
+  setpoint_.descent_rate.reset();
+  if (!fresh || !sticks_->deadman) {
+    sticks_holding_ = !sticks_ ? "waiting for the sticks' deadman"
+                      : !fresh ? "sticks silent: holding"
+                               : "deadman released: holding";
+    return;
+  }
+  const ManualSticks& s = *sticks_;
+  const double psi = est.euler.psi;
+  const double f = s.forward * p_.speed_max_xy, r = s.right * p_.speed_max_xy;
+  Eigen::Vector3d v_N(std::cos(psi) * f - std::sin(psi) * r, std::sin(psi) * f + std::cos(psi) * r,
+                      s.up >= 0 ? -s.up * p_.speed_max_up : -s.up * p_.speed_max_down);
+  Eigen::Vector3d next = setpoint_.p_N + v_N * dt;
+  next.z() = std::min(next.z(), -0.5);  // the sticks do not land: `land` does
+  // The reference leads the vehicle by at most a few metres (a gust, a slow climb).
+  constexpr double kLead = 2.0;
+  const Eigen::Vector3d lead = next - est.p_N;
+  if (lead.norm() > kLead) next = est.p_N + lead * (kLead / lead.norm());
+  if (const std::string why = OutsideFence(next); !why.empty()) {
+    sticks_holding_ = "the geofence stops the sticks: " + why;
+    return;
+  }
+  sticks_holding_.clear();
+  setpoint_.p_N = next;
+  setpoint_.v_ff_N = v_N;
+  const double yaw_rate = s.yaw * p_.stick_yaw_rate;
+  setpoint_.yaw = std::remainder(setpoint_.yaw + yaw_rate * dt, 2.0 * M_PI);
+  setpoint_.yaw_rate_ff = yaw_rate;
 }
 
 }  // namespace uav::control

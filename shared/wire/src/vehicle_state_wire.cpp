@@ -21,7 +21,8 @@ constexpr int8_t W(E v) {
 static_assert(W(Task::kIdle) == S::TASK_IDLE && W(Task::kTakeoff) == S::TASK_TAKEOFF &&
               W(Task::kHover) == S::TASK_HOVER && W(Task::kGoto) == S::TASK_GOTO && W(Task::kLand) == S::TASK_LAND &&
               W(Task::kTrack) == S::TASK_TRACK && W(Task::kMission) == S::TASK_MISSION &&
-              W(Task::kReturn) == S::TASK_RETURN && W(Task::kFollow) == S::TASK_FOLLOW);
+              W(Task::kReturn) == S::TASK_RETURN && W(Task::kFollow) == S::TASK_FOLLOW &&
+              W(Task::kSticks) == S::TASK_STICKS);
 static_assert(W(CommandResult::kAccepted) == A::RESULT_ACCEPTED && W(CommandResult::kRejected) == A::RESULT_REJECTED &&
               W(CommandResult::kInProgress) == A::RESULT_IN_PROGRESS &&
               W(CommandResult::kCompleted) == A::RESULT_COMPLETED && W(CommandResult::kFailed) == A::RESULT_FAILED &&

@@ -15,7 +15,8 @@ struct Topic {
   friend constexpr bool operator<(Topic a, Topic b) { return std::string_view(a.name) < b.name; }
 
   static const Topic kHeartbeat, kGcsHeartbeat, kState, kCommand, kCommandAck, kStatusText, kMissionUpload,
-      kMissionAck, kVideo, kFileOffer, kFileRequest, kFileChunk, kMapTile, kTrackTarget, kTrackStatus;
+      kMissionAck, kVideo, kFileOffer, kFileRequest, kFileChunk, kMapTile, kTrackTarget, kTrackStatus,
+      kManualControl;
 };
 inline constexpr Topic Topic::kHeartbeat{"HEARTBEAT"};
 inline constexpr Topic Topic::kGcsHeartbeat{"GCS_HEARTBEAT"};
@@ -32,6 +33,7 @@ inline constexpr Topic Topic::kFileChunk{"FILE_CHUNK"};
 inline constexpr Topic Topic::kMapTile{"MAP_TILE"};
 inline constexpr Topic Topic::kTrackTarget{"TRACK_TARGET"};
 inline constexpr Topic Topic::kTrackStatus{"TRACK_STATUS"};
+inline constexpr Topic Topic::kManualControl{"MANUAL_CONTROL"};
 
 constexpr const char* TopicName(Topic t) { return t.name; }
 std::string Channel(std::string_view vehicle_id, Topic t);

@@ -10,7 +10,7 @@
 namespace uav {
 
 enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto, kTrack, kMission, kReturn, kChirp, kFollow, kGps, kParam,
-                       kEmergencyStop, kResume };
+                       kEmergencyStop, kResume, kSticks };
 
 struct ArgumentSpec {
   const char* name;   // e.g. "alt_m"

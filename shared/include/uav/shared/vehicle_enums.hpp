@@ -9,7 +9,7 @@
 namespace uav {
 
 // What the task manager is doing (vehicle_state_t.TASK_*, heartbeat_t.task).
-enum class Task : int8_t { kIdle = 0, kTakeoff = 1, kHover = 2, kGoto = 3, kLand = 4, kTrack = 5, kMission = 6, kReturn = 7, kFollow = 8 };
+enum class Task : int8_t { kIdle = 0, kTakeoff = 1, kHover = 2, kGoto = 3, kLand = 4, kTrack = 5, kMission = 6, kReturn = 7, kFollow = 8, kSticks = 9 };
 // Answer to a command (command_ack_t.RESULT_*).
 enum class CommandResult : int8_t { kAccepted = 0, kRejected = 1, kInProgress = 2, kCompleted = 3, kFailed = 4, kReplaced = 5 };
 // A result the operator must look at (red): refused, or started and not finished on its own.

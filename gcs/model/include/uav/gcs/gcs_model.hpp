@@ -11,6 +11,7 @@
 #include "uav/gcs/maps_downloads.hpp"
 #include "uav/gcs/message_log.hpp"
 #include "uav/gcs/mission_uploads.hpp"
+#include "uav/gcs/stick_input.hpp"
 #include "uav/gcs/obstacle_reports.hpp"
 #include "uav/gcs/plots.hpp"
 #include "uav/gcs/power_line_warnings.hpp"
@@ -106,6 +107,8 @@ class GcsModel {
   const PlotSet& plots() const { return plots_; }
   CommandCenter& commands() { return commands_; }
   const CommandCenter& commands() const { return commands_; }
+  StickInput& sticks() { return sticks_; }
+  const StickInput& sticks() const { return sticks_; }
   VideoTracking& video() { return video_; }
   const VideoTracking& video() const { return video_; }
   MapsDownloads& maps() { return maps_; }
@@ -146,6 +149,7 @@ class GcsModel {
   CommandCenter commands_;
   PlotSet plots_;
   VideoTracking video_;
+  StickInput sticks_;
   MapsDownloads maps_;
   Basemap basemap_;
   MissionUploads missions_;

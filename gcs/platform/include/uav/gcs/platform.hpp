@@ -20,6 +20,9 @@ class Platform {
   // Uploads an RGBA image into texture `slot` (created on first use, replaced after) and returns
   // its ImTextureID; nullptr where nothing is drawn (headless).
   virtual void* UpdateTexture(int slot, const uint8_t* rgba, int width, int height) = 0;
+  // The first connected gamepad in GLFW's standard layout (6 axes, 15 buttons); false when there
+  // is none (or no display).
+  virtual bool ReadGamepad(float axes[6], bool buttons[15]) { return false; }
 };
 
 // Headless: ImGui's null backend (no renderer; fonts built, draw data produced and discarded).

@@ -17,6 +17,7 @@ void DrawMessagesPanel(GcsModel& model, UiContext& ctx);
 void DrawMapPanel(GcsModel& model, UiContext& ctx);
 void DrawSurveyPanel(GcsModel& model, UiContext& ctx);
 void DrawMissionPanel(GcsModel& model, UiContext& ctx);  // while the map edits the mission
+void DrawSticksPanel(GcsModel& model, UiContext& ctx);   // opened from the status bar
 void DrawLiveMapPanel(GcsModel& model, UiContext& ctx);
 void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx);
 void DrawSensingPanel(GcsModel& model, UiContext& ctx);

@@ -73,6 +73,9 @@ struct UiState {
   void* video_texture = nullptr;
   // Parameters panel: open, its search, the values being typed (by name) and the file.
   bool show_parameters = false;
+  bool show_sticks = false;  // the Sticks window (virtual sticks, gamepad)
+  bool sticks_deadman_latched = false;  // the Sticks window's "deadman held" box
+  bool sticks_left_held = false, sticks_right_held = false;  // the on-screen sticks, last frame
   std::string params_filter;
   std::map<std::string, std::string> params_edits;
   std::string params_file = "vehicle.params";

@@ -65,6 +65,7 @@ struct BlackboardData {
   bool sim_gps_enabled = true;  // simulator fault: the simulated GPS has a fix (main applies it)
   // CMM thread
   double gcs_link_age_s = -1.0;  // [s] wall clock since the last GCS heartbeat; < 0: none heard yet
+  std::optional<ManualSticks> sticks;  // the operator's newest sticks; utime: vehicle clock at arrival
   std::optional<double> capture_interval_s;  // survey camera on, by time ...
   std::optional<double> capture_distance_m;  // ... or by distance
   // SVO thread

@@ -80,6 +80,7 @@ class ControlWorker {
   control::FailsafeMonitor failsafes_;
   avoid::SafetyLayer safety_;
   std::string last_avoid_said_;
+  std::string last_sticks_said_;
   control::Setpoint last_valid_setpoint_;
   std::string last_setpoint_error_;
   double period_s_;

@@ -17,6 +17,7 @@
 #include "uav/control/target_follower.hpp"
 #include "uav/waypoints/geofence.hpp"
 #include "uav/shared/command_grammar.hpp"
+#include "uav/shared/manual_control.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
@@ -39,6 +40,8 @@ struct TaskParams {
   double path_accel, path_leash, return_alt, stall_time;
   double fence_radius, fence_alt;  // targets beyond the geofence are refused
   FollowParams follow;
+  double stick_yaw_rate = 0.785;    // [rad/s] sticks: yaw rate at full deflection
+  double stick_timeout = 0.5;       // [s] sticks silent this long: hold
   static TaskParams FromParameters(const ParameterSet& p);
 };
 
@@ -95,6 +98,12 @@ class TaskManager {
                        double t, std::vector<CommandAck>* reports);
   FailsafeAction enforced() const { return enforced_; }
 
+  // The operator's newest sticks, stamped with the vehicle clock when they arrived (call before
+  // Update each step): the `sticks` task flies them.
+  void ObserveSticks(const std::optional<ManualSticks>& sticks) { sticks_ = sticks; }
+  // What the `sticks` task does now: flying, or holding and why ("" while flying or in another
+  // task); the control thread tells the operator when it changes.
+  const std::string& sticks_holding() const { return sticks_holding_; }
   // The tracker's newest target (call before Submit and Update each step): follow flies on it.
   void ObserveTarget(const TrackedTarget& target) { target_ = target; }
   // The pre-arm checks' failures ("gps: no 3-D fix ...; battery: ..."; "" when all pass), from
@@ -127,6 +136,9 @@ class TaskManager {
   // (completed), anything else as replaced.
   void Supersede(const std::string& by, std::vector<CommandAck>* reports);
   void UpdateFollow(const VehicleEstimate& est, double t, std::vector<CommandAck>* reports);
+  // Position-assisted stick flight (PX4's Position mode): the sticks move the reference at up to
+  // the speed limits and turn it at up to stick_yaw_rate; released or silent sticks hold it.
+  void UpdateSticks(const VehicleEstimate& est, double t, double dt);
 
   TaskParams p_;
   waypoints::Geofence fence_;
@@ -171,6 +183,8 @@ class TaskManager {
   std::unique_ptr<TargetFollower> follower_;  // while following
   TargetFollower::State follow_state_ = TargetFollower::State::kFollowing;
   bool sim_gps_enabled_ = true;
+  std::optional<ManualSticks> sticks_;
+  std::string sticks_holding_;
   // Mission resume: the step of the uploaded mission (upload number resume_upload_) being flown
   // when it stopped; a resumed run's step k is the mission's step k + resume_offset_ (its
   // first steps, which re-establish the settings, count as step resume_first_).

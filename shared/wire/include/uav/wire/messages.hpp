@@ -4,6 +4,7 @@
 // fills everything but the header (the link's). Only the links, the fuzzers and the link tests
 // include this (the rest of the program knows no LCM).
 #include "uav/shared/active_stereo.hpp"
+#include "uav/shared/manual_control.hpp"
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/obstacles.hpp"
 #include "uav/shared/operator_messages.hpp"
@@ -27,6 +28,7 @@
 #include "uavmsg/sensing_t.hpp"
 #include "uavmsg/track_status_t.hpp"
 #include "uavmsg/track_target_t.hpp"
+#include "uavmsg/manual_control_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 #include "uavmsg/visual_odometry_t.hpp"
 
@@ -90,6 +92,11 @@ uavmsg::pre_arm_t ToMessage(const PreArmReport& r);
 // parameter, a value outside its limits or not finite, an unknown apply).
 ParameterTable FromMessage(const uavmsg::param_table_t& m);
 uavmsg::param_table_t ToMessage(const ParameterTable& t);
+
+// The operator's sticks (uav/shared/manual_control.hpp). Throws std::invalid_argument naming the
+// axis that is not a number in [-1, 1]; utime is the message's.
+ManualSticks FromMessage(const uavmsg::manual_control_t& m);
+uavmsg::manual_control_t ToMessage(const ManualSticks& s);
 
 // Tracking: the selection and the tracker's status (uav/shared/tracking.hpp)
 // Throws std::invalid_argument naming the first non-finite or out-of-range field.
