@@ -388,9 +388,9 @@ TEST_F(ClosedLoop, SurveyMissionFromTheGroundCapturesOnTheLinesAndLandsHome) {
               elapsed_s_, plan.lines, worst_cross, mean_speed);
 }
 
-// A mission of every simple item the editor makes: a waypoint held for 3 s, a loiter of 4 s at
-// another point, one photo there, and a landing at a third point.
-TEST_F(ClosedLoop, MixedMissionHoldsLoitersTakesOnePhotoAndLandsAtItsPoint) {
+// A mission of every item the editor makes: a waypoint held for 3 s, a loiter of 4 s at another
+// point, one photo there, a small survey, and a landing at a third point.
+TEST_F(ClosedLoop, MixedMissionHoldsLoitersTakesOnePhotoSurveysAndLandsAtItsPoint) {
   const LocalNedFrame frame(kHome);
   waypoints::Mission m;
   m.home = kHome;
@@ -409,10 +409,30 @@ TEST_F(ClosedLoop, MixedMissionHoldsLoitersTakesOnePhotoAndLandsAtItsPoint) {
   item(waypoints::mav_cmd::kNavWaypoint, {3, 0, 0, nan}, Eigen::Vector3d(12, 0, -8));
   item(waypoints::mav_cmd::kNavLoiterTime, {4, 0, 0, nan}, Eigen::Vector3d(12, 10, -10));
   item(waypoints::mav_cmd::kImageStartCapture, {0, 0, 1, 0}, Eigen::Vector3d::Zero());
+  // A 20 m x 12 m field at 8 m, as the planner makes it (its own items only).
+  waypoints::SurveyParams sp;
+  sp.camera = {4.8, 3.6, 3.6, 640, 480, true};
+  sp.altitude_m = 8.0;
+  sp.speed_m_s = 2.0;
+  sp.turnaround_m = 2.0;
+  std::vector<GeodeticPoint> area;
+  for (const Eigen::Vector2d& c : {Eigen::Vector2d(20, 0), Eigen::Vector2d(40, 0), Eigen::Vector2d(40, 12), Eigen::Vector2d(20, 12)})
+    area.push_back(frame.ToGeodetic(Eigen::Vector3d(c.x(), c.y(), 0)));
+  const waypoints::SurveyPlan plan = waypoints::PlanSurvey(area, kHome, sp);
+  ASSERT_TRUE(plan.ok()) << plan.overlap_problem;
+  const waypoints::Mission survey = waypoints::MissionFromSurvey(area, kHome, sp, plan);
+  waypoints::SurveyDefinition def = survey.surveys.at(0);
+  const auto first = survey.items.begin() + static_cast<std::ptrdiff_t>(def.first_item);
+  item(waypoints::mav_cmd::kDoChangeSpeed, {1, sp.speed_m_s, -1, 0}, Eigen::Vector3d::Zero());  // as the editor does
+  m.items.back().frame = waypoints::mav_frame::kMission;
+  m.items.back().latitude_deg = m.items.back().longitude_deg = m.items.back().altitude_m = 0;
+  def.first_item = m.items.size();
+  m.items.insert(m.items.end(), first, first + static_cast<std::ptrdiff_t>(def.item_count));
+  m.surveys.push_back(def);
   item(waypoints::mav_cmd::kNavLand, {0, 0, 0, nan}, Eigen::Vector3d(4, 6, 0));
   ASSERT_EQ(missions_.AcceptUpload(m), "");
   // Time spent still (under 0.2 m/s) near each point, and the camera's on-time.
-  double at_wp = 0, at_loiter = 0, camera_on = 0;
+  double at_wp = 0, at_loiter = 0, camera_on = 0, survey_camera_on = 0;
   Eigen::Vector3d camera_at = Eigen::Vector3d::Constant(nan);
   on_step_ = [&] {
     const auto d = board_.Snapshot();
@@ -420,10 +440,16 @@ TEST_F(ClosedLoop, MixedMissionHoldsLoitersTakesOnePhotoAndLandsAtItsPoint) {
     const bool still = d.estimate.v_N.norm() < 0.2;
     if (still && (d.estimate.p_N - Eigen::Vector3d(12, 0, -8)).norm() < 0.5) at_wp += dt;
     if (still && (d.estimate.p_N - Eigen::Vector3d(12, 10, -10)).norm() < 0.5) at_loiter += dt;
-    if (d.capture_interval_s) camera_on += dt, camera_at = d.estimate.p_N;
+    // The photo's camera is on at one frame a second, the survey's at its capture rate.
+    if (d.capture_interval_s && *d.capture_interval_s == 1.0) camera_on += dt, camera_at = d.estimate.p_N;
+    if (d.capture_interval_s && *d.capture_interval_s < 1.0) {
+      survey_camera_on += dt;
+      EXPECT_NEAR(-d.estimate.p_N.z(), 8.0, 0.4);  // on the survey's lines, at its altitude
+      EXPECT_GT(d.estimate.p_N.x(), 15.0);
+    }
   };
   EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
-  const auto last = Fly("mission", 150);
+  const auto last = Fly("mission", 300);
   on_step_ = nullptr;
   EXPECT_EQ(last.result, control::AckResult::kCompleted) << last.reason;
   EXPECT_GE(at_wp, 3.0);
@@ -433,11 +459,19 @@ TEST_F(ClosedLoop, MixedMissionHoldsLoitersTakesOnePhotoAndLandsAtItsPoint) {
   // The camera was on for the photo's half second, at the loiter point, and only then.
   EXPECT_NEAR(camera_on, 0.5, 0.05);
   EXPECT_LT((camera_at - Eigen::Vector3d(12, 10, -10)).norm(), 0.5);
+  // Every capture leg was flown at the survey's speed, camera on.
+  double legs_s = 0;
+  for (std::size_t i = 0; i + 1 < plan.waypoints.size(); ++i)
+    if (plan.waypoints[i].kind == waypoints::SurveyWaypoint::Kind::kCaptureStart)
+      legs_s += (plan.waypoints[i + 1].p_N - plan.waypoints[i].p_N).norm() / sp.speed_m_s;
+  EXPECT_GT(legs_s, 10.0);
+  EXPECT_NEAR(survey_camera_on, legs_s, 0.15 * legs_s);
   EXPECT_LT((TruthPosition().head<2>() - Eigen::Vector2d(4, 6)).norm(), NavBoundH());
   EXPECT_NEAR(TruthPosition().z(), 0.0, 1e-9);
   EXPECT_FALSE(board_.Snapshot().armed);
-  std::printf("mixed mission: %.1f s; still %.1f s at the waypoint (hold 3 s), %.1f s at the loiter (4 s); camera on %.2f s\n",
-              elapsed_s_, at_wp, at_loiter, camera_on);
+  std::printf("mixed mission: %.1f s; still %.1f s at the waypoint (hold 3 s), %.1f s at the loiter (4 s); photo camera "
+              "on %.2f s; survey camera on %.1f s (its legs: %.1f s)\n",
+              elapsed_s_, at_wp, at_loiter, camera_on, survey_camera_on, legs_s);
 }
 
 // The geofence uploaded with a mission: a goto into its exclusion zone is refused with the
