@@ -131,7 +131,7 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
     int key;  // with Ctrl; 0: none
   };
   static constexpr Action kActions[] = {{"arm", 0},     {"takeoff 10", 'T'}, {"hover", 'H'}, {"land", 'L'},
-                                        {"return", 'R'}, {"mission", 0},     {"disarm", 0}};
+                                        {"return", 'R'}, {"mission", 0},     {"resume", 0},  {"disarm", 0}};
   const ImGuiIO& io = ImGui::GetIO();
   for (const Action& a : kActions) {
     if (ImGui::Button(a.text)) st.pending_confirmation = a.text;
