@@ -33,7 +33,8 @@ wait_until armed == 0 timeout 20
 assert alt ~ 0 0.2 and landed == 1 and x ~ 0 0.5 and y ~ 0 0.5
 echo landed at home; the vehicle stitched the map on board
 wait_until log contains map ready timeout 60
-wait_until download.offered >= 5 and download.saved >= 5 timeout 120
+# The map's five files, the mission the vehicle holds and its flight log up to the landing.
+wait_until download.offered >= 7 and download.saved >= 7 timeout 120
 assert log contains SHA-256 verified and gave_up == 0
 echo map downloaded and verified
 )";
