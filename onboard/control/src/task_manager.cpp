@@ -291,8 +291,9 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       auto steps = c.id == CommandId::kTrack ? missions_->StoredPath(static_cast<int>(c.args[0]), &error)
                                              : missions_->UploadedMission(&error);
       if (!steps) return reject(error);
+      const MissionRunner* before = runner_.get();
       BeginPath(c.id == CommandId::kTrack ? Task::kTrack : Task::kMission, std::move(*steps), req, est, t, reports);
-      if (task_ == Task::kMission && runner_) {
+      if (task_ == Task::kMission && runner_ && runner_.get() != before) {  // accepted: a new run
         resume_upload_ = missions_->upload_count();
         resume_offset_ = 0;
         resume_first_ = 0;
@@ -315,8 +316,9 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       } catch (const std::invalid_argument& e) {
         return reject(e.what());
       }
+      const MissionRunner* before = runner_.get();
       BeginPath(Task::kMission, std::move(resumed.steps), req, est, t, reports);
-      if (task_ == Task::kMission && runner_) {
+      if (task_ == Task::kMission && runner_ && runner_.get() != before) {  // accepted: a new run
         resume_first_ = resumed.first;
         resume_offset_ = static_cast<std::ptrdiff_t>(resumed.first) - static_cast<std::ptrdiff_t>(resumed.prefix);
       }
