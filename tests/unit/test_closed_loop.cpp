@@ -647,7 +647,9 @@ TEST_F(ClosedLoop, ResumeAfterAReturnFliesTheInterruptedLegWholeAndTheRest) {
   EXPECT_EQ(legs, total_legs - 2);  // the two finished legs are not flown again
   EXPECT_LT(EstimatedPosition().head<2>().norm(), 0.5);  // the mission's return: home
   // Completed: nothing is left to resume.
-  EXPECT_EQ(Fly("resume", 1).result, control::AckResult::kRejected);
+  const auto after = Fly("resume", 1);
+  EXPECT_EQ(after.result, control::AckResult::kRejected);
+  EXPECT_NE(after.reason.find("nothing to resume"), std::string::npos) << after.reason;
   std::printf("resume: third leg began at (%.1f, %.1f), resumed leg at (%.1f, %.1f); %d of %d legs after the resume\n",
               third_start.x(), third_start.y(), leg_starts[0].x(), leg_starts[0].y(), legs, total_legs);
 }

@@ -399,7 +399,8 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
     if (task_ == Task::kMission) {
       // Where a resume would start: this mission's step being flown (until it is done).
       const std::ptrdiff_t step = static_cast<std::ptrdiff_t>(path_.step) + resume_offset_;
-      if (path_.done) resume_step_.reset();
+      // Done, or landing at its end (its last item): nothing is left to resume.
+      if (path_.done || path_.land) resume_step_.reset();
       else resume_step_ = static_cast<std::size_t>(std::max<std::ptrdiff_t>(step, static_cast<std::ptrdiff_t>(resume_first_)));
     }
     if (path_.percent != last_percent_ && t - last_progress_t_ >= 0.5 && path_.percent < 100) {
