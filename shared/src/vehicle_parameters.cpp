@@ -240,6 +240,7 @@ const ParameterSchema& VehicleParameterSchema() {
     {"avd_brake_accel", "m/s^2", 2.5, 0.5, 10, "deceleration the speed limit counts on: the vehicle can always stop within the space it has seen"},
     {"avd_reaction", "s", 0.3, 0, 2, "control and attitude lag before braking bites, added to the perception's age"},
     {"avd_stale", "s", 0.5, 0.1, 5, "perception or plan older than this: brake and hold"},
+    {"avd_blind_return", "s", 3, 0.5, 60, "no obstacle perception for this long in flight (a camera failed): return home at the altitude flown, on the map alone, through space seen free; hold where there is none"},
     {"avd_rate", "Hz", 10, 1, 50, "replanning rate"},
     {"avd_latency", "ms", 30, 0, 1000, "a plan reaches control this long after it was started (simulated clock; measured at --speed 1)"},
     {"avd_window", "m", 16, 4, 50, "half width of the planning window around the vehicle"},

@@ -204,6 +204,31 @@ TEST(PathPlanner, SaysWhyWhenThereIsNoWayOrTheGoalIsInAnObstacle) {
   EXPECT_FALSE(PlanPath(wall, {0, 0, -4}, {std::nan(""), 0, -4}, params).found);
 }
 
+TEST(PathPlanner, FromInsideTheClearanceGoesStraightOutBeforeGoingOn) {
+  // A long wall along the way (east 1.2..1.6) and the vehicle 0.6 m from it, inside the 1 m
+  // clearance. The way out leads away from the wall, each step farther from it: never along it
+  // at the distance it started from (each replan would start a little nearer and ratchet in).
+  const LocalGrid g = Field({{{-2, 1.2, -8}, {30, 1.6, 0}}});
+  const Eigen::Vector3d start(2, 0.6, -4);
+  const PlannedPath p = PlanPath(g, start, {20, -1.5, -4}, Planner());
+  ASSERT_TRUE(p.found) << p.reason;
+  ASSERT_GE(p.p_N.size(), 2u);
+  double before = g.DistanceAt(start);
+  bool out = false;
+  for (std::size_t i = 0; i + 1 < p.p_N.size() && !out; ++i)
+    for (double t = 0.05; t <= 1.0 && !out; t += 0.05) {
+      const Eigen::Vector3d q = p.p_N[i] + t * (p.p_N[i + 1] - p.p_N[i]);
+      const double d = g.DistanceAt(q);
+      EXPECT_GE(d, before - 1e-3) << "nearer the wall at " << q.transpose();
+      before = std::max(before, d);
+      out = d >= 1.0;
+      // Out first, then on: it has gone less than a metre toward the goal when it is out.
+      if (out) EXPECT_LT(q.x() - start.x(), 1.0);
+    }
+  EXPECT_TRUE(out);
+  EXPECT_GE(MinDistance(g, {p.p_N.begin() + 1, p.p_N.end()}), 1.0);
+}
+
 TEST(PathPlanner, UnknownSpaceIsOpenAndSeenFreeLengthStopsAtIt) {
   LocalGrid g(Eigen::Vector3d(-2, -12, -8), Eigen::Vector3i(80, 60, 20), 0.4);
   for (int z = 0; z < 20; ++z)
@@ -255,6 +280,50 @@ TEST(AvoidancePlanner, KeepsItsSideOfAnObstacleAsItFliesPast) {
     if (p.x() > 12.0) break;
   }
   EXPECT_GT(p.x(), 12.0) << "got past the pole";
+}
+
+// Perception lost (a failed camera): the planner goes only through space seen free, and the
+// safety layer flies such plans however old the perception, and no other.
+TEST(AvoidancePlanner, OnTheMapAloneGoesOnlyThroughSpaceSeenFree) {
+  AvoidanceParams params;
+  params.enabled = true;
+  AvoidancePlanner planner(params);
+  // The way the vehicle came (north 0..20, a corridor 4 m wide) seen free; the rest unknown.
+  for (double n = -1; n < 20; n += 0.2)
+    for (double e = -2; e < 2; e += 0.2)
+      for (double d = -6; d < -2; d += 0.2) planner.map().Mark({n, e, d}, false);
+  PerceptionUpdate u;
+  u.utime = 1'000'000;
+  planner.Add(u, {18, 0, -4});
+  // Home through the corridor: found, and flown on the map alone.
+  AvoidancePlan home = planner.Plan(5'000'000, {18, 0, -4}, {0, 0, -4}, {0, 0, -4}, /*map_only=*/true);
+  EXPECT_TRUE(home.map_only);
+  ASSERT_NE(home.state, AvoidState::kNoPath) << home.reason;
+  EXPECT_NEAR(home.seen_free_m, Length(home.path_N), 0.5);
+  // Off to the side, into space never seen: no path, and why.
+  const AvoidancePlan aside = planner.Plan(5'100'000, {18, 0, -4}, {18, 12, -4}, {18, 12, -4}, /*map_only=*/true);
+  EXPECT_EQ(aside.state, AvoidState::kNoPath);
+  EXPECT_NE(aside.reason.find("seen free"), std::string::npos) << aside.reason;
+  // With the perception, the same goal is planned through the unknown (the cameras will see it).
+  EXPECT_NE(planner.Plan(5'200'000, {18, 0, -4}, {18, 12, -4}, {18, 12, -4}).state, AvoidState::kNoPath);
+
+  SafetyLayer layer(params);
+  hal::VehicleEstimate est;
+  est.p_N = {18, 0, -4};
+  control::Setpoint task;
+  task.p_N = {0, 0, -4};
+  // The perception is 4 s old: with it, a hold; on the map alone, the map's plan is flown.
+  home.utime = 5'000'000;
+  EXPECT_EQ(layer.Apply(task, task.p_N, est, &home, 5'010'000, 0.02).state, AvoidState::kNoData);
+  const SafetyLayer::Output flown = layer.Apply(task, task.p_N, est, &home, 5'010'000, 0.02, /*map_only=*/true);
+  EXPECT_NE(flown.state, AvoidState::kNoData) << flown.reason;
+  EXPECT_GT(flown.speed_limit, 1.0);
+  // A plan made with the perception is not flown on the map alone.
+  AvoidancePlan old = home;
+  old.map_only = false;
+  const SafetyLayer::Output refused = layer.Apply(task, task.p_N, est, &old, 5'010'000, 0.02, /*map_only=*/true);
+  EXPECT_EQ(refused.state, AvoidState::kNoData);
+  EXPECT_NE(refused.reason.find("map alone"), std::string::npos) << refused.reason;
 }
 
 AvoidancePlan StraightPlan(double seen_free_m, int64_t utime, int64_t perception_utime) {

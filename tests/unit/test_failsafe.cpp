@@ -101,6 +101,34 @@ TEST_F(Failsafes, PositionLostHoldsThenLandsAfterNavLandSecondsAndStaysLatched) 
   EXPECT_EQ(fresh.Update(in_, &events_), A::kHold);
 }
 
+TEST_F(Failsafes, ObstaclePerceptionLostReturnsOnTheMapAndStaysLatchedUntilLanding) {
+  EXPECT_EQ(At(0), A::kNone);
+  EXPECT_FALSE(monitor_.perception_lost());
+  in_.perception_lost = true;
+  in_.perception_lost_reason = "none for 3.1 s";
+  EXPECT_EQ(At(1), A::kReturn);
+  EXPECT_TRUE(monitor_.perception_lost());
+  EXPECT_NE(monitor_.reason().find("obstacle perception lost: none for 3.1 s"), std::string::npos) << monitor_.reason();
+  ASSERT_EQ(events_.size(), 1u);
+  EXPECT_NE(events_[0].find("through space seen free"), std::string::npos) << events_[0];
+  // The camera back: said once, and the return goes on.
+  in_.perception_lost = false;
+  EXPECT_EQ(At(2), A::kReturn);
+  ASSERT_EQ(events_.size(), 1u);
+  EXPECT_NE(events_[0].find("regained"), std::string::npos) << events_[0];
+  EXPECT_EQ(At(3), A::kReturn);
+  EXPECT_TRUE(events_.empty());
+  // Landed: over.
+  in_.airborne = false;
+  EXPECT_EQ(At(4), A::kNone);
+  EXPECT_FALSE(monitor_.perception_lost());
+  // A stricter failsafe still wins over it.
+  in_.airborne = true;
+  in_.perception_lost = true;
+  in_.battery_remaining = 0.05;
+  EXPECT_EQ(At(5), A::kLand);
+}
+
 TEST_F(Failsafes, GeofenceOnBothSidesOfEachLimit) {
   in_.p_N = Eigen::Vector3d(499.9, 0, -10);
   EXPECT_EQ(At(0), A::kNone);

@@ -253,6 +253,7 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
   DrawMissionPlanOnMap(model, m);
   const VehicleModel* v = model.selected();
   if (v) {
+    DrawAvoidanceOnMap(*v, m, ctx.now);
     DrawPowerLinesOnMap(model, *v, m, ctx.now);
     DrawObstaclesOnMap(model, *v, m, ctx.now);
   }

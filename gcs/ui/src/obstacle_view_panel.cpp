@@ -1,13 +1,15 @@
 // Obstacle view: what the selected vehicle's stereo pair sees (thesis 3.5), from above (north
 // up, centred on the vehicle) and from the side (distance ahead along the heading against
 // height), the decimated point cloud as dots coloured by height and each obstacle's cylinder
-// with its safety radius; the count, nearest distance and range gate underneath.
+// with its safety radius, the avoidance map's occupied cells (height-coloured) with the planned
+// path and its committed part; the count, nearest distance and range gate underneath.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include <imgui.h>
 
+#include "overlays/overlays.hpp"
 #include "uav/gcs/gcs_ui.hpp"
 
 namespace uav::gcs {
@@ -26,7 +28,8 @@ void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx) {
   const VehicleModel* v = model.selected();
   const Obstacles* obstacles = v ? v->reports.Fresh<Obstacles>(ctx.now, model.obstacles().params().stale_after_s) : nullptr;
   const PointCloud* cloud = v ? v->reports.Fresh<PointCloud>(ctx.now, model.obstacles().params().cloud_stale_after_s) : nullptr;
-  if (!v || !v->state || (!obstacles && !cloud)) {
+  const AvoidanceReport* avoid = v ? FreshAvoidance(*v, ctx.now) : nullptr;
+  if (!v || !v->state || (!obstacles && !cloud && !avoid)) {
     ImGui::TextDisabled(v && v->stereo_unhealthy ? "stereo unavailable" : "no stereo obstacle reports");
     ImGui::End();
     return;
@@ -49,6 +52,21 @@ void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx) {
   };
   dl->AddRect(o, ImVec2(o.x + w, o.y + h_top), frame);
   dl->PushClipRect(o, ImVec2(o.x + w, o.y + h_top), true);
+  const ImU32 path_colour = IM_COL32(120, 220, 255, 220), committed_colour = IM_COL32(60, 255, 120, 255);
+  if (avoid) {
+    const float half = std::max(1.0f, static_cast<float>(0.5 * avoid->cell_m * s_top));
+    for (const Eigen::Vector3f& q : avoid->occupied_N) {
+      if (-q.z() < 0.5f) continue;  // the ground
+      const ImVec2 a = top(q.x(), q.y());
+      dl->AddRectFilled(ImVec2(a.x - half, a.y - half), ImVec2(a.x + half, a.y + half), AvoidanceHeightColour(-q.z(), 110));
+    }
+    auto line = [&](const std::vector<Eigen::Vector3d>& p, ImU32 colour, float width) {
+      for (std::size_t i = 0; i + 1 < p.size(); ++i)
+        dl->AddLine(top(p[i].x(), p[i].y()), top(p[i + 1].x(), p[i + 1].y()), colour, width);
+    };
+    line(avoid->path_N, path_colour, 1.5f);
+    line(avoid->Committed(), committed_colour, 3.0f);
+  }
   if (cloud)
     for (const Eigen::Vector3f& q : cloud->p_N) {
       const ImVec2 a = top(q.x(), q.y());
@@ -78,6 +96,20 @@ void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx) {
   };
   dl->AddRect(o2, ImVec2(o2.x + w, o2.y + h_side), frame);
   dl->PushClipRect(o2, ImVec2(o2.x + w, o2.y + h_side), true);
+  if (avoid) {
+    // The cells within 2 m either side of the heading line: what stands in the way ahead.
+    const float half = std::max(1.0f, static_cast<float>(0.5 * avoid->cell_m * sx));
+    const Eigen::Vector2d left(-ahead.y(), ahead.x());
+    for (const Eigen::Vector3f& q : avoid->occupied_N) {
+      if (std::abs((q.head<2>().cast<double>() - p_N.head<2>()).dot(left)) > 2.0) continue;
+      const ImVec2 a = side(q.x(), q.y(), q.z());
+      dl->AddRectFilled(ImVec2(a.x - half, a.y - half), ImVec2(a.x + half, a.y + half), AvoidanceHeightColour(-q.z(), 110));
+    }
+    const std::vector<Eigen::Vector3d> committed = avoid->Committed();
+    for (std::size_t i = 0; i + 1 < committed.size(); ++i)
+      dl->AddLine(side(committed[i].x(), committed[i].y(), committed[i].z()),
+                  side(committed[i + 1].x(), committed[i + 1].y(), committed[i + 1].z()), committed_colour, 3.0f);
+  }
   if (cloud)
     for (const Eigen::Vector3f& q : cloud->p_N) {
       const ImVec2 a = side(q.x(), q.y(), q.z());
@@ -101,6 +133,9 @@ void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx) {
     ImGui::Text("%zu obstacles, nearest %s, range gate %.1f m (depth error limit)", obstacles->obstacles.size(), nearest,
                 obstacles->range_gate_m);
   }
+  if (avoid)
+    ImGui::Text("avoidance map: %zu occupied cells around, %lld nodes; path %.1f m, %.1f m of it seen free", avoid->occupied_N.size(),
+                static_cast<long long>(avoid->map_cells), avoid->PathLength(), avoid->seen_free_m);
   ImGui::End();
 }
 

@@ -2,6 +2,12 @@
 
 namespace uav::app {
 
+namespace {
+// The GCS's picture of the plan and the map: 2 Hz is what an operator follows, and a report of
+// the whole window (up to avoidance_t.MAX_CELLS cells) stays under 80 kB.
+constexpr int64_t kReportPeriodUs = 500'000;
+}  // namespace
+
 AvoidWorker::AvoidWorker(Blackboard& board, const avoid::AvoidanceParams& params, std::string map_path)
     : VisionWorker(board), planner_(params), map_path_(std::move(map_path)) {}
 
@@ -45,8 +51,28 @@ void AvoidWorker::Work(Outbox& out) {
     return;
   }
   auto plan = std::make_shared<const avoid::AvoidancePlan>(
-      planner_.Plan(utime_, d.estimate.p_N, d.avoid_request.via_N, d.avoid_request.goal_N));
+      planner_.Plan(utime_, d.estimate.p_N, d.avoid_request.via_N, d.avoid_request.goal_N, d.avoid_request.map_only));
   out.Post([plan](Blackboard& b) { b.Update([&](BlackboardData& data) { data.avoid_plan = plan; }); });
+  Report(*plan, d.estimate.p_N, out);
+}
+
+void AvoidWorker::Report(const avoid::AvoidancePlan& plan, const Eigen::Vector3d& p_N, Outbox& out) {
+  if (last_report_utime_ >= 0 && utime_ - last_report_utime_ < kReportPeriodUs) return;
+  last_report_utime_ = utime_;
+  AvoidanceReport r;
+  r.utime = plan.utime;
+  r.state = plan.state;
+  r.reason = plan.reason;
+  r.goal_N = plan.goal_N;
+  r.path_N = plan.path_N;
+  r.seen_free_m = plan.seen_free_m;
+  r.planning_ms = plan.planning_ms;
+  r.map_cells = static_cast<int64_t>(plan.map_cells);
+  r.origin_N = p_N;
+  r.cell_m = planner_.grid_m();
+  const avoid::AvoidanceParams& p = planner_.params();
+  r.occupied_N = planner_.OccupiedAround(p_N, Eigen::Vector3d(p.window_m, p.window_m, p.window_up_m));
+  out.Post([r = std::move(r)](Blackboard& b) { b.reports.Put(r); });
 }
 
 }  // namespace uav::app

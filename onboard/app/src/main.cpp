@@ -14,6 +14,7 @@
 #include "uav/waypoints/stored_paths.hpp"
 #include "uav/app/lockstep_scheduler.hpp"
 #include "uav/app/sensing.hpp"
+#include "uav/app/sim_flight.hpp"
 #include "uav/app/workers.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/parameters.hpp"
@@ -104,14 +105,6 @@ void Check(const CommandLine& o) {
                                 "commands from anyone on the network, --insecure");
 }
 
-Eigen::Isometry3d TruthPoseOf(const uav::sim::SimVehicle& vehicle) {
-  const auto s = vehicle.TruthState();
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = s.q_NB.toRotationMatrix();
-  T.translation() = s.p_N;
-  return T;
-}
-
 // Blocks SIGINT and SIGTERM in every thread; a dedicated thread waits for them and stops `scheduler`.
 sigset_t BlockTerminationSignals() {
   sigset_t signals;
@@ -130,8 +123,8 @@ void StopOnSignal(sigset_t signals, uav::app::LockstepScheduler& scheduler) {
   }).detach();
 }
 
-// The five threads of Table 2.1, the scene's sensing, and the simulated vehicle, until the
-// duration has passed or a signal came.
+// The five threads of Table 2.1 (the simulated flight's IMU, CTL and SVO, and here the log and
+// the link), the scene's sensing, until the duration has passed or a signal came.
 int Fly(const CommandLine& o) {
   const double speed = ParseSpeed(o.speed_text);
   const uav::GeodeticPoint home = ParseHome(o.home_text);
@@ -141,19 +134,12 @@ int Fly(const CommandLine& o) {
   const sigset_t signals = BlockTerminationSignals();
 
   const int64_t start = uav::WallTimeMicros();
-  constexpr int64_t kStepUs = 2000;      // physics at 500 Hz
-  constexpr int64_t kPeriodUs = 20000;   // threads at 50 Hz (thesis 2.3.2)
-  uav::sim::SimVehicle vehicle(params, home, start);
-  uav::app::Blackboard board;
-  uav::app::ImuWorker imu(vehicle, board, uav::nav::InsParams::FromParameters(params), home);
+  std::unique_ptr<uav::world::Scene> scene;
+  if (!o.scene_path.empty()) scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(o.scene_path));
   uav::app::MissionStore missions(o.paths_dir, home, params.Get("ctl_speed_max_xy"));
-  uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
-                              uav::control::ControllerParams::FromParameters(params),
-                              uav::control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6, board, &missions,
-                              uav::avoid::AvoidanceParams::FromParameters(params),
-                              uav::control::PreArmParams::FromParameters(params));
-  ctl.ServeParameters(params);
-  uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"), vehicle_params.attitude_mode);
+  uav::app::SimFlight flight(params, {home, start, speed, o.duration_s, scene.get(), o.log_dir, &missions});
+  uav::app::Blackboard& board = flight.board();
+  flight.control().ServeParameters(params);
   std::unique_ptr<uav::app::FlightLog> log;
   if (!o.log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(o.log_dir, start, vehicle_params.attitude_mode, home);
   const std::string log_path = log ? log->path() : "";
@@ -168,25 +154,9 @@ int Fly(const CommandLine& o) {
     link_params.signing_state_file = o.key_path + ".last";
   }
   uav::app::LinkWorker cmm(o.vehicle_id, o.lcm_url, link_params, board, missions, std::move(events));
-
-  std::unique_ptr<uav::world::Scene> scene;
-  std::unique_ptr<uav::app::Sensing> sensing;
-  if (!o.scene_path.empty()) {
-    scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(o.scene_path));
-    // At real time the vision results are as late as their work takes; on a simulated clock
-    // the vehicle file's latencies keep a run repeatable.
-    sensing = std::make_unique<uav::app::Sensing>(*scene, params, board,
-                                                  uav::app::Sensing::Options{o.log_dir, start, home, speed == 1.0});
-    sensing->RecordTruth(start, TruthPoseOf(vehicle));
-  }
-
-  uav::app::LockstepScheduler scheduler({start, kStepUs, speed, static_cast<int64_t>(o.duration_s * 1e6)});
-  scheduler.AddWorker("IMU", 0, kPeriodUs, [&](int64_t t) { imu.Tick(t); });
-  scheduler.AddWorker("CTL", 1, kPeriodUs, [&](int64_t t) { ctl.Tick(t); });
-  scheduler.AddWorker("SVO", 2, kPeriodUs, [&](int64_t t) { svo.Tick(t); });
-  scheduler.AddWorker("DLG", 3, kPeriodUs, [&](int64_t t) { dlg.Tick(t); });
-  scheduler.AddWorker("CMM", 3, kPeriodUs, [&](int64_t t) { cmm.Tick(t); });
-  if (sensing) sensing->AddTo(scheduler, kStepUs);
+  uav::app::LockstepScheduler& scheduler = flight.scheduler();
+  scheduler.AddWorker("DLG", 3, uav::app::SimFlight::kPeriodUs, [&](int64_t t) { dlg.Tick(t); });
+  scheduler.AddWorker("CMM", 3, uav::app::SimFlight::kPeriodUs, [&](int64_t t) { cmm.Tick(t); });
   StopOnSignal(signals, scheduler);
 
   const std::string signing = link_params.signing_key ? "signed with key " + link_params.signing_key->Id()
@@ -195,31 +165,8 @@ int Fly(const CommandLine& o) {
               o.speed_text.c_str(), o.lcm_url.c_str(), signing.c_str(), log_path.empty() ? "" : ", log ",
               log_path.c_str(), events_path.empty() ? "" : ", events ", events_path.c_str());
   std::fflush(stdout);
-  // Indoors (a scene without sky) the receiver never has a fix, whatever "gps 1" asks.
-  const bool sky_view = !scene || scene->sky();
-  bool gps_enabled = sky_view;
-  vehicle.SetGpsEnabled(gps_enabled);
-  if (!sky_view) board.PushStatus(uav::Severity::kWarning, "simulator: indoors, no GPS fix");
-  scheduler.Run([&](int64_t dt) {
-    // The simulator's faults, commanded like everything else ("gps 0").
-    if (const bool want = board.Snapshot().sim_gps_enabled && sky_view; want != gps_enabled) {
-      vehicle.SetGpsEnabled(want);
-      gps_enabled = want;
-      board.PushStatus(want ? uav::Severity::kInfo : uav::Severity::kWarning,
-                       want ? "simulator: GPS fix restored" : "simulator: GPS fix lost");
-    }
-    vehicle.Step(dt);
-    if (scene && (scheduler.now() - start) % kPeriodUs == 0) {
-      // The true clearance for the flight log (the flight stack never reads it).
-      const double clearance = scene->Clearance(vehicle.TruthState().p_N, (scheduler.now() + dt) * 1e-6);
-      board.Update([&](uav::app::BlackboardData& b) { b.sim_clearance_m = clearance; });
-    }
-    if (sensing) {
-      // The state after the step is the truth at the next tick, recorded before any camera asks.
-      sensing->RecordTruth(scheduler.now() + dt, TruthPoseOf(vehicle));
-      sensing->Monitor(scheduler.now(), scheduler);
-    }
-  });
+  flight.Run();
+  uav::app::Sensing* sensing = flight.sensing();
   const double simulated_s = (scheduler.now() - start) * 1e-6;
   if (sensing && !o.benchmark_path.empty()) {
     const std::string json = sensing->BenchmarkJson(scheduler, speed, simulated_s, (uav::WallTimeMicros() - start) * 1e-6);

@@ -163,6 +163,12 @@ Sensing::~Sensing() = default;
 
 const avoid::OccupancyMap* Sensing::avoidance_map() const { return impl_->avd ? &impl_->avd->map() : nullptr; }
 
+void Sensing::SetStereoFailed(int rig, bool failed) {
+  if (rig < 0 || rig >= static_cast<int>(impl_->stereo_rigs.size()))
+    throw std::out_of_range("stereo rig " + std::to_string(rig) + ": the scene has " + std::to_string(impl_->stereo_rigs.size()));
+  impl_->stereo_rigs[static_cast<std::size_t>(rig)]->SetFailed(failed);
+}
+
 void Sensing::AddTo(LockstepScheduler& scheduler, int64_t step_us) {
   Impl& s = *impl_;
   // Camera periods on the physics grid (5 Hz -> 200 ms).

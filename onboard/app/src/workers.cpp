@@ -115,9 +115,11 @@ control::Setpoint ControlWorker::Avoid(const control::TaskManager::Output& out, 
                                        std::vector<CommandAck>* reports) {
   // Manual flight and failsafe landings are left alone; a failsafe's return goes through it.
   const std::optional<Eigen::Vector3d> goal = out.airborne ? out.goal_N : std::nullopt;
-  const avoid::SafetyLayer::Output a = safety_.Apply(out.setpoint, goal, d.estimate, d.avoid_plan.get(), utime, period_s_);
+  const bool map_only = failsafes_.perception_lost();
+  const avoid::SafetyLayer::Output a = safety_.Apply(out.setpoint, goal, d.estimate, d.avoid_plan.get(), utime, period_s_, map_only);
   board_.Update([&](BlackboardData& b) {
     b.avoid_request.active = a.state != avoid::AvoidState::kOff;
+    b.avoid_request.map_only = map_only;
     if (goal) b.avoid_request.goal_N = *goal, b.avoid_request.via_N = out.setpoint.p_N;
     b.avoid_state = a.state;
     b.avoid_reason = a.reason;
@@ -201,9 +203,18 @@ void ControlWorker::Tick(int64_t utime) {
   fin.position_lost_reason = d.vision_unhealthy_reason.empty()
                                  ? "GPS lost and no visual odometry"
                                  : "GPS lost; visual odometry: " + d.vision_unhealthy_reason;
+  // Obstacle perception lost in flight (it had come, and none for avd_blind_return): a stereo
+  // camera failed. Only while avoidance flies a task: hovering, nothing needs it.
+  if (safety_.params().enabled && d.airborne && d.avoid_request.active && d.avoid_plan && d.avoid_plan->perception_utime > 0) {
+    const double age = (utime - d.avoid_plan->perception_utime) * 1e-6;
+    fin.perception_lost = age > safety_.params().blind_return_s;
+    char why[96];
+    std::snprintf(why, sizeof why, "none for %.1f s", age);
+    fin.perception_lost_reason = why;
+  }
   const control::FailsafeAction required = failsafes_.Update(fin, &events);
   for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? Severity::kWarning : Severity::kInfo, e);
-  tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports);
+  tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports, failsafes_.perception_lost());
   tasks_.ObserveTarget(d.target);
   tasks_.ObserveSticks(d.sticks);
   CheckPreArm(d, utime);

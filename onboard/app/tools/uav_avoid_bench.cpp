@@ -22,10 +22,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "uav/app/blackboard.hpp"
-#include "uav/app/lockstep_scheduler.hpp"
-#include "uav/app/sensing.hpp"
-#include "uav/app/workers.hpp"
+#include "uav/app/sim_flight.hpp"
 #include "uav/shared/command_grammar.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/shared/parameters.hpp"
@@ -195,29 +192,10 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   r.shortest_m = ShortestPath(truth, avd.body_radius_m);
   const uav::GeodeticPoint home{1.3521, 103.8198, 10.0};
   const int64_t start = 1'700'000'000'000'000;
-  constexpr int64_t kStepUs = 2000, kPeriodUs = 20000;
-  uav::sim::SimVehicle vehicle(params, home, start);
-  uav::app::Blackboard board;
-  uav::app::ImuWorker imu(vehicle, board, uav::nav::InsParams::FromParameters(params), home);
-  uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params), uav::control::ControllerParams::FromParameters(params),
-                              uav::control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6, board, nullptr, avd);
-  const auto vehicle_params = uav::hal::VehicleParams::FromParameters(params);
-  uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"), vehicle_params.attitude_mode);
-  uav::app::Sensing sensing(scene, params, board, uav::app::Sensing::Options{"", start, home, false});
-  auto truth_pose = [&] {
-    const auto s = vehicle.TruthState();
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = s.q_NB.toRotationMatrix();
-    T.translation() = s.p_N;
-    return T;
-  };
-  sensing.RecordTruth(start, truth_pose());
   const double limit_s = 40.0 + 3.0 * kLength / speed;
-  uav::app::LockstepScheduler scheduler({start, kStepUs, 0.0, static_cast<int64_t>(limit_s * 1e6)});
-  scheduler.AddWorker("IMU", 0, kPeriodUs, [&](int64_t t) { imu.Tick(t); });
-  scheduler.AddWorker("CTL", 1, kPeriodUs, [&](int64_t t) { ctl.Tick(t); });
-  scheduler.AddWorker("SVO", 2, kPeriodUs, [&](int64_t t) { svo.Tick(t); });
-  sensing.AddTo(scheduler, kStepUs);
+  uav::app::SimFlight flight(params, {home, start, 0.0, limit_s, &scene});
+  uav::app::Blackboard& board = flight.board();
+  const uav::sim::SimVehicle& vehicle = flight.vehicle();
   // The operator's side: arm, take off, go to the far end; the flight ends at the goal.
   int stage = 0, seq = 0;
   auto send = [&](const std::string& text) {
@@ -229,12 +207,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   int last_side = 0;
   std::vector<double> clearances;
   std::vector<Eigen::Vector2d> passed_near;
-  scheduler.Run([&](int64_t dt) {
-    vehicle.Step(dt);
-    const int64_t now = scheduler.now() + dt;
-    sensing.RecordTruth(now, truth_pose());
-    sensing.Monitor(scheduler.now(), scheduler);
-    if ((now - start) % kPeriodUs != 0) return;
+  flight.Run([&](int64_t now) {
     const double t = (now - start) * 1e-6;
     const uav::app::BlackboardData d = board.Snapshot();
     const Eigen::Vector3d p = vehicle.TruthState().p_N;
@@ -278,10 +251,10 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
     if (t - travel_start_t > 1.0 && d.task == uav::Task::kHover && (p - Eigen::Vector3d(kLength, 0, -kAltitude)).head<2>().norm() < 3.0) {
       r.reached = true;
       r.time_s = t - travel_start_t;
-      scheduler.Stop();
+      flight.Stop();
     }
   });
-  if (const auto* map = sensing.avoidance_map())
+  if (const auto* map = flight.sensing()->avoidance_map())
     r.occupied = map->OccupiedCentres({-10, -kWidth, -kAltitude - 1.5}, {kLength + 10, kWidth, -kAltitude + 1.5});
   for (const auto& disc : truth.discs) {
     double nearest = 1e9;

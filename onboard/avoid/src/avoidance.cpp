@@ -16,6 +16,7 @@ AvoidanceParams AvoidanceParams::FromParameters(const ParameterSet& p) {
   a.brake_accel = p.Get("avd_brake_accel");
   a.reaction_s = p.Get("avd_reaction");
   a.stale_s = p.Get("avd_stale");
+  a.blind_return_s = p.Get("avd_blind_return");
   a.rate_hz = p.Get("avd_rate");
   a.window_m = p.Get("avd_window");
   a.window_up_m = p.Get("avd_window_up");
@@ -115,14 +116,37 @@ void AvoidancePlanner::RefreshKnown(const Eigen::Vector3d& p_N) {
   for (const OccupancyMap::Change& c : changes) known_.SetAt(c.centre_N, c.state);
 }
 
+std::vector<Eigen::Vector3f> AvoidancePlanner::OccupiedAround(const Eigen::Vector3d& p_N, const Eigen::Vector3d& half_m) const {
+  std::vector<std::pair<float, Eigen::Vector3f>> found;
+  if (known_.size().prod() == 0) return {};
+  const Eigen::Vector3i lo = known_.CellOf(p_N - half_m).cwiseMax(Eigen::Vector3i::Zero());
+  const Eigen::Vector3i hi = known_.CellOf(p_N + half_m).cwiseMin(known_.size() - Eigen::Vector3i::Ones());
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (int x = lo.x(); x <= hi.x(); ++x)
+        if (known_.State({x, y, z}) == Cell::kOccupied) {
+          const Eigen::Vector3d c = known_.Centre({x, y, z});
+          found.emplace_back(static_cast<float>((c - p_N).squaredNorm()), c.cast<float>());
+        }
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(found.size());
+  for (const auto& f : found) out.push_back(f.second);
+  return out;
+}
+
 AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, const Eigen::Vector3d& via_N,
-                                     const Eigen::Vector3d& goal_N) {
+                                     const Eigen::Vector3d& goal_N, bool map_only) {
   const auto t0 = std::chrono::steady_clock::now();
   AvoidancePlan plan;
   plan.utime = utime;
   plan.perception_utime = perception_utime_;
   plan.goal_N = goal_N;
   plan.map_cells = map_.cells();
+  plan.map_only = map_only;
+  // On the map alone nothing new will be seen: the detour is planned anew each time (the map
+  // no longer changes, so neither does the plan), and only through space seen free.
+  if (map_only) previous_.clear();
   if ((goal_N - previous_goal_N_).norm() > 0.5) previous_.clear();
   previous_goal_N_ = goal_N;
   // The window reaches ahead toward the goal: the vehicle sits a quarter of it from the back.
@@ -135,6 +159,7 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
   PlannerParams planner = planner_;
   // Climbing or descending to the goal's altitude is the task's: the band opens to include it.
   planner.floor_down_m = std::max(planner.floor_down_m, std::max(p_N.z(), goal_N.z()));
+  planner.unknown_closed = map_only;
   // The straight way, clipped to the window: clear means the task flies as it planned.
   // The task's straight way (to its own setpoint, then on to the goal), clipped to the window.
   const Eigen::Vector3d lo = grid.min_N(), hi = lo + grid.size().cast<double>() * grid.resolution();
@@ -144,8 +169,10 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
       if (std::abs(b[i] - a[i]) > 1e-9) t_exit = std::min(t_exit, ((b[i] > a[i] ? hi[i] : lo[i]) - a[i]) / (b[i] - a[i]));
     return Eigen::Vector3d(a + (b - a) * std::max(0.0, 0.999 * t_exit));
   };
-  const bool direct = SegmentClear(grid, p_N, clipped(p_N, via_N), p_.clearance()) &&
-                      ((via_N - goal_N).norm() < 1e-6 || SegmentClear(grid, via_N, clipped(via_N, goal_N), p_.clearance()));
+  auto way_clear = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return map_only ? SeenFreeLength(grid, {a, b}, p_.clearance()) >= (b - a).norm() - 1e-6 : SegmentClear(grid, a, b, p_.clearance());
+  };
+  const bool direct = way_clear(p_N, clipped(p_N, via_N)) && ((via_N - goal_N).norm() < 1e-6 || way_clear(via_N, clipped(via_N, goal_N)));
   auto finish = [&](AvoidancePlan& out) -> AvoidancePlan {
     out.seen_free_m = out.path_N.size() >= 2 ? SeenFreeLength(grid, out.path_N, p_.clearance()) : 0.0;
     out.planning_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -183,7 +210,7 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
   if (!fresh.found) {
     previous_.clear();
     plan.state = AvoidState::kNoPath;
-    plan.reason = fresh.reason;
+    plan.reason = map_only ? "perception lost and " + fresh.reason + " through space seen free" : fresh.reason;
     plan.path_N = {p_N};
     return finish(plan);
   }

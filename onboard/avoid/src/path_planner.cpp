@@ -60,8 +60,8 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
     return out;
   }
   const Eigen::Vector3i size = grid.size();
-  const Eigen::Vector3i start = grid.CellOf(start_N);
-  if (!grid.Contains(start)) {
+  const Eigen::Vector3i vehicle = grid.CellOf(start_N);
+  if (!grid.Contains(vehicle)) {
     out.reason = "the vehicle is outside the planning window";
     return out;
   }
@@ -72,8 +72,29 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
     out.reason = grid.State(goal) == Cell::kOccupied ? "the goal is inside an obstacle" : "the goal is too close to an obstacle";
     return out;
   }
-  // Already nearer an obstacle than the clearance (one appeared close): cells at least as far as
-  // the start are open, so the way out is found and the penalty pushes the path outward.
+  // Already nearer an obstacle than the clearance (one appeared close, or the vehicle was pushed
+  // in): first straight out, up the distance field's steepest ascent until the clearance is
+  // kept. A search that only forbade getting nearer would let the path slide along the
+  // obstacle at the distance it started from, and each replan, started a little nearer,
+  // ratchets the vehicle in.
+  auto in_band = [&](const Eigen::Vector3i& c) {
+    const double down = grid.Centre(c).z();
+    return down <= params.floor_down_m && down >= params.ceiling_down_m;
+  };
+  std::vector<Eigen::Vector3i> climb{vehicle};
+  while (grid.Distance(climb.back()) < need && climb.size() < 64) {
+    Eigen::Vector3i best = climb.back();
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const Eigen::Vector3i c = climb.back() + Eigen::Vector3i(dx, dy, dz);
+          if (grid.Contains(c) && in_band(c) && grid.Distance(c) > grid.Distance(best)) best = c;
+        }
+    if (best == climb.back()) break;  // a ridge of the field (a narrow gap): searched from here
+    climb.push_back(best);
+  }
+  const Eigen::Vector3i start = climb.back();
+  // Where the climb stopped short of the clearance, cells at least as far as its end are open.
   const double open_from = std::min(need, static_cast<double>(grid.Distance(start)));
   const double res = grid.resolution();
   const double soft = std::max(params.soft_clearance_m, need + 1e-6);
@@ -96,7 +117,7 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
         const Eigen::Vector3i c(x, y, z);
         const int i = grid.Index(c);
         const double d = grid.Distance(c);
-        closed[i] = !band || d < open_from;
+        closed[i] = !band || d < open_from || (params.unknown_closed && grid.State(c) != Cell::kFree);
         factor[i] = static_cast<float>(1.0 + params.proximity_cost * std::clamp((soft - d) / (soft - need), 0.0, 1.0) +
                                        (grid.State(c) == Cell::kUnknown ? params.unknown_cost : 0.0));
       }
@@ -156,15 +177,18 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
   std::vector<Eigen::Vector3d> cells;
   for (int i = found; i >= 0; i = parent[i]) cells.push_back(grid.Centre(cell_of(i)));
   std::reverse(cells.begin(), cells.end());
-  cells.front() = start_N;
+  if (climb.size() == 1) cells.front() = start_N;
   out.reaches_goal = goal_inside;
   if (goal_inside) cells.back() = goal_N;
   out.cost = g[found];
+  // The climb out is flown as it is (each step farther from the obstacle than the one before).
+  out.p_N.push_back(start_N);
+  for (std::size_t i = 1; i + 1 < climb.size(); ++i) out.p_N.push_back(grid.Centre(climb[i]));
   // Line of sight: from each kept point, on along the cells while the straight way to them keeps
   // the clearance and a little more (shortcuts run along the obstacles the cells stayed clear
   // of, and the vehicle follows them with some error); the last such cell is the next point.
   const double keep = open_from < need ? 0.0 : params.clearance_m + params.shortcut_margin_m;
-  out.p_N.push_back(cells.front());
+  if (climb.size() > 1) out.p_N.push_back(cells.front());
   for (std::size_t i = 0; i + 1 < cells.size();) {
     std::size_t j = i + 1;
     while (j + 1 < cells.size() && SegmentClear(grid, cells[i], cells[j + 1], keep)) ++j;

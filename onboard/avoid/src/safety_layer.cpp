@@ -38,7 +38,8 @@ double SafetyLayer::FaceTravel(const Eigen::Vector3d& direction_N, const hal::Ve
 }
 
 SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, const std::optional<Eigen::Vector3d>& goal_N,
-                                       const hal::VehicleEstimate& est, const AvoidancePlan* plan, int64_t utime, double dt) {
+                                       const hal::VehicleEstimate& est, const AvoidancePlan* plan, int64_t utime, double dt,
+                                       bool map_only) {
   Output out;
   out.setpoint = task_setpoint;
   auto finish = [&](AvoidState s) {
@@ -56,7 +57,13 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
   const double perception_age = plan && plan->perception_utime > 0 ? (utime - plan->perception_utime) * 1e-6 : 1e9;
   const double plan_age = plan ? (utime - plan->utime) * 1e-6 : 1e9;
   char buf[200];
-  if (perception_age > p_.stale_s) {
+  if (map_only && (!plan || !plan->map_only)) {
+    // The map alone from now on: what was planned with the perception counts no more.
+    out.reason = "obstacle perception lost: planning on the map alone; holding";
+    out.setpoint = Hold(task_setpoint, est);
+    return finish(AvoidState::kNoData);
+  }
+  if (perception_age > p_.stale_s && !map_only) {
     if (perception_age > 1e8) std::snprintf(buf, sizeof buf, "no obstacle perception yet: holding");
     else std::snprintf(buf, sizeof buf, "obstacle perception %.1f s old (limit %.1f s): holding", perception_age, p_.stale_s);
     out.reason = buf;
@@ -78,7 +85,9 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
   // The speed the seen space allows, from where the vehicle is now along the plan's path.
   const double s_now = ArcLengthOf(plan->path_N, est.p_N);
   const double d = std::max(0.0, plan->seen_free_m - s_now);
-  const double a = p_.brake_accel, t = perception_age + p_.reaction_s;
+  // On the map alone the space seen free is what there is: the plan's age stands for the
+  // perception's.
+  const double a = p_.brake_accel, t = (map_only ? plan_age : perception_age) + p_.reaction_s;
   const double v_allow = -a * t + std::sqrt(a * a * t * t + 2.0 * a * d);
   out.speed_limit = v_allow;
   const double to_go = (plan->path_N.back() - est.p_N).norm();

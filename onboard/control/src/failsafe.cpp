@@ -110,18 +110,32 @@ FailsafeAction FailsafeMonitor::Update(const FailsafeInputs& in, std::vector<std
   if (position == FailsafeAction::kNone && position_ == FailsafeAction::kHold) events->push_back("position source regained");
   position_ = position;
 
+  // Obstacle perception: lost in flight with avoidance on (a camera failed), return home on the
+  // map alone; latched until landing (a camera that comes back is said, the return goes on).
+  FailsafeAction perception = in.airborne ? perception_ : FailsafeAction::kNone;
+  if (in.airborne && in.perception_lost && perception == FailsafeAction::kNone) {
+    perception = FailsafeAction::kReturn;
+    perception_reason_ = "obstacle perception lost: " + in.perception_lost_reason;
+    events->push_back("failsafe: " + perception_reason_ + ": return at this altitude through space seen free");
+  }
+  if (perception != FailsafeAction::kNone && !in.perception_lost && perception_lost_said_)
+    events->push_back("obstacle perception regained; the return goes on");
+  perception_lost_said_ = perception != FailsafeAction::kNone && in.perception_lost;
+  perception_ = perception;
+
   // Manual override: immediate, level.
   const FailsafeAction manual = in.rc_manual ? FailsafeAction::kManual : FailsafeAction::kNone;
   if (manual != manual_)
     events->push_back(in.rc_manual ? "RC fail-safe switch: pilot has control" : "RC fail-safe switch: autopilot has control");
   manual_ = manual;
 
-  required_ = std::max({link_, battery_, fence_, manual_, position_});
+  required_ = std::max({link_, battery_, fence_, manual_, position_, perception_});
   reason_ = required_ == manual_ && manual_ != FailsafeAction::kNone ? "RC fail-safe switch"
             : required_ == battery_ && battery_ != FailsafeAction::kNone ? battery_reason_
             : required_ == link_ && link_ != FailsafeAction::kNone     ? link_reason_
             : required_ == position_ && position_ != FailsafeAction::kNone ? position_reason_
             : required_ == fence_ && fence_ != FailsafeAction::kNone   ? fence_reason_
+            : required_ == perception_ && perception_ != FailsafeAction::kNone ? perception_reason_
                                                                        : std::string();
   return required_;
 }

@@ -84,7 +84,8 @@ void MissionRunner::Advance() {
             if (k == 0 || (p_.rally_N[k] - ref_.head<2>()).norm() < (*return_to_ - ref_.head<2>()).norm())
               return_to_ = p_.rally_N[k];
         }
-        const double alt = std::max(-ref_.z(), p_.return_alt);
+        // At the step's altitude when it has one, else climbing to the return altitude.
+        const double alt = s.altitude_m > 0 ? s.altitude_m : std::max(-ref_.z(), p_.return_alt);
         if (-ref_.z() < alt - 0.5 * p_.reached_radius) {
           target_ = Eigen::Vector3d(ref_.x(), ref_.y(), -alt);
         } else if ((ref_.head<2>() - *return_to_).norm() > 0.5 * p_.reached_radius) {

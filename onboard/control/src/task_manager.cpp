@@ -43,7 +43,7 @@ void TaskManager::Hold(const VehicleEstimate& est) {
 }
 
 void TaskManager::EnforceFailsafe(FailsafeAction required, const std::string& reason, const VehicleEstimate& est,
-                                  double t, std::vector<CommandAck>* reports) {
+                                  double t, std::vector<CommandAck>* reports, bool return_at_altitude) {
   required_ = required;
   failsafe_reason_ = reason;
   if (enforced_ == FailsafeAction::kManual && required != FailsafeAction::kManual) {
@@ -80,6 +80,7 @@ void TaskManager::EnforceFailsafe(FailsafeAction required, const std::string& re
     case FailsafeAction::kReturn: {
       std::vector<waypoints::MissionStep> steps(1);
       steps[0].kind = waypoints::MissionStep::Kind::kReturnHome;
+      if (return_at_altitude) steps[0].altitude_m = std::max(0.5, -est.p_N.z());
       StartPath(Task::kReturn, std::move(steps), est, t);
       break;
     }

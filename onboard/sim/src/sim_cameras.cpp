@@ -61,6 +61,10 @@ hal::StereoImages SimStereoCamera::Capture(int64_t utime, hal::Emitter emitter) 
   std::lock_guard<std::mutex> lock(capture_mutex_);
   const Eigen::Isometry3d T_NB = truth_T_NB_(utime);
   world::StereoFrame pair = renderer_.Render(T_NB, utime, emitter == hal::Emitter::kOn);
+  if (failed_) {
+    pair.left.image.setTo(0);
+    pair.right.image.setTo(0);
+  }
   return {pair.left.image, pair.right.image, utime, utime, T_NB};
 }
 

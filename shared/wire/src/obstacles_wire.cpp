@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "uavmsg/avoidance_t.hpp"
 #include "uavmsg/obstacles_t.hpp"
 #include "uavmsg/point_cloud_t.hpp"
 
@@ -123,6 +124,83 @@ uavmsg::point_cloud_t ToMessage(const PointCloud& c) {
     m.down_cm.push_back(static_cast<int16_t>(std::lround(d.z())));
   }
   m.num_points = static_cast<int32_t>(m.north_cm.size());
+  return m;
+}
+
+// Obstacle avoidance's plan and map: the same obstacles, as the vehicle's map keeps them.
+AvoidanceReport FromMessage(const uavmsg::avoidance_t& m) {
+  const std::string what = "avoidance_t: ";
+  const std::optional<AvoidState> state = AvoidStateFromWire(m.state);
+  Require(state == AvoidState::kClear || state == AvoidState::kAvoiding || state == AvoidState::kNoPath,
+          what + "state " + std::to_string(m.state) + " is not one the planner sends (clear, avoiding, no path)");
+  Require(m.num_path >= 0 && m.num_path <= uavmsg::avoidance_t::MAX_PATH,
+          what + "num_path " + std::to_string(m.num_path) + " outside 0.." + std::to_string(uavmsg::avoidance_t::MAX_PATH));
+  const auto n_path = static_cast<std::size_t>(m.num_path);
+  Require(m.path_north_m.size() == n_path && m.path_east_m.size() == n_path && m.path_down_m.size() == n_path,
+          what + "path arrays do not match num_path");
+  Require(m.num_cells >= 0 && m.num_cells <= uavmsg::avoidance_t::MAX_CELLS,
+          what + "num_cells " + std::to_string(m.num_cells) + " outside 0.." + std::to_string(uavmsg::avoidance_t::MAX_CELLS));
+  const auto n_cells = static_cast<std::size_t>(m.num_cells);
+  Require(m.cell_north_cm.size() == n_cells && m.cell_east_cm.size() == n_cells && m.cell_down_cm.size() == n_cells,
+          what + "cell arrays do not match num_cells");
+  Require(Finite({m.goal_north_m, m.goal_east_m, m.goal_down_m, m.origin_north_m, m.origin_east_m, m.origin_down_m}),
+          what + "goal or origin is not finite");
+  Require(std::isfinite(m.seen_free_m) && m.seen_free_m >= 0, what + "seen_free_m is not a finite non-negative length");
+  Require(std::isfinite(m.planning_ms) && m.planning_ms >= 0, what + "planning_ms is not a finite non-negative time");
+  Require(m.map_cells >= 0, what + "map_cells is negative");
+  Require(std::isfinite(m.cell_m) && m.cell_m >= 0.05f && m.cell_m <= 2.0f, what + "cell_m is not in 0.05..2 m");
+  AvoidanceReport r;
+  r.utime = m.utime;
+  r.state = *state;
+  r.reason = m.reason;
+  r.goal_N = Eigen::Vector3d(m.goal_north_m, m.goal_east_m, m.goal_down_m);
+  for (std::size_t i = 0; i < n_path; ++i) {
+    Require(Finite({m.path_north_m[i], m.path_east_m[i], m.path_down_m[i]}), what + "path point " + std::to_string(i) + " is not finite");
+    r.path_N.emplace_back(m.path_north_m[i], m.path_east_m[i], m.path_down_m[i]);
+  }
+  r.seen_free_m = m.seen_free_m;
+  r.planning_ms = m.planning_ms;
+  r.map_cells = m.map_cells;
+  r.origin_N = Eigen::Vector3d(m.origin_north_m, m.origin_east_m, m.origin_down_m);
+  r.cell_m = m.cell_m;
+  r.occupied_N.reserve(n_cells);
+  for (std::size_t i = 0; i < n_cells; ++i)
+    r.occupied_N.emplace_back(m.origin_north_m + 0.01f * m.cell_north_cm[i], m.origin_east_m + 0.01f * m.cell_east_cm[i],
+                              m.origin_down_m + 0.01f * m.cell_down_cm[i]);
+  return r;
+}
+
+uavmsg::avoidance_t ToMessage(const AvoidanceReport& r) {
+  uavmsg::avoidance_t m;
+  m.utime = r.utime;
+  m.state = static_cast<int8_t>(r.state);
+  m.reason = r.reason;
+  m.goal_north_m = static_cast<float>(r.goal_N.x());
+  m.goal_east_m = static_cast<float>(r.goal_N.y());
+  m.goal_down_m = static_cast<float>(r.goal_N.z());
+  for (std::size_t i = 0; i < r.path_N.size() && i < static_cast<std::size_t>(uavmsg::avoidance_t::MAX_PATH); ++i) {
+    m.path_north_m.push_back(static_cast<float>(r.path_N[i].x()));
+    m.path_east_m.push_back(static_cast<float>(r.path_N[i].y()));
+    m.path_down_m.push_back(static_cast<float>(r.path_N[i].z()));
+  }
+  m.num_path = static_cast<int16_t>(m.path_north_m.size());
+  m.seen_free_m = static_cast<float>(r.seen_free_m);
+  m.planning_ms = static_cast<float>(r.planning_ms);
+  m.map_cells = static_cast<int32_t>(std::min<int64_t>(r.map_cells, INT32_MAX));
+  m.origin_north_m = static_cast<float>(r.origin_N.x());
+  m.origin_east_m = static_cast<float>(r.origin_N.y());
+  m.origin_down_m = static_cast<float>(r.origin_N.z());
+  m.cell_m = static_cast<float>(r.cell_m);
+  const Eigen::Vector3f origin = r.origin_N.cast<float>();
+  for (const Eigen::Vector3f& c : r.occupied_N) {
+    if (m.cell_north_cm.size() >= static_cast<std::size_t>(uavmsg::avoidance_t::MAX_CELLS)) break;
+    const Eigen::Vector3f d = (c - origin) * 100.0f;
+    if (!d.allFinite() || d.cwiseAbs().maxCoeff() > 32700.0f) continue;
+    m.cell_north_cm.push_back(static_cast<int16_t>(std::lround(d.x())));
+    m.cell_east_cm.push_back(static_cast<int16_t>(std::lround(d.y())));
+    m.cell_down_cm.push_back(static_cast<int16_t>(std::lround(d.z())));
+  }
+  m.num_cells = static_cast<int32_t>(m.cell_north_cm.size());
   return m;
 }
 

@@ -42,6 +42,10 @@ void DrawPowerLinesOnImage(const GcsModel& model, const VehicleModel& v, const V
 void DrawObstaclesOnMap(const GcsModel& model, const VehicleModel& v, const MapCanvas& m, double now);
 void DrawObstaclesOnImage(const GcsModel& model, const VehicleModel& v, const VideoFeed& feed, const ImageCanvas& c,
                           double now);
+// Obstacle avoidance (thesis 7.2): the vehicle's map, its path and the committed part of it.
+const AvoidanceReport* FreshAvoidance(const VehicleModel& v, double now);  // nullptr: none or stale
+ImU32 AvoidanceHeightColour(double up_m, int alpha);
+void DrawAvoidanceOnMap(const VehicleModel& v, const MapCanvas& m, double now);
 // Depth from motion (thesis 3.4).
 void DrawDepthGridOnImage(const GcsModel& model, const VehicleModel& v, const VideoFeed& feed, const ImageCanvas& c,
                           double now);

@@ -12,6 +12,7 @@
 #include <type_traits>
 
 #include "uav/shared/active_stereo.hpp"
+#include "uav/shared/avoidance_report.hpp"
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/obstacles.hpp"
 #include "uav/shared/parameter_table.hpp"
@@ -29,7 +30,7 @@ struct TypeList {
 
 using VehicleReports =
     TypeList<PowerLines, Obstacles, PointCloud, DepthGrid, ActiveStereoReport, VisualOdometryReport, SensingReport,
-             PreArmReport, ParameterTable>;
+             PreArmReport, ParameterTable, AvoidanceReport>;
 
 // The position of T in a TypeList (a compile error when it is not in it).
 template <class T, class... Ts>

@@ -23,6 +23,8 @@ class AvoidWorker : public VisionWorker {
 
  private:
   void Save(Outbox* out);
+  // The plan and the map around the vehicle for the GCS (avoidance_t), at kReportPeriod.
+  void Report(const avoid::AvoidancePlan& plan, const Eigen::Vector3d& p_N, Outbox& out);
 
   avoid::AvoidancePlanner planner_;
   std::string map_path_;
@@ -30,6 +32,7 @@ class AvoidWorker : public VisionWorker {
   bool was_airborne_ = false;
   bool saved_since_landing_ = true;
   int64_t params_version_ = 0;
+  int64_t last_report_utime_ = -1;
 };
 
 }  // namespace uav::app

@@ -108,6 +108,7 @@ struct BlackboardData {
     bool active = false;
     Eigen::Vector3d goal_N = Eigen::Vector3d::Zero();  // the task's goal (leg end)
     Eigen::Vector3d via_N = Eigen::Vector3d::Zero();   // the task's own setpoint now
+    bool map_only = false;  // the perception is lost: plan through space seen free only
   };
   AvoidRequest avoid_request;
   // AVD: its newest plan (null before the first).

@@ -48,6 +48,9 @@ class Sensing {
   // Obstacle avoidance's 3-D map (null when avoidance is off). Read it only when the scheduler
   // has stopped: the AVD thread writes it.
   const avoid::OccupancyMap* avoidance_map() const;
+  // The simulator's fault: stereo rig `rig` (the scene's order) delivers black images from now
+  // on (failed) or real ones again. Throws std::out_of_range for a rig the scene has not.
+  void SetStereoFailed(int rig, bool failed);
   // "N survey images captured, ..." for the exit line.
   std::string Summary() const;
   // The run's sensing benchmark as JSON: per worker the configured and achieved rates (over the

@@ -32,6 +32,7 @@ struct AvoidanceParams {
   double brake_accel = 2.5;     // [m/s^2] the deceleration the speed limit counts on
   double reaction_s = 0.3;      // [s] control and attitude lag before the braking bites
   double stale_s = 0.5;         // perception older than this: brake and hold (PX4 CP's 0.5 s)
+  double blind_return_s = 3.0;  // no perception this long in flight: return on the map alone
   double rate_hz = 10.0;        // replanning rate
   double window_m = 16.0;       // half width of the planning window
   double window_up_m = 4.0;     // half height of the planning window
@@ -71,6 +72,7 @@ struct AvoidancePlan {
   Eigen::Vector3d goal_N = Eigen::Vector3d::Zero();
   AvoidState state = AvoidState::kOff;  // kClear, kAvoiding or kNoPath
   std::string reason;                   // kNoPath: why
+  bool map_only = false;                // planned through space seen free only (perception lost)
   std::vector<Eigen::Vector3d> path_N;  // from where the vehicle was, toward the goal
   double seen_free_m = 0.0;             // along path_N: observed free with the clearance
   double planning_ms = 0.0;             // wall time of the window, the plan and the checks
@@ -87,12 +89,19 @@ class AvoidancePlanner {
   // Plans from p_N (the vehicle at utime) to goal_N. `via_N` is the task's own setpoint (a
   // mission's reference on its leg; the goal itself for goto): the task flies as it planned
   // while the straight way through it to the goal is clear.
-  AvoidancePlan Plan(int64_t utime, const Eigen::Vector3d& p_N, const Eigen::Vector3d& via_N, const Eigen::Vector3d& goal_N);
+  // `map_only`: the perception is lost; only cells seen free are open, unknown ones closed.
+  AvoidancePlan Plan(int64_t utime, const Eigen::Vector3d& p_N, const Eigen::Vector3d& via_N, const Eigen::Vector3d& goal_N,
+                     bool map_only = false);
   // New settings (a parameter changed over the link). The map is kept: its resolution and bound
   // are set at start only (std::invalid_argument when they differ or the cell does not fit).
   void SetParams(const AvoidanceParams& params);
   // Forgets the current detour (a new goal).
   void Reset() { previous_.clear(); }
+
+  // The occupied planning cells within half_m of p_N (as of the last Plan), nearest first.
+  std::vector<Eigen::Vector3f> OccupiedAround(const Eigen::Vector3d& p_N, const Eigen::Vector3d& half_m) const;
+  double grid_m() const { return p_.grid_m; }
+  const AvoidanceParams& params() const { return p_; }
 
   const OccupancyMap& map() const { return map_; }
   OccupancyMap& map() { return map_; }

@@ -27,6 +27,7 @@ struct PlannerParams {
   // Altitude band of the path [m, down positive]: cells below floor_down_m (the lowest altitude
   // allowed) or above ceiling_down_m (the geofence) are closed; the start is always open.
   double floor_down_m = 1e9, ceiling_down_m = -1e9;
+  bool unknown_closed = false;    // only cells seen free are open (perception lost: the map alone)
   void Validate() const;          // throws std::invalid_argument naming the bad field
 };
 

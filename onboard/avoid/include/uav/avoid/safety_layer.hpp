@@ -9,6 +9,8 @@
 //   avd_reaction, d = the seen-free length left);
 // - brakes and holds when the perception or the plan is older than avd_stale (and says why), or
 //   when the planner finds no path;
+// - with the perception lost for good (a failed camera: the failsafe's return), flies on the map
+//   alone: only plans made through space seen free, the plan's age in place of the perception's;
 // - turns the vehicle to face the way it flies, so that the forward cameras see it.
 // Failsafes and the geofence win: they change the task, and the layer only ever slows or
 // detours it. Plain class on the control clock.
@@ -26,6 +28,7 @@ class SafetyLayer {
  public:
   explicit SafetyLayer(const AvoidanceParams& params) : p_(params) {}
   void SetParams(const AvoidanceParams& params) { p_ = params; }
+  const AvoidanceParams& params() const { return p_; }
 
   struct Output {
     control::Setpoint setpoint;
@@ -36,8 +39,10 @@ class SafetyLayer {
   };
   // `goal_N`: where the task is going (nullopt: a task that does not move the vehicle, or one
   // the layer leaves alone: takeoff, landing, hover). `plan`: the planner's newest, if any.
+  // `map_only`: the perception is lost; fly plans made on the map alone (AvoidancePlan::map_only).
   Output Apply(const control::Setpoint& task_setpoint, const std::optional<Eigen::Vector3d>& goal_N,
-               const hal::VehicleEstimate& est, const AvoidancePlan* plan, int64_t utime, double dt);
+               const hal::VehicleEstimate& est, const AvoidancePlan* plan, int64_t utime, double dt,
+               bool map_only = false);
 
  private:
   control::Setpoint Hold(const control::Setpoint& task_setpoint, const hal::VehicleEstimate& est);

@@ -14,6 +14,9 @@
 //   position   no position source (GPS lost and visual odometry unhealthy or absent): hold at
 //              once on the IMU alone, land after nav_land_s (latched: a landing that began
 //              without position is finished). Clears when a source returns before that.
+//   perception obstacle avoidance on and its perception lost in flight (a stereo camera failed):
+//              return home at the altitude flown, through space the map has seen free
+//              (perception_lost()); latched until landing.
 //   manual     the RC fail-safe switch (thesis 2.3.2): the pilot flies, at once, whatever else.
 #include <string>
 #include <vector>
@@ -53,6 +56,9 @@ struct FailsafeInputs {
   // No position source now (GPS lost and no healthy visual odometry), and why.
   bool position_lost = false;
   std::string position_lost_reason;
+  // Obstacle avoidance on and its perception lost (none for avd_blind_return), and why.
+  bool perception_lost = false;
+  std::string perception_lost_reason;
 };
 
 // Last line of defence before the controller: "" when the setpoint is finite and within the
@@ -73,13 +79,17 @@ class FailsafeMonitor {
   FailsafeAction required() const { return required_; }
   // Why the current requirement holds ("battery 9 % below 10 %").
   const std::string& reason() const { return reason_; }
+  // The perception failsafe is in force: the return flies on the map alone, at its altitude.
+  bool perception_lost() const { return perception_ != FailsafeAction::kNone; }
 
  private:
   FailsafeParams p_;
   waypoints::Geofence fence_zones_;
   FailsafeAction link_ = FailsafeAction::kNone, battery_ = FailsafeAction::kNone;
   FailsafeAction fence_ = FailsafeAction::kNone, manual_ = FailsafeAction::kNone;
-  FailsafeAction position_ = FailsafeAction::kNone;
+  FailsafeAction position_ = FailsafeAction::kNone, perception_ = FailsafeAction::kNone;
+  std::string perception_reason_;
+  bool perception_lost_said_ = false;
   double position_lost_since_ = -1;
   std::string position_reason_;
   FailsafeAction required_ = FailsafeAction::kNone;

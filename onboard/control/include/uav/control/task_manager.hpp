@@ -93,9 +93,10 @@ class TaskManager {
   // Carries out what the failsafes require (call before Update each step): an action stricter
   // than the one being flown takes over at once (an active command fails with the reason);
   // nothing is downgraded when a failsafe clears. While one is required, commands that would do
-  // less are refused.
+  // less are refused. `return_at_altitude`: a return flies home at the altitude it is at, not
+  // the return altitude (obstacle perception lost: the space above was never seen).
   void EnforceFailsafe(FailsafeAction required, const std::string& reason, const VehicleEstimate& est,
-                       double t, std::vector<CommandAck>* reports);
+                       double t, std::vector<CommandAck>* reports, bool return_at_altitude = false);
   FailsafeAction enforced() const { return enforced_; }
 
   // The operator's newest sticks, stamped with the vehicle clock when they arrived (call before

@@ -1,6 +1,7 @@
 #pragma once
 // The simulated cameras behind hal::Camera and hal::StereoCamera: world::Renderer draws the
 // scene from the vehicle's true pose (what a real camera sees), at the time asked for.
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -72,8 +73,12 @@ class SimStereoCamera : public hal::StereoCamera {
   const hal::CameraInfo& left() const override { return left_; }
   const hal::CameraInfo& right() const override { return right_; }
   hal::StereoImages Capture(int64_t utime, hal::Emitter emitter) override;
+  // The simulator's fault: a failed pair delivers black images (a camera whose sensor or cable
+  // died), so the vision workers find nothing in them and say so.
+  void SetFailed(bool failed) { failed_ = failed; }
 
  private:
+  std::atomic<bool> failed_{false};
   world::StereoRenderer renderer_;
   hal::CameraInfo left_, right_;
   TruthPose truth_T_NB_;

@@ -4,6 +4,7 @@
 // fills everything but the header (the link's). Only the links, the fuzzers and the link tests
 // include this (the rest of the program knows no LCM).
 #include "uav/shared/active_stereo.hpp"
+#include "uav/shared/avoidance_report.hpp"
 #include "uav/shared/manual_control.hpp"
 #include "uav/shared/mono_depth.hpp"
 #include "uav/shared/obstacles.hpp"
@@ -16,6 +17,7 @@
 #include "uav/shared/vehicle_state.hpp"
 #include "uav/shared/visual_odometry.hpp"
 #include "uavmsg/active_stereo_t.hpp"
+#include "uavmsg/avoidance_t.hpp"
 #include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/map_tile_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
@@ -49,6 +51,14 @@ uavmsg::command_ack_t ToMessage(const CommandAck& a);
 // or points, a healthy one without a positive height).
 ActiveStereoReport FromMessage(const uavmsg::active_stereo_t& m);
 uavmsg::active_stereo_t ToMessage(const ActiveStereoReport& r);
+
+// Obstacle avoidance's plan and map (uav/shared/avoidance_report.hpp)
+// Throws std::invalid_argument naming what is wrong (arrays of other lengths, more points or
+// cells than the maximum, a state the planner does not send, non-finite numbers, a negative
+// length or a cell size out of 0.05..2 m).
+AvoidanceReport FromMessage(const uavmsg::avoidance_t& m);
+// Keeps the first MAX_PATH path points and MAX_CELLS cells (the nearest) within 327 m of the origin.
+uavmsg::avoidance_t ToMessage(const AvoidanceReport& r);
 
 // Depth from motion (uav/shared/mono_depth.hpp)
 // Throws std::invalid_argument naming what is wrong (a grid that is not rows x cols or larger

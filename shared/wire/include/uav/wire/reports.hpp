@@ -58,4 +58,10 @@ struct Report<ParameterTable> {
   static constexpr Topic kTopic{"PARAMS"};
 };
 
+template <>
+struct Report<AvoidanceReport> {
+  using Message = uavmsg::avoidance_t;
+  static constexpr Topic kTopic{"AVOIDANCE"};
+};
+
 }  // namespace uav
