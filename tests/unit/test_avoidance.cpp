@@ -229,6 +229,27 @@ TEST(PathPlanner, FromInsideTheClearanceGoesStraightOutBeforeGoingOn) {
   EXPECT_GE(MinDistance(g, {p.p_N.begin() + 1, p.p_N.end()}), 1.0);
 }
 
+TEST(PathPlanner, AWayBlockedAheadIsPassedRoundNotLeftThroughTheBackOfTheWindow) {
+  // As flown in a field: a pocket seen free around the vehicle, a wide clump of obstacles 6 m
+  // ahead (east -5..6), everything else unknown, the goal 60 m on beyond the window. Leaving
+  // through the back border is 8 m away; round the clump costs more inside the window, but the
+  // rest of the way from the back is 66 m, not 36 m.
+  LocalGrid g(Eigen::Vector3d(-6.4, -16.4, -8.4), Eigen::Vector3i(80, 80, 20), 0.4);
+  for (int z = 0; z < 20; ++z)
+    for (int y = 0; y < 80; ++y)
+      for (int x = 0; x < 80; ++x) {
+        const Eigen::Vector3d c = g.Centre({x, y, z});
+        if (c.x() > -1 && c.x() < 5 && std::abs(c.y()) < 4) g.Set({x, y, z}, Cell::kFree);
+        if (c.x() > 6 && c.x() < 9 && c.y() > -5 && c.y() < 6) g.Set({x, y, z}, Cell::kOccupied);
+      }
+  g.ComputeDistances();
+  const PlannedPath p = PlanPath(g, {1.6, -0.4, -4}, {60, 0, -4}, Planner());
+  ASSERT_TRUE(p.found) << p.reason;
+  EXPECT_FALSE(p.reaches_goal);
+  EXPECT_GT(p.p_N.back().x(), 9.0) << "left the window at " << p.p_N.back().transpose();
+  EXPECT_GE(MinDistance(g, p.p_N), 1.0);
+}
+
 TEST(PathPlanner, UnknownSpaceIsOpenAndSeenFreeLengthStopsAtIt) {
   LocalGrid g(Eigen::Vector3d(-2, -12, -8), Eigen::Vector3i(80, 60, 20), 0.4);
   for (int z = 0; z < 20; ++z)

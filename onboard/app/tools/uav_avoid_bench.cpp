@@ -35,112 +35,49 @@ constexpr double kWidth = 20.0, kLength = 60.0;  // the corridor [m]: north 0..6
 constexpr double kAltitude = 4.0;                // [m] the flight's
 constexpr double kClearStart = 3.0;              // [m] nothing this near the start or the goal
 
-// The field's ground truth for the shortest path and the picture: discs (trees, poles) and
-// segments (walls, boxes' sides, wires) in the horizontal plane at the flight's altitude band.
-struct TrueField {
-  struct Disc { Eigen::Vector2d c; double r; };
-  struct Segment { Eigen::Vector2d a, b; double half_width; };
-  std::vector<Disc> discs;
-  std::vector<Segment> segments;
-  int obstacles = 0;
-  double Distance(const Eigen::Vector2d& p) const {
-    double d = 1e9;
-    for (const Disc& c : discs) d = std::min(d, (p - c.c).norm() - c.r);
-    for (const Segment& s : segments) {
-      const Eigen::Vector2d ab = s.b - s.a;
-      const double t = std::clamp((p - s.a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
-      d = std::min(d, (s.a + t * ab - p).norm() - s.half_width);
-    }
-    return d;
-  }
-};
-
 const char* kBaseScene = R"({
-  "name": "avoidance field", "seed": 1,
+  "name": "avoidance field", "seed": %d,
   "sun": {"azimuth_deg": 200, "elevation_deg": 45, "ambient": 0.45},
   "ground": {"layout": "uniform", "material": "grass"},
   "clouds": {"coverage": 0.25, "darkness": 0.3, "scale_m": 60},
   "objects": [],
+  "generate": [{"type": "obstacle_field", "count": %d, "region_ne": [0, -10, 60, 10], "clear_radius_m": %.1f,
+                "keep_clear_ne": [60, 0], "wires": %d, "wire_height_m": [3, 8]}],
   "cameras": {"stereo": {"rate_hz": 15, "baseline_m": 0.12, "preview_rate_hz": 0}}
 })";
 
-// A seeded field at `density` obstacles per square metre: 45 % trees, 30 % poles (radius
-// 0.15-0.6 m), 10 % walls, 15 % boxes, and one wire between two poles per 200 m^2, 3-15 m up
-// (the flight passes under or between them), none within kClearStart of the start or the goal.
-uav::world::Scene MakeField(double density, int seed, TrueField* truth) {
-  // Named as a file of the scenes folder, so that its cameras are found beside it.
-  uav::world::Scene scene = uav::world::Scene::Parse(kBaseScene, std::string(UAV_RESOURCE_DIR) + "/scenes/avoidance_field.scene.json");
-  std::mt19937 rng(static_cast<unsigned>(seed) * 7919u + static_cast<unsigned>(density * 1e4));
-  std::uniform_real_distribution<double> U(0.0, 1.0);
+// The seeded field of the scene generator `obstacle_field` at `density` obstacles per square
+// metre of the corridor, with one wire between two poles per 200 m^2 (fewer in sparse fields).
+uav::world::Scene MakeField(double density, int seed) {
   const int count = static_cast<int>(std::lround(density * kWidth * kLength));
-  auto free_of_ends = [](const Eigen::Vector2d& p, double r) {
-    return (p - Eigen::Vector2d(0, 0)).norm() > kClearStart + r && (p - Eigen::Vector2d(kLength, 0)).norm() > kClearStart + r;
-  };
-  std::vector<Eigen::Vector3d> pole_tops;
-  for (int i = 0, tries = 0; i < count && tries < 100 * count; ++tries) {
-    const Eigen::Vector2d p(-5.0 + U(rng) * (kLength + 10.0), -kWidth / 2 + U(rng) * kWidth);
-    const double kind = U(rng);
-    if (kind < 0.45) {  // tree: trunk and crown, crown radius 0.8-2 m, 6-14 m tall
-      const double crown = 0.8 + 1.2 * U(rng), height = std::max(6.0, 2 * crown + 1) + 8 * U(rng);
-      if (!free_of_ends(p, crown)) continue;
-      scene.AddTree({p.x(), p.y(), 0}, height, crown);
-      // Trunk below the crown, the crown where the flight passes: the larger counts.
-      const double crown_low = height - 2 * crown;
-      truth->discs.push_back({p, crown_low < kAltitude + 1.0 ? crown : std::max(0.08, 0.06 * crown)});
-    } else if (kind < 0.75) {  // pole
-      const double r = 0.15 + 0.45 * U(rng), h = 6 + 6 * U(rng);
-      if (!free_of_ends(p, r)) continue;
-      scene.AddCylinder("pole", {p.x(), p.y(), 0}, r, h, "concrete");
-      truth->discs.push_back({p, r});
-      pole_tops.emplace_back(p.x(), p.y(), -h);
-    } else if (kind < 0.85) {  // wall: 2-6 m long, 0.3 m thick, 3-8 m high
-      const double len = 2 + 4 * U(rng), yaw = M_PI * U(rng), h = 3 + 5 * U(rng);
-      if (!free_of_ends(p, len / 2)) continue;
-      scene.AddBox("wall", {p.x(), p.y(), -h / 2}, {len, 0.3, h}, yaw, U(rng) < 0.5 ? "brick" : "plaster");
-      const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
-      truth->segments.push_back({p - d * len / 2, p + d * len / 2, 0.15});
-    } else {  // box: 1-3 m, on the ground
-      const double s = 1 + 2 * U(rng), h = 1 + 4 * U(rng), yaw = M_PI * U(rng);
-      if (!free_of_ends(p, s)) continue;
-      scene.AddBox("box", {p.x(), p.y(), -h / 2}, {s, s, h}, yaw, "concrete");
-      if (h > kAltitude - 1.5) truth->discs.push_back({p, s * std::sqrt(0.5)});
-    }
-    ++i;
-  }
-  // Wires between pole tops 3-15 m apart (a pole field's power lines).
   const int wires = static_cast<int>(std::lround(kWidth * kLength / 200.0 * std::min(1.0, density * 25)));
-  for (int w = 0, tries = 0; w < wires && tries < 200; ++tries) {
-    if (pole_tops.size() < 2) break;
-    const auto& a = pole_tops[rng() % pole_tops.size()];
-    const auto& b = pole_tops[rng() % pole_tops.size()];
-    const double span = (a - b).head<2>().norm();
-    if (span < 3 || span > 15) continue;
-    // Not over the start or the goal (the vehicle takes off and arrives there).
-    auto seg_dist = [&](const Eigen::Vector2d& p) {
-      const Eigen::Vector2d ab = (b - a).head<2>();
-      const double t = std::clamp((p - a.head<2>()).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-      return (a.head<2>() + t * ab - p).norm();
-    };
-    if (seg_dist({0, 0}) < kClearStart || seg_dist({kLength, 0}) < kClearStart) continue;
-    // Hung low enough to cross the flight's altitude band at some poles: 3-8 m up.
-    const double h = 3 + 5 * U(rng);
-    scene.AddCable({a.x(), a.y(), -h}, {b.x(), b.y(), -h}, 0.3, 0.01);
-    if (std::abs(h - kAltitude) < 2.0) truth->segments.push_back({a.head<2>(), b.head<2>(), 0.01});
-    ++w;
-  }
-  truth->obstacles = count;
-  return scene;
+  char text[1200];
+  std::snprintf(text, sizeof text, kBaseScene, seed, count, kClearStart, wires);
+  // Named as a file of the scenes folder, so that its cameras are found beside it.
+  return uav::world::Scene::Parse(text, std::string(UAV_RESOURCE_DIR) + "/scenes/avoidance_field.scene.json");
 }
 
-// Shortest path from start to goal keeping `clearance` from the true field, on a 0.1 m grid
-// (8-connected A*; the grid's path overestimates the true one by at most ~8 %, corrected below).
+// The true field at the flight's altitude on a grid (north -5..65, east -15..15): each cell's
+// distance to the nearest true surface (the scene's, cables included).
+struct TrueField {
+  static constexpr double kRes = 0.1;
+  int nx = static_cast<int>((kLength + 10) / kRes), ny = static_cast<int>((kWidth + 10) / kRes);
+  std::vector<float> clearance;
+  Eigen::Vector2d At(int x, int y) const { return {-5 + (x + 0.5) * kRes, -kWidth / 2 - 5 + (y + 0.5) * kRes}; }
+  explicit TrueField(const uav::world::Scene& scene) : clearance(static_cast<std::size_t>(nx * ny)) {
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const Eigen::Vector2d p = At(x, y);
+        clearance[y * nx + x] = static_cast<float>(scene.Clearance({p.x(), p.y(), -kAltitude}));
+      }
+  }
+};
+
+// Shortest path from start to goal keeping `clearance` from the true field at the flight's
+// altitude (8-connected A* on the 0.1 m grid; such paths are ~4 % long, corrected below).
 double ShortestPath(const TrueField& field, double clearance) {
-  const double res = 0.1;
-  const int nx = static_cast<int>((kLength + 10) / res), ny = static_cast<int>((kWidth + 10) / res);
-  auto at = [&](int x, int y) { return Eigen::Vector2d(-5 + (x + 0.5) * res, -kWidth / 2 - 5 + (y + 0.5) * res); };
-  std::vector<uint8_t> blocked(nx * ny);
-  for (int y = 0; y < ny; ++y)
-    for (int x = 0; x < nx; ++x) blocked[y * nx + x] = field.Distance(at(x, y)) < clearance;
+  const int nx = field.nx, ny = field.ny;
+  const double res = TrueField::kRes;
   std::vector<float> g(nx * ny, 1e30f);
   using E = std::pair<float, int>;
   std::priority_queue<E, std::vector<E>, std::greater<E>> open;
@@ -151,11 +88,11 @@ double ShortestPath(const TrueField& field, double clearance) {
     auto [f, i] = open.top();
     open.pop();
     const int x = i % nx, y = i / nx;
-    if (x == gx && y == sy) return g[i] * 0.96;  // 8-connected grids are ~4 % long on average
+    if (x == gx && y == sy) return g[i] * 0.96;
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         const int mx = x + dx, my = y + dy;
-        if ((!dx && !dy) || mx < 0 || my < 0 || mx >= nx || my >= ny || blocked[my * nx + mx]) continue;
+        if ((!dx && !dy) || mx < 0 || my < 0 || mx >= nx || my >= ny || field.clearance[my * nx + mx] < clearance) continue;
         const float c = g[i] + static_cast<float>(res * std::hypot(dx, dy));
         if (c < g[my * nx + mx]) {
           g[my * nx + mx] = c;
@@ -164,6 +101,12 @@ double ShortestPath(const TrueField& field, double clearance) {
       }
   }
   return -1;
+}
+
+// Horizontal distance from p to an obstacle's footprint (its radius, or a box's half diagonal).
+double FootprintDistance(const uav::world::Obstacle& o, const Eigen::Vector2d& p) {
+  const double r = o.radius > 0 ? o.radius : 0.5 * o.size.head<2>().norm();
+  return (p - o.base_N.head<2>()).norm() - r;
 }
 
 struct FlightResult {
@@ -186,14 +129,14 @@ double Percentile(std::vector<double> v, double q) {
 FlightResult Fly(const uav::ParameterSet& params, double density, int seed, double speed, bool progress) {
   FlightResult r;
   r.seed = seed;
-  TrueField truth;
-  const uav::world::Scene scene = MakeField(density, seed, &truth);
+  const uav::world::Scene scene = MakeField(density, seed);
+  const TrueField truth(scene);
   const auto avd = uav::avoid::AvoidanceParams::FromParameters(params);
   r.shortest_m = ShortestPath(truth, avd.body_radius_m);
   const uav::GeodeticPoint home{1.3521, 103.8198, 10.0};
   const int64_t start = 1'700'000'000'000'000;
   const double limit_s = 40.0 + 3.0 * kLength / speed;
-  uav::app::SimFlight flight(params, {home, start, 0.0, limit_s, &scene});
+  uav::app::SimFlight flight(params, {home, start, 0.0, limit_s, &scene, "", nullptr});
   uav::app::Blackboard& board = flight.board();
   const uav::sim::SimVehicle& vehicle = flight.vehicle();
   // The operator's side: arm, take off, go to the far end; the flight ends at the goal.
@@ -256,9 +199,9 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   });
   if (const auto* map = flight.sensing()->avoidance_map())
     r.occupied = map->OccupiedCentres({-10, -kWidth, -kAltitude - 1.5}, {kLength + 10, kWidth, -kAltitude + 1.5});
-  for (const auto& disc : truth.discs) {
+  for (const auto& o : scene.obstacles()) {
     double nearest = 1e9;
-    for (const auto& q : r.track) nearest = std::min(nearest, (q.head<2>() - disc.c).norm() - disc.r);
+    for (const auto& q : r.track) nearest = std::min(nearest, FootprintDistance(o, q.head<2>()));
     if (nearest < 3.0) ++r.obstacles_passed;
   }
   r.clearance_p5 = Percentile(clearances, 0.05);
@@ -270,15 +213,19 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
 }
 
 void Picture(const std::string& path, const FlightResult& r, double density, int seed) {
-  TrueField truth;
-  const uav::world::Scene scene = MakeField(density, seed, &truth);
+  const TrueField truth(MakeField(density, seed));
   const double px = 12.0;  // pixels per metre
   cv::Mat img(static_cast<int>((kWidth + 10) * px), static_cast<int>((kLength + 10) * px), CV_8UC3, cv::Scalar(235, 240, 235));
   auto P = [&](const Eigen::Vector2d& p) { return cv::Point(static_cast<int>((p.x() + 5) * px), static_cast<int>((kWidth / 2 + 5 - p.y()) * px)); };
-  for (const auto& d : truth.discs) cv::circle(img, P(d.c), std::max(1, static_cast<int>(d.r * px)), cv::Scalar(60, 110, 60), cv::FILLED);
-  for (const auto& s : truth.segments)
-    cv::line(img, P(s.a), P(s.b), s.half_width < 0.05 ? cv::Scalar(30, 30, 200) : cv::Scalar(70, 70, 120),
-             std::max(1, static_cast<int>(2 * s.half_width * px)));
+  // The true field at the flight's altitude: inside a surface dark green, within the body radius
+  // light green (where the body centre must not go).
+  for (int y = 0; y < truth.ny; ++y)
+    for (int x = 0; x < truth.nx; ++x) {
+      const float c = truth.clearance[y * truth.nx + x];
+      if (c < 0.5f && c >= 0.0f)
+        cv::rectangle(img, P(truth.At(x, y)), P(truth.At(x, y)) + cv::Point(1, 1),
+                      c < 0.02f ? cv::Scalar(40, 100, 40) : cv::Scalar(170, 210, 170), cv::FILLED);
+    }
   // The vehicle's map in the flight's band (altitude +-1.5 m), as it ended: occupied cells.
   for (const auto& c : r.occupied) {
     const cv::Point q = P(c.head<2>().cast<double>());

@@ -188,6 +188,13 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
   PlannedPath fresh = PlanPath(grid, p_N, goal_N, planner);
   // Hysteresis: the detour being flown is kept while it stays clear and no new one is clearly
   // shorter, so the vehicle does not swap sides of an obstacle from one plan to the next.
+  // A kept detour that ended on the border of an earlier window now ends inside this one: it
+  // leads nowhere any more (flown to its end, the vehicle would stop there).
+  const Eigen::Vector3d margin = Eigen::Vector3d::Constant(grid.resolution());
+  const bool ends_inside = previous_.size() >= 2 && (previous_.back() - goal_N).norm() > 0.5 &&
+                           ((previous_.back() - margin).head<2>().array() > lo.head<2>().array()).all() &&
+                           ((previous_.back() + margin).head<2>().array() < hi.head<2>().array()).all();
+  if (ends_inside) previous_.clear();
   if (previous_.size() >= 2) {
     std::vector<Eigen::Vector3d> rest{p_N};
     const double s = ArcLengthOf(previous_, p_N);

@@ -145,15 +145,35 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
   int found = -1;
   auto cell_of = [&](int i) { return Eigen::Vector3i(i % size.x(), (i / size.x()) % size.y(), i / (size.x() * size.y())); };
   const int goal_index = goal_inside ? grid.Index(goal) : -1;
+  // A goal beyond the window: leaving it across a border cell completes the way with the straight
+  // line to the goal, costed as unknown space (it has not been seen). Costed as free, the straight
+  // line would make any border cheap against unknown cells inside, and a blocked way ahead would
+  // send the vehicle out of the back of the window. The exit is an entry of its own (index n),
+  // popped when no cheaper way is left.
+  const float exit_factor = static_cast<float>(1.0 + params.unknown_cost);
+  int exit_from = -1;
+  float exit_cost = std::numeric_limits<float>::infinity();
   while (!open.empty()) {
     const auto [f, i] = open.top();
     open.pop();
+    if (i == n) {
+      found = exit_from;
+      break;
+    }
     if (closed[i] == 2) continue;
     closed[i] = 2;
     const Eigen::Vector3i c = cell_of(i);
-    if (i == goal_index || (!goal_inside && on_border(c) && i != s)) {
+    if (i == goal_index) {
       found = i;
       break;
+    }
+    if (!goal_inside && on_border(c) && i != s) {
+      const float cost = g[i] + exit_factor * static_cast<float>(h(c));
+      if (cost < exit_cost) {
+        exit_cost = cost, exit_from = i;
+        open.push({cost, n});
+      }
+      continue;
     }
     if (++out.expansions > params.max_expansions) break;
     const bool interior = c.x() > 0 && c.y() > 0 && c.z() > 0 && c.x() < size.x() - 1 && c.y() < size.y() - 1 && c.z() < size.z() - 1;

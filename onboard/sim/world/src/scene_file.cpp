@@ -159,6 +159,59 @@ bool Free(const std::vector<Footprint>& taken, const Eigen::Vector2d& c, double 
   return true;
 }
 
+// An obstacle-avoidance test field (README: obstacle avoidance): `count` obstacles in the region,
+// 45 % trees (crown 0.8-2 m), 30 % poles (radius 0.15-0.6 m, 6-12 m tall), 10 % walls (2-6 m
+// long, 0.3 m thick, 3-8 m high), 15 % boxes (1-3 m, 1-5 m high), overlapping as they fall;
+// then `wires` cables between pole tops 3-15 m apart, hung at wire_height_m. Nothing within
+// clear_radius_m of home or of the keep_clear_ne point (the far end: where the flight goes).
+void GenerateObstacleField(const Reader& rd, const json& j, const std::string& p, int count, const std::vector<double>& region,
+                           double clear, Draw& draw, Scene& scene) {
+  const Eigen::Vector2d keep = j.contains("keep_clear_ne") ? rd.Vec2(j, p, "keep_clear_ne", -kBig, kBig) : Eigen::Vector2d::Zero();
+  const int wires = rd.Integer(j, p, "wires", 0, 10000, 0);
+  const Eigen::Vector2d wire_h = j.contains("wire_height_m") ? rd.Range(j, p, "wire_height_m", 0.5, 100) : Eigen::Vector2d(3, 8);
+  auto clear_of_ends = [&](const Eigen::Vector2d& c, double r) { return c.norm() > clear + r && (c - keep).norm() > clear + r; };
+  std::vector<Eigen::Vector3d> pole_tops;
+  for (int placed = 0, attempt = 0; placed < count && attempt < 100 * count + 100; ++attempt) {
+    const Eigen::Vector2d c(draw.Uniform(region[0], region[2]), draw.Uniform(region[1], region[3]));
+    const double kind = draw.Uniform(0, 1);
+    if (kind < 0.45) {
+      const double crown = draw.Uniform(0.8, 2.0), height = std::max(6.0, 2 * crown + 1) + draw.Uniform(0, 8);
+      if (!clear_of_ends(c, crown)) continue;
+      scene.AddTree({c.x(), c.y(), 0}, height, crown);
+    } else if (kind < 0.75) {
+      const double r = draw.Uniform(0.15, 0.6), h = draw.Uniform(6, 12);
+      if (!clear_of_ends(c, r)) continue;
+      scene.AddCylinder("pole", {c.x(), c.y(), 0}, r, h, "concrete");
+      pole_tops.emplace_back(c.x(), c.y(), -h);
+    } else if (kind < 0.85) {
+      const double len = draw.Uniform(2, 6), yaw = draw.Uniform(0, M_PI), h = draw.Uniform(3, 8);
+      const std::string material = draw.Uniform(0, 1) < 0.5 ? "brick" : "plaster";
+      if (!clear_of_ends(c, len / 2)) continue;
+      scene.AddBox("wall", {c.x(), c.y(), -h / 2}, {len, 0.3, h}, yaw, material);
+    } else {
+      const double size = draw.Uniform(1, 3), h = draw.Uniform(1, 5), yaw = draw.Uniform(0, M_PI);
+      if (!clear_of_ends(c, size)) continue;
+      scene.AddBox("box", {c.x(), c.y(), -h / 2}, {size, size, h}, yaw, "concrete");
+    }
+    ++placed;
+  }
+  for (int w = 0, attempt = 0; w < wires && pole_tops.size() >= 2 && attempt < 200 * wires; ++attempt) {
+    const Eigen::Vector3d& a = pole_tops[draw.Pick(pole_tops.size())];
+    const Eigen::Vector3d& b = pole_tops[draw.Pick(pole_tops.size())];
+    const Eigen::Vector2d ab = (b - a).head<2>();
+    const double span = ab.norm();
+    if (span < 3 || span > 15) continue;
+    auto distance_to = [&](const Eigen::Vector2d& q) {
+      const double t = std::clamp((q - a.head<2>()).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      return (a.head<2>() + t * ab - q).norm();
+    };
+    if (distance_to(Eigen::Vector2d::Zero()) < clear || distance_to(keep) < clear) continue;
+    const double h = draw.Uniform(wire_h.x(), wire_h.y());
+    scene.AddCable({a.x(), a.y(), -h}, {b.x(), b.y(), -h}, 0.3, 0.01);
+    ++w;
+  }
+}
+
 CameraSetup ReadCamera(const Reader& rd, const json& j, const std::string& path, const std::string& scene_dir,
                        const std::string& name, const std::string& default_file, double default_rate,
                        double default_preview_rate) {
@@ -389,6 +442,10 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
         if (region[0] >= region[2] || region[1] >= region[3]) rd.Fail(p + ".region_ne", "must be [n_min, e_min, n_max, e_max]");
         const double clear = rd.Number(j, p, "clear_radius_m", 0, 10000, 15);
         Draw draw(HashCombine(scene.seed(), 1000 + i));
+        if (type == "obstacle_field") {
+          GenerateObstacleField(rd, j, p, count, region, clear, draw, scene);
+          continue;
+        }
         int placed = 0;
         for (int attempt = 0; attempt < 50 * count + 50 && placed < count; ++attempt) {
           const Eigen::Vector2d c(draw.Uniform(region[0], region[2]), draw.Uniform(region[1], region[3]));
@@ -419,7 +476,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
             scene.AddPerson(Eigen::Vector3d(c.x(), c.y(), 0), h);
             taken.push_back({c, 0.3});
           } else {
-            rd.Fail(p + ".type", "unknown generator '" + type + "' (buildings, trees, people)");
+            rd.Fail(p + ".type", "unknown generator '" + type + "' (buildings, trees, people, obstacle_field)");
           }
           ++placed;
         }

@@ -1,0 +1,192 @@
+// Obstacle avoidance flown closed loop (the whole vehicle on the simulated clock, its own stereo
+// pair and algorithms in the loop, never the scene's ground truth) through the scenarios that
+// defeat simpler layers: a dead end, a textureless wall, wires across the way, a camera that
+// fails mid-flight, and seeded obstacle fields of each density. Ground truth is the scene's own
+// distance to the nearest surface (Scene::Clearance), which the flight stack never reads.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "uav/app/sim_flight.hpp"
+#include "uav/shared/command_grammar.hpp"
+#include "uav/world/scene.hpp"
+
+namespace uav::app {
+namespace {
+
+constexpr double kAltitude = 4.0;  // [m] the flights'
+
+ParameterSet AvoidanceParameters() {
+  return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", VehicleParameterSchema())
+      .With("avd_enable", 1)
+      .With("ctl_speed_max_xy", 3.0);
+}
+
+// A grass field with the forward stereo pair (15 Hz) and `objects` / `generate` entries.
+world::Scene SceneWith(const std::string& objects, const std::string& generate = "[]", int seed = 1) {
+  const std::string text = R"({"name": "avoidance scenario", "seed": )" + std::to_string(seed) + R"(,
+    "sun": {"azimuth_deg": 200, "elevation_deg": 45, "ambient": 0.45},
+    "ground": {"layout": "uniform", "material": "grass"},
+    "objects": )" + objects + R"(, "generate": )" + generate + R"(,
+    "cameras": {"stereo": {"rate_hz": 15, "baseline_m": 0.12, "preview_rate_hz": 0}}})";
+  // Named as a file of the scenes folder, so that its cameras are found beside it.
+  return world::Scene::Parse(text, std::string(UAV_RESOURCE_DIR) + "/scenes/avoidance_scenario.scene.json");
+}
+
+struct Flown {
+  bool reached = false;           // the goto completed with the truth within 1.5 m of the goal
+  double min_clearance = 1e9;     // [m] true, from the goto on
+  double travel_s = 0.0;
+  Eigen::Vector3d end_N = Eigen::Vector3d::Zero();  // the truth at the end
+  double max_north = -1e9;        // [m] the farthest north the truth went
+  std::set<AvoidState> states;    // the safety layer's, from the goto on
+  std::set<Task> tasks;
+  std::vector<std::string> said;  // every status text
+  bool landed = false;
+  bool Said(const std::string& part) const {
+    return std::any_of(said.begin(), said.end(), [&](const std::string& s) { return s.find(part) != std::string::npos; });
+  }
+};
+
+// Takes off to kAltitude, sends `goto goal`, and flies until the goto completes at the goal (or
+// the vehicle has landed after a failsafe, or limit_s). `during(t_since_goto, flight)` runs each
+// control period after the goto.
+Flown FlyTo(const world::Scene& scene, const Eigen::Vector3d& goal_NEU, double limit_s,
+            const std::function<void(double, SimFlight&)>& during = {}) {
+  const GeodeticPoint home{1.3521, 103.8198, 10.0};
+  const int64_t start = 1'700'000'000'000'000;
+  SimFlight flight(AvoidanceParameters(), {home, start, 0.0, limit_s + 30.0, &scene, "", nullptr});
+  Blackboard& board = flight.board();
+  Flown f;
+  int stage = 0, seq = 0;
+  double goto_t = -1;
+  char goto_text[80];
+  std::snprintf(goto_text, sizeof goto_text, "goto %.1f %.1f %.1f", goal_NEU.x(), goal_NEU.y(), goal_NEU.z());
+  auto send = [&](const std::string& text) { board.commands.Push({"test", ++seq, *ParseCommand(text).command}); };
+  flight.Run([&](int64_t now) {
+    const double t = (now - start) * 1e-6;
+    for (const StatusText& s : board.status.TakeAll()) f.said.push_back(s.text);
+    const BlackboardData d = board.Snapshot();
+    const Eigen::Vector3d p = flight.vehicle().TruthState().p_N;
+    if (stage == 0 && t > 1.0) send("arm"), stage = 1;
+    else if (stage == 1 && d.armed) send("takeoff " + std::to_string(kAltitude)), stage = 2;
+    else if (stage == 2 && d.task == Task::kHover && -p.z() > kAltitude - 0.5) send(goto_text), stage = 3, goto_t = t;
+    if (stage != 3) return;
+    f.min_clearance = std::min(f.min_clearance, scene.Clearance(p, now * 1e-6));
+    f.max_north = std::max(f.max_north, p.x());
+    f.states.insert(d.avoid_state);
+    f.tasks.insert(d.task);
+    f.end_N = p;
+    f.travel_s = t - goto_t;
+    if (during) during(t - goto_t, flight);
+    const Eigen::Vector3d goal_N(goal_NEU.x(), goal_NEU.y(), -goal_NEU.z());
+    if (t - goto_t > 1.0 && d.task == Task::kHover && (p - goal_N).norm() < 1.5) {
+      f.reached = true;
+      flight.Stop();
+    }
+    if (t - goto_t > 1.0 && !d.armed) {
+      f.landed = true;
+      flight.Stop();
+    }
+    if (t - goto_t > limit_s) flight.Stop();
+  });
+  std::printf("flown %.1f s: %s, true clearance min %.2f m, end (%.1f, %.1f, %.1f), states:", f.travel_s,
+              f.reached ? "reached" : f.landed ? "landed" : "not reached", f.min_clearance, f.end_N.x(), f.end_N.y(), -f.end_N.z());
+  for (AvoidState s : f.states) std::printf(" %s", std::string(Name(s)).c_str());
+  std::printf("\n");
+  return f;
+}
+
+// A U of brick walls open toward the vehicle, 8 m wide and 6 m deep, 12 m high (above the
+// planning window: no way over), across the straight line to the goal. The vehicle flies into
+// the U's mouth, sees its bottom, and leaves it round a side.
+TEST(AvoidanceFlight, LeavesAUShapedDeadEndAndReachesTheGoal) {
+  const world::Scene scene = SceneWith(R"([
+    {"type": "box", "kind": "wall", "center_ned": [16, 0, -6], "size": [0.4, 8.4, 12], "material": "brick"},
+    {"type": "box", "kind": "wall", "center_ned": [13, -4, -6], "size": [6, 0.4, 12], "material": "brick"},
+    {"type": "box", "kind": "wall", "center_ned": [13, 4, -6], "size": [6, 0.4, 12], "material": "brick"}])");
+  const Flown f = FlyTo(scene, {30, 0, kAltitude}, 120);
+  EXPECT_TRUE(f.reached);
+  EXPECT_GE(f.min_clearance, 0.5) << "the body radius";
+  EXPECT_TRUE(f.states.count(AvoidState::kAvoiding));
+}
+
+// A wall of featureless plaster ("plain") across the way, 40 m wide and 15 m high: stereo finds
+// nothing on it, so the space before it stays unknown, never free. The vehicle stops short of it
+// and says it is blocked; it never reaches the wall.
+TEST(AvoidanceFlight, StopsShortOfATexturelessWall) {
+  const world::Scene scene = SceneWith(R"([
+    {"type": "box", "kind": "wall", "center_ned": [15, 0, -7.5], "size": [0.4, 40, 15], "material": "plain"}])");
+  const Flown f = FlyTo(scene, {30, 0, kAltitude}, 40);
+  EXPECT_FALSE(f.reached);
+  EXPECT_LT(f.max_north, 15.0 - 0.2 - 0.5) << "the wall's face less the body radius";
+  EXPECT_GE(f.min_clearance, 0.5);
+  EXPECT_TRUE(f.states.count(AvoidState::kBlocked));
+  EXPECT_TRUE(f.Said("obstacle avoidance: blocked"));
+}
+
+// Two poles either side of the way and a wire between their tops, sagging to the flight's
+// altitude, straight across the line to the goal: the wire is passed (over, under or round a pole) with at least
+// 1 m of true clearance.
+TEST(AvoidanceFlight, PassesAWireAcrossTheWayWithAMetreToSpare) {
+  const world::Scene scene = SceneWith(R"([
+    {"type": "power_line", "poles_ne": [[15, -7], [15, 7]], "pole_height_m": 4.3, "sag_m": 0.3}])");
+  const Flown f = FlyTo(scene, {30, 0, kAltitude}, 90);
+  EXPECT_TRUE(f.reached);
+  EXPECT_GE(f.min_clearance, 1.0);
+}
+
+// The stereo camera goes black half way: the vehicle brakes and holds ("no data"), then returns
+// home at its altitude through the space its map has seen free (the way it came), and lands.
+TEST(AvoidanceFlight, ACameraThatFailsMidFlightBrakesHoldsAndReturnsOnTheMap) {
+  const world::Scene scene = SceneWith(R"([
+    {"type": "cylinder", "kind": "pole", "base_ned": [8, 2, 0], "radius_m": 0.3, "height_m": 8, "material": "concrete"},
+    {"type": "tree", "at_ne": [14, -3], "height_m": 9, "crown_radius_m": 2}])");
+  bool failed = false;
+  double failed_at_north = 0;
+  const Flown f = FlyTo(scene, {40, 0, kAltitude}, 120, [&](double, SimFlight& flight) {
+    const Eigen::Vector3d p = flight.vehicle().TruthState().p_N;
+    if (!failed && p.x() > 18.0) {
+      flight.sensing()->SetStereoFailed(0, true);
+      failed = true;
+      failed_at_north = p.x();
+    }
+  });
+  ASSERT_TRUE(failed);
+  EXPECT_TRUE(f.states.count(AvoidState::kNoData));
+  EXPECT_TRUE(f.Said("obstacle perception lost")) << "the failsafe said why";
+  EXPECT_TRUE(f.tasks.count(Task::kReturn));
+  EXPECT_TRUE(f.landed);
+  EXPECT_LT(f.end_N.head<2>().norm(), 2.0) << "landed at home";
+  EXPECT_LT(f.max_north, failed_at_north + 6.0) << "stopped soon after the failure";
+  EXPECT_GE(f.min_clearance, 0.5);
+}
+
+// Seeded obstacle fields (the scene generator obstacle_field, as uav-avoid-bench flies them, 60 m
+// at 3 m/s), one per density: reached with the true clearance never under the body radius.
+class AvoidanceField : public ::testing::TestWithParam<std::pair<double, int>> {};
+
+TEST_P(AvoidanceField, CrossesTheFieldWithItsClearance) {
+  const auto [density, seed] = GetParam();
+  const int count = static_cast<int>(std::lround(density * 20 * 60));
+  const world::Scene scene = SceneWith("[]", R"([{"type": "obstacle_field", "count": )" + std::to_string(count) +
+                                                 R"(, "region_ne": [0, -10, 60, 10], "clear_radius_m": 3, "keep_clear_ne": [60, 0],
+                                                 "wires": 4, "wire_height_m": [3, 8]}])",
+                                       seed);
+  const Flown f = FlyTo(scene, {60, 0, kAltitude}, 100);
+  EXPECT_TRUE(f.reached);
+  EXPECT_GE(f.min_clearance, 0.5);
+}
+
+INSTANTIATE_TEST_SUITE_P(Densities, AvoidanceField,
+                         ::testing::Values(std::make_pair(1.0 / 49, 1), std::make_pair(1.0 / 25, 1), std::make_pair(1.0 / 12, 1)),
+                         [](const auto& info) { return "per_m2_1_in_" + std::to_string(std::lround(1.0 / info.param.first)); });
+
+}  // namespace
+}  // namespace uav::app
