@@ -34,7 +34,7 @@ world::Scene SceneWith(const std::string& objects, const std::string& generate =
     "sun": {"azimuth_deg": 200, "elevation_deg": 45, "ambient": 0.45},
     "ground": {"layout": "uniform", "material": "grass"},
     "objects": )" + objects + R"(, "generate": )" + generate + R"(,
-    "cameras": {"stereo": {"rate_hz": 15, "baseline_m": 0.12, "preview_rate_hz": 0}}})";
+    "cameras": {"stereo": {"rate_hz": 15, "baseline_m": 0.12, "mount_roll_deg": 45, "preview_rate_hz": 0}}})";
   // Named as a file of the scenes folder, so that its cameras are found beside it.
   return world::Scene::Parse(text, std::string(UAV_RESOURCE_DIR) + "/scenes/avoidance_scenario.scene.json");
 }
@@ -49,6 +49,13 @@ struct Flown {
   std::set<Task> tasks;
   std::vector<std::string> said;  // every status text
   bool landed = false;
+  std::vector<Eigen::Vector4d> track;  // t, truth N E D every second (printed when a test fails)
+  std::string Track() const {
+    std::string out;
+    char buf[96];
+    for (const auto& q : track) std::snprintf(buf, sizeof buf, " %.0fs(%.1f,%.1f,%.1f)", q[0], q[1], q[2], -q[3]), out += buf;
+    return out;
+  }
   bool Said(const std::string& part) const {
     return std::any_of(said.begin(), said.end(), [&](const std::string& s) { return s.find(part) != std::string::npos; });
   }
@@ -84,6 +91,7 @@ Flown FlyTo(const world::Scene& scene, const Eigen::Vector3d& goal_NEU, double l
     f.tasks.insert(d.task);
     f.end_N = p;
     f.travel_s = t - goto_t;
+    if (f.track.empty() || t - goto_t >= f.track.back()[0] + 1.0) f.track.emplace_back(t - goto_t, p.x(), p.y(), p.z());
     if (during) during(t - goto_t, flight);
     const Eigen::Vector3d goal_N(goal_NEU.x(), goal_NEU.y(), -goal_NEU.z());
     if (t - goto_t > 1.0 && d.task == Task::kHover && (p - goal_N).norm() < 1.5) {
@@ -112,8 +120,8 @@ TEST(AvoidanceFlight, LeavesAUShapedDeadEndAndReachesTheGoal) {
     {"type": "box", "kind": "wall", "center_ned": [13, -4, -6], "size": [6, 0.4, 12], "material": "brick"},
     {"type": "box", "kind": "wall", "center_ned": [13, 4, -6], "size": [6, 0.4, 12], "material": "brick"}])");
   const Flown f = FlyTo(scene, {30, 0, kAltitude}, 120);
-  EXPECT_TRUE(f.reached);
-  EXPECT_GE(f.min_clearance, 0.5) << "the body radius";
+  EXPECT_TRUE(f.reached) << f.Track();
+  EXPECT_GE(f.min_clearance, 0.5) << "the body radius" << f.Track();
   EXPECT_TRUE(f.states.count(AvoidState::kAvoiding));
 }
 
@@ -162,7 +170,9 @@ TEST(AvoidanceFlight, ACameraThatFailsMidFlightBrakesHoldsAndReturnsOnTheMap) {
   EXPECT_TRUE(f.states.count(AvoidState::kNoData));
   EXPECT_TRUE(f.Said("obstacle perception lost")) << "the failsafe said why";
   EXPECT_TRUE(f.tasks.count(Task::kReturn));
-  EXPECT_TRUE(f.landed);
+  std::string said;
+  for (const auto& t : f.said) said += "\n  " + t;
+  EXPECT_TRUE(f.landed) << said << f.Track();
   EXPECT_LT(f.end_N.head<2>().norm(), 2.0) << "landed at home";
   EXPECT_LT(f.max_north, failed_at_north + 6.0) << "stopped soon after the failure";
   EXPECT_GE(f.min_clearance, 0.5);

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "uav/avoid/avoidance.hpp"
+#include "uav/avoid/depth_grid_scan.hpp"
 #include "uav/avoid/local_grid.hpp"
 #include "uav/avoid/occupancy_map.hpp"
 #include "uav/avoid/path_planner.hpp"
@@ -104,6 +105,40 @@ TEST(OccupancyMap, SavesAnOctoMapFileThatReadsBackAndNeverAHalfFile) {
   EXPECT_NE(map.SaveBinary("/nonexistent_dir/map.bt"), "");
   EXPECT_FALSE(std::filesystem::exists("/nonexistent_dir/map.bt.part"));
   EXPECT_THROW(OccupancyMap::LoadBinary(dir + "/missing.bt"), std::runtime_error);
+}
+
+// Depth from motion's grid into the map: a trusted cell is a ray to its depth through the cell's
+// centre, placed with the camera's pose; cells without enough agreeing features are left out.
+TEST(DepthGridScan, ATrustedCellIsARayToItsDepthAndDoubtfulCellsAreLeftOut) {
+  CameraIntrinsics k;  // 640 x 480, f 500, no distortion
+  DepthGrid g;
+  g.healthy = true;
+  g.cols = 4, g.rows = 3;
+  g.cells.resize(12);
+  g.obstacle_depth_m = 10.0;
+  g.cells[5] = {CellState::kObstacle, 8.0, 0.4, 12, 0.9, ""};   // row 1, col 1: trusted
+  g.cells[6] = {CellState::kObstacle, 8.0, 2.0, 12, 0.2, ""};   // features disagree: left out
+  g.cells[7] = {CellState::kFree, 30.0, 1.0, 2, 0.3, ""};       // too few features: left out
+  // A camera 4 m up looking north (optical z along N, x along E, y down).
+  Eigen::Isometry3d T_NC = Eigen::Isometry3d::Identity();
+  T_NC.linear() << 0, 0, 1, 1, 0, 0, 0, 1, 0;
+  T_NC.translation() = Eigen::Vector3d(0, 0, -4);
+  const RangeScan scan = DepthGridScan(g, k, T_NC);
+  ASSERT_EQ(scan.p_N.size(), 1u);
+  EXPECT_EQ(scan.max_range_m, 10.0);
+  // Cell (1, 1): centre pixel (239.5, 239.5) is 80 px left of the principal point: 8 m * 80 / 500 west.
+  EXPECT_NEAR(scan.p_N[0].x(), 8.0, 1e-4);
+  EXPECT_NEAR(scan.p_N[0].y(), -8.0 * 80.0 / 500.0, 1e-4);
+  EXPECT_NEAR(scan.p_N[0].z(), -4.0, 1e-4);
+  g.healthy = false;
+  EXPECT_TRUE(DepthGridScan(g, k, T_NC).p_N.empty());
+  // Into the map: the cell at the depth occupied after two frames, the way to it free.
+  OccupancyMap map;
+  g.healthy = true;
+  map.InsertScan(DepthGridScan(g, k, T_NC));
+  map.InsertScan(DepthGridScan(g, k, T_NC));
+  EXPECT_EQ(map.At(Eigen::Vector3d(8.0, -1.28, -4.0)), Cell::kOccupied);
+  EXPECT_EQ(map.At(Eigen::Vector3d(4.0, -0.64, -4.0)), Cell::kFree);
 }
 
 TEST(LocalGrid, DistanceFieldMatchesBruteForce) {
@@ -223,7 +258,9 @@ TEST(PathPlanner, FromInsideTheClearanceGoesStraightOutBeforeGoingOn) {
       before = std::max(before, d);
       out = d >= 1.0;
       // Out first, then on: it has gone less than a metre toward the goal when it is out.
-      if (out) EXPECT_LT(q.x() - start.x(), 1.0);
+      if (out) {
+        EXPECT_LT(q.x() - start.x(), 1.0);
+      }
     }
   EXPECT_TRUE(out);
   EXPECT_GE(MinDistance(g, {p.p_N.begin() + 1, p.p_N.end()}), 1.0);

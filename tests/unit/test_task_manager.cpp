@@ -288,6 +288,29 @@ TEST_F(TaskManagerTest, AFailsafeLandingReportsAsItselfNotAsTheLastCommand) {
   EXPECT_GT(again.back().command_seq, own_seq);
 }
 
+// Obstacle perception lost: the failsafe's return flies home at the altitude it is at (no climb
+// into space never seen), then lands.
+TEST_F(TaskManagerTest, AReturnAtAltitudeFliesHomeLevelAndLands) {
+  Send("arm");
+  Send("takeoff 4");
+  est_.p_N = {20, 1, -4};
+  Step();
+  std::vector<CommandAck> r;
+  tm_.EnforceFailsafe(FailsafeAction::kReturn, "obstacle perception lost", est_, t_, &r, /*return_at_altitude=*/true);
+  double highest = 4.0;
+  bool landing = false;
+  for (int i = 0; i < 3000 && !landing; ++i) {
+    Step(0.02);
+    // A vehicle that follows its reference.
+    est_.p_N = out_.setpoint.p_N;
+    highest = std::max(highest, -est_.p_N.z());
+    landing = out_.task == Task::kLand;
+  }
+  EXPECT_TRUE(landing) << Name(out_.task) << " at " << est_.p_N.transpose();
+  EXPECT_LT(highest, 4.3);
+  EXPECT_LT(est_.p_N.head<2>().norm(), 0.5);
+}
+
 // A goto replaced by hover closes as replaced and says nothing after.
 TEST_F(TaskManagerTest, AReplacedCommandsRowClosesAndStaysClosed) {
   Send("arm");

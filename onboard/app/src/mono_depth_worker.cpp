@@ -4,6 +4,8 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "uav/avoid/depth_grid_scan.hpp"
+
 namespace uav::app {
 
 bool EstimateMatchesFrame(const hal::VehicleEstimate& estimate, int64_t frame_utime) {
@@ -32,11 +34,18 @@ MonoDepthWorkerParams MonoDepthWorkerParams::FromParameters(const ParameterSet& 
   m.estimator.obstacle_depth_m = p.Get("mdp_obstacle_depth");
   m.estimator.max_features = static_cast<int>(p.Get("mdp_max_features"));
   m.estimator.Validate();
+  m.to_map = p.Get("avd_enable") != 0.0;
   return m;
 }
 
-MonoDepthWorker::MonoDepthWorker(const hal::CameraInfo& camera, Blackboard& board, const vision::MonoDepthParams& params)
-    : VisionWorker(board), camera_(camera.name), rate_hz_(camera.rate_hz), estimator_(camera.intrinsics, params) {
+MonoDepthWorker::MonoDepthWorker(const hal::CameraInfo& camera, Blackboard& board, const vision::MonoDepthParams& params,
+                                 bool to_map)
+    : VisionWorker(board),
+      camera_(camera.name),
+      intrinsics_(camera.intrinsics),
+      to_map_(to_map),
+      rate_hz_(camera.rate_hz),
+      estimator_(camera.intrinsics, params) {
   board_.Update([&](BlackboardData& b) { b.depth_camera = camera_; });
 }
 
@@ -50,6 +59,13 @@ void MonoDepthWorker::Work(Outbox& out) {
   DepthGrid g = estimator_.Update(image, f->utime, f->T_NC_estimate, f->v_N_estimate);
   g.camera = camera_;
   ++frames_;
+  if (to_map_ && g.healthy && f->T_NC_estimate) {
+    avoid::PerceptionUpdate u;
+    u.utime = f->utime;
+    u.watches_ahead = false;
+    u.scan = avoid::DepthGridScan(g, intrinsics_, *f->T_NC_estimate);
+    if (!u.scan->p_N.empty()) out.Post([u = std::move(u)](Blackboard& b) { b.perception.Push(u); });
+  }
   out.Post([g = std::move(g)](Blackboard& b) { b.reports.Put(g); });
 }
 

@@ -107,9 +107,9 @@ Sensing::Sensing(const world::Scene& scene, const ParameterSet& params, Blackboa
   // Depth from motion on the chosen camera, when the scene has it.
   const auto mdp = MonoDepthWorkerParams::FromParameters(params);
   if (mdp.camera == 1 && s.downward_camera)
-    s.mdepth = std::make_unique<MonoDepthWorker>(s.downward_camera->info(), board, mdp.estimator);
+    s.mdepth = std::make_unique<MonoDepthWorker>(s.downward_camera->info(), board, mdp.estimator, mdp.to_map);
   if (mdp.camera == 2 && s.gimbal_camera)
-    s.mdepth = std::make_unique<MonoDepthWorker>(s.gimbal_camera->info(), board, mdp.estimator);
+    s.mdepth = std::make_unique<MonoDepthWorker>(s.gimbal_camera->info(), board, mdp.estimator, mdp.to_map);
   BuildStereo(scene, params);
 }
 

@@ -2,14 +2,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
+#include <opencv2/core.hpp>
 
 #include "uav/shared/frames.hpp"
 
 namespace uav::app {
 
 namespace {
+// Grey-level spread of a frame below which it shows nothing (the odometry's blank-frame figure).
+constexpr double kMinSpreadDn = 3.0;
+
 vision::StereoRig RigOf(const hal::StereoCamera& camera) {
   return {camera.left().intrinsics, camera.right().intrinsics, camera.T_LR()};
 }
@@ -70,6 +77,16 @@ void StereoWorker::Work(Outbox& out) {
   cv::Mat left_rect, right_rect;
   vision::StereoObstacles found;
   try {
+    // A camera whose sensor or cable died gives black or flat frames: nothing is seen in them, and
+    // an empty result must not pass for a look at empty space (it would keep the obstacle
+    // perception fresh while the vehicle flies blind).
+    for (const auto& [image, side] : {std::pair{&pair.left, "left"}, std::pair{&pair.right, "right"}}) {
+      cv::Scalar mean, spread;
+      cv::meanStdDev(*image, mean, spread);
+      if (image->empty() || spread[0] < kMinSpreadDn)
+        throw std::runtime_error(std::string(side) + " image is blank or flat (mean " + std::to_string(std::lround(mean[0])) +
+                                 " DN, spread " + std::to_string(std::lround(spread[0])) + " DN)");
+    }
     rectifier_.Rectify(pair.left, pair.right, &left_rect, &right_rect);
     found = obstacles_.Process(left_rect, right_rect, T_NB * camera_.left().T_BC);
   } catch (const std::exception& e) {

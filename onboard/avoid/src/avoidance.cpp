@@ -81,7 +81,7 @@ std::string AvoidancePlanner::Add(const PerceptionUpdate& u, const Eigen::Vector
   if (u.scan) map_.InsertScan(*u.scan);
   for (const MapCylinder& c : u.cylinders) map_.InsertCylinder(c.p_NE, c.top_down_m, c.bottom_down_m, c.radius_m);
   for (const auto& w : u.wires) map_.InsertPolyline(w, u.wire_radius_m);
-  perception_utime_ = std::max(perception_utime_, u.utime);
+  if (u.watches_ahead) perception_utime_ = std::max(perception_utime_, u.utime);
   const std::size_t dropped = map_.EnforceBound(p_N);
   if (dropped > 0 && !bound_announced_) {
     bound_announced_ = true;
@@ -148,6 +148,7 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
   // no longer changes, so neither does the plan), and only through space seen free.
   if (map_only) previous_.clear();
   if ((goal_N - previous_goal_N_).norm() > 0.5) previous_.clear();
+  map_.InsertBody(p_N, p_.body_radius_m);
   previous_goal_N_ = goal_N;
   // The window reaches ahead toward the goal: the vehicle sits a quarter of it from the back.
   const Eigen::Vector3d to_goal = goal_N - p_N;

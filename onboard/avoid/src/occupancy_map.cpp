@@ -112,6 +112,21 @@ void OccupancyMap::InsertPolyline(const std::vector<Eigen::Vector3d>& p_N, doubl
   }
 }
 
+void OccupancyMap::InsertBody(const Eigen::Vector3d& p_N, double radius_m) {
+  if (!p_N.allFinite() || !(radius_m > 0)) return;
+  const double r = impl_->params.resolution_m;
+  const int k = static_cast<int>(std::ceil(radius_m / r));
+  const octomap::OcTreeKey centre = impl_->tree.coordToKey(P(p_N));
+  for (int dx = -k; dx <= k; ++dx)
+    for (int dy = -k; dy <= k; ++dy)
+      for (int dz = -k; dz <= k; ++dz) {
+        const octomap::OcTreeKey key(static_cast<uint16_t>(centre[0] + dx), static_cast<uint16_t>(centre[1] + dy),
+                                     static_cast<uint16_t>(centre[2] + dz));
+        const octomap::point3d c = impl_->tree.keyToCoord(key);
+        if ((Eigen::Vector3d(c.x(), c.y(), c.z()) - p_N).norm() <= radius_m) impl_->tree.updateNode(key, false);
+      }
+}
+
 void OccupancyMap::Mark(const Eigen::Vector3d& p_N, bool occupied) {
   octomap::OcTree& tree = impl_->tree;
   tree.setNodeValue(P(p_N), occupied ? tree.getClampingThresMaxLog() : tree.getClampingThresMinLog());

@@ -10,6 +10,8 @@ namespace {
 double WrapPi(double a) { return std::remainder(a, 2.0 * M_PI); }
 // Below this the vehicle is taken as stopped short (blocked); above twice it moves again.
 constexpr double kBlockedSpeed = 0.2;
+// [m/s] the last body-and-margin's length to a goal is flown at least this fast.
+constexpr double kArrivalSpeed = 0.5;
 }  // namespace
 
 control::Setpoint SafetyLayer::Hold(const control::Setpoint& task_setpoint, const hal::VehicleEstimate& est) {
@@ -88,17 +90,19 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
   // On the map alone the space seen free is what there is: the plan's age stands for the
   // perception's.
   const double a = p_.brake_accel, t = (map_only ? plan_age : perception_age) + p_.reaction_s;
-  const double v_allow = -a * t + std::sqrt(a * a * t * t + 2.0 * a * d);
+  const double arrival_m = p_.clearance();
+  const bool arriving = (*goal_N - est.p_N).norm() <= arrival_m;
+  // Within the clearance of its goal the vehicle's own body and margin already cover the rest of
+  // the way (the planner refuses a goal nearer an obstacle than that): it goes there at an
+  // approach speed instead of holding short of a goal it was given (space just beside the goal
+  // may never be seen free when only sky is behind it, or when the cameras are gone).
+  const double v_allow = std::max(arriving ? kArrivalSpeed : 0.0, -a * t + std::sqrt(a * a * t * t + 2.0 * a * d));
   out.speed_limit = v_allow;
   const double to_go = (plan->path_N.back() - est.p_N).norm();
   // Blocked when the seen space no longer lets it move and it is not at its goal; it moves again
   // once twice the threshold is allowed (hysteresis: no creeping start-stop).
   blocked_ = blocked_ ? v_allow < 2 * kBlockedSpeed : v_allow < kBlockedSpeed;
-  // Within the clearance of its goal the vehicle's own body and margin already cover the rest of
-  // the way: it creeps there at the limit instead of holding short of a goal it was given (space
-  // just beside the goal may never be seen free when only sky is behind it).
-  const double arrival_m = p_.clearance();
-  if (blocked_ && to_go > arrival_m && (*goal_N - est.p_N).norm() > arrival_m) {
+  if (blocked_ && to_go > arrival_m && !arriving) {
     std::snprintf(buf, sizeof buf, "stopped: %.1f m seen free ahead", d);
     out.reason = buf;
     out.setpoint = Hold(task_setpoint, est);

@@ -164,9 +164,10 @@ class Blackboard {
   // STITCH -> CMM: the newest content of each changed tile; CMM takes the longest-waiting first
   // at its own (bounded) rate.
   KeyedLatest<std::tuple<int, int, int>, MapTile> tiles;
-  // STEREO -> AVD: every perception result for the 3-D map, in capture order (bounded: a
-  // planner that falls behind loses the oldest, which newer scans of the same space replace).
-  Queue<avoid::PerceptionUpdate> perception{8};
+  // STEREO, MDEPTH -> AVD: every perception result for the 3-D map, in the order they become
+  // visible (bounded: a planner that falls behind loses the oldest, which newer scans of the
+  // same space replace).
+  Queue<avoid::PerceptionUpdate> perception{16};
   // Vision workers (and the sensing monitor) -> CMM: each report type's newest replaces one not
   // yet sent (uav/shared/reports.hpp lists them).
   ReportSlots<VehicleReports> reports;

@@ -23,12 +23,14 @@ void ShareFrame(Outbox& out, const BlackboardData& d, const std::string& camera,
 struct MonoDepthWorkerParams {
   int camera = 0;  // mdp_camera: 0 off, 1 the downward camera, 2 the gimbal camera
   vision::MonoDepthParams estimator;  // mdp_obstacle_depth, mdp_max_features
+  bool to_map = false;                // avd_enable: each grid goes into obstacle avoidance's map too
   static MonoDepthWorkerParams FromParameters(const ParameterSet& p);
 };
 
 class MonoDepthWorker : public VisionWorker {
  public:
-  MonoDepthWorker(const hal::CameraInfo& camera, Blackboard& board, const vision::MonoDepthParams& params);
+  // `to_map`: each grid's trusted cells go into obstacle avoidance's map (avoid::DepthGridScan).
+  MonoDepthWorker(const hal::CameraInfo& camera, Blackboard& board, const vision::MonoDepthParams& params, bool to_map = false);
   void Begin(int64_t utime) override;
   void Work(Outbox& out) override;
   int frames() const { return frames_; }
@@ -38,6 +40,8 @@ class MonoDepthWorker : public VisionWorker {
 
  private:
   std::string camera_;  // whose frames it takes
+  CameraIntrinsics intrinsics_;
+  bool to_map_;
   double rate_hz_;
   std::optional<SharedFrame> frame_;  // taken at Begin
   vision::MonoDepthEstimator estimator_;

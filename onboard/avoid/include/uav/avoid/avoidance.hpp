@@ -63,6 +63,10 @@ struct PerceptionUpdate {
   std::vector<MapCylinder> cylinders;
   std::vector<std::vector<Eigen::Vector3d>> wires;  // polylines in N
   double wire_radius_m = 0.1;
+  // From the stereo pair that watches the way ahead: its results keep the perception fresh (the
+  // safety layer's avd_stale and the failsafe's avd_blind_return); others (depth from motion)
+  // only add to the map.
+  bool watches_ahead = true;
 };
 
 // What the planner hands the safety layer.

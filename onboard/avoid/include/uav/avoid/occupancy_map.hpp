@@ -58,6 +58,10 @@ class OccupancyMap {
   void InsertCylinder(const Eigen::Vector2d& p_NE, double top_down_m, double bottom_down_m, double radius_m);
   // A polyline (a ranged wire) thickened to radius_m.
   void InsertPolyline(const std::vector<Eigen::Vector3d>& p_N, double radius_m);
+  // The space the vehicle's body is in: every cell whose centre is within radius_m of p_N is
+  // observed free once (a miss). The vehicle has been there, whatever the cameras saw: the
+  // column it took off through and the cells beside its own camera are never in their view.
+  void InsertBody(const Eigen::Vector3d& p_N, double radius_m);
   // Sets one cell to certainly occupied or certainly free (tests).
   void Mark(const Eigen::Vector3d& p_N, bool occupied);
 
