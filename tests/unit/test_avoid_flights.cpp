@@ -149,7 +149,7 @@ TEST(AvoidanceFlight, DISABLED_LeavesAUShapedDeadEndAndReachesTheGoal) {
 TEST(AvoidanceFlight, StopsShortOfATexturelessWall) {
   const world::Scene scene = SceneWith(R"([
     {"type": "box", "kind": "wall", "center_ned": [15, 0, -7.5], "size": [0.4, 40, 15], "material": "plain"}])");
-  const Flown f = FlyTo(scene, {30, 0, kAltitude}, 25);
+  const Flown f = FlyTo(scene, {30, 0, kAltitude}, 15);
   EXPECT_FALSE(f.reached);
   EXPECT_LT(f.max_north, 15.0 - 0.2 - 0.5) << "the wall's face less the body radius";
   EXPECT_GE(f.min_clearance, 0.5);
