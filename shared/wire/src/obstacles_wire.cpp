@@ -1,7 +1,9 @@
 #include "uav/wire/messages.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 #include "uavmsg/avoidance_t.hpp"
 #include "uavmsg/obstacles_t.hpp"
@@ -17,6 +19,30 @@ bool Finite(std::initializer_list<float> v) {
   for (float x : v)
     if (!std::isfinite(x)) return false;
   return true;
+}
+
+// Points sent as centimetres from an origin (int16: within 327 m of it).
+struct Centimetres {
+  std::vector<int16_t> north, east, down;
+  // Appends p (skipped when it is not finite or too far); false when it was skipped.
+  bool Add(const Eigen::Vector3f& p_N, const Eigen::Vector3f& origin_N) {
+    const Eigen::Vector3f d = (p_N - origin_N) * 100.0f;
+    if (!d.allFinite() || d.cwiseAbs().maxCoeff() > 32700.0f) return false;
+    north.push_back(static_cast<int16_t>(std::lround(d.x())));
+    east.push_back(static_cast<int16_t>(std::lround(d.y())));
+    down.push_back(static_cast<int16_t>(std::lround(d.z())));
+    return true;
+  }
+};
+
+std::vector<Eigen::Vector3f> FromCentimetres(float origin_north_m, float origin_east_m, float origin_down_m,
+                                             const std::vector<int16_t>& north, const std::vector<int16_t>& east,
+                                             const std::vector<int16_t>& down) {
+  std::vector<Eigen::Vector3f> p_N;
+  p_N.reserve(north.size());
+  for (std::size_t i = 0; i < north.size(); ++i)
+    p_N.emplace_back(origin_north_m + 0.01f * north[i], origin_east_m + 0.01f * east[i], origin_down_m + 0.01f * down[i]);
+  return p_N;
 }
 }  // namespace
 
@@ -101,10 +127,7 @@ PointCloud FromMessage(const uavmsg::point_cloud_t& m) {
   PointCloud c;
   c.utime = m.utime;
   c.origin_N = Eigen::Vector3d(m.origin_north_m, m.origin_east_m, m.origin_down_m);
-  c.p_N.reserve(n);
-  for (std::size_t i = 0; i < n; ++i)
-    c.p_N.emplace_back(m.origin_north_m + 0.01f * m.north_cm[i], m.origin_east_m + 0.01f * m.east_cm[i],
-                       m.origin_down_m + 0.01f * m.down_cm[i]);
+  c.p_N = FromCentimetres(m.origin_north_m, m.origin_east_m, m.origin_down_m, m.north_cm, m.east_cm, m.down_cm);
   return c;
 }
 
@@ -116,13 +139,11 @@ uavmsg::point_cloud_t ToMessage(const PointCloud& c) {
   m.origin_east_m = static_cast<float>(origin_N.y());
   m.origin_down_m = static_cast<float>(origin_N.z());
   const std::size_t step = c.p_N.size() / uavmsg::point_cloud_t::MAX_POINTS + 1;
-  for (std::size_t i = 0; i < c.p_N.size(); i += step) {
-    const Eigen::Vector3f d = (c.p_N[i] - origin_N.cast<float>()) * 100.0f;
-    if (!d.allFinite() || d.cwiseAbs().maxCoeff() > 32700.0f) continue;
-    m.north_cm.push_back(static_cast<int16_t>(std::lround(d.x())));
-    m.east_cm.push_back(static_cast<int16_t>(std::lround(d.y())));
-    m.down_cm.push_back(static_cast<int16_t>(std::lround(d.z())));
-  }
+  Centimetres cm;
+  for (std::size_t i = 0; i < c.p_N.size(); i += step) cm.Add(c.p_N[i], origin_N.cast<float>());
+  m.north_cm = std::move(cm.north);
+  m.east_cm = std::move(cm.east);
+  m.down_cm = std::move(cm.down);
   m.num_points = static_cast<int32_t>(m.north_cm.size());
   return m;
 }
@@ -163,10 +184,7 @@ AvoidanceReport FromMessage(const uavmsg::avoidance_t& m) {
   r.map_cells = m.map_cells;
   r.origin_N = Eigen::Vector3d(m.origin_north_m, m.origin_east_m, m.origin_down_m);
   r.cell_m = m.cell_m;
-  r.occupied_N.reserve(n_cells);
-  for (std::size_t i = 0; i < n_cells; ++i)
-    r.occupied_N.emplace_back(m.origin_north_m + 0.01f * m.cell_north_cm[i], m.origin_east_m + 0.01f * m.cell_east_cm[i],
-                              m.origin_down_m + 0.01f * m.cell_down_cm[i]);
+  r.occupied_N = FromCentimetres(m.origin_north_m, m.origin_east_m, m.origin_down_m, m.cell_north_cm, m.cell_east_cm, m.cell_down_cm);
   return r;
 }
 
@@ -191,15 +209,14 @@ uavmsg::avoidance_t ToMessage(const AvoidanceReport& r) {
   m.origin_east_m = static_cast<float>(r.origin_N.y());
   m.origin_down_m = static_cast<float>(r.origin_N.z());
   m.cell_m = static_cast<float>(r.cell_m);
-  const Eigen::Vector3f origin = r.origin_N.cast<float>();
+  Centimetres cm;
   for (const Eigen::Vector3f& c : r.occupied_N) {
-    if (m.cell_north_cm.size() >= static_cast<std::size_t>(uavmsg::avoidance_t::MAX_CELLS)) break;
-    const Eigen::Vector3f d = (c - origin) * 100.0f;
-    if (!d.allFinite() || d.cwiseAbs().maxCoeff() > 32700.0f) continue;
-    m.cell_north_cm.push_back(static_cast<int16_t>(std::lround(d.x())));
-    m.cell_east_cm.push_back(static_cast<int16_t>(std::lround(d.y())));
-    m.cell_down_cm.push_back(static_cast<int16_t>(std::lround(d.z())));
+    if (cm.north.size() >= static_cast<std::size_t>(uavmsg::avoidance_t::MAX_CELLS)) break;
+    cm.Add(c, r.origin_N.cast<float>());
   }
+  m.cell_north_cm = std::move(cm.north);
+  m.cell_east_cm = std::move(cm.east);
+  m.cell_down_cm = std::move(cm.down);
   m.num_cells = static_cast<int32_t>(m.cell_north_cm.size());
   return m;
 }
