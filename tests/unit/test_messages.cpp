@@ -175,6 +175,36 @@ TEST(Messages, MonoDepthRoundTripsThroughBytesAndBadGridsAreRefusedByName) {
   refused([](auto& b) { b.healthy = false; }, "cell 0: known in an unhealthy report");
 }
 
+TEST(Messages, AvoidanceRoundTripsToTheCentimetreAndBadReportsAreRefusedByName) {
+  AvoidanceReport r;
+  r.utime = 7;
+  r.state = AvoidState::kAvoiding;
+  r.goal_N = {50, 0, -5};
+  r.path_N = {{1, 2, -5}, {10, 4, -5}, {50, 0, -5}};
+  r.seen_free_m = 8.5;
+  r.planning_ms = 7.5;
+  r.map_cells = 123456;
+  r.origin_N = {1, 2, -5};
+  r.occupied_N = {{3.0f, 2.0f, -5.0f}, {12.345f, -4.2f, -0.2f}, {500.0f, 0.0f, 0.0f}};  // the last too far to send
+  const AvoidanceReport d = FromMessage(ToMessage(r));
+  EXPECT_EQ(d.state, AvoidState::kAvoiding);
+  ASSERT_EQ(d.path_N.size(), 3u);
+  EXPECT_NEAR(d.path_N[1].y(), 4.0, 1e-6);
+  ASSERT_EQ(d.occupied_N.size(), 2u);
+  EXPECT_NEAR(d.occupied_N[1].x(), 12.345, 0.006);
+  EXPECT_NEAR(d.PathLength(), r.PathLength(), 1e-4);
+  EXPECT_NEAR((d.Committed().back() - Eigen::Vector3d(1, 2, -5)).norm(), 8.5, 1e-4);
+  auto refused = [&](const std::function<void(uavmsg::avoidance_t&)>& spoil, const std::string& why) {
+    ExpectRefused(ToMessage(r), spoil, why);
+  };
+  refused([](auto& m) { m.state = 3; }, "state 3 is not one the planner sends");
+  refused([](auto& m) { m.path_east_m.pop_back(); }, "path arrays do not match num_path");
+  refused([](auto& m) { m.path_north_m[1] = NAN; }, "path point 1 is not finite");
+  refused([](auto& m) { m.num_cells = uavmsg::avoidance_t::MAX_CELLS + 1; }, "num_cells 12001 outside 0..12000");
+  refused([](auto& m) { m.cell_m = 0; }, "cell_m is not in 0.05..2 m");
+  refused([](auto& m) { m.seen_free_m = -1; }, "seen_free_m is not a finite non-negative length");
+}
+
 TEST(Bus, MemqDeliversByChannelPatternAndCountsBadMessages) {
   Bus bus("memq://");
   std::vector<std::string> got;
