@@ -101,7 +101,9 @@ void StereoWorker::Work(Outbox& out) {
   if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.previews.Put(f.camera, f); });
   std::vector<vision::Wire3D> wires;
   if (power_lines_) {
-    wires = power_lines_->ProcessRectified(left_rect, right_rect);
+    // Gravity in the left camera frame, from the estimate: poles and trunks are not wires.
+    const Eigen::Vector3d down_L = (T_NB * camera_.left().T_BC).rotation().transpose() * Eigen::Vector3d::UnitZ();
+    wires = power_lines_->ProcessRectified(left_rect, right_rect, down_L);
     ReportPowerLines(wires, pair.left.size(), utime, T_NB, out);
   }
   if (to_map_) ReportToMap(utime, found, wires, T_NB, out);

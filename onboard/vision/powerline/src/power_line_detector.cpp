@@ -69,12 +69,20 @@ bool FitWire(const std::vector<const Segment*>& group, const PowerLineParams& P,
   for (const auto& x : uv) u_min = std::min(u_min, x.x()), u_max = std::max(u_max, x.x());
   if (u_max - u_min < P.min_wire_fraction * diag) return false;
   const Eigen::Vector3d b = FitQuadratic(uv);
-  double sq = 0;
+  // A wire is seen as its two flanks, one either side of the fitted centre line: their mean
+  // distance from it is half the wire's width, and their spread about that distance is the fit's
+  // residual. So a wire 10 px wide near the camera fits as well as one of 2 px far away.
+  std::vector<double> offset;
+  offset.reserve(uv.size());
+  double sum = 0;
   for (const auto& x : uv) {
-    const double r = b(0) + b(1) * x.x() + b(2) * x.x() * x.x() - x.y();
-    sq += r * r;
+    offset.push_back(std::abs(b(0) + b(1) * x.x() + b(2) * x.x() * x.x() - x.y()));
+    sum += offset.back();
   }
-  const double rms = std::sqrt(sq / static_cast<double>(uv.size()));
+  const double half_width = sum / static_cast<double>(offset.size());
+  double sq = 0;
+  for (double d : offset) sq += (d - half_width) * (d - half_width);
+  const double rms = std::sqrt(sq / static_cast<double>(offset.size()));
   if (rms > P.max_fit_rms_px) return false;
   // Support: the share of the span covered by the pieces' projections.
   std::vector<std::pair<double, double>> spans;
@@ -99,7 +107,56 @@ bool FitWire(const std::vector<const Segment*>& group, const PowerLineParams& P,
   w->rms_px = rms;
   w->support = support;
   w->segments = static_cast<int>(group.size());
+  w->width_px = 2 * half_width;
   return true;
+}
+
+// A wire hangs in front of whatever lies behind it, so the background is alike on its two sides,
+// while a thin strip along a boundary (the horizon's far band, a roof's or a road's dark margin)
+// has different surfaces either side. Along the curve, the grey level just beyond each flank (L,
+// R) and on the curve (C): over texture L - R changes sign from place to place and its median is
+// near zero, across a boundary it keeps its sign. The wire is kept when that median is smaller
+// than `max_ratio` times the median contrast C - (L + R) / 2 of the wire against its background.
+bool BackgroundAlikeOnBothSides(const cv::Mat& gray, const WireCurve& w, double widest_px, double max_ratio) {
+  const Eigen::Vector2d perp(-w.axis.y(), w.axis.x());
+  // [px] Past the widest wire the detector passes: a wide wire found by one flank only has its
+  // curve on that flank, and the wire's own grey must not count as a side.
+  const double beyond = std::max(0.5 * w.width_px, widest_px) + 2.0;
+  auto grey_at = [&](const Eigen::Vector2d& p, double* value) {
+    const int u = cvRound(p.x()), v = cvRound(p.y());
+    if (u < 0 || v < 0 || u >= gray.cols || v >= gray.rows) return false;
+    *value = gray.at<uint8_t>(v, u);
+    return true;
+  };
+  auto median = [](std::vector<double> x) {
+    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+    return x[x.size() / 2];
+  };
+  std::vector<double> side_difference, contrast;
+  for (const Eigen::Vector2d& p : w.Sample(3.0)) {
+    const double u = w.axis.dot(p - w.origin_px), slope = w.b(1) + 2 * w.b(2) * u;
+    const Eigen::Vector2d n = (perp - slope * w.axis).normalized();
+    // Each side's level is the median over a strip 8 px wide beyond the flank, so a second wire
+    // strung beside this one, a pixel or two of the strip, does not count as a different surface.
+    std::vector<double> left_strip, right_strip;
+    for (double t = beyond; t <= beyond + 8.0; t += 1.0) {
+      double g;
+      if (grey_at(p - t * n, &g)) left_strip.push_back(g);
+      if (grey_at(p + t * n, &g)) right_strip.push_back(g);
+    }
+    if (left_strip.size() < 5 || right_strip.size() < 5) continue;
+    const double left = median(left_strip), right = median(right_strip), background = 0.5 * (left + right);
+    // The wire itself: the grey level between the flanks that stands out most from the background.
+    double c = background;
+    for (double t = -0.5 * w.width_px - 1.0; t <= 0.5 * w.width_px + 1.0; t += 0.5) {
+      double g;
+      if (grey_at(p + t * n, &g) && std::abs(g - background) > std::abs(c - background)) c = g;
+    }
+    side_difference.push_back(left - right);
+    contrast.push_back(c - background);
+  }
+  if (side_difference.size() < 5) return true;  // too little of it inside the image to tell
+  return std::abs(median(side_difference)) < max_ratio * std::abs(median(contrast));
 }
 
 void CheckImage(const cv::Mat& bgr) {
@@ -128,6 +185,9 @@ void PowerLineParams::Validate() const {
   check(min_wire_fraction > 0 && min_wire_fraction <= 1, "min_wire_fraction (0..1)");
   check(min_support > 0 && min_support <= 1, "min_support (0..1)");
   check(max_fit_rms_px > 0 && max_fit_rms_px < 50, "max_fit_rms_px (0..50)");
+  check(pyramid_levels >= 1 && pyramid_levels <= 4, "pyramid_levels (1..4)");
+  check(lsd_density > 0 && lsd_density <= 1, "lsd_density (0..1)");
+  check(max_side_ratio > 0 && max_side_ratio < 100, "max_side_ratio (0..100)");
 }
 
 Eigen::Vector2d WireCurve::PointAt(double u) const {
@@ -157,12 +217,10 @@ Eigen::Vector3d FitQuadratic(const std::vector<Eigen::Vector2d>& uv) {
 
 PowerLineDetector::PowerLineDetector(const PowerLineParams& params) : params_(params) { params_.Validate(); }
 
-std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
-  CheckImage(bgr);
-  const PowerLineParams& P = params_;
-  const double diag = std::hypot(bgr.cols, bgr.rows);
-  cv::Mat gray;
-  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+namespace {
+
+// LSD pieces of the thin structures in one grey image (steps 1-4 of Detect).
+std::vector<cv::Vec4f> ThinStructureSegments(const cv::Mat& gray, const PowerLineParams& P) {
   const cv::Mat thin = ThinStructureResponse(gray, P.max_wire_width_px);
   // Sobel gradients of the thin structures (Eq. 3.28-3.30): both directions for wires at any
   // angle, d/dy alone for the thesis's near-horizontal wires.
@@ -184,8 +242,31 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
   thin.copyTo(kept, strong);
   cv::Mat lsd_input;
   kept.convertTo(lsd_input, CV_8U, -2.0, 255.0);
+  // LSD with OpenCV's defaults except the share of aligned pixels a region needs: a faint wire
+  // over foliage has gaps in its ridge that the default (0.7) splits into pieces too short to keep.
   std::vector<cv::Vec4f> raw;
-  cv::createLineSegmentDetector(cv::LSD_REFINE_STD)->detect(lsd_input, raw);
+  cv::createLineSegmentDetector(cv::LSD_REFINE_STD, 0.8, 0.6, 2.0, 22.5, 0.0, P.lsd_density)->detect(lsd_input, raw);
+  return raw;
+}
+
+}  // namespace
+
+std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
+  CheckImage(bgr);
+  const PowerLineParams& P = params_;
+  const double diag = std::hypot(bgr.cols, bgr.rows);
+  cv::Mat gray;
+  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+  // The thickness filter passes structures up to max_wire_width_px; a wire near the camera is
+  // wider. Each coarser pyramid level doubles the width that passes, and its pieces, scaled
+  // back, join the finer levels' in the grouping.
+  std::vector<cv::Vec4f> raw = ThinStructureSegments(gray, P);
+  cv::Mat level = gray;
+  for (int l = 1; l < P.pyramid_levels; ++l) {
+    cv::pyrDown(level, level);
+    const float scale = static_cast<float>(1 << l);
+    for (const cv::Vec4f& r : ThinStructureSegments(level, P)) raw.push_back(r * scale);
+  }
   std::vector<Segment> segs;
   const double min_len = P.min_segment_fraction * diag;
   const double max_slope = std::tan(P.horizontal_max_angle_deg * kDeg);
@@ -244,7 +325,9 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
   std::vector<WireCurve> wires;
   for (const auto& g : wires_pieces) {
     WireCurve w;
-    if (!g.empty() && FitWire(g, P, diag, &w)) wires.push_back(w);
+    if (!g.empty() && FitWire(g, P, diag, &w) &&
+        BackgroundAlikeOnBothSides(gray, w, P.max_wire_width_px * (1 << (P.pyramid_levels - 1)), P.max_side_ratio))
+      wires.push_back(w);
   }
   // Longest first.
   std::sort(wires.begin(), wires.end(),
@@ -276,9 +359,20 @@ std::vector<cv::Vec4f> LsdSegments(const cv::Mat& bgr) {
 cv::Mat DrawWireMask(const cv::Size& size, const std::vector<WireCurve>& wires, int width_px) {
   cv::Mat mask = cv::Mat::zeros(size, CV_8U);
   for (const auto& w : wires) {
-    std::vector<cv::Point> pts;
-    for (const auto& p : w.Sample(2.0)) pts.emplace_back(cvRound(p.x()), cvRound(p.y()));
-    cv::polylines(mask, pts, false, cv::Scalar(255), width_px, cv::LINE_8);
+    // A wire wider than two strokes is drawn as its two flanks, which is where its boundary
+    // lies; a thinner one as its centre line.
+    std::vector<double> offsets{0.0};
+    if (w.width_px > 2.0 * width_px) offsets = {-0.5 * w.width_px, 0.5 * w.width_px};
+    const Eigen::Vector2d perp(-w.axis.y(), w.axis.x());
+    for (double offset : offsets) {
+      std::vector<cv::Point> pts;
+      for (const auto& p : w.Sample(2.0)) {
+        const double u = w.axis.dot(p - w.origin_px), slope = w.b(1) + 2 * w.b(2) * u;
+        const Eigen::Vector2d q = p + offset * (perp - slope * w.axis).normalized();  // along the curve's normal
+        pts.emplace_back(cvRound(q.x()), cvRound(q.y()));
+      }
+      cv::polylines(mask, pts, false, cv::Scalar(255), width_px, cv::LINE_8);
+    }
   }
   return mask;
 }
@@ -291,20 +385,32 @@ cv::Mat DrawSegmentMask(const cv::Size& size, const std::vector<cv::Vec4f>& segm
   return mask;
 }
 
-MaskScore ScoreMasks(const cv::Mat& detected, const cv::Mat& truth, double tol_px) {
+void MaskTally::Add(const cv::Mat& detected_mask, const cv::Mat& truth_mask, double tol_px) {
   // Distance of every pixel to the nearest set pixel of each mask.
   auto distance_to = [](const cv::Mat& mask) {
     cv::Mat inverted = mask == 0, dist;
     cv::distanceTransform(inverted, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
     return dist;
   };
-  const cv::Mat to_truth = distance_to(truth), to_detected = distance_to(detected);
-  const double n_det = cv::countNonZero(detected), n_truth = cv::countNonZero(truth);
+  const cv::Mat to_truth = distance_to(truth_mask), to_detected = distance_to(detected_mask);
+  detected += cv::countNonZero(detected_mask);
+  truth += cv::countNonZero(truth_mask);
+  detected_correct += cv::countNonZero((to_truth <= tol_px) & (detected_mask > 0));
+  truth_found += cv::countNonZero((to_detected <= tol_px) & (truth_mask > 0));
+}
+
+MaskScore MaskTally::Score() const {
   MaskScore s;
-  if (n_det > 0) s.precision = cv::countNonZero((to_truth <= tol_px) & (detected > 0)) / n_det;
-  if (n_truth > 0) s.recall = cv::countNonZero((to_detected <= tol_px) & (truth > 0)) / n_truth;
+  if (detected > 0) s.precision = detected_correct / detected;
+  if (truth > 0) s.recall = truth_found / truth;
   if (s.precision + s.recall > 0) s.f1 = 2 * s.precision * s.recall / (s.precision + s.recall);
   return s;
+}
+
+MaskScore ScoreMasks(const cv::Mat& detected, const cv::Mat& truth, double tol_px) {
+  MaskTally tally;
+  tally.Add(detected, truth, tol_px);
+  return tally.Score();
 }
 
 }  // namespace uav::vision

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -52,6 +53,7 @@ double Ncc(const std::vector<double>& left, const cv::Mat& right, const std::vec
 struct PieceMatch {
   double u = 0.0;  // curve parameter of the piece's centre
   double d = 0.0;  // [px] disparity
+  std::vector<Eigen::Vector2d> along;  // the piece's points in the rectified left image
 };
 
 // Distance from the origin to the segment ab.
@@ -76,6 +78,9 @@ void WireRangingParams::Validate() const {
   check(max_ambiguity > 0 && max_ambiguity <= 1, "max_ambiguity (0..1)");
   check(disparity_sigma_px > 0 && disparity_sigma_px < 10, "disparity_sigma_px (0..10)");
   check(max_fit_residual_px > 0 && max_fit_residual_px < 10, "max_fit_residual_px (0..10)");
+  check(max_slope_deg > 0 && max_slope_deg <= 90, "max_slope_deg (0..90)");
+  check(vertical_image_deg > 0 && vertical_image_deg < 45, "vertical_image_deg (0..45)");
+  check(vertical_share > 0 && vertical_share <= 1, "vertical_share (0..1)");
 }
 
 struct PowerLineStereo::Impl {
@@ -128,7 +133,73 @@ struct PowerLineStereo::Impl {
     return d > 0;
   }
 
-  Wire3D Range(const WireCurve& curve, const cv::Mat& response_left, const cv::Mat& response_right) const {
+  // Whether a detected wire is a vertical structure (a pole, a trunk): along most of its length
+  // its image runs toward the vanishing point of the vertical, the direction in which a vertical
+  // line through that pixel is imaged whatever its depth; or, ranged, its polyline rises more than
+  // max_slope_deg from level end to end. The image test alone decides for a trunk whose ranging
+  // went wrong (a trunk against crowns and sky matched partly to what is behind it). Its cost: a
+  // wire seen exactly end-on, in a vertical plane through the camera, is taken for a pole.
+  bool Vertical(const Wire3D& w, const Eigen::Vector3d& down_L) const {
+    const WireRangingParams& P = params;
+    if (w.p_L.size() >= 2) {
+      const Eigen::Vector3d along = w.p_L.back() - w.p_L.front();
+      const double length = along.norm();
+      if (length > 0 && std::abs(along.dot(down_L)) > length * std::sin(P.max_slope_deg * M_PI / 180.0)) return true;
+    }
+    const RectifiedGeometry& g = rectifier.geometry();
+    const Eigen::Vector3d down = g.R_L_rect.transpose() * down_L;  // in the rectified frame
+    const WireCurve& c = w.curve;
+    const Eigen::Vector2d perp(-c.axis.y(), c.axis.x());
+    int samples = 0, vertical = 0;
+    for (const Eigen::Vector2d& x : c.Sample(8.0)) {
+      const Eigen::Vector3d ray((x.x() - g.cx) / g.f_px, (x.y() - g.cy) / g.f_px, 1.0);
+      // d/dt of the projection of (ray + t down), up to scale.
+      const Eigen::Vector2d vertical_px(down.x() * ray.z() - ray.x() * down.z(), down.y() * ray.z() - ray.y() * down.z());
+      if (vertical_px.norm() < 1e-3) continue;  // at the vertical's vanishing point: no direction
+      const double u = c.axis.dot(x - c.origin_px);
+      const Eigen::Vector2d tangent = (c.axis + (c.b(1) + 2 * c.b(2) * u) * perp).normalized();
+      ++samples;
+      vertical += std::abs(tangent.dot(vertical_px.normalized())) > std::cos(P.vertical_image_deg * M_PI / 180.0);
+    }
+    return samples > 0 && vertical >= P.vertical_share * samples;
+  }
+
+  // Whether the background beside one ranged piece lies at the piece's own depth on both sides:
+  // a mark on a surface (a streak on the ground, a roof's margin), not a wire hanging in front of
+  // what is behind it. Each side's strip, just beyond the wire, is matched in the grey images near
+  // the wire's disparity. An untextured side (sky, a plain road) cannot tell and counts as
+  // behind, and so does a side whose strip holds the next wire of a bundle at nearly this depth
+  // while the other side is sky; requiring one side only would reject such bundles.
+  bool PieceOnASurface(const std::vector<Eigen::Vector2d>& along, double width_px, double d_wire, const cv::Mat& grey_left,
+                       const cv::Mat& grey_right) const {
+    constexpr double kSearchPx = 3.0, kStepPx = 0.25, kSameDepthPx = 0.5, kMinCorrelation = 0.7, kMinVariance = 4.0;
+    const Eigen::Vector2d t = (along.back() - along.front()).normalized();
+    const Eigen::Vector2d n(-t.y(), t.x());
+    for (double side : {-1.0, 1.0}) {
+      std::vector<Eigen::Vector2d> pts;
+      for (std::size_t i = 0; i < along.size(); i += 2)
+        for (double j = 0.5 * width_px + 3.0; j <= 0.5 * width_px + 11.0; j += 1.0) pts.push_back(along[i] + side * j * n);
+      std::vector<double> left(pts.size());
+      double sum = 0, sum_sq = 0;
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        if (!Sample(grey_left, pts[i].x(), pts[i].y(), &left[i])) return false;
+        sum += left[i], sum_sq += left[i] * left[i];
+      }
+      const double count = static_cast<double>(pts.size());
+      if (sum_sq / count - (sum / count) * (sum / count) < kMinVariance) return false;  // cannot tell
+      double best_d = 0, best = -1;
+      for (double d = std::max(0.0, d_wire - kSearchPx); d <= d_wire + kSearchPx; d += kStepPx) {
+        const double c = Ncc(left, grey_right, pts, d);
+        if (std::isfinite(c) && c > best) best = c, best_d = d;
+      }
+      if (best < kMinCorrelation || std::abs(best_d - d_wire) > kSameDepthPx) return false;
+    }
+    return true;
+  }
+
+  // One curve ranged; nullopt when it is a mark on a surface, not a wire.
+  std::optional<Wire3D> Range(const WireCurve& curve, const cv::Mat& response_left, const cv::Mat& response_right,
+                              const cv::Mat& grey_left, const cv::Mat& grey_right) const {
     const WireRangingParams& P = params;
     const RectifiedGeometry& g = rectifier.geometry();
     Wire3D w;
@@ -146,7 +217,7 @@ struct PowerLineStereo::Impl {
       const int n = std::max(2, static_cast<int>(piece_len));
       for (int i = 0; i <= n; ++i) pts.push_back(curve.PointAt(u0 + piece_len * i / n));
       double d = 0;
-      if (MatchPiece(pts, response_left, response_right, &d)) matches.push_back({u0 + 0.5 * piece_len, d});
+      if (MatchPiece(pts, response_left, response_right, &d)) matches.push_back({u0 + 0.5 * piece_len, d, pts});
     }
     if (matches.size() < 2) return w;
     // Robust line d(u) = a + b u: the pair of pieces that most others agree with, then least
@@ -177,6 +248,10 @@ struct PowerLineStereo::Impl {
     const double rms = std::sqrt((A * ab - y).squaredNorm() / static_cast<double>(inliers.size()));
     const double sigma_d = std::max(P.disparity_sigma_px, rms);
     w.ranged_pieces = static_cast<int>(inliers.size());
+    int on_surface = 0;
+    for (int k : inliers)
+      on_surface += PieceOnASurface(matches[k].along, curve.width_px, ab(0) + ab(1) * matches[k].u, grey_left, grey_right);
+    if (2 * on_surface > static_cast<int>(inliers.size())) return std::nullopt;
     // The polyline covers the ranged pieces only: no extrapolation past the evidence.
     const double u_first = matches[inliers.front()].u - 0.5 * piece_len;
     const double u_last = matches[inliers.back()].u + 0.5 * piece_len;
@@ -208,28 +283,34 @@ PowerLineStereo::PowerLineStereo(PowerLineStereo&&) noexcept = default;
 
 const RectifiedGeometry& PowerLineStereo::geometry() const { return impl_->rectifier.geometry(); }
 
-std::vector<Wire3D> PowerLineStereo::Process(const cv::Mat& left, const cv::Mat& right) const {
+std::vector<Wire3D> PowerLineStereo::Process(const cv::Mat& left, const cv::Mat& right, const Eigen::Vector3d& down_L) const {
   if (left.type() != CV_8UC3 || right.type() != CV_8UC3)
     throw std::invalid_argument("power lines in 3-D: both images must be 8-bit BGR");
   cv::Mat left_rect, right_rect;
   impl_->rectifier.Rectify(left, right, &left_rect, &right_rect);
-  return ProcessRectified(left_rect, right_rect);
+  return ProcessRectified(left_rect, right_rect, down_L);
 }
 
-std::vector<Wire3D> PowerLineStereo::ProcessRectified(const cv::Mat& left_rect, const cv::Mat& right_rect) const {
+std::vector<Wire3D> PowerLineStereo::ProcessRectified(const cv::Mat& left_rect, const cv::Mat& right_rect,
+                                                       const Eigen::Vector3d& down_L) const {
   const Impl& m = *impl_;
   m.rectifier.CheckPair(left_rect, right_rect);
   if (left_rect.type() != CV_8UC3 || right_rect.type() != CV_8UC3)
     throw std::invalid_argument("power lines in 3-D: both images must be 8-bit BGR");
   const cv::Mat rect[2] = {left_rect, right_rect};
-  cv::Mat response[2];
+  cv::Mat response[2], grey[2];
   for (int i = 0; i < 2; ++i) {
-    cv::Mat grey;
-    cv::cvtColor(rect[i], grey, cv::COLOR_BGR2GRAY);
-    ThinStructureResponse(grey, m.detector.params().max_wire_width_px).convertTo(response[i], CV_32F);
+    cv::Mat grey8;
+    cv::cvtColor(rect[i], grey8, cv::COLOR_BGR2GRAY);
+    grey8.convertTo(grey[i], CV_32F);
+    ThinStructureResponse(grey8, m.detector.params().max_wire_width_px).convertTo(response[i], CV_32F);
   }
   std::vector<Wire3D> wires;
-  for (const WireCurve& c : m.detector.Detect(rect[0])) wires.push_back(m.Range(c, response[0], response[1]));
+  for (const WireCurve& c : m.detector.Detect(rect[0])) {
+    std::optional<Wire3D> w = m.Range(c, response[0], response[1], grey[0], grey[1]);
+    if (!w || (down_L.squaredNorm() > 0 && m.Vertical(*w, down_L.normalized()))) continue;
+    wires.push_back(std::move(*w));
+  }
   return wires;
 }
 

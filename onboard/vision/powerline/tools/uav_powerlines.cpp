@@ -1,9 +1,16 @@
-// uav-powerlines IMAGE... --out DIR [--mode any|horizontal]: the power-line detector on photos.
-// For each image: DIR/<name>_lines.png (the input's size, 255 on the wires drawn 2 px wide, 0
-// elsewhere) and DIR/<name>.json (each wire's quadratic, frame and end points). An image that
-// cannot be used is named with the reason on stderr and nothing is written for it; the others
-// are processed. Exit 0 when every image was processed, 1 when some were not, 2 on bad options.
+// uav-powerlines IMAGE|FOLDER... [--out DIR] [--truth DIR] [--mode any|horizontal]: the power-line
+// detector on photos. With --out, for each image: DIR/<name>_lines.png (the input's size, 255 on
+// the wires drawn 2 px wide, 0 elsewhere) and DIR/<name>.json (each wire's quadratic, frame,
+// end points and width). With --truth, each image is scored against TRUTH/<name>.png (non-zero
+// on a wire) the way power-line benchmarks score boundaries: a pixel matches within 0.0075 of the
+// image diagonal, counts summed over the set; beside it the LSD-only baseline (every LSD segment
+// of 30 px or more, drawn 2 px wide). An image that cannot be used (or has no usable truth) is
+// named with the reason on stderr and nothing is written or scored for it; the others are
+// processed. A JSON report goes to stdout. Exit 0 when every image was processed, 1 when some
+// were not, 2 on bad options.
 #include <chrono>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -40,36 +47,79 @@ std::string Json(const std::vector<uav::vision::WireCurve>& wires, const cv::Mat
         {"rms_px", w.rms_px},
         {"support", w.support},
         {"segments", w.segments},
+        {"width_px", w.width_px},
     });
   }
   return j.dump(2) + "\n";
+}
+
+
+nlohmann::json ScoreJson(const uav::vision::MaskScore& s) {
+  return {{"precision", s.precision}, {"recall", s.recall}, {"f1", 100.0 * s.f1}};
+}
+
+// The truth mask of `image_path` in `truth_dir` (<stem>.png, non-zero on a wire), checked.
+cv::Mat TruthMask(const std::string& truth_dir, const std::string& image_path, const cv::Size& size) {
+  const std::string path =
+      (std::filesystem::path(truth_dir) / (std::filesystem::path(image_path).stem().string() + ".png")).string();
+  if (const std::string problem = uav::ImageFileProblem(path); !problem.empty())
+    throw std::invalid_argument("truth " + path + ": " + problem);
+  const cv::Mat truth = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  if (truth.empty()) throw std::invalid_argument("truth " + path + ": cannot read it as an image");
+  if (truth.size() != size)
+    throw std::invalid_argument("truth " + path + " is " + std::to_string(truth.cols) + "x" +
+                                std::to_string(truth.rows) + " px, the image " + std::to_string(size.width) + "x" +
+                                std::to_string(size.height));
+  return truth > 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App cli{"uav-powerlines: power-line detection in photos (thesis 3.6)"};
-  std::vector<std::string> images;
-  std::string out_dir, mode = "any";
-  cli.add_option("images", images, "input images (JPEG, PNG, ...)")->required();
-  cli.add_option("--out", out_dir, "output directory (created if missing)")->required();
+  std::vector<std::string> inputs;
+  std::string out_dir, truth_dir, mode = "any";
+  cli.add_option("images", inputs, "input images (JPEG, PNG, ...) or folders of them")->required();
+  cli.add_option("--out", out_dir, "output directory for masks and wire files (created if missing)");
+  cli.add_option("--truth", truth_dir, "folder of ground-truth masks <name>.png: score precision, recall and F1")
+      ->check(CLI::ExistingDirectory);
   cli.add_option("--mode", mode, "any: wires at any angle; horizontal: the thesis's forward-camera mode")
       ->check(CLI::IsMember({"any", "horizontal"}))
       ->capture_default_str();
   uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
+  if (out_dir.empty() && truth_dir.empty()) {
+    std::fprintf(stderr, "uav-powerlines: give --out DIR (write the wires) or --truth DIR (score them), or both\n");
+    return 2;
+  }
+  std::vector<std::string> images;
+  for (const std::string& input : inputs) {
+    if (std::filesystem::is_directory(input)) {
+      const auto files = uav::ImageFilesIn(input);
+      if (files.empty()) std::fprintf(stderr, "uav-powerlines: folder %s holds no images\n", input.c_str());
+      images.insert(images.end(), files.begin(), files.end());
+    } else {
+      images.push_back(input);
+    }
+  }
 
   uav::vision::PowerLineParams params;
   params.mode = mode == "horizontal" ? uav::vision::PowerLineParams::Mode::kHorizontal
                                      : uav::vision::PowerLineParams::Mode::kAny;
   const uav::vision::PowerLineDetector detector(params);
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec || !std::filesystem::is_directory(out_dir)) {
-    std::fprintf(stderr, "uav-powerlines: cannot use '%s' as the output directory\n", out_dir.c_str());
-    return 2;
+  if (!out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec || !std::filesystem::is_directory(out_dir)) {
+      std::fprintf(stderr, "uav-powerlines: cannot use '%s' as the output directory\n", out_dir.c_str());
+      return 2;
+    }
   }
-  int failed = 0, total_wires = 0;
+  constexpr double kToleranceOfDiagonal = 0.0075;  // the benchmark's match distance
+  constexpr double kBaselineMinLengthPx = 30.0;    // the LSD-only baseline keeps segments this long
+  int failed = 0, processed = 0, total_wires = 0, images_with_wires = 0;
+  std::vector<double> times_ms;
+  uav::vision::MaskTally ours, baseline;
   uav::ProgressBar progress(images.size());
   for (std::size_t i = 0; i < images.size(); ++i) {
     const std::string& path = images[i];
@@ -79,22 +129,56 @@ int main(int argc, char** argv) {
       if (const std::string problem = uav::ImageFileProblem(path); !problem.empty()) throw std::invalid_argument(problem);
       const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
       if (image.empty()) throw std::invalid_argument("cannot read it as an image");
+      const cv::Mat truth = truth_dir.empty() ? cv::Mat() : TruthMask(truth_dir, path, image.size());
       const auto t0 = std::chrono::steady_clock::now();
       const auto wires = detector.Detect(image);
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      std::vector<uint8_t> png;
-      cv::imencode(".png", uav::vision::DrawWireMask(image.size(), wires, 2), png);
-      uav::WriteFileAtomically((std::filesystem::path(out_dir) / (stem + "_lines.png")).string(),
-                               std::string(png.begin(), png.end()));
-      uav::WriteFileAtomically((std::filesystem::path(out_dir) / (stem + ".json")).string(), Json(wires, image, path, ms));
+      const cv::Mat mask = uav::vision::DrawWireMask(image.size(), wires, 2);
+      if (!out_dir.empty()) {
+        std::vector<uint8_t> png;
+        cv::imencode(".png", mask, png);
+        uav::WriteFileAtomically((std::filesystem::path(out_dir) / (stem + "_lines.png")).string(),
+                                 std::string(png.begin(), png.end()));
+        uav::WriteFileAtomically((std::filesystem::path(out_dir) / (stem + ".json")).string(),
+                                 Json(wires, image, path, ms));
+      }
+      if (!truth.empty()) {
+        const double tol = kToleranceOfDiagonal * std::hypot(image.cols, image.rows);
+        ours.Add(mask, truth, tol);
+        std::vector<cv::Vec4f> long_segments;
+        for (const cv::Vec4f& s : uav::vision::LsdSegments(image))
+          if (std::hypot(s[2] - s[0], s[3] - s[1]) >= kBaselineMinLengthPx) long_segments.push_back(s);
+        baseline.Add(uav::vision::DrawSegmentMask(image.size(), long_segments, 2), truth, tol);
+      }
       total_wires += static_cast<int>(wires.size());
+      images_with_wires += !wires.empty();
+      times_ms.push_back(ms);
+      ++processed;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "\nuav-powerlines: %s: %s; nothing written for it\n", path.c_str(), e.what());
       ++failed;
     }
   }
   progress.Finish(images.size());
-  std::printf("uav-powerlines: %zu image(s), %d wire(s), %d image(s) not processed, output in %s\n", images.size(),
-              total_wires, failed, out_dir.c_str());
+  nlohmann::json report;
+  report["images"] = images.size();
+  report["processed"] = processed;
+  report["not_processed"] = failed;
+  report["wires"] = total_wires;
+  report["wires_per_image"] = processed ? static_cast<double>(total_wires) / processed : 0.0;
+  report["images_with_wires"] = images_with_wires;
+  if (!times_ms.empty()) {
+    std::nth_element(times_ms.begin(), times_ms.begin() + times_ms.size() / 2, times_ms.end());
+    report["median_detect_ms"] = times_ms[times_ms.size() / 2];
+  }
+  if (!out_dir.empty()) report["out"] = out_dir;
+  if (!truth_dir.empty()) {
+    report["truth"] = {{"folder", truth_dir},
+                       {"tolerance", "0.0075 x image diagonal, pixel counts summed over the set"},
+                       {"ours", ScoreJson(ours.Score())},
+                       {"lsd_baseline", ScoreJson(baseline.Score())},
+                       {"lsd_baseline_is", "every LSD segment of 30 px or more, drawn 2 px wide"}};
+  }
+  std::printf("%s\n", report.dump(2).c_str());
   return failed ? 1 : 0;
 }

@@ -5,7 +5,11 @@
 // removed, pieces that continue one another are grouped into wires, and each wire is fitted
 // with a least-squares quadratic (Eq. 3.31-3.40) in its own frame, so wires at any angle work
 // (a downward or tilted camera sees them so); the thesis's forward-camera mode, near-horizontal
-// wires only, is a setting. A plain class: images in, curves out.
+// wires only, is a setting. The thickness filter runs on two pyramid levels, so a wire near the
+// camera, wider than the filter passes at full resolution, is found on the coarser one. A wire
+// hangs in front of its background, so a thin strip along a boundary (the horizon, a roof's or a
+// road's margin), with different surfaces either side, is dropped. A plain class: images in,
+// curves out.
 #include <string>
 #include <vector>
 
@@ -17,16 +21,19 @@ namespace uav::vision {
 struct PowerLineParams {
   enum class Mode { kAny, kHorizontal };
   Mode mode = Mode::kAny;
-  double max_wire_width_px = 4.0;     // thickness filter: thinner structures pass
-  double edge_threshold = 10.0;       // [grey levels] weakest thin-structure edge kept (inverse threshold)
+  double max_wire_width_px = 4.0;     // thickness filter: thinner structures pass ...
+  int pyramid_levels = 2;             // ... at full resolution, twice as wide at each coarser level
+  double edge_threshold = 7.0;        // [grey levels] weakest thin-structure edge kept (inverse threshold)
+  double lsd_density = 0.4;           // LSD: share of aligned pixels in a segment's rectangle (OpenCV: 0.7)
   double min_segment_fraction = 0.03;  // of the image diagonal: shorter LSD pieces are dropped
   double horizontal_max_angle_deg = 30.0;  // horizontal mode: steeper pieces are dropped
   double group_angle_deg = 5.0;       // pieces of one wire differ in direction by less ...
   double group_offset_px = 2.0;       // ... lie within this of each other's line ...
   double group_gap_fraction = 0.25;   // ... and leave gaps under this share of the diagonal
-  double min_wire_fraction = 0.15;    // a wire spans at least this share of the diagonal ...
+  double min_wire_fraction = 0.3;     // a wire spans at least this share of the diagonal ...
   double min_support = 0.5;           // ... with pieces along at least this share of its span
-  double max_fit_rms_px = 2.0;        // [px] residual of the quadratic over its pieces (both borders of a wire)
+  double max_fit_rms_px = 2.0;        // [px] spread of the wire's flanks about their mean offset from the quadratic
+  double max_side_ratio = 1.0;        // background difference across the wire, at most this times its contrast
 
   // Throws std::invalid_argument naming the field when a value is out of its range.
   void Validate() const;
@@ -42,6 +49,7 @@ struct WireCurve {
   double rms_px = 0.0;        // residual of the fit over its supporting pieces
   double support = 0.0;       // share of [u_min, u_max] covered by pieces
   int segments = 0;           // LSD pieces grouped into it
+  double width_px = 0.0;      // between its flanks (0 when only one flank was found)
   Eigen::Vector2d PointAt(double u) const;  // image pixel at u
   std::vector<Eigen::Vector2d> Sample(double step_px) const;  // from u_min to u_max
   Eigen::Vector2d first() const { return PointAt(u_min); }
@@ -73,15 +81,24 @@ cv::Mat ThinStructureResponse(const cv::Mat& grey, double max_wire_width_px);
 std::vector<cv::Vec4f> LsdSegments(const cv::Mat& bgr);
 
 // A mask of the image's size: 255 on the curves (or segments) drawn `width_px` wide, 0 elsewhere.
+// A wire wider than two strokes is drawn as its two flanks (its boundary), others as one curve.
 cv::Mat DrawWireMask(const cv::Size& size, const std::vector<WireCurve>& wires, int width_px = 2);
 cv::Mat DrawSegmentMask(const cv::Size& size, const std::vector<cv::Vec4f>& segments, int width_px = 2);
 
 // Per-pixel precision and recall of `detected` against `truth` (both 8-bit masks) with a
 // tolerance: a detected pixel is right within tol_px of a true one, a true pixel found within
-// tol_px of a detected one.
+// tol_px of a detected one (the BSDS-style boundary matching of power-line benchmarks).
 struct MaskScore {
   double precision = 0.0, recall = 0.0, f1 = 0.0;
 };
 MaskScore ScoreMasks(const cv::Mat& detected, const cv::Mat& truth, double tol_px);
+
+// The same counts summed over a set of images, so the set is scored as one (precision =
+// correct detected pixels over all detected pixels), not as a mean of per-image scores.
+struct MaskTally {
+  double detected = 0, detected_correct = 0, truth = 0, truth_found = 0;  // pixel counts
+  void Add(const cv::Mat& detected_mask, const cv::Mat& truth_mask, double tol_px);
+  MaskScore Score() const;
+};
 
 }  // namespace uav::vision

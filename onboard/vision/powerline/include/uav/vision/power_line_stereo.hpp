@@ -31,6 +31,9 @@ struct WireRangingParams {
   double max_ambiguity = 0.8;           // a second match this strong (relative to the best) is ambiguous
   double disparity_sigma_px = 0.25;     // [px] matching precision behind the depth uncertainty
   double max_fit_residual_px = 0.75;    // [px] pieces off the wire's disparity line by more are outliers
+  double max_slope_deg = 45.0;          // a "wire" rising more steeply from level is a pole or a trunk
+  double vertical_image_deg = 10.0;     // following the image of the vertical within this ...
+  double vertical_share = 0.8;          // ... over this share of its length makes it a pole or a trunk
 
   // Throws std::invalid_argument naming the field when a value is out of its range.
   void Validate() const;
@@ -56,10 +59,16 @@ class PowerLineStereo {
   PowerLineStereo(PowerLineStereo&&) noexcept;
 
   // Left and right 8-bit BGR images of the rig's size. Throws std::invalid_argument for an empty
-  // image, a size or a type that does not match. Longest wires first.
-  std::vector<Wire3D> Process(const cv::Mat& left, const cv::Mat& right) const;
+  // image, a size or a type that does not match. Longest wires first. With the direction of
+  // gravity in the left camera frame (`down_L`, unit; zero when the attitude is not known),
+  // vertical structures are dropped: poles, masts and tree trunks are thin and straight too,
+  // but no wire rises more than max_slope_deg from level (its 3-D polyline) or runs toward the
+  // vertical's vanishing point in the image.
+  std::vector<Wire3D> Process(const cv::Mat& left, const cv::Mat& right,
+                              const Eigen::Vector3d& down_L = Eigen::Vector3d::Zero()) const;
   // The same on a BGR pair already rectified for this rig (by any StereoRectifier of it).
-  std::vector<Wire3D> ProcessRectified(const cv::Mat& left_rect, const cv::Mat& right_rect) const;
+  std::vector<Wire3D> ProcessRectified(const cv::Mat& left_rect, const cv::Mat& right_rect,
+                                       const Eigen::Vector3d& down_L = Eigen::Vector3d::Zero()) const;
   const RectifiedGeometry& geometry() const;
 
  private:

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# uav-powerlines --truth on the 50 real aerial photos of ../shared/data/powerlines_real (PLD-UAV,
+# mountain scenes, pixel masks): precision, recall and F1 with the data set's boundary matching,
+# beside the LSD-only baseline, held at the values measured when this test was written (F1 within
+# 0.3 points), so a change to the detector or to the scoring shows. Also: false wires on
+# opencv-doc's photos without wires, at most today's count, and a truth folder missing a mask is
+# named. Usage: uav_powerlines_truth.sh BIN_DIR DATA_DIR
+set -uo pipefail
+bin=$1 data=$2/powerlines_real docs=/usr/share/doc/opencv-doc/examples/data
+fail() { echo "FAIL: $*"; exit 1; }
+[ -d "$data/images" ] || fail "no real photos in $data"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$bin/uav-powerlines" "$data/images" --truth "$data/truth" > "$work/report.json" 2> "$work/stderr" || fail "exit $?: $(cat "$work/stderr")"
+cat "$work/report.json"
+python3 - "$work/report.json" <<'PY' || fail "scores moved"
+import json, sys
+r = json.load(open(sys.argv[1]))
+t = r["truth"]
+ours, lsd = t["ours"], t["lsd_baseline"]
+print(f"ours F1 {ours['f1']:.2f} (P {ours['precision']:.3f} R {ours['recall']:.3f}), LSD-only F1 {lsd['f1']:.2f}")
+assert r["processed"] == 50, r["processed"]
+assert abs(ours["f1"] - 96.26) < 0.3, ours
+assert abs(lsd["f1"] - 93.38) < 0.3, lsd
+assert ours["f1"] > lsd["f1"] + 2.5
+PY
+# Photos without wires (a building's facade, a butterfly, fruit, a face, paintings, aerial
+# photos, graffiti, a fish, a board): false wires per image, at most what was measured.
+"$bin/uav-powerlines" $docs/building.jpg $docs/butterfly.jpg $docs/fruits.jpg $docs/baboon.jpg $docs/home.jpg \
+  $docs/messi5.jpg $docs/starry_night.jpg $docs/aero1.jpg $docs/aero3.jpg $docs/graf1.png $docs/graf3.png \
+  $docs/HappyFish.jpg $docs/orange.jpg $docs/apple.jpg $docs/board.jpg $docs/smarties.png $docs/notes.png \
+  --out "$work/none" > "$work/none.json" 2> /dev/null || fail "the photos without wires were not all processed"
+python3 - "$work/none.json" <<'PY' || fail "more false wires than measured"
+import json, sys
+r = json.load(open(sys.argv[1]))
+print(f"photos without wires: {r['wires']} false wires on {r['processed']} photos ({r['wires_per_image']:.2f} per photo)")
+assert r["processed"] == 17 and r["wires"] <= 35
+PY
+# A truth folder without the image's mask: named, nothing scored for it, exit 1.
+mkdir "$work/empty_truth"
+"$bin/uav-powerlines" "$data/images/12.jpg" --truth "$work/empty_truth" > /dev/null 2> "$work/err"
+status=$?
+[ $status -eq 1 ] || fail "exit $status for a missing mask, expected 1"
+grep -q "truth .*12.png: missing or unreadable" "$work/err" || fail "the missing mask is not named: $(cat "$work/err")"
+"$bin/uav-powerlines" "$data/images/12.jpg" > /dev/null 2>&1 && fail "no --out and no --truth was accepted"
+echo "uav-powerlines --truth: scores held"
