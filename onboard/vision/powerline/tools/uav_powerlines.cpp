@@ -1,10 +1,11 @@
-// uav-powerlines IMAGE|FOLDER... [--out DIR] [--truth DIR] [--mode any|horizontal]: the power-line
+// uav-powerlines IMAGE|FOLDER... [--out DIR] [--truth DIR] [--overlay DIR] [--mode any|horizontal]: the power-line
 // detector on photos. With --out, for each image: DIR/<name>_lines.png (the input's size, 255 on
 // the wires drawn 2 px wide, 0 elsewhere) and DIR/<name>.json (each wire's quadratic, frame,
 // end points and width). With --truth, each image is scored against TRUTH/<name>.png (non-zero
 // on a wire) the way power-line benchmarks score boundaries: a pixel matches within 0.0075 of the
 // image diagonal, counts summed over the set; beside it the LSD-only baseline (every LSD segment
-// of 30 px or more, drawn 2 px wide). An image that cannot be used (or has no usable truth) is
+// of 30 px or more, drawn 2 px wide). With --overlay, DIR/<name>_overlay.jpg shows the image with
+// the detected wires in red over the true ones in green. An image that cannot be used (or has no usable truth) is
 // named with the reason on stderr and nothing is written or scored for it; the others are
 // processed. A JSON report goes to stdout. Exit 0 when every image was processed, 1 when some
 // were not, 2 on bad options.
@@ -78,18 +79,19 @@ cv::Mat TruthMask(const std::string& truth_dir, const std::string& image_path, c
 int main(int argc, char** argv) {
   CLI::App cli{"uav-powerlines: power-line detection in photos (thesis 3.6)"};
   std::vector<std::string> inputs;
-  std::string out_dir, truth_dir, mode = "any";
+  std::string out_dir, truth_dir, overlay_dir, mode = "any";
   cli.add_option("images", inputs, "input images (JPEG, PNG, ...) or folders of them")->required();
   cli.add_option("--out", out_dir, "output directory for masks and wire files (created if missing)");
   cli.add_option("--truth", truth_dir, "folder of ground-truth masks <name>.png: score precision, recall and F1")
       ->check(CLI::ExistingDirectory);
+  cli.add_option("--overlay", overlay_dir, "write each image with its wires drawn (red; the truth in green)");
   cli.add_option("--mode", mode, "any: wires at any angle; horizontal: the thesis's forward-camera mode")
       ->check(CLI::IsMember({"any", "horizontal"}))
       ->capture_default_str();
   uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
-  if (out_dir.empty() && truth_dir.empty()) {
-    std::fprintf(stderr, "uav-powerlines: give --out DIR (write the wires) or --truth DIR (score them), or both\n");
+  if (out_dir.empty() && truth_dir.empty() && overlay_dir.empty()) {
+    std::fprintf(stderr, "uav-powerlines: give --out DIR (write the wires), --truth DIR (score them) or --overlay DIR\n");
     return 2;
   }
   std::vector<std::string> images;
@@ -107,11 +109,12 @@ int main(int argc, char** argv) {
   params.mode = mode == "horizontal" ? uav::vision::PowerLineParams::Mode::kHorizontal
                                      : uav::vision::PowerLineParams::Mode::kAny;
   const uav::vision::PowerLineDetector detector(params);
-  if (!out_dir.empty()) {
+  for (const std::string& dir : {out_dir, overlay_dir}) {
+    if (dir.empty()) continue;
     std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec || !std::filesystem::is_directory(out_dir)) {
-      std::fprintf(stderr, "uav-powerlines: cannot use '%s' as the output directory\n", out_dir.c_str());
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir)) {
+      std::fprintf(stderr, "uav-powerlines: cannot use '%s' as an output directory\n", dir.c_str());
       return 2;
     }
   }
@@ -141,6 +144,15 @@ int main(int argc, char** argv) {
                                  std::string(png.begin(), png.end()));
         uav::WriteFileAtomically((std::filesystem::path(out_dir) / (stem + ".json")).string(),
                                  Json(wires, image, path, ms));
+      }
+      if (!overlay_dir.empty()) {
+        cv::Mat shown = image.clone();
+        if (!truth.empty()) shown.setTo(cv::Scalar(0, 255, 0), truth);
+        shown.setTo(cv::Scalar(0, 0, 255), mask);
+        std::vector<uint8_t> jpg;
+        cv::imencode(".jpg", shown, jpg, {cv::IMWRITE_JPEG_QUALITY, 90});
+        uav::WriteFileAtomically((std::filesystem::path(overlay_dir) / (stem + "_overlay.jpg")).string(),
+                                 std::string(jpg.begin(), jpg.end()));
       }
       if (!truth.empty()) {
         const double tol = kToleranceOfDiagonal * std::hypot(image.cols, image.rows);
