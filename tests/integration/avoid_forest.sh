@@ -3,7 +3,8 @@
 # avd_enable 1 and a headless uav-gcs whose script sends the vehicle 50 m through the trees; then
 # the flight log must show the detour (avoid state "avoiding") and a true clearance (the
 # simulator's distance to the nearest surface) never under the body radius, and the map must
-# have been saved at landing as an OctoMap file.
+# have been saved at landing as an OctoMap file. The forest has no cable: no wire may be reported
+# within the GCS's warning distance (15 m) at any time of the flight.
 # Usage: avoid_forest.sh BIN_DIR SCRIPT SCENE
 set -euo pipefail
 bin=$1 script=$2 scene=$3
@@ -32,6 +33,8 @@ avoiding = sum(1 for r in goto if int(float(r["avoid"])) == 2)
 replan = sorted(float(r["replan_ms"]) for r in goto if float(r["replan_ms"]) >= 0)
 print(f"goto: {len(goto)} rows, {avoiding} avoiding; true clearance min {min(clearance):.2f} m; "
       f"replan p50 {replan[len(replan) // 2]:.1f} ms")
-ok = clearance and min(clearance) >= 0.5 and avoiding > 0
+wires = [float(r["wire_range"]) for r in rows if float(r["wire_range"]) >= 0]
+print(f"wires reported: {len(wires)} rows, nearest {min(wires) if wires else -1:.1f} m (the forest has none)")
+ok = clearance and min(clearance) >= 0.5 and avoiding > 0 and all(w >= 15.0 for w in wires)
 sys.exit(0 if ok else 1)
 PY

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The README's main job, headless: uav-demo flies the full survey mission over the village,
-# the GCS downloads the stitched map at landing; the saved GeoTIFF must be the onboard one.
+# the GCS downloads the stitched map at landing; the saved GeoTIFF must be the onboard one. The
+# village has no power line: no wire may be reported within the GCS's warning distance (15 m).
 # Usage: main_job.sh BIN_DIR
 set -euo pipefail
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/scaled_timeout.sh"
@@ -15,3 +16,9 @@ for f in "$work"/logs/maps_*/map_1.*; do
   cmp "$f" "$work/maps/$(basename "$f")"
 done
 echo "main job: map files identical to the onboard ones: $(ls "$work/maps" | tr '\n' ' ')"
+python3 - "$work"/logs/flight_*.csv <<'PY'
+import csv, sys
+wires = [float(r["wire_range"]) for log in sys.argv[1:] for r in csv.DictReader(open(log)) if float(r["wire_range"]) >= 0]
+print(f"main job: wires reported in {len(wires)} log rows, nearest {min(wires) if wires else -1:.1f} m (the village has none)")
+sys.exit(0 if all(w >= 15.0 for w in wires) else 1)
+PY

@@ -248,6 +248,7 @@ TEST(PowerLineStereoNoCables, RangesNoWireWithinTheWarningOverTheVillageOrInTheF
           if (const char* dir = std::getenv("UAV_POWERLINE_PICTURES"); dir && !wires.empty()) {
             cv::Mat shown = pair.left.image.clone();
             for (const Wire3D& w : wires) {
+              if (w.vertical) continue;
               std::vector<cv::Point> pts;
               for (const auto& p : w.image_px) pts.emplace_back(cvRound(p.x()), cvRound(p.y()));
               cv::polylines(shown, pts, false, w.ranged() ? cv::Scalar(0, 0, 255) : cv::Scalar(0, 200, 255), 2);
@@ -255,6 +256,7 @@ TEST(PowerLineStereoNoCables, RangesNoWireWithinTheWarningOverTheVillageOrInTheF
             cv::imwrite(std::string(dir) + "/false_" + place.scene + "_" + std::to_string(pairs) + ".png", shown);
           }
           for (const Wire3D& w : wires) {
+            if (w.vertical) continue;  // a pole or a trunk, reported to the map only
             ++detected;
             if (w.ranged() && w.range_m < kWarningDistanceM) {
               ++ranged_near;

@@ -193,6 +193,7 @@ void StereoWorker::ReportPowerLines(const std::vector<vision::Wire3D>& wires, co
   report.utime = utime;
   report.camera = camera_.left().name;
   for (const vision::Wire3D& w : wires) {
+    if (w.vertical) continue;  // a pole or a trunk: it goes to the map as an obstacle, not to the operator as a wire
     PowerLine seen;
     for (const Eigen::Vector2d& px : w.image_px) seen.image_uv.emplace_back((px.x() + 0.5) / width, (px.y() + 0.5) / height);
     std::vector<Eigen::Vector3d> p_B;
@@ -246,9 +247,10 @@ void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& fou
     const double sigma = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(c.cov_xy).eigenvalues().maxCoeff()));
     u.cylinders.push_back({c.centre_W.head<2>(), c.top_m, c.bottom_m, c.radius_m + std::min(sigma, 0.3)});
   }
-  // Wires where their depth is trusted: the polyline's points within the range gate whose depth
-  // standard deviation is under a wire's clearance margin. A wire ranged far off (a horizon or a
-  // field edge taken for one) would otherwise draw a wall across the map.
+  // Wires, and the poles and trunks found with them, where their depth is trusted: the
+  // polyline's points within the range gate whose depth standard deviation is under a wire's
+  // clearance margin. A wire ranged far off (a horizon or a field edge taken for one) would
+  // otherwise draw a wall across the map.
   const Eigen::Isometry3d T_NLd = T_NL;
   for (const vision::Wire3D& w : wires) {
     std::vector<Eigen::Vector3d> p_N;

@@ -329,10 +329,27 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
         BackgroundAlikeOnBothSides(gray, w, P.max_wire_width_px * (1 << (P.pyramid_levels - 1)), P.max_side_ratio))
       wires.push_back(w);
   }
-  // Longest first.
+  // Longest first, and one curve per wire: a curve lying along a longer one (its other flank, or
+  // the same wire found again on the coarser pyramid level) is that wire.
   std::sort(wires.begin(), wires.end(),
             [](const WireCurve& a, const WireCurve& b) { return a.u_max - a.u_min > b.u_max - b.u_min; });
-  return wires;
+  std::vector<WireCurve> kept;
+  for (const WireCurve& w : wires) {
+    const auto along_kept = [&](const WireCurve& longer) {
+      const Eigen::Vector2d perp(-longer.axis.y(), longer.axis.x());
+      const double reach = 0.5 * std::max(longer.width_px, w.width_px) + P.group_offset_px;
+      const std::vector<Eigen::Vector2d> samples = w.Sample(4.0);
+      int near = 0;
+      for (const Eigen::Vector2d& x : samples) {
+        const double u = longer.axis.dot(x - longer.origin_px), v = perp.dot(x - longer.origin_px);
+        near += u >= longer.u_min && u <= longer.u_max &&
+                std::abs(longer.b(0) + longer.b(1) * u + longer.b(2) * u * u - v) <= reach;
+      }
+      return near >= 0.8 * static_cast<double>(samples.size());
+    };
+    if (std::none_of(kept.begin(), kept.end(), along_kept)) kept.push_back(w);
+  }
+  return kept;
 }
 
 cv::Mat ThinStructureResponse(const cv::Mat& grey, double max_wire_width_px) {

@@ -172,12 +172,12 @@ struct PowerLineStereo::Impl {
   // while the other side is sky; requiring one side only would reject such bundles.
   bool PieceOnASurface(const std::vector<Eigen::Vector2d>& along, double width_px, double d_wire, const cv::Mat& grey_left,
                        const cv::Mat& grey_right) const {
-    constexpr double kSearchPx = 3.0, kStepPx = 0.25, kSameDepthPx = 0.5, kMinCorrelation = 0.7, kMinVariance = 4.0;
+    constexpr double kSearchPx = 1.5, kStepPx = 0.25, kSameDepthPx = 0.5, kMinCorrelation = 0.7, kMinVariance = 4.0;
     const Eigen::Vector2d t = (along.back() - along.front()).normalized();
     const Eigen::Vector2d n(-t.y(), t.x());
     for (double side : {-1.0, 1.0}) {
       std::vector<Eigen::Vector2d> pts;
-      for (std::size_t i = 0; i < along.size(); i += 2)
+      for (std::size_t i = 0; i < along.size(); i += 3)
         for (double j = 0.5 * width_px + 3.0; j <= 0.5 * width_px + 11.0; j += 1.0) pts.push_back(along[i] + side * j * n);
       std::vector<double> left(pts.size());
       double sum = 0, sum_sq = 0;
@@ -308,7 +308,8 @@ std::vector<Wire3D> PowerLineStereo::ProcessRectified(const cv::Mat& left_rect, 
   std::vector<Wire3D> wires;
   for (const WireCurve& c : m.detector.Detect(rect[0])) {
     std::optional<Wire3D> w = m.Range(c, response[0], response[1], grey[0], grey[1]);
-    if (!w || (down_L.squaredNorm() > 0 && m.Vertical(*w, down_L.normalized()))) continue;
+    if (!w) continue;
+    w->vertical = down_L.squaredNorm() > 0 && m.Vertical(*w, down_L.normalized());
     wires.push_back(std::move(*w));
   }
   return wires;

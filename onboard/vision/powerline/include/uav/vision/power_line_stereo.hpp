@@ -48,6 +48,7 @@ struct Wire3D {
   int pieces = 0, ranged_pieces = 0;    // pieces tried, pieces whose disparity was kept
   double range_m = -1.0;                // [m] nearest polyline point from the left camera; < 0: not ranged
   double range_sigma_m = 0.0;           // [m] its standard deviation
+  bool vertical = false;                // a pole, a mast or a trunk: an obstacle, not a wire
   bool ranged() const { return !p_L.empty(); }
 };
 
@@ -61,9 +62,9 @@ class PowerLineStereo {
   // Left and right 8-bit BGR images of the rig's size. Throws std::invalid_argument for an empty
   // image, a size or a type that does not match. Longest wires first. With the direction of
   // gravity in the left camera frame (`down_L`, unit; zero when the attitude is not known),
-  // vertical structures are dropped: poles, masts and tree trunks are thin and straight too,
-  // but no wire rises more than max_slope_deg from level (its 3-D polyline) or runs toward the
-  // vertical's vanishing point in the image.
+  // vertical structures are marked (`vertical`): poles, masts and tree trunks are thin and
+  // straight too, but no wire rises more than max_slope_deg from level (its 3-D polyline) or runs
+  // toward the vertical's vanishing point in the image. Marks on a surface are dropped.
   std::vector<Wire3D> Process(const cv::Mat& left, const cv::Mat& right,
                               const Eigen::Vector3d& down_L = Eigen::Vector3d::Zero()) const;
   // The same on a BGR pair already rectified for this rig (by any StereoRectifier of it).
