@@ -118,7 +118,6 @@ bool FitWire(const std::vector<const Segment*>& group, const PowerLineParams& P,
 // near zero, across a boundary it keeps its sign. The wire is kept when that median is smaller
 // than `max_ratio` times the median contrast C - (L + R) / 2 of the wire against its background.
 bool BackgroundAlikeOnBothSides(const cv::Mat& gray, const WireCurve& w, double widest_px, double max_ratio) {
-  const Eigen::Vector2d perp(-w.axis.y(), w.axis.x());
   // [px] Past the widest wire the detector passes: a wide wire found by one flank only has its
   // curve on that flank, and the wire's own grey must not count as a side.
   const double beyond = std::max(0.5 * w.width_px, widest_px) + 2.0;
@@ -134,8 +133,7 @@ bool BackgroundAlikeOnBothSides(const cv::Mat& gray, const WireCurve& w, double 
   };
   std::vector<double> side_difference, contrast;
   for (const Eigen::Vector2d& p : w.Sample(3.0)) {
-    const double u = w.axis.dot(p - w.origin_px), slope = w.b(1) + 2 * w.b(2) * u;
-    const Eigen::Vector2d n = (perp - slope * w.axis).normalized();
+    const Eigen::Vector2d n = w.NormalAt(w.axis.dot(p - w.origin_px));
     // Each side's level is the median over a strip 8 px wide beyond the flank, so a second wire
     // strung beside this one, a pixel or two of the strip, does not count as a different surface.
     std::vector<double> left_strip, right_strip;
@@ -193,6 +191,11 @@ void PowerLineParams::Validate() const {
 Eigen::Vector2d WireCurve::PointAt(double u) const {
   const Eigen::Vector2d perp(-axis.y(), axis.x());
   return origin_px + u * axis + (b(0) + b(1) * u + b(2) * u * u) * perp;
+}
+
+Eigen::Vector2d WireCurve::NormalAt(double u) const {
+  const Eigen::Vector2d perp(-axis.y(), axis.x());
+  return (perp - (b(1) + 2 * b(2) * u) * axis).normalized();
 }
 
 std::vector<Eigen::Vector2d> WireCurve::Sample(double step_px) const {
@@ -380,12 +383,10 @@ cv::Mat DrawWireMask(const cv::Size& size, const std::vector<WireCurve>& wires, 
     // lies; a thinner one as its centre line.
     std::vector<double> offsets{0.0};
     if (w.width_px > 2.0 * width_px) offsets = {-0.5 * w.width_px, 0.5 * w.width_px};
-    const Eigen::Vector2d perp(-w.axis.y(), w.axis.x());
     for (double offset : offsets) {
       std::vector<cv::Point> pts;
       for (const auto& p : w.Sample(2.0)) {
-        const double u = w.axis.dot(p - w.origin_px), slope = w.b(1) + 2 * w.b(2) * u;
-        const Eigen::Vector2d q = p + offset * (perp - slope * w.axis).normalized();  // along the curve's normal
+        const Eigen::Vector2d q = p + offset * w.NormalAt(w.axis.dot(p - w.origin_px));
         pts.emplace_back(cvRound(q.x()), cvRound(q.y()));
       }
       cv::polylines(mask, pts, false, cv::Scalar(255), width_px, cv::LINE_8);

@@ -149,17 +149,16 @@ struct PowerLineStereo::Impl {
     const RectifiedGeometry& g = rectifier.geometry();
     const Eigen::Vector3d down = g.R_L_rect.transpose() * down_L;  // in the rectified frame
     const WireCurve& c = w.curve;
-    const Eigen::Vector2d perp(-c.axis.y(), c.axis.x());
     int samples = 0, vertical = 0;
     for (const Eigen::Vector2d& x : c.Sample(8.0)) {
       const Eigen::Vector3d ray((x.x() - g.cx) / g.f_px, (x.y() - g.cy) / g.f_px, 1.0);
       // d/dt of the projection of (ray + t down), up to scale.
       const Eigen::Vector2d vertical_px(down.x() * ray.z() - ray.x() * down.z(), down.y() * ray.z() - ray.y() * down.z());
       if (vertical_px.norm() < 1e-3) continue;  // at the vertical's vanishing point: no direction
-      const double u = c.axis.dot(x - c.origin_px);
-      const Eigen::Vector2d tangent = (c.axis + (c.b(1) + 2 * c.b(2) * u) * perp).normalized();
+      const Eigen::Vector2d normal = c.NormalAt(c.axis.dot(x - c.origin_px));
       ++samples;
-      vertical += std::abs(tangent.dot(vertical_px.normalized())) > std::cos(P.vertical_image_deg * M_PI / 180.0);
+      // Along the vertical: at most vertical_image_deg off the tangent, so its sine on the normal.
+      vertical += std::abs(normal.dot(vertical_px.normalized())) < std::sin(P.vertical_image_deg * M_PI / 180.0);
     }
     return samples > 0 && vertical >= P.vertical_share * samples;
   }

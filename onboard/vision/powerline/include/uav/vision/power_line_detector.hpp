@@ -51,6 +51,7 @@ struct WireCurve {
   int segments = 0;           // LSD pieces grouped into it
   double width_px = 0.0;      // between its flanks (0 when only one flank was found)
   Eigen::Vector2d PointAt(double u) const;  // image pixel at u
+  Eigen::Vector2d NormalAt(double u) const;  // unit normal of the curve at u (the tangent turned +90 degrees)
   std::vector<Eigen::Vector2d> Sample(double step_px) const;  // from u_min to u_max
   Eigen::Vector2d first() const { return PointAt(u_min); }
   Eigen::Vector2d last() const { return PointAt(u_max); }
