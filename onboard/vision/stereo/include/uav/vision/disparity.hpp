@@ -26,6 +26,7 @@ struct DisparityParams {
   double wls_lambda = 8000.0;        // WLS smoothness (ximgproc's default)
   double wls_sigma_color = 1.5;      // WLS edge sensitivity (ximgproc's default)
   double texture_threshold = 2.0;    // [grey levels/px] minimum mean |dI/dx| over the window; 0: off
+  bool subpixel_refinement = true;   // refine each disparity on the images (no pixel locking)
   // Throws std::invalid_argument naming the bad field.
   void Validate() const;
 };
@@ -40,6 +41,12 @@ struct DisparityMap {
   // 16-bit PNG format of uav-stereo --disparity).
   cv::Mat FullResolution16U(const cv::Size& full) const;
   double ValidFraction() const;
+  // A dense map for display and for scoring against ground truth, not for the obstacle chain
+  // (a filled pixel is a guess, not a measurement). A pixel without disparity is most often
+  // occluded, i.e. it shows the surface behind: it takes the smaller (farther) of the nearest
+  // valid disparities to its left and right on its row (Hirschmueller's occlusion filling),
+  // then a 3 x 3 median removes the streaks that row-wise filling leaves.
+  DisparityMap Densified() const;
 };
 
 // A disparity map against ground truth (Middlebury's measure): over the pixels with a known
