@@ -21,9 +21,15 @@ pcd = open(f"{out}/c.pcd", "rb").read(400).decode("latin1")
 assert "FIELDS x y z" in pcd and "DATA binary" in pcd, pcd[:200]
 o = json.load(open(f"{out}/o.json"))
 assert "obstacles" in o and o["range_gate_m"] > 0
-e, d = r["errors"]["bad_fraction"], r["opencv_sgbm_defaults_errors"]["bad_fraction"]
-print(f"aloe: bad pixels {100*e:.1f} % (OpenCV SGBM defaults {100*d:.1f} %), stages {r['stage_ms']}")
-assert e < d and e < 0.32
+e, dense = r["errors"]["bad_fraction"], r["dense_errors"]["bad_fraction"]
+cv = r["opencv"]
+d = cv["sgbm_defaults"]["bad_fraction"]
+print(f"aloe: bad pixels {100*e:.1f} %, densified {100*dense:.1f} % (OpenCV SGBM defaults, same range, {100*d:.1f} %), stages {r['stage_ms']}")
+for name, m in cv.items():
+    print(f"  opencv {name}: " + (m["skipped"] if "skipped" in m else f"bad {100*m['bad_fraction']:.1f} %, {m['ms']:.0f} ms"))
+assert set(cv) == {"bm_defaults", "sgbm_defaults", "sgbm_sample", "sgbm_sample_3way", "sgbm_sample_hh", "sgbm_sample_wls"}, cv.keys()
+assert e < 0.6 * d and dense < 0.45 * d and r["dense_errors"]["invalid_fraction"] == 0
+assert all(e < m["bad_fraction"] for m in cv.values() if "skipped" not in m)
 PY
 # Bad input: each named, nothing written.
 fail() { echo "FAIL: $*"; exit 1; }

@@ -209,8 +209,10 @@ TEST_P(AvoidanceField, CrossesTheFieldWithItsClearance) {
                                                  "wires": 4, "wire_height_m": [3, 8]}])",
                                        seed);
   const Flown f = FlyTo(scene, {60, 0, kAltitude}, 100);
-  EXPECT_TRUE(f.reached);
-  EXPECT_GE(f.min_clearance, 0.5);
+  std::string said;
+  for (const auto& t : f.said) said += "\n  " + t;
+  EXPECT_TRUE(f.reached) << said << f.Track();
+  EXPECT_GE(f.min_clearance, 0.5) << said << f.Track();
 }
 
 INSTANTIATE_TEST_SUITE_P(Densities, AvoidanceField, ::testing::Values(std::make_pair(1.0 / 49, 1)),

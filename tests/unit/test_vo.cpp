@@ -90,10 +90,16 @@ TEST(StereoVoFlight, VillageRacetrackPnpDriftsUnderOnePercentAndBeatsRigid) {
     WriteKittiPoses(::testing::TempDir() + "vo_racetrack_" + label(m) + ".txt", est[m]);
     const KittiErrors e = EvaluateKittiOdometry(gt, est[m]);
     const double end_error = (gt.back().translation() - est[m].back().translation()).norm();
+    // Scale: the distance the odometry reads over the distance flown, frame to frame.
+    double flown = 0, read = 0;
+    for (size_t i = 1; i < gt.size(); ++i) {
+      flown += (gt[i].translation() - gt[i - 1].translation()).norm();
+      read += (est[m][i].translation() - est[m][i - 1].translation()).norm();
+    }
     std::printf("%-7s: KITTI translation %.2f %% rotation %.4f deg/m over %d segments; end error %.2f m after 517 m; "
-                "%d keyframes, %d unhealthy\n",
-                label(m).c_str(), e.translation_pct, e.rotation_deg_per_m, e.segments, end_error, keyframes[m],
-                unhealthy[m]);
+                "scale %+.2f %%; %d keyframes, %d unhealthy\n",
+                label(m).c_str(), e.translation_pct, e.rotation_deg_per_m, e.segments, end_error,
+                100 * (read / flown - 1), keyframes[m], unhealthy[m]);
     for (const auto& pl : e.per_length)
       std::printf("       %3.0f m: %.2f %% %.4f deg/m (%d)\n", pl.length_m, pl.translation_pct, pl.rotation_deg_per_m,
                   pl.segments);

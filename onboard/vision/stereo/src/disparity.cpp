@@ -28,13 +28,16 @@ void Require(bool ok, const std::string& what) {
 //   first-order step hold; on sharp textures they bias the step and iterating diverges.
 // - Residual and gradient are taken zero-mean over the window, so a brightness offset between
 //   the cameras does not bias the step; the gradient is averaged over both images (symmetric).
-// - Only window pixels with a disparity count (an occluded pixel has no partner), and a
-//   disparity that would move by more than a pixel in total (the window straddles a depth edge)
-//   keeps the matcher's value.
+// - Only window pixels with a disparity count (an occluded pixel has no partner).
 void RefineSubpixel(const cv::Mat& left8, const cv::Mat& right8, int block, cv::Mat& d16) {
   constexpr int kIterations = 2;
   constexpr double kSmoothingSigmaPx = 1.0;
-  constexpr double kMinGradientVariance = 0.25;  // [(grey levels/px)^2] flatter windows keep their value
+  // Windows whose smoothed gradient is weaker than 1 grey level per pixel rms keep the
+  // matcher's value: there the step follows the sensor's noise.
+  constexpr double kMinGradientVariance = 1.0;  // [(grey levels/px)^2]
+  // The matcher's value lies within half a pixel of its cost minimum; a refinement that moves
+  // further has left that minimum (the window straddles a depth edge).
+  constexpr double kMaxChangePx = 0.5;
   cv::Mat left, right, left_gx, right_gx;
   left8.convertTo(left, CV_32F);
   right8.convertTo(right, CV_32F);
@@ -86,7 +89,7 @@ void RefineSubpixel(const cv::Mat& left8, const cv::Mat& right8, int block, cv::
           break;
         }
         d -= (srg - static_cast<double>(sr) * sg / n) / var;
-        if (std::abs(d - d0) > 1.0) ok = false;
+        if (std::abs(d - d0) > kMaxChangePx) ok = false;
       }
       if (ok) out_row[u] = static_cast<int16_t>(std::max(1L, std::lround(16.0 * d)));
     }
@@ -186,7 +189,10 @@ DisparityErrors CompareDisparity(const cv::Mat& estimate_x16, const cv::Mat& tru
     e.bad_fraction = static_cast<double>(bad + invalid) / static_cast<double>(e.pixels);
     e.invalid_fraction = static_cast<double>(invalid) / static_cast<double>(e.pixels);
   }
-  if (valid > 0) e.mean_abs_error_px = sum / static_cast<double>(valid);
+  if (valid > 0) {
+    e.mean_abs_error_px = sum / static_cast<double>(valid);
+    e.bad_valid_fraction = static_cast<double>(bad) / static_cast<double>(valid);
+  }
   return e;
 }
 

@@ -1,5 +1,5 @@
 // uav-stereo LEFT RIGHT [--calib FILE | --rectified [--focal PX --baseline M]] [--matcher bm|sgbm]
-//   [--num-disparities N] [--block N] [--downscale N] [--wls] [--disparity OUT.png]
+//   [--num-disparities N] [--block N] [--downscale N] [--wls] [--dense] [--disparity OUT.png]
 //   [--cloud OUT.pcd] [--obstacles OUT.json] [--truth GT.png [--truth-scale S]]
 // The stereo obstacle pipeline (thesis 3.5) on a pair of image files. A raw pair is rectified
 // with a calibration file (uav-stereo-calibrate writes one); an already rectified pair (e.g.
@@ -7,8 +7,10 @@
 // the disparity (16-bit PNG, disparity x 16, 0 where invalid, the left image's pixels), the
 // point cloud (PCD, left camera frame: x right, y down, z forward, metres) and the obstacles
 // (JSON, level camera frame: x forward, y right, z down), and prints a JSON report with each
-// stage's time. With --truth, it also scores the disparity (bad pixels: off by more than 1 px
-// or missing) beside OpenCV's StereoSGBM with its documented defaults.
+// stage's time. With --dense the disparity file holds the densified map (holes filled from the
+// background). With --truth, it also scores the measured and the densified disparity (bad
+// pixels: off by more than 1 px or missing; and of the pixels given a value) beside OpenCV's
+// matchers run on the same grey pair with the same search range, each with its time.
 // Exit 0 on success, 1 when the input cannot be used (named on stderr; nothing written), 2 on bad options.
 #include <chrono>
 #include <cmath>
@@ -20,6 +22,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/ximgproc/disparity_filter.hpp>
 
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/point_cloud.hpp"
@@ -42,8 +45,57 @@ cv::Mat ReadImage(const std::string& path, const char* which) {
 }
 
 nlohmann::json ErrorsJson(const DisparityErrors& e) {
-  return {{"pixels_with_truth", e.pixels}, {"bad_fraction", e.bad_fraction}, {"invalid_fraction", e.invalid_fraction},
+  return {{"pixels_with_truth", e.pixels},
+          {"bad_fraction", e.bad_fraction},
+          {"invalid_fraction", e.invalid_fraction},
+          {"bad_valid_fraction", e.bad_valid_fraction},
           {"mean_abs_error_px", e.mean_abs_error_px}};
+}
+
+double MillisecondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// OpenCV's matchers on the same grey pair with the same search range, each scored and timed:
+// StereoBM and StereoSGBM with their documented defaults, StereoSGBM as OpenCV's stereo_match
+// sample sets it (P1 = 8 w^2, P2 = 32 w^2, uniqueness 10, speckle 100 px / 32, left-right
+// check 1 px) in its single-pass, three-way and full eight-path (HH) modes, and the sample's
+// SGBM followed by ximgproc's WLS filter with a left-right confidence.
+nlohmann::json OpenCvMatchers(const cv::Mat& left_grey, const cv::Mat& right_grey, int num_disparities,
+                              const cv::Mat& truth) {
+  nlohmann::json table;
+  const auto score = [&](const std::string& name, const cv::Ptr<cv::StereoMatcher>& matcher, bool wls) {
+    const auto t0 = std::chrono::steady_clock::now();
+    cv::Mat d;
+    matcher->compute(left_grey, right_grey, d);
+    if (wls) {
+      cv::Mat right_d, filtered;
+      cv::ximgproc::createRightMatcher(matcher)->compute(right_grey, left_grey, right_d);
+      cv::Ptr<cv::ximgproc::DisparityWLSFilter> filter = cv::ximgproc::createDisparityWLSFilter(matcher);
+      filter->filter(d, left_grey, filtered, right_d);
+      d = filtered;
+    }
+    const double ms = MillisecondsSince(t0);
+    nlohmann::json j = ErrorsJson(uav::vision::CompareDisparity(d, truth));
+    j["ms"] = ms;
+    table[name] = j;
+  };
+  score("bm_defaults", cv::StereoBM::create(num_disparities), false);
+  cv::Ptr<cv::StereoSGBM> defaults = cv::StereoSGBM::create();
+  defaults->setNumDisparities(num_disparities);
+  score("sgbm_defaults", defaults, false);
+  const int w = 3;
+  const auto sample = [&](int mode) {
+    return cv::StereoSGBM::create(0, num_disparities, w, 8 * w * w, 32 * w * w, 1, 63, 10, 100, 32, mode);
+  };
+  score("sgbm_sample", sample(cv::StereoSGBM::MODE_SGBM), false);
+  score("sgbm_sample_3way", sample(cv::StereoSGBM::MODE_SGBM_3WAY), false);
+  // The full eight-path mode keeps the whole cost volume (2 bytes a disparity a pixel).
+  const double volume_mb = 2.0 * left_grey.total() * num_disparities / 1e6;
+  if (volume_mb <= 512) score("sgbm_sample_hh", sample(cv::StereoSGBM::MODE_HH), false);
+  else table["sgbm_sample_hh"] = {{"skipped", "its cost volume would take " + std::to_string(int(volume_mb)) + " MB"}};
+  score("sgbm_sample_wls", sample(cv::StereoSGBM::MODE_SGBM), true);
+  return table;
 }
 
 }  // namespace
@@ -72,6 +124,8 @@ int main(int argc, char** argv) {
   cli.add_option("--texture", params.disparity.texture_threshold, "minimum mean |dI/dx| [grey levels/px]; 0: off")
       ->capture_default_str();
   cli.add_flag("--wls", wls, "edge-aware WLS filtering of the disparity (ximgproc)");
+  bool dense = false;
+  cli.add_flag("--dense", dense, "write the densified disparity (holes filled from the background)");
   cli.add_option("--max-depth-sigma", params.max_depth_sigma_m, "range gate: depth error limit [m] (Eq. 3.7)")->capture_default_str();
   cli.add_option("--margin", params.safety_margin_m, "safety margin added to each cylinder [m]")->capture_default_str();
   cli.add_option("--disparity", disparity_out, "16-bit PNG: disparity x 16, 0 invalid");
@@ -129,8 +183,13 @@ int main(int argc, char** argv) {
       result.disparity = uav::vision::DisparityMatcher(params.disparity).Compute(left(crop), right(crop));
       result.times.disparity_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     }
-    cv::Mat disparity16 = cv::Mat::zeros(full, CV_16U);
-    result.disparity.FullResolution16U(crop.size()).copyTo(disparity16(crop));
+    const auto t_dense = std::chrono::steady_clock::now();
+    const uav::vision::DisparityMap densified = result.disparity.Densified();
+    const double dense_ms = MillisecondsSince(t_dense);
+    cv::Mat measured16 = cv::Mat::zeros(full, CV_16U), dense16 = cv::Mat::zeros(full, CV_16U);
+    result.disparity.FullResolution16U(crop.size()).copyTo(measured16(crop));
+    densified.FullResolution16U(crop.size()).copyTo(dense16(crop));
+    const cv::Mat& disparity16 = dense ? dense16 : measured16;
 
     nlohmann::json report;
     report["left"] = left_path;
@@ -143,10 +202,11 @@ int main(int argc, char** argv) {
     report["num_disparities"] = params.disparity.num_disparities;
     report["block"] = params.disparity.block_size;
     report["valid_fraction"] = result.disparity.ValidFraction();
+    report["dense"] = dense;
     const auto& t = result.times;
     report["stage_ms"] = {{"rectify", rectify_ms},         {"disparity", t.disparity_ms}, {"reproject", t.reproject_ms},
                           {"voxel", t.voxel_ms},           {"ground", t.ground_ms},       {"cluster", t.cluster_ms},
-                          {"cylinders", t.cylinders_ms}};
+                          {"cylinders", t.cylinders_ms}, {"densify", dense_ms}};
     if (metric_geometry) {
       report["range_gate_m"] = result.gate_depth_m;
       report["points"] = result.points_L.size();
@@ -157,16 +217,16 @@ int main(int argc, char** argv) {
       if (truth8.empty()) throw std::invalid_argument("truth image " + truth_path + ": cannot read it as an image");
       cv::Mat truth;
       truth8.convertTo(truth, CV_32F, 1.0 / truth_scale);
-      report["errors"] = ErrorsJson(uav::vision::CompareDisparity(disparity16, truth));
-      // OpenCV's StereoSGBM with its documented defaults (numDisparities 16, blockSize 3), and
-      // with only the search range widened to ours, on the same grey pair.
-      cv::Mat gl, gr, d;
+      if (truth.size() != full)
+        throw std::invalid_argument("truth image " + truth_path + " is " + std::to_string(truth.cols) + "x" +
+                                    std::to_string(truth.rows) + ", the pair " + std::to_string(full.width) + "x" +
+                                    std::to_string(full.height));
+      report["errors"] = ErrorsJson(uav::vision::CompareDisparity(measured16, truth));
+      report["dense_errors"] = ErrorsJson(uav::vision::CompareDisparity(dense16, truth));
+      cv::Mat gl, gr;
       cv::cvtColor(left, gl, cv::COLOR_BGR2GRAY);
       cv::cvtColor(right, gr, cv::COLOR_BGR2GRAY);
-      cv::StereoSGBM::create()->compute(gl, gr, d);
-      report["opencv_sgbm_defaults_errors"] = ErrorsJson(uav::vision::CompareDisparity(d, truth));
-      cv::StereoSGBM::create(0, params.disparity.num_disparities * s)->compute(gl, gr, d);
-      report["opencv_sgbm_defaults_wide_range_errors"] = ErrorsJson(uav::vision::CompareDisparity(d, truth));
+      report["opencv"] = OpenCvMatchers(gl, gr, params.disparity.num_disparities * s, truth);
     }
     if (!disparity_out.empty()) {
       std::vector<uint8_t> png;

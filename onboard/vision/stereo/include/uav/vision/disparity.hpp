@@ -55,6 +55,7 @@ struct DisparityErrors {
   long pixels = 0;               // pixels with ground truth
   double bad_fraction = 0.0;     // missing or wrong, of `pixels`
   double invalid_fraction = 0.0; // missing, of `pixels`
+  double bad_valid_fraction = 0.0;  // off by more than bad_threshold_px, of the pixels given a value
   double mean_abs_error_px = 0.0;  // over the valid estimates
 };
 // estimate_x16: CV_16U or CV_16S, disparity x 16, <= 0 invalid; truth_px: CV_32F, 0 unknown.
