@@ -250,16 +250,24 @@ void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& fou
   // Wires, and the poles and trunks found with them, where their depth is trusted: the
   // polyline's points within the range gate whose depth standard deviation is under a wire's
   // clearance margin. A wire ranged far off (a horizon or a field edge taken for one) would
-  // otherwise draw a wall across the map.
+  // otherwise draw a wall across the map. Each run of trusted points is drawn as thick as the
+  // cable plus its largest depth standard deviation (Eq. 3.7): the planner's clearance then
+  // holds from where the cable may truly be, not only from where it was measured.
+  constexpr double kCableRadius = 0.1;  // [m] the cable, its insulation and the map's rounding
   const Eigen::Isometry3d T_NLd = T_NL;
   for (const vision::Wire3D& w : wires) {
-    std::vector<Eigen::Vector3d> p_N;
+    avoid::MapWire run;
+    run.radius_m = kCableRadius;
     for (std::size_t i = 0; i < w.p_L.size(); ++i) {
       const bool trusted = w.p_L[i].norm() <= found.gate_depth_m && i < w.sigma_m.size() && w.sigma_m[i] < 0.5;
-      if (trusted) p_N.push_back(T_NLd * w.p_L[i]);
+      if (trusted) {
+        run.p_N.push_back(T_NLd * w.p_L[i]);
+        run.radius_m = std::max(run.radius_m, kCableRadius + w.sigma_m[i]);
+      }
       if (trusted && i + 1 < w.p_L.size()) continue;
-      if (p_N.size() >= 2) u.wires.push_back(p_N);
-      p_N.clear();
+      if (run.p_N.size() >= 2) u.wires.push_back(run);
+      run = avoid::MapWire();
+      run.radius_m = kCableRadius;
     }
   }
   out.Post([u = std::move(u)](Blackboard& b) { b.perception.Push(u); });

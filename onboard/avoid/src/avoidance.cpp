@@ -80,7 +80,7 @@ void AvoidancePlanner::SetParams(const AvoidanceParams& params) {
 std::string AvoidancePlanner::Add(const PerceptionUpdate& u, const Eigen::Vector3d& p_N) {
   if (u.scan) map_.InsertScan(*u.scan);
   for (const MapCylinder& c : u.cylinders) map_.InsertCylinder(c.p_NE, c.top_down_m, c.bottom_down_m, c.radius_m);
-  for (const auto& w : u.wires) map_.InsertPolyline(w, u.wire_radius_m);
+  for (const MapWire& w : u.wires) map_.InsertPolyline(w.p_N, w.radius_m);
   if (u.watches_ahead) perception_utime_ = std::max(perception_utime_, u.utime);
   const std::size_t dropped = map_.EnforceBound(p_N);
   if (dropped > 0 && !bound_announced_) {

@@ -56,13 +56,19 @@ struct MapCylinder {
   double top_down_m = 0.0, bottom_down_m = 0.0, radius_m = 0.0;
 };
 
+// A ranged wire for the map: its polyline in N, and the radius it is drawn with (the cable's
+// own plus its ranging uncertainty, so the planner's clearance holds from the true cable).
+struct MapWire {
+  std::vector<Eigen::Vector3d> p_N;
+  double radius_m = 0.1;
+};
+
 // One perception result for the map, at its capture time (the STEREO thread's per pair).
 struct PerceptionUpdate {
   int64_t utime = 0;
   std::optional<RangeScan> scan;
   std::vector<MapCylinder> cylinders;
-  std::vector<std::vector<Eigen::Vector3d>> wires;  // polylines in N
-  double wire_radius_m = 0.1;
+  std::vector<MapWire> wires;
   // From the stereo pair that watches the way ahead: its results keep the perception fresh (the
   // safety layer's avd_stale and the failsafe's avd_blind_return); others (depth from motion)
   // only add to the map.
