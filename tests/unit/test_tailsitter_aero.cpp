@@ -117,6 +117,35 @@ TEST(TailSitterAero, FourBarWingSweepAndSlidingBattery) {
   EXPECT_LE(shift, 0.06);
 }
 
+TEST(TailSitterAero, CruiseOnTheWingAgainstHoverOnTheRotor) {
+  const WingAerodynamics wing{WingGeometry(), WingCoefficients()};
+  const PowerModel power;
+  const double hover_w = HoverElectricPower(power, kRho);
+  // The thesis's 10 m/s cruise: trimmed below the stall, on a few newtons of thrust.
+  const CruiseTrim cruise = TrimCruise(wing, power, 10.0, kRho);
+  ASSERT_TRUE(cruise.found);
+  std::printf("[ U-Lion ] cruise 10 m/s: alpha %.1f deg, thrust %.2f N, %.0f W, %.0f min; hover %.0f W, %.1f min\n",
+              cruise.alpha_rad / kDeg, cruise.thrust_n, cruise.electric_w, cruise.endurance_min, hover_w,
+              HoverEnduranceMin(power, kRho));
+  EXPECT_GT(cruise.alpha_rad, 0.0);
+  EXPECT_LT(cruise.alpha_rad, wing.MaxLiftAlphaRad());
+  EXPECT_LT(cruise.thrust_n, 0.2 * kMass * 9.80665);
+  // Level flight holds: the thrust balances the drag and, with the lift, the weight.
+  const double q = 0.5 * kRho * 100;
+  const AeroCoefficients c = wing.At(cruise.alpha_rad);
+  EXPECT_NEAR(cruise.thrust_n * std::cos(cruise.alpha_rad), q * (0.36 * c.drag + power.parasite_drag_area_m2), 1e-6);
+  EXPECT_NEAR(cruise.thrust_n * std::sin(cruise.alpha_rad) + q * 0.36 * c.lift, kMass * 9.80665, 1e-6);
+  // What a tail-sitter is for: the wing needs a small fraction of the rotor's hover power, and
+  // the thesis's 10 minutes of cruise fit in the battery.
+  EXPECT_LT(cruise.electric_w, 0.2 * hover_w);
+  EXPECT_GE(cruise.endurance_min, 10.0);
+  // Slower, the wing needs more angle; below the stall speed there is no wing-borne trim.
+  const CruiseTrim slow = TrimCruise(wing, power, 9.8, kRho);
+  ASSERT_TRUE(slow.found);
+  EXPECT_GT(slow.alpha_rad, cruise.alpha_rad);
+  EXPECT_FALSE(TrimCruise(wing, power, 6.0, kRho).found && TrimCruise(wing, power, 6.0, kRho).alpha_rad < wing.MaxLiftAlphaRad());
+}
+
 TEST(TailSitterAero, AnInconsistentWingIsRefusedNamingTheEntry) {
   WingGeometry g;
   g.area_m2 = 0.5;  // not 1.8 x 0.2
@@ -127,6 +156,9 @@ TEST(TailSitterAero, AnInconsistentWingIsRefusedNamingTheEntry) {
   c = WingCoefficients();
   c.stall_alpha_rad = NAN;
   EXPECT_NE(Message([&] { WingAerodynamics(WingGeometry(), c); }).find("stall_alpha_rad"), std::string::npos);
+  PowerModel p;
+  p.figure_of_merit = 1.2;
+  EXPECT_NE(Message([&] { HoverElectricPower(p, kRho); }).find("figure_of_merit"), std::string::npos);
 }
 
 }  // namespace

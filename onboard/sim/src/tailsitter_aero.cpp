@@ -107,6 +107,58 @@ FourBarLinkage FourBarLinkage::Design(double ef_m, double oa_m, double beta_rad)
   return l;
 }
 
+void PowerModel::Validate() const {
+  Require(InRange(mass_kg, 0.1, 100), "mass_kg must be in 0.1..100");
+  Require(InRange(disk_area_m2, 1e-3, 10), "disk_area_m2 must be in 0.001..10");
+  Require(InRange(parasite_drag_area_m2, 0, 1), "parasite_drag_area_m2 must be in 0..1");
+  Require(InRange(figure_of_merit, 0.3, 0.85), "figure_of_merit must be in 0.3..0.85");
+  Require(InRange(propulsive_efficiency, 0.3, 0.9), "propulsive_efficiency must be in 0.3..0.9");
+  Require(InRange(electrical_efficiency, 0.5, 1.0), "electrical_efficiency must be in 0.5..1");
+  Require(InRange(battery_wh, 1, 10000), "battery_wh must be in 1..10000");
+}
+
+double HoverElectricPower(const PowerModel& m, double rho) {
+  m.Validate();
+  const double thrust = m.mass_kg * kGravity;
+  return thrust * InducedVelocity(thrust, m.disk_area_m2, rho) / m.figure_of_merit / m.electrical_efficiency;
+}
+
+double HoverEnduranceMin(const PowerModel& m, double rho) { return 60.0 * m.battery_wh / HoverElectricPower(m, rho); }
+
+CruiseTrim TrimCruise(const WingAerodynamics& wing, const PowerModel& m, double airspeed, double rho) {
+  m.Validate();
+  Require(std::isfinite(airspeed) && airspeed > 0, "airspeed must be positive");
+  const double weight = m.mass_kg * kGravity, q = 0.5 * rho * airspeed * airspeed;
+  // Lift plus the thrust's vertical share, less the weight, with the thrust set to balance the
+  // drag: its first zero from a slight negative angle up is the wing-borne trim.
+  const auto excess = [&](double alpha) {
+    const AeroCoefficients c = wing.At(alpha);
+    const double drag = q * (wing.geometry().area_m2 * c.drag + m.parasite_drag_area_m2);
+    return q * wing.geometry().area_m2 * c.lift + drag * std::tan(alpha) - weight;
+  };
+  CruiseTrim t;
+  double lo = -5 * kPi / 180;
+  if (excess(lo) > 0) return t;  // more than enough lift even nose-down: not a trim we model
+  for (double hi = lo + kPi / 360; hi < 80 * kPi / 180; lo = hi, hi += kPi / 360) {
+    if (excess(hi) < 0) continue;
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (excess(mid) < 0 ? lo : hi) = mid;
+    }
+    t.found = true;
+    t.alpha_rad = 0.5 * (lo + hi);
+    break;
+  }
+  if (!t.found) return t;
+  const AeroCoefficients c = wing.At(t.alpha_rad);
+  t.thrust_n = q * (wing.geometry().area_m2 * c.drag + m.parasite_drag_area_m2) / std::cos(t.alpha_rad);
+  const double axial = airspeed * std::cos(t.alpha_rad);
+  t.electric_w = t.thrust_n * (axial + InducedVelocity(t.thrust_n, m.disk_area_m2, rho, axial)) /
+                 m.propulsive_efficiency / m.electrical_efficiency;
+  t.endurance_min = 60.0 * m.battery_wh / t.electric_w;
+  return t;
+}
+
 double CgShift(double battery_kg, double travel_m, double total_kg) {
   Require(std::isfinite(battery_kg) && battery_kg > 0, "battery mass must be positive");
   Require(std::isfinite(total_kg) && total_kg >= battery_kg, "total mass must be at least the battery's");

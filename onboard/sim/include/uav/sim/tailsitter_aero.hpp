@@ -82,6 +82,36 @@ struct FourBarLinkage {
   static FourBarLinkage Design(double ef_m, double oa_m, double beta_rad);
 };
 
+// Power and level-flight trim (thesis 2.6: hover on the rotor, cruise on the wing). Where the
+// thesis is silent, named assumptions: the fuselage's parasite drag area, the rotor's figure
+// of merit in hover and propulsive efficiency in cruise, the motors' and ESCs' efficiency, and
+// the 300 g battery's energy at 80 Wh/kg (a 3S 2200 mAh pack).
+struct PowerModel {
+  double mass_kg = 2.2;
+  double disk_area_m2 = 0.0613;          // one 11-inch disk (the coaxial pair shares it)
+  double parasite_drag_area_m2 = 0.01;   // fuselage, gimbal, canards: C_D A, about 1 m x 0.1 m
+  double figure_of_merit = 0.6;          // small propellers in hover
+  double propulsive_efficiency = 0.7;    // in cruise
+  double electrical_efficiency = 0.8;    // motors and ESCs
+  double battery_wh = 24.0;
+  void Validate() const;  // throws std::invalid_argument naming the entry
+};
+
+struct CruiseTrim {
+  bool found = false;       // false: the wing cannot carry the weight at this speed
+  double alpha_rad = 0.0;   // angle of attack (the fuselage along the thrust)
+  double thrust_n = 0.0;
+  double electric_w = 0.0;
+  double endurance_min = 0.0;
+};
+
+// Hover on the rotor alone: T = m g, P = T v_i / FM (momentum theory), electric power.
+double HoverElectricPower(const PowerModel& m, double rho);
+double HoverEnduranceMin(const PowerModel& m, double rho);
+// Level flight on the wing at `airspeed`: T cos(alpha) = D, T sin(alpha) + L = m g, the
+// smallest such alpha (the wing-borne branch), and the power T (V + v_i) / eta.
+CruiseTrim TrimCruise(const WingAerodynamics& wing, const PowerModel& m, double airspeed_mps, double rho);
+
 // The sliding battery (thesis 2.6.3): moving `battery_kg` by `travel_m` moves the whole
 // vehicle's centre of gravity by battery x travel / total [m].
 double CgShift(double battery_kg, double travel_m, double total_kg);
