@@ -15,18 +15,8 @@ Eigen::Vector2d ClampNorm(const Eigen::Vector2d& v, double max) {
 
 ControllerParams ControllerParams::FromParameters(const ParameterSet& p) {
   ControllerParams c;
+  static_cast<PositionLoopParams&>(c) = PositionLoopParams::FromParameters(p);
   c.vehicle = hal::VehicleParams::FromParameters(p);
-  c.pos_gain_xy = p.Get("ctl_pos_gain_xy");
-  c.pos_gain_z = p.Get("ctl_pos_gain_z");
-  c.vel_gain_xy = p.Get("ctl_vel_gain_xy");
-  c.vel_int_xy = p.Get("ctl_vel_int_xy");
-  c.vel_gain_z = p.Get("ctl_vel_gain_z");
-  c.vel_int_z = p.Get("ctl_vel_int_z");
-  c.vel_int_limit = p.Get("ctl_vel_int_limit");
-  c.speed_max_xy = p.Get("ctl_speed_max_xy");
-  c.speed_max_up = p.Get("ctl_speed_max_up");
-  c.speed_max_down = p.Get("ctl_speed_max_down");
-  c.accel_max_xy = p.Get("ctl_accel_max_xy");
   c.tilt_max = p.Get("ctl_tilt_max");
   c.att_gain = p.Get("ctl_att_gain");
   c.rate_gain = p.Get("ctl_rate_gain");

@@ -10,16 +10,16 @@
 
 #include "uav/hal/navigation_estimate.hpp"
 #include "uav/control/mixer.hpp"
+#include "uav/control/position_loop_params.hpp"
 #include "uav/hal/vehicle_params.hpp"
 
 namespace uav::control {
 
 using hal::VehicleEstimate;
 
-struct ControllerParams {
+struct ControllerParams : PositionLoopParams {
   hal::VehicleParams vehicle;  // the model the controller inverts
-  double pos_gain_xy, pos_gain_z, vel_gain_xy, vel_int_xy, vel_gain_z, vel_int_z, vel_int_limit;
-  double speed_max_xy, speed_max_up, speed_max_down, accel_max_xy, tilt_max;
+  double tilt_max;
   double att_gain, rate_gain, yaw_gain, yaw_rate_gain;
   Eigen::Vector3d trim;  // aileron, elevator, rudder at zero controller output (Table 2.4)
   double gyro_att_gain, gyro_yaw_gain;

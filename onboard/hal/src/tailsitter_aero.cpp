@@ -1,10 +1,10 @@
-#include "uav/sim/tailsitter_aero.hpp"
+#include "uav/hal/tailsitter_aero.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace uav::sim {
+namespace uav::hal {
 
 namespace {
 
@@ -166,4 +166,4 @@ double CgShift(double battery_kg, double travel_m, double total_kg) {
   return battery_kg * travel_m / total_kg;
 }
 
-}  // namespace uav::sim
+}  // namespace uav::hal

@@ -5,7 +5,7 @@
 // classes fed plain data; no state, no clock.
 #include <string>
 
-namespace uav::sim {
+namespace uav::hal {
 
 // Table 2.7.
 struct WingGeometry {
@@ -85,7 +85,7 @@ struct FourBarLinkage {
 // Power and level-flight trim (thesis 2.6: hover on the rotor, cruise on the wing). Where the
 // thesis is silent, named assumptions: the fuselage's parasite drag area, the rotor's figure
 // of merit in hover and propulsive efficiency in cruise, the motors' and ESCs' efficiency, and
-// the 300 g battery's energy at 80 Wh/kg (a 3S 2200 mAh pack).
+// the battery: 4S 2200 mAh (Table 2.9), 2.2 Ah at 14.8 V nominal.
 struct PowerModel {
   double mass_kg = 2.2;
   double disk_area_m2 = 0.0613;          // one 11-inch disk (the coaxial pair shares it)
@@ -93,7 +93,7 @@ struct PowerModel {
   double figure_of_merit = 0.6;          // small propellers in hover
   double propulsive_efficiency = 0.7;    // in cruise
   double electrical_efficiency = 0.8;    // motors and ESCs
-  double battery_wh = 24.0;
+  double battery_wh = 32.6;
   void Validate() const;  // throws std::invalid_argument naming the entry
 };
 
@@ -116,4 +116,4 @@ CruiseTrim TrimCruise(const WingAerodynamics& wing, const PowerModel& m, double 
 // vehicle's centre of gravity by battery x travel / total [m].
 double CgShift(double battery_kg, double travel_m, double total_kg);
 
-}  // namespace uav::sim
+}  // namespace uav::hal
