@@ -49,4 +49,24 @@ double WrapAngle(double a) {
   return a <= -M_PI ? a + 2.0 * M_PI : a;
 }
 
+Eigen::Vector3d MagneticField_N(double inclination_rad) {
+  return {std::cos(inclination_rad), 0.0, std::sin(inclination_rad)};
+}
+
+std::optional<Eigen::Matrix3d> TriadRotationNB(const Eigen::Vector3d& a_N, const Eigen::Vector3d& b_N,
+                                               const Eigen::Vector3d& a_B, const Eigen::Vector3d& b_B) {
+  auto triad = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) -> std::optional<Eigen::Matrix3d> {
+    const Eigen::Vector3d c = a.cross(b);
+    if (!(a.norm() > 1e-9) || !(c.norm() > 1e-6 * a.norm() * b.norm())) return std::nullopt;
+    Eigen::Matrix3d m;
+    m.col(0) = a.normalized();
+    m.col(1) = c.normalized();
+    m.col(2) = m.col(0).cross(m.col(1));
+    return m;
+  };
+  const auto n = triad(a_N, b_N), b = triad(a_B, b_B);
+  if (!n || !b) return std::nullopt;
+  return Eigen::Matrix3d(*n * b->transpose());
+}
+
 }  // namespace uav

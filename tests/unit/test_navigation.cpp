@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <deque>
 
 #include "uav/nav/ins.hpp"
@@ -124,6 +125,35 @@ TEST(Ins, AlignsOnTheGroundAndCalibratesTheGyroBias) {
   EXPECT_LT(e.v_N.norm(), 0.01);
   EXPECT_NEAR(e.p_N.z(), 0.0, 0.2);
   EXPECT_EQ(ins.health().imu_rejected, 0);
+}
+
+// A tail-sitter powered standing on its tail, nose up (x_B up, the belly toward 40 deg): the
+// INS aligns by TRIAD on gravity and the field, and holds the attitude and the heading where
+// Euler angles are singular (pitch 90 deg).
+TEST(Ins, AlignsNoseUpAndHoldsTheHeadingLikeATailSitterOnItsTail) {
+  const auto params = ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/ulion.params", uav::VehicleParameterSchema());
+  sim::SimSensors sensors(sim::SensorParams::FromParameters(params), kHome, 3);
+  nav::Ins ins(nav::InsParams::FromParameters(params), kHome);
+  sim::QuadrotorState upright;
+  const double belly = 40 * M_PI / 180;
+  upright.q_NB = Eigen::AngleAxisd(belly, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
+  const Eigen::Vector3d f_B = upright.q_NB.conjugate() * Eigen::Vector3d(0, 0, -9.80665);
+  for (int i = 0; i < 30 * 50; ++i) {
+    hal::SensorSample s;
+    sensors.Sample(i * 20000, upright, f_B, &s);
+    ins.Update(s, true);
+  }
+  const auto e = ins.estimate();
+  const Eigen::AngleAxisd error(upright.q_NB.conjugate() * e.q_NB);
+  const Eigen::Vector3d nose_N = e.q_NB * Eigen::Vector3d::UnitX(), belly_N = e.q_NB * Eigen::Vector3d::UnitZ();
+  std::printf("[ INS ] nose-up: attitude error %.2f deg, nose %.2f deg from vertical, belly toward %.2f deg\n",
+              error.angle() * 180 / M_PI, std::acos(-nose_N.z()) * 180 / M_PI, std::atan2(belly_N.y(), belly_N.x()) * 180 / M_PI);
+  // Within the accelerometer bias's lean and the magnetometer's noise.
+  const double lean = sensors.accel_bias().norm() / 9.80665;
+  EXPECT_LT(error.angle(), lean + 0.02);
+  EXPECT_NEAR(std::atan2(belly_N.y(), belly_N.x()), belly, 0.03);
+  EXPECT_LT((ins.gyro_bias() - sensors.gyro_bias()).norm(), 5e-4);
+  EXPECT_TRUE(e.q_NB.coeffs().allFinite());
 }
 
 TEST(Ins, NonFiniteOrOutOfRangeSamplesAreRefusedAndTheEstimateStaysFinite) {

@@ -28,6 +28,9 @@ constexpr double kWeathervaneAccel = 0.3;
 constexpr double kWeathervaneRate = 30 * kDeg;
 // Turns on the wing keep the airspeed this factor above the stall speed at their load factor.
 constexpr double kStallMargin = 1.15;
+// L1 guidance's look-ahead in seconds of flight: 30 m at 12 m/s, about the turn's diameter at
+// ts_bank_max (PX4's NPFG and L1 use 15-25 s periods, about the same distance).
+constexpr double kL1Time = 2.5;
 // Roll-in rate of the bank setpoint [rad/s]: the roll loop follows it without overshoot.
 constexpr double kBankRate = 30 * kDeg;
 
@@ -46,6 +49,17 @@ double LowAspectSlope(double area, double span) {
 }
 
 }  // namespace
+
+double L1Course(const Eigen::Vector2d& from_N, const Eigen::Vector2d& to_N, const Eigen::Vector2d& p_N, double l1_m) {
+  const Eigen::Vector2d leg = to_N - from_N;
+  if (leg.norm() < 1e-6) return std::atan2((to_N - p_N).y(), (to_N - p_N).x());
+  const Eigen::Vector2d d = leg.normalized();
+  const Eigen::Vector2d r = p_N - from_N;
+  const double along = r.dot(d), cross = d.x() * r.y() - d.y() * r.x();
+  const double ahead = std::abs(cross) < l1_m ? std::sqrt(l1_m * l1_m - cross * cross) : 0.0;
+  const Eigen::Vector2d carrot = from_N + d * (along + ahead);
+  return std::atan2((carrot - p_N).y(), (carrot - p_N).x());
+}
 
 const char* Name(TailSitterMode m) {
   switch (m) {
@@ -338,8 +352,10 @@ hal::TailSitterInputs TailSitterController::Update(const hal::VehicleEstimate& e
       break;
     }
     case TailSitterMode::kCruise: {
-      course_ = sp.heading;
       const double V = std::max(airspeed, 1.0);
+      const double ground_speed = std::max(1.0, est.v_N.head<2>().norm());
+      const double l1 = kL1Time * ground_speed;
+      course_ = sp.leg_from_N ? L1Course(sp.leg_from_N->head<2>(), sp.p_N.head<2>(), est.p_N.head<2>(), l1) : sp.heading;
       const double e_speed = p_.cruise_speed - airspeed;
       int_speed_ = std::clamp(int_speed_ + 0.5 * e_speed * dt, -3.0, 3.0);
       const double thrust = std::max(0.0, cruise_thrust_ + v.mass_kg * (1.0 * e_speed + int_speed_));
@@ -353,7 +369,11 @@ hal::TailSitterInputs TailSitterController::Update(const hal::VehicleEstimate& e
       // A bank's load factor raises the stall speed by sqrt(n): keep kStallMargin above it.
       const double n_max = std::pow(V / (kStallMargin * stall_speed_), 2);
       const double bank_limit = std::min(p_.bank_max, n_max > 1 ? std::acos(1 / n_max) : 0.0);
-      const double bank_target = std::clamp(std::atan(V * 0.8 * Wrap(course_ - chi) / v.gravity), -bank_limit, bank_limit);
+      // L1's lateral acceleration toward the look-ahead point (or along the course held):
+      // 2 V^2 sin(eta) / L1, eta the angle from the ground track to it.
+      const double eta = std::clamp(Wrap(course_ - chi), -kPi / 2, kPi / 2);
+      const double lateral = 2 * ground_speed * ground_speed * std::sin(eta) / l1;
+      const double bank_target = std::clamp(std::atan(lateral / v.gravity), -bank_limit, bank_limit);
       bank_sp_ += std::clamp(bank_target - bank_sp_, -kBankRate * dt, kBankRate * dt);
       const double bank = bank_sp_;
       // Yaw is left to the fin: the nose's heading is the reference's (no yaw error, so no

@@ -1,6 +1,7 @@
 #include "uav/nav/ins.hpp"
 
 #include <cmath>
+#include <optional>
 
 #include "uav/shared/frames.hpp"
 
@@ -34,12 +35,15 @@ Eigen::Quaterniond ExpQ(const Eigen::Vector3d& th) {
   return Eigen::Quaterniond(Eigen::AngleAxisd(a, th / a));
 }
 
-// Magnetic heading from a body-frame field reading, levelled with the estimated roll and pitch.
-double MagneticHeading(const Eigen::Vector3d& mag_B, double phi, double theta) {
-  const Eigen::Matrix3d R_tilt = (Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()) *
-                                  Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitX())).toRotationMatrix();
-  const Eigen::Vector3d m_H = R_tilt * mag_B;  // field in the yawed, level frame
-  return std::atan2(-m_H.y(), m_H.x());
+// The heading error [rad] a magnetometer reading shows against the attitude R_NB: the angle
+// about N's z from the reading, rotated into N, to Earth's field, in the horizontal plane. Any
+// attitude (a tail-sitter's nose-up hover included); nullopt when the reading rotated into N
+// has almost no horizontal part.
+std::optional<double> MagneticHeadingError(const Eigen::Matrix3d& R_NB, const Eigen::Vector3d& mag_B, double inclination) {
+  const Eigen::Vector3d m_N = R_NB * mag_B, e_N = MagneticField_N(inclination);
+  const double cross = m_N.x() * e_N.y() - m_N.y() * e_N.x(), dot = m_N.x() * e_N.x() + m_N.y() * e_N.y();
+  if (std::hypot(cross, dot) < 0.05 * std::cos(inclination)) return std::nullopt;
+  return std::atan2(cross, dot);
 }
 
 }  // namespace
@@ -74,11 +78,10 @@ Eigen::Vector3d Ins::position_sigma() const {
 void Ins::Align(const hal::SensorSample& s) {
   // Level from the accelerometer (the vehicle stands still when powered), heading from the
   // magnetometer, position from the first GPS fix, height zero: it is powered at home.
-  const Eigen::Vector3d f = s.accel_B;
-  const double phi = std::atan2(-f.y(), -f.z());
-  const double theta = std::atan2(f.x(), std::hypot(f.y(), f.z()));
-  const double psi = MagneticHeading(s.mag_B, phi, theta);
-  q_NB_ = Eigen::Quaterniond(RotationNBFromEuler({phi, theta, psi}));
+  // TRIAD on gravity (exact) and the field (its heading), so that a vehicle standing in any
+  // attitude aligns: a quadrotor level, a tail-sitter nose-up on its tail.
+  const auto R_NB = TriadRotationNB(Eigen::Vector3d::UnitZ(), MagneticField_N(p_.mag_inclination), -s.accel_B, s.mag_B);
+  q_NB_ = R_NB ? Eigen::Quaterniond(*R_NB) : Eigen::Quaterniond::Identity();
   p_N_.setZero();
   if (s.gps_utime > 0 && std::isfinite(s.gps.latitude_deg) && std::isfinite(s.gps.longitude_deg))
     p_N_.head<2>() = frame_.ToNed(s.gps).head<2>();
@@ -279,12 +282,12 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
                                                                                               : PositionSource::kInertial;
   // Magnetic heading.
   if (mag_ok) {
-    const EulerAngles e = EulerFromRotationNB(q_NB_.toRotationMatrix());
-    const double psi_m = MagneticHeading(s.mag_B, e.phi, e.theta);
-    Vector H = Vector::Zero();
-    H.segment<3>(kTh) = q_NB_.toRotationMatrix().row(2).transpose();
-    const double sigma = p_.mag_noise / std::max(0.1, std::cos(p_.mag_inclination)) + 0.002;
-    Correct(WrapAngle(psi_m - e.psi), H, sigma * sigma, 0.0);
+    if (const auto heading_error = MagneticHeadingError(q_NB_.toRotationMatrix(), s.mag_B, p_.mag_inclination)) {
+      Vector H = Vector::Zero();
+      H.segment<3>(kTh) = q_NB_.toRotationMatrix().row(2).transpose();
+      const double sigma = p_.mag_noise / std::max(0.1, std::cos(p_.mag_inclination)) + 0.002;
+      Correct(*heading_error, H, sigma * sigma, 0.0);
+    }
   }
   if (!at_rest) has_flown_ = true;
   if (at_rest && !has_flown_) {

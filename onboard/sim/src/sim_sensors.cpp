@@ -1,5 +1,7 @@
 #include "uav/sim/sim_sensors.hpp"
 
+#include "uav/shared/frames.hpp"
+
 #include <cmath>
 
 namespace uav::sim {
@@ -21,9 +23,7 @@ SensorParams SensorParams::FromParameters(const ParameterSet& p) {
           p.Get("sonar_rate"),     p.Get("sonar_range_min"), p.Get("sonar_range_max"), p.Get("sonar_noise")};
 }
 
-Eigen::Vector3d SensorParams::MagneticField_N() const {
-  return {std::cos(mag_inclination), 0.0, std::sin(mag_inclination)};
-}
+Eigen::Vector3d SensorParams::MagneticField_N() const { return uav::MagneticField_N(mag_inclination); }
 
 SimSensors::SimSensors(const SensorParams& params, const GeodeticPoint& home, uint64_t seed)
     : p_(params), frame_(home), rng_(seed ^ 0x53454e53ull) {

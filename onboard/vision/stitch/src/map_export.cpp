@@ -109,6 +109,10 @@ std::vector<std::string> ExportMap(const Mosaic& map, const GeodeticPoint& home,
   cv::insertChannel(alpha, bgra, 3);
 
   std::vector<std::string> written;
+  // GDAL's drivers and OpenCV's codec table (which registers GDAL's too) are set up here, on one
+  // thread: set up the first time from two threads at once, GDAL's registration crashed.
+  GDALAllRegister();
+  if (!cv::haveImageWriter(".png")) throw std::runtime_error("map export: this OpenCV cannot write PNG");
   // The PNG is compressed while the GeoTIFF is written.
   std::future<std::vector<uint8_t>> png_bytes = std::async(std::launch::async, [&bgra] {
     std::vector<uint8_t> png;

@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 // Frames and rotations. Conventions (DESIGN.md 4): N = local North-East-Down, B = body
 // forward-right-down. Angles in radians.
 #include <Eigen/Core>
@@ -20,6 +21,16 @@ Eigen::Matrix3d RotationNBFromEuler(const EulerAngles& e);
 
 // Inverse of RotationNBFromEuler for theta in (-pi/2, pi/2); psi and phi in (-pi, pi].
 EulerAngles EulerFromRotationNB(const Eigen::Matrix3d& R_NB);
+
+// Earth's field in N, unit strength, dipping `inclination_rad` below the horizon toward
+// magnetic north (taken as true north). What the simulated magnetometer reads and the INS expects.
+Eigen::Vector3d MagneticField_N(double inclination_rad);
+
+// The rotation R_NB that takes two directions measured in B onto their known values in N
+// (TRIAD): the first pair exactly, the second as nearly as the first allows. Any attitude,
+// nose-up included. Returns nullopt when either pair is (nearly) parallel or zero.
+std::optional<Eigen::Matrix3d> TriadRotationNB(const Eigen::Vector3d& a_N, const Eigen::Vector3d& b_N,
+                                               const Eigen::Vector3d& a_B, const Eigen::Vector3d& b_B);
 
 // Gamma of thesis Eq. 2.3: d/dt(phi, theta, psi) = Gamma(phi, theta) * w_B. Singular at
 // theta = +-pi/2, which is why the simulator integrates a quaternion instead.

@@ -10,7 +10,8 @@
 //    ts_trans_airspeed.
 //  - Cruise: airspeed by thrust (the level-flight trim fed forward), altitude by pitch, course by
 //    coordinated turns (bank toward the course, the turn rate fed forward, the bank limited so
-//    the load factor keeps the airspeed 15 % above the stall speed).
+//    the load factor keeps the airspeed 15 % above the stall speed); a leg is followed by L1
+//    guidance with a look-ahead of 2.5 s of flight.
 //  - Transition to hover: the nose comes up at ts_back_pitch_rate while the thrust holds the
 //    altitude; the wing at high angle of attack brakes. Hover takes over near vertical.
 // A front transition that takes longer than ts_trans_timeout or loses ts_trans_alt_loss aborts
@@ -19,6 +20,7 @@
 // their effectiveness at the present airspeed and propwash: gimbal, elevator, ailerons, canards
 // and the rotors' differential torque. Plain class, fed plain data.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <Eigen/Core>
@@ -52,7 +54,14 @@ struct TailSitterControlParams : PositionLoopParams {
 struct TailSitterSetpoint {
   Eigen::Vector3d p_N = Eigen::Vector3d::Zero();  // hover: where to hold; on the wing: altitude from z
   double heading = 0.0;  // hover: where the belly faces; on the wing and in transitions: the course [rad]
+  // On the wing: when set, the straight leg from here to p_N is followed (L1 guidance) instead
+  // of the course `heading`.
+  std::optional<Eigen::Vector3d> leg_from_N;
 };
+
+// L1 guidance (Park, Deyst and How, 2004) for a straight leg: the course toward the point on the
+// leg `l1_m` from the vehicle (or the leg's nearest point when farther off than that) [rad].
+double L1Course(const Eigen::Vector2d& from_N, const Eigen::Vector2d& to_N, const Eigen::Vector2d& p_N, double l1_m);
 
 class TailSitterController {
  public:
