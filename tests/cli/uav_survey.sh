@@ -25,6 +25,22 @@ assert len(rows) == r["images"], (len(rows), r["images"])
 print(f"ok: {r['lines']} lines, {r['images']} images, {len(wpl) - 1} WPL lines, flight {r['flight_time_s']:.0f} s")
 PY
 test -s "$work/p.png"
+# A fixed wing's plan (U-Lion at 12 m/s, 30 m turns): the same lines, flown at least 60 m apart.
+"$bin/uav-survey" --polygon-file "$res/areas/village_l.area" --altitude 30 --speed 12 --turn-radius 30 --turnaround 60 \
+  --captures "$work/wing.csv" > "$work/wing.json"
+python3 - "$work" <<'PY'
+import csv, json, sys
+w = sys.argv[1]
+r, wing = json.load(open(f"{w}/report.json")), json.load(open(f"{w}/wing.json"))
+assert wing["turn_radius_m"] == 30 and wing["tight_turns"] == 0 and wing["lines"] == r["lines"], wing
+lines = []
+for row in csv.DictReader(open(f"{w}/wing.csv")):
+    if not lines or lines[-1][0] != row["line"]:
+        lines.append((row["line"], float(row["north_m"]), float(row["east_m"])))
+gaps = [abs(b[2] - a[2]) for a, b in zip(lines, lines[1:])]
+assert len(lines) == r["lines"] and min(gaps) >= 60 - 1e-6, gaps
+print(f"fixed wing: {len(lines)} lines, at least {min(gaps):.0f} m between consecutive ones")
+PY
 # Too fast for the front overlap at 1 Hz: exit 2, the fix proposed, no mission written.
 status=0
 "$bin/uav-survey" --polygon-file "$res/areas/village_l.area" --altitude 30 --rate 1 --speed 12 \

@@ -1,6 +1,7 @@
 // Survey planning: coverage is proven by rasterising the footprint of every planned image at its
 // planned pose (from the capture heading and the camera, not from the planner's grid), over
 // convex, concave and rotated areas.
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -207,6 +208,54 @@ TEST(Survey, ZigZagAlternatesAndEntryCornerChoosesTheStart) {
   EXPECT_GT(starts[2].y(), 50);
   EXPECT_GT(starts[3].x(), 50);
   EXPECT_GT(starts[3].y(), 50);
+}
+
+// A fixed wing cannot turn onto the next line 21 m across with a 30 m radius: the lines are
+// flown out of order, each at least two radii from the last, and cover exactly what the
+// adjacent order covers.
+TEST(Survey, AFixedWingFliesLinesAtLeastTwoTurnRadiiApart) {
+  SurveyParams p;
+  p.camera = kSimCam;
+  p.altitude_m = 40;
+  p.speed_m_s = 12;
+  p.turnaround_m = 40;
+  const Polygon2 area = {{0, 0}, {300, 0}, {300, 200}, {0, 200}};
+  const SurveyPlan adjacent = PlanSurvey(area, p);
+  p.turn_radius_m = 30;
+  const SurveyPlan wing = PlanSurvey(area, p);
+  ASSERT_TRUE(wing.ok());
+  EXPECT_EQ(wing.lines, adjacent.lines);
+  EXPECT_EQ(wing.captures.size(), adjacent.captures.size());
+  EXPECT_EQ(wing.tight_turns, 0);
+  // Each line's east coordinate, in the order flown.
+  auto order = [](const SurveyPlan& plan) {
+    std::vector<double> east;
+    for (const auto& w : plan.waypoints)
+      if (w.kind == SurveyWaypoint::Kind::kCaptureStart) east.push_back(w.p_N.y());
+    return east;
+  };
+  const std::vector<double> flown = order(wing);
+  std::vector<double> sorted = flown, adjacent_east = order(adjacent);
+  std::sort(sorted.begin(), sorted.end());
+  std::sort(adjacent_east.begin(), adjacent_east.end());
+  ASSERT_EQ(sorted.size(), adjacent_east.size());
+  for (std::size_t i = 0; i < sorted.size(); ++i) EXPECT_NEAR(sorted[i], adjacent_east[i], 1e-9);  // each line once
+  for (std::size_t i = 1; i < flown.size(); ++i) EXPECT_GE(std::abs(flown[i] - flown[i - 1]), 60.0 - 1e-6) << i;
+  EXPECT_LT(adjacent.line_spacing_m, 60.0);  // the adjacent order would turn tighter
+  // Each line is flown the other way from the last: the vehicle turns around.
+  std::vector<double> yaw;
+  for (const auto& w : wing.waypoints)
+    if (w.kind == SurveyWaypoint::Kind::kCaptureStart) yaw.push_back(w.yaw_rad);
+  for (std::size_t i = 1; i < yaw.size(); ++i)
+    EXPECT_NEAR(std::abs(std::remainder(yaw[i] - yaw[i - 1], 2 * M_PI)), M_PI, 1e-9) << i;
+  const CoverageResult a = MeasureCoverage(area, p, adjacent), b = MeasureCoverage(area, p, wing);
+  EXPECT_DOUBLE_EQ(a.covered_fraction, b.covered_fraction);
+  // With lines too few to skip (two, 21 m apart), the one turn is counted as tight.
+  p.turn_radius_m = 200;
+  const SurveyPlan narrow = PlanSurvey(Polygon2{{0, 0}, {300, 0}, {300, 70}, {0, 70}}, p);
+  EXPECT_EQ(narrow.tight_turns, narrow.lines - 1);
+  p.turn_radius_m = -1;
+  EXPECT_THROW(PlanSurvey(area, p), std::invalid_argument);
 }
 
 TEST(Survey, ReportsWhenSpeedAndRateCannotGiveTheFrontOverlap) {

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "uav/app/tailsitter_flight.hpp"
+#include "uav/waypoints/survey.hpp"
 
 namespace uav::app {
 namespace {
@@ -190,6 +191,75 @@ TEST(TailSitterFlight, FollowsAClosedRouteOnTheWing) {
     EXPECT_LT(r.alt_max, 43.0);
     EXPECT_EQ(f.controller().mode(), TailSitterMode::kCruise);
   }
+}
+
+// The survey planner's zig-zag for a fixed wing (lines two turn radii apart, run-ins of two radii) over
+// 300 x 200 m, flown on the wing from a transition: every capture line is followed, and the
+// camera's lines are held to a few metres.
+TEST(TailSitterFlight, FliesASurveyOnTheWing) {
+  waypoints::SurveyParams p;
+  p.camera = {4.8, 3.6, 3.6, 640, 480, true};  // the simulator's downward camera
+  p.altitude_m = 40;
+  p.speed_m_s = 12;
+  p.turn_radius_m = 30;  // 12 m/s at ts_bank_max: 27 m
+  p.turnaround_m = 2 * p.turn_radius_m;  // the run-in settles the turn onto the line
+  const waypoints::SurveyPlan plan = waypoints::PlanSurvey(waypoints::Polygon2{{300, -100}, {600, -100}, {600, 100}, {300, 100}}, p);
+  ASSERT_TRUE(plan.ok());
+  ASSERT_EQ(plan.tight_turns, 0);
+  TailSitterFlight f(ULion());
+  const Eigen::Vector3d hover(0, 0, -40);
+  f.PlaceInHover(hover, 0.0);
+  f.Fly(At(hover), 6.0);
+  ASSERT_EQ(f.StartTransition(true), "");
+  ASSERT_TRUE(f.Fly(At(hover), 10.0, [&] { return f.controller().mode() == TailSitterMode::kCruise; }));
+  // Each line is one straight leg from its run-in to its run-out (its waypoints are collinear);
+  // from the end of one line L1 guidance turns straight onto the next, as a fixed-wing mission
+  // does (a leg across to the next run-in would turn 90 degrees twice in two radii).
+  double worst = 0, sum2 = 0, alt_lo = 1e9, alt_hi = -1e9;
+  int n = 0, lines = 0;
+  for (std::size_t i = 0; i < plan.waypoints.size();) {
+    std::size_t j = i;
+    while (j + 1 < plan.waypoints.size() && plan.waypoints[j + 1].line == plan.waypoints[i].line &&
+           plan.waypoints[j + 1].pass == plan.waypoints[i].pass)
+      ++j;
+    const auto& first = plan.waypoints[i];
+    const auto& last = plan.waypoints[j];
+    control::TailSitterSetpoint sp = At(last.p_N);
+    const Eigen::Vector2d d = (last.p_N - first.p_N).head<2>().normalized();
+    // The first line is approached from four radii before its run-in (the area starts 300 m
+    // north of the transition).
+    const double approach = i == 0 ? 4 * p.turn_radius_m : 0.0;
+    sp.leg_from_N = first.p_N - approach * Eigen::Vector3d(d.x(), d.y(), 0);
+    const Eigen::Vector2d a = sp.leg_from_N->head<2>(), b = last.p_N.head<2>();
+    double capture_from = 1e9, capture_to = -1e9;  // along the leg
+    for (std::size_t k = i; k <= j; ++k) {
+      const double along = (plan.waypoints[k].p_N.head<2>() - a).dot(d);
+      if (plan.waypoints[k].kind == waypoints::SurveyWaypoint::Kind::kCaptureStart) capture_from = std::min(capture_from, along);
+      if (plan.waypoints[k].kind == waypoints::SurveyWaypoint::Kind::kCaptureEnd) capture_to = std::max(capture_to, along);
+    }
+    ++lines;
+    ASSERT_TRUE(f.Fly(sp, 200.0, [&] {
+      const Eigen::Vector2d q = f.truth().p_N.head<2>();
+      const double along = (q - a).dot(d);
+      if (along >= capture_from && along <= capture_to) {
+        const double cross = std::abs(d.x() * (q - a).y() - d.y() * (q - a).x());
+        worst = std::max(worst, cross);
+        sum2 += cross * cross;
+        ++n;
+        alt_lo = std::min(alt_lo, f.altitude());
+        alt_hi = std::max(alt_hi, f.altitude());
+      }
+      return along >= (b - a).norm();
+    })) << "never reached the end of line " << lines;
+    i = j + 1;
+  }
+  std::printf("[ U-Lion ] survey on the wing: %d lines, %.0f m of path, flown in %.0f s; capture lines held to %.2f m RMS, "
+              "%.2f m at worst; altitude %.1f..%.1f m\n",
+              lines, plan.path_length_m, f.time(), std::sqrt(sum2 / std::max(1, n)), worst, alt_lo, alt_hi);
+  EXPECT_EQ(lines, plan.lines);
+  EXPECT_LT(worst, 2.0);
+  EXPECT_GT(alt_lo, 38.0);
+  EXPECT_LT(alt_hi, 42.0);
 }
 
 // Flies an abort: returns the height lost at worst from the transition's start to a settled hover.

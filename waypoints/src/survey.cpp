@@ -43,6 +43,33 @@ struct GridFrame {
   Eigen::Vector2d ToN(double x, double y) const { return {c * x - s * y, s * x + c * y}; }
 };
 
+// Lines in the order a vehicle that turns with `radius` flies them: from the first, each next
+// line is the nearest unflown one at least two radii across; when none is, the farthest
+// (counted in `tight`).
+std::vector<Line> OrderForTurnRadius(const std::vector<Line>& lines, double radius, int* tight) {
+  std::vector<Line> ordered;
+  if (lines.empty()) return ordered;
+  std::vector<bool> flown(lines.size(), false);
+  std::size_t at = 0;
+  flown[0] = true;
+  ordered.push_back(lines[0]);
+  for (std::size_t k = 1; k < lines.size(); ++k) {
+    std::size_t next = lines.size(), farthest = lines.size();
+    double nearest_d = 1e300, farthest_d = -1.0;
+    for (std::size_t j = 0; j < lines.size(); ++j) {
+      if (flown[j]) continue;
+      const double d = std::abs(lines[j].y - lines[at].y);
+      if (d >= 2 * radius - 1e-6 && d < nearest_d) nearest_d = d, next = j;
+      if (d > farthest_d) farthest_d = d, farthest = j;
+    }
+    if (next == lines.size()) next = farthest, ++*tight;
+    flown[next] = true;
+    ordered.push_back(lines[next]);
+    at = next;
+  }
+  return ordered;
+}
+
 // Straight-line time over `d` metres from rest to rest at cruise speed v, acceleration a.
 double RestToRestTime(double d, double v, double a) {
   if (d <= 0) return 0.0;
@@ -116,6 +143,8 @@ void ValidateSurveyParams(const SurveyParams& p) {
   Require(p.entry_corner >= 0 && p.entry_corner <= 3, "entry_corner", p.entry_corner, "0, 1, 2 or 3");
   Require(std::isfinite(p.turnaround_m) && p.turnaround_m >= 0 && p.turnaround_m <= 200,
           "turnaround_m", p.turnaround_m, "in [0, 200] m");
+  Require(std::isfinite(p.turn_radius_m) && p.turn_radius_m >= 0 && p.turn_radius_m <= 500, "turn_radius_m",
+          p.turn_radius_m, "in [0, 500] m (0: turns in place)");
   Require(std::isfinite(p.speed_m_s) && p.speed_m_s > 0 && p.speed_m_s <= 15, "speed_m_s", p.speed_m_s,
           "in (0, 15] m/s");
   Require(std::isfinite(p.capture_rate_hz) && p.capture_rate_hz > 0 && p.capture_rate_hz <= 30,
@@ -226,6 +255,7 @@ SurveyPlan PlanSurvey(const Polygon2& area_N, const SurveyParams& p) {
       }
     }
     if (last_first) std::reverse(lines.begin(), lines.end());
+    if (p.turn_radius_m > 0) lines = OrderForTurnRadius(lines, p.turn_radius_m, &plan.tight_turns);
 
     for (std::size_t li = 0; li < lines.size(); ++li) {
       const Line& line = lines[li];

@@ -116,6 +116,9 @@ int main(int argc, char** argv) {
   cli.add_option("--angle", p.grid_angle_deg, "bearing of the survey lines [deg from north]")->capture_default_str();
   cli.add_option("--entry", p.entry_corner, "entry corner 0..3")->capture_default_str();
   cli.add_option("--turnaround", p.turnaround_m, "run-in/run-out beyond each line [m]")->capture_default_str();
+  cli.add_option("--turn-radius", p.turn_radius_m,
+                 "a fixed wing's turn radius [m]: consecutive lines at least two radii apart (0: adjacent lines in turn)")
+      ->capture_default_str();
   cli.add_option("--speed", p.speed_m_s, "ground speed [m/s]")->capture_default_str();
   cli.add_option("--rate", p.capture_rate_hz, "capture rate [Hz]")->capture_default_str();
   cli.add_option("--trigger-distance", p.trigger_distance_m, "capture every N m instead of by rate");
@@ -158,6 +161,8 @@ int main(int argc, char** argv) {
         {"required_trigger_distance_m", plan.required_trigger_distance_m},
         {"capture_spacing_m", plan.capture_spacing_m},
         {"lines", plan.lines},
+        {"turn_radius_m", p.turn_radius_m},
+        {"tight_turns", plan.tight_turns},
         {"waypoints", plan.waypoints.size()},
         {"images", plan.captures.size()},
         {"path_length_m", plan.path_length_m},

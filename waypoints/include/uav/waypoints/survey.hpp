@@ -30,6 +30,10 @@ struct SurveyParams {
   // it; 2: the last (right-most) line, flown along; 3: the last line flown against.
   int entry_corner = 0;
   double turnaround_m = 5.0;          // straight run-in/run-out beyond each capture leg
+  // > 0 for a fixed wing: the radius of its turns at the survey speed. Lines closer than two
+  // radii are not flown one after the other: the next line is the nearest unflown one at least
+  // that far across (0, 3, 6, 2, 5, ... for lines a third of the distance apart).
+  double turn_radius_m = 0.0;
   double speed_m_s = 3.0;             // ground speed on the capture legs
   double capture_rate_hz = 5.0;       // thesis 6.1: images at 5 Hz for the KLT tracker
   double trigger_distance_m = 0.0;    // > 0: capture every this many metres instead of by rate
@@ -65,6 +69,9 @@ struct SurveyPlan {
   double required_trigger_distance_m = 0.0;  // footprint along * (1 - front overlap)
   double capture_spacing_m = 0.0;            // what the plan actually uses
   int lines = 0;                             // over all passes
+  // With turn_radius_m: turns between lines closer than two radii (where no unflown line was
+  // far enough across; the vehicle widens such a turn into a loop).
+  int tight_turns = 0;
   std::vector<SurveyWaypoint> waypoints;
   std::vector<SurveyCapture> captures;
   double path_length_m = 0.0;   // first to last waypoint
