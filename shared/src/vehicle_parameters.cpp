@@ -254,7 +254,7 @@ const ParameterSchema& VehicleParameterSchema() {
     {"obs_rig", "-", -1, -1, 7, "stereo rig (the scene's, from 0) for obstacles and wires; -1: the first rig neither odometry nor active stereo uses"},
 
     // --- Target tracking and follow (TRK thread, thesis 3.7) ---
-    {"trk_tracker", "-", 3, 0, 3, "0: CamShift (thesis 3.7), 1: KCF, 2: CSRT (opencv-contrib), 3: auto (CamShift where the target's colour stands out, else CSRT)"},
+    {"trk_tracker", "-", 3, 0, 4, "0: CamShift (thesis 3.7), 1: KCF, 2: CSRT (opencv-contrib), 3: auto (CamShift where the target's colour stands out, else the correlation filter), 4: the correlation filter (HOG, DSST scale, re-detection)"},
     {"trk_window", "-", 0, 0, 1, "CamShift search window 0: adaptive (moments), 1: static (selection's size)"},
     {"trk_gimbal_gain", "-", 0.5, 0, 1, "fraction of the target's vertical offset the gimbal corrects per frame (0: gimbal fixed)"},
     {"trk_buffer_s", "s", 10, 1, 30, "frames kept for a target picked on an older (frozen) frame; the tracker catches up through them (about 0.9 MB per 640x480 frame)"},

@@ -12,11 +12,8 @@ namespace uav::app {
 
 TrackWorkerParams TrackWorkerParams::FromParameters(const ParameterSet& p) {
   TrackWorkerParams t;
-  const int kind = static_cast<int>(p.Get("trk_tracker"));
-  t.tracker.kind = kind == 0   ? vision::TrackerKind::kCamShift
-                   : kind == 1 ? vision::TrackerKind::kKcf
-                   : kind == 2 ? vision::TrackerKind::kCsrt
-                               : vision::TrackerKind::kAuto;
+  // trk_tracker's values are TrackerKind's (0 CamShift, 1 KCF, 2 CSRT, 3 auto, 4 dcf).
+  t.tracker.kind = static_cast<vision::TrackerKind>(static_cast<int>(p.Get("trk_tracker")));
   t.tracker.window = p.Get("trk_window") != 0.0 ? vision::SearchWindowMode::kStatic : vision::SearchWindowMode::kAdaptive;
   t.tracker.Validate();
   t.gimbal_pitch_rad = p.Get("gimbal_pitch") * M_PI / 180.0;
@@ -166,7 +163,9 @@ void TrackWorker::Report(int64_t utime, const vision::TrackResult& r, Outbox& ou
   rep.window_width = r.search_window.width / W;
   rep.window_height = r.search_window.height / H;
   rep.confidence = r.confidence;
-  if (r.state == vision::TrackState::kLost) rep.reason = "the target's colour is not in view";
+  if (r.state == vision::TrackState::kLost)
+    rep.reason = tracker_.method() == vision::TrackerKind::kCamShift ? "the target's colour is not in view"
+                                                                     : "the target is hidden or out of view";
   out.Post([rep](Blackboard& b) { b.track_reports.Push(rep); });
 }
 

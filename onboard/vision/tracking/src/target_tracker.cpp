@@ -1,6 +1,9 @@
 // CamShift (thesis 3.7, Bradski's Continuously Adaptive Mean Shift) with OpenCV's mean shift for
-// the window's location and the thesis's closed-form moments (Eq. 3.41-3.53) for the box.
+// the window's location and the thesis's closed-form moments (Eq. 3.41-3.53) for the box; a
+// correlation filter on gradients (correlation_tracker.hpp) for targets without a distinct colour.
 #include "uav/vision/target_tracker.hpp"
+
+#include "correlation_tracker.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -73,7 +76,8 @@ TrackerKind ParseTrackerKind(const std::string& name) {
   if (name == "kcf") return TrackerKind::kKcf;
   if (name == "csrt") return TrackerKind::kCsrt;
   if (name == "auto") return TrackerKind::kAuto;
-  throw std::invalid_argument("unknown tracker '" + name + "' (auto, camshift, kcf, csrt)");
+  if (name == "dcf") return TrackerKind::kCorrelation;
+  throw std::invalid_argument("unknown tracker '" + name + "' (auto, camshift, dcf, kcf, csrt)");
 }
 SearchWindowMode ParseSearchWindowMode(const std::string& name) {
   if (name == "adaptive") return SearchWindowMode::kAdaptive;
@@ -86,6 +90,7 @@ const char* Name(TrackerKind kind) {
     case TrackerKind::kKcf: return "kcf";
     case TrackerKind::kCsrt: return "csrt";
     case TrackerKind::kAuto: return "auto";
+    case TrackerKind::kCorrelation: return "dcf";
   }
   return "?";
 }
@@ -121,6 +126,9 @@ struct TargetTracker::Impl {
   cv::Mat hsv, mask, probability;
   // KCF / CSRT.
   cv::Ptr<cv::Tracker> opencv;
+  // The correlation filter, on grey.
+  std::unique_ptr<detail::CorrelationTracker> correlation;
+  cv::Mat grey;
   double colour_coverage = 0.0;  // share of the selection CamShift's probability image covers
 
   // CamShift's model of the target (thesis 3.7): the background-weighted hue histogram, the
@@ -247,6 +255,26 @@ struct TargetTracker::Impl {
     return r;
   }
 
+  // Sure detections track; lost_frames unsure ones in a row (occluded, out of view) lose the
+  // target, and the filter searches around where it was last seen until it is sure again.
+  TrackResult UpdateCorrelation(const cv::Mat& bgr) {
+    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+    const detail::CorrelationDetection d = correlation->Update(grey);
+    if (d.sure) {
+      low_frames = 0;
+      state = TrackState::kTracking;
+    } else if (++low_frames >= p.lost_frames) {
+      state = TrackState::kLost;
+    }
+    TrackResult r;
+    r.state = state;
+    r.confidence = d.confidence;
+    r.box = cv::RotatedRect(cv::Point2f(static_cast<float>(d.box.x + 0.5 * d.box.width), static_cast<float>(d.box.y + 0.5 * d.box.height)),
+                            cv::Size2f(static_cast<float>(d.box.width), static_cast<float>(d.box.height)), 0.0f);
+    r.search_window = Clip(Centred(r.box.center, cv::Size2f(r.box.size.width * 2.5f, r.box.size.height * 2.5f)), image_size);
+    return r;
+  }
+
   TrackResult UpdateOpenCv(const cv::Mat& bgr) {
     TrackResult r;
     cv::Rect box;
@@ -293,7 +321,7 @@ void TargetTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box, const std::
     const std::string refused = s.TrainCamShift(bgr, roi, polygon);
     Require(refused.empty(), refused);
   } else if (s.p.kind == TrackerKind::kAuto) {
-    // CamShift where the selection's colour stands out, CSRT where it does not.
+    // CamShift where the selection's colour stands out, the correlation filter where it does not.
     std::string refused = s.TrainCamShift(bgr, roi, polygon);
     if (refused.empty() && s.colour_coverage < s.p.auto_min_colour_coverage) {
       char why[160];
@@ -301,7 +329,7 @@ void TargetTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box, const std::
                     100 * s.colour_coverage, 100 * s.p.auto_min_colour_coverage);
       refused = why;
     }
-    s.method = refused.empty() ? TrackerKind::kCamShift : TrackerKind::kCsrt;
+    s.method = refused.empty() ? TrackerKind::kCamShift : TrackerKind::kCorrelation;
     if (refused.empty()) {
       char why[120];
       std::snprintf(why, sizeof why, "the target's colour stands out (it covers %.0f %% of the box)", 100 * s.colour_coverage);
@@ -310,7 +338,13 @@ void TargetTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box, const std::
       s.method_reason = refused;
     }
   }
-  if (s.method != TrackerKind::kCamShift) {
+  s.correlation.reset();
+  s.opencv.release();
+  if (s.method == TrackerKind::kCorrelation) {
+    cv::cvtColor(bgr, s.grey, cv::COLOR_BGR2GRAY);
+    s.correlation = std::make_unique<detail::CorrelationTracker>();
+    s.correlation->Start(s.grey, cv::Rect2d(roi));
+  } else if (s.method != TrackerKind::kCamShift) {
     if (s.method == TrackerKind::kKcf)
       s.opencv = cv::TrackerKCF::create();
     else
@@ -327,12 +361,17 @@ TrackResult TargetTracker::Update(const cv::Mat& bgr) {
   Require(bgr.size() == s.image_size, "the image is " + std::to_string(bgr.cols) + " x " + std::to_string(bgr.rows) +
                                           ", the target was picked in " + std::to_string(s.image_size.width) + " x " +
                                           std::to_string(s.image_size.height));
-  return s.method == TrackerKind::kCamShift ? s.UpdateCamShift(bgr) : s.UpdateOpenCv(bgr);
+  switch (s.method) {
+    case TrackerKind::kCamShift: return s.UpdateCamShift(bgr);
+    case TrackerKind::kCorrelation: return s.UpdateCorrelation(bgr);
+    default: return s.UpdateOpenCv(bgr);
+  }
 }
 
 void TargetTracker::Stop() {
   impl_->state = TrackState::kIdle;
   impl_->opencv.release();
+  impl_->correlation.reset();
 }
 TrackState TargetTracker::state() const { return impl_->state; }
 TrackerKind TargetTracker::method() const { return impl_->method; }

@@ -1,4 +1,4 @@
-// uav-track VIDEO_OR_IMAGE_DIR --box X,Y,W,H [--tracker camshift|kcf|csrt]
+// uav-track VIDEO_OR_IMAGE_DIR --box X,Y,W,H [--tracker auto|camshift|dcf|kcf|csrt]
 //           [--window adaptive|static] [--out boxes.csv] [--overlay DIR]
 // Tracks the box (pixels in the first frame) through a video file or a folder of images (sorted
 // by name) and writes one CSV row per frame: frame, x, y, w, h (the box's axis-aligned bounds),
@@ -96,9 +96,9 @@ int main(int argc, char** argv) {
   std::string input, box_text, tracker = "auto", window = "adaptive", out_path, overlay_dir;
   app.add_option("input", input, "video file or folder of images")->required();
   app.add_option("--box", box_text, "X,Y,W,H of the target in the first frame, pixels")->required();
-  app.add_option("--tracker", tracker, "auto (CamShift where the target's colour stands out, else CSRT), camshift, kcf or csrt")
+  app.add_option("--tracker", tracker, "auto (CamShift where the target's colour stands out, else dcf), camshift, dcf (correlation filter on gradients), kcf or csrt")
       ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "camshift", "kcf", "csrt"}));
+      ->check(CLI::IsMember({"auto", "camshift", "dcf", "kcf", "csrt"}));
   app.add_option("--window", window, "CamShift search window: adaptive or static")->capture_default_str()->check(CLI::IsMember({"adaptive", "static"}));
   app.add_option("--out", out_path, "CSV of boxes, one row per frame");
   app.add_option("--overlay", overlay_dir, "folder for frames with the box drawn");

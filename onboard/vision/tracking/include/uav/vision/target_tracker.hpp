@@ -1,8 +1,10 @@
 #pragma once
 // Tracking the operator's target in a camera's images (thesis 3.7). CamShift on a hue histogram
 // of the selected box (Eq. 3.41-3.53), with a confidence from the back-projection mass, loss
-// detection and re-acquisition by a whole-image search; OpenCV's KCF and CSRT (opencv-contrib)
-// selectable for comparison. Plain class: frames in, boxes out, no threads or messages.
+// detection and re-acquisition by a whole-image search, for targets with a colour of their own;
+// a correlation filter on gradient shape (HOG cells, DSST's scale filter, re-detection after
+// occlusion) for targets without one; OpenCV's KCF and CSRT (opencv-contrib) selectable for
+// comparison. Plain class: frames in, boxes out, no threads or messages.
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,10 +17,11 @@ class Mat;
 
 namespace uav::vision {
 
-// kAuto: CamShift where the selection's colour stands out from its surroundings (fast, thesis
-// 3.7), CSRT where it does not (grey cars, people in dark clothes, buildings): never a refusal
-// for a box of reasonable size. The method chosen is reported (TargetTracker::method()).
-enum class TrackerKind { kCamShift, kKcf, kCsrt, kAuto };
+// kAuto: CamShift where the selection's colour stands out from its surroundings (fastest, thesis
+// 3.7), the correlation filter (kCorrelation, "dcf") where it does not (grey cars, people in dark
+// clothes, buildings): never a refusal for a box of reasonable size. The method chosen is
+// reported (TargetTracker::method()). The values are trk_tracker's.
+enum class TrackerKind { kCamShift, kKcf, kCsrt, kAuto, kCorrelation };
 // CamShift's search window: adaptive follows the target's size and orientation from its moments
 // (thesis 3.7.1); static keeps the selection's size and only moves (thesis 3.7.3 compares both).
 enum class SearchWindowMode { kAdaptive, kStatic };
@@ -45,7 +48,7 @@ struct TrackerParams {
   double min_side_px = 4.0;       // a selection or box smaller than this each way is rejected/lost
   // kAuto takes CamShift when at least this share of the selection keeps a hue that tells the
   // target from its surroundings (CamShift's probability image after background weighting);
-  // below it, the colour does not hold the target and CSRT tracks.
+  // below it, the colour does not hold the target and the correlation filter tracks.
   double auto_min_colour_coverage = 0.5;
   // Throws std::invalid_argument naming the first value out of range.
   void Validate() const;
@@ -59,7 +62,9 @@ struct TrackResult {
   // x axis, as cv::RotatedRect); the search window the next frame starts from.
   cv::RotatedRect box;
   cv::Rect search_window;
-  double confidence = 0.0;  // 0..1: back-projection density in the box against the selection's
+  // 0..1. CamShift: back-projection density in the box against the selection's; the correlation
+  // filter: the response's peak-to-sidelobe ratio against its running level; KCF, CSRT: 1 or 0.
+  double confidence = 0.0;
 };
 
 class TargetTracker {
