@@ -15,6 +15,8 @@ constexpr float kHogClip = 0.2f;             // as Dalal-Triggs and Felzenszwalb
 constexpr int kPeakExclusionCells = 5;       // PSR: the sidelobe excludes 11 x 11 cells round the peak
 constexpr int kWarmUpFrames = 5;             // frames taken as sure while the PSR level settles
 constexpr float kSurroundWeight = 0.2f;      // the surroundings' weight in the learned sample
+constexpr double kMinInViewShare = 0.5;
+constexpr int kRedetectReach = 1;
 
 // |z|^2 of a complex (2-channel) spectrum.
 cv::Mat SquaredMagnitude(const cv::Mat& z) {
@@ -316,19 +318,29 @@ void CorrelationTracker::Learn(const cv::Mat& grey, double rate, double scale_ra
 }
 
 CorrelationDetection CorrelationTracker::Update(const cv::Mat& grey) {
+  const cv::Rect2d image(0, 0, grey.cols, grey.rows);
+  const auto box_at = [&](cv::Point2d centre) {
+    const cv::Size2d size(start_size_.width * scale_, start_size_.height * scale_);
+    return cv::Rect2d(centre.x - size.width / 2, centre.y - size.height / 2, size.width, size.height);
+  };
+  // A target mostly beyond the image edge has left the view: nothing there is the target.
+  const auto in_view = [&](cv::Point2d centre) {
+    const cv::Rect2d box = box_at(centre);
+    return (box & image).area() >= kMinInViewShare * box.area();
+  };
   Found found = Detect(grey, centre_);
-  const double sure_psr = p_.sure_psr_share * psr_level_;
-  bool sure = sure_frames_ < kWarmUpFrames || found.psr >= sure_psr;
+  bool sure = (sure_frames_ < kWarmUpFrames || found.psr >= p_.sure_psr_share * psr_level_) && in_view(found.centre);
   if (!sure) {
-    // Occluded, or lost: half a window and a whole window around where it was last seen for sure.
+    // Occluded, or lost: half a window and a whole window around where it was last seen for
+    // sure. A detection away from the track must be as sure as the target usually is.
     const cv::Size2d window = Window();
-    for (int reach = 1; reach <= 2; ++reach)
+    for (int reach = 1; reach <= kRedetectReach; ++reach)
       for (const cv::Point step : {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1), cv::Point(1, 1),
                                    cv::Point(-1, 1), cv::Point(1, -1), cv::Point(-1, -1)}) {
         const cv::Point2d at = last_sure_ + cv::Point2d(step.x * reach * 0.5 * window.width, step.y * reach * 0.5 * window.height);
-        if (at.x < 0 || at.y < 0 || at.x >= grey.cols || at.y >= grey.rows) continue;
+        if (!image.contains(at)) continue;
         const Found candidate = Detect(grey, at);
-        if (candidate.psr >= sure_psr && candidate.psr > found.psr) {
+        if (candidate.psr >= p_.relock_psr_share * psr_level_ && candidate.psr > found.psr && in_view(candidate.centre)) {
           found = candidate;
           sure = true;
         }
@@ -344,8 +356,7 @@ CorrelationDetection CorrelationTracker::Update(const cv::Mat& grey) {
     Learn(grey, p_.learning_rate, p_.scale_learning_rate);
   }
   CorrelationDetection out;
-  const cv::Size2d size(start_size_.width * scale_, start_size_.height * scale_);
-  out.box = cv::Rect2d(centre_.x - size.width / 2, centre_.y - size.height / 2, size.width, size.height);
+  out.box = box_at(centre_);
   out.psr = found.psr;
   out.sure = sure;
   out.confidence = psr_level_ > 0 ? std::clamp(found.psr / psr_level_, 0.0, 1.0) : 1.0;

@@ -34,8 +34,10 @@ struct CorrelationParams {
   double scale_step = 1.02;       // ratio between neighbouring scales
   double scale_learning_rate = 0.025;  // DSST's
   double scale_model_area_px = 512.0;  // the scale filter's samples are resampled to this area
-  // A detection is sure when its PSR is at least this share of the running PSR of sure frames.
+  // A detection is sure when its PSR is at least this share of the running PSR of sure frames;
+  // one found by re-detection, away from the track, needs the larger share.
   double sure_psr_share = 0.5;
+  double relock_psr_share = 0.6;
 };
 
 struct CorrelationDetection {
