@@ -1,5 +1,7 @@
 #include "uav/shared/command_grammar.hpp"
 
+#include <algorithm>
+
 #include "uav/shared/decimal.hpp"
 #include "uav/shared/parameters.hpp"
 
@@ -87,6 +89,10 @@ const std::vector<CommandSpec>& CommandSpecs() {
       {CommandId::kEmergencyStop, "emergency_stop", "stop the motors at once, in flight too: the vehicle falls", {}},
       // Parameters over the link (as QGroundControl's parameter editor): the vehicle applies the
       // value at once where that is safe and answers with the value it now uses.
+      // A tail-sitter's transitions (thesis 2.6), as QGroundControl's VTOL transition buttons and
+      // PX4's MAV_CMD_DO_VTOL_TRANSITION.
+      {CommandId::kTransition, "transition", "tail-sitter: fw onto the wing (from hover), mc back to hover (from the wing)",
+       {{"to", 0.0, 1.0, "mc: hover on the rotor, fw: cruise on the wing", true, false, "mc fw"}}},
       {CommandId::kParam, "param", "set vehicle parameter name to value (its unit, within its limits)",
        {{"name", 0.0, 0.0, "a parameter of the vehicle file (uav-onboard --list-params)", false, true},
         {"value", 0.0, 0.0, "the parameter's own limits"}}},
@@ -102,10 +108,34 @@ const CommandSpec& SpecOf(CommandId id) {
 
 std::string Command::Name() const { return SpecOf(id).name; }
 
+namespace {
+// The keyword of value `v` in a spec's space-separated list, or "" when there is none.
+std::string Keyword(const char* keywords, double v) {
+  if (!keywords || v != std::floor(v) || v < 0) return "";
+  std::istringstream words(keywords);
+  std::string w;
+  for (int i = 0; words >> w; ++i)
+    if (i == static_cast<int>(v)) return w;
+  return "";
+}
+std::optional<double> KeywordValue(const char* keywords, const std::string& word) {
+  if (!keywords) return std::nullopt;
+  std::istringstream words(keywords);
+  std::string w;
+  for (int i = 0; words >> w; ++i)
+    if (w == word) return i;
+  return std::nullopt;
+}
+}  // namespace
+
 std::string Command::Text() const {
   std::string t = Name();
   if (!parameter.empty()) t += " " + parameter;
-  for (double a : args) t += " " + FormatNumber(a);
+  const CommandSpec& spec = SpecOf(id);
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string word = i < spec.args.size() ? Keyword(spec.args[i].keywords, args[i]) : "";
+    t += " " + (word.empty() ? FormatNumber(args[i]) : word);
+  }
   return t;
 }
 
@@ -157,7 +187,15 @@ ParseResult ParseCommand(std::string_view line) {
       cmd.parameter = w;
       continue;
     }
+    if (const std::optional<double> keyword = KeywordValue(a.keywords, Lower(w))) {
+      cmd.args.push_back(*keyword);
+      continue;
+    }
     const std::optional<double> parsed = ParseDecimal(w);
+    if (!parsed && a.keywords) {
+      r.error = name + ": argument " + a.name + " must be one of '" + a.keywords + "', got '" + w + "'";
+      return r;
+    }
     if (!parsed) {
       // strtod would take "nan", "inf", "1e400" and "0x10": say why those are refused too.
       char* end = nullptr;
@@ -214,6 +252,10 @@ std::string ArgumentHint(std::string_view line) {
       h += std::string(" <") + (parameter ? parameter->name : std::string(a.name)) + ">";
     } else if (parameter) {
       h += " <" + FormatNumber(parameter->min) + ".." + FormatNumber(parameter->max) + " " + parameter->unit + ">";
+    } else if (a.keywords) {
+      std::string choices = a.keywords;
+      std::replace(choices.begin(), choices.end(), ' ', '|');
+      h += " <" + choices + ">";
     } else if (spec->args.size() > i && i > 0 && spec->args[i - 1].parameter_name) {
       h += std::string(" <") + a.name + ">";
     } else {

@@ -32,6 +32,11 @@ constexpr Entry<FlightMode> kFlightModes[] = {{FlightMode::kManual, "manual"}, {
 constexpr Entry<AvoidState> kAvoidStates[] = {{AvoidState::kOff, "off"},         {AvoidState::kClear, "clear"},
                                               {AvoidState::kAvoiding, "avoiding"}, {AvoidState::kBlocked, "blocked"},
                                               {AvoidState::kNoPath, "no_path"},    {AvoidState::kNoData, "no_data"}};
+constexpr Entry<VehicleType> kVehicleTypes[] = {{VehicleType::kQuadrotor, "quadrotor"}, {VehicleType::kTailSitter, "tail_sitter"}};
+constexpr Entry<VtolMode> kVtolModes[] = {{VtolMode::kHover, "hover"},
+                                          {VtolMode::kTransitionToWing, "transition_to_wing"},
+                                          {VtolMode::kCruise, "cruise"},
+                                          {VtolMode::kTransitionToHover, "transition_to_hover"}};
 
 template <class E, std::size_t N>
 std::string_view NameIn(const Entry<E> (&table)[N], E v) {
@@ -61,7 +66,18 @@ std::string_view Name(Severity v) { return NameIn(kSeverities, v); }
 std::string_view Name(AttitudeMode v) { return NameIn(kAttitudeModes, v); }
 std::string_view Name(FlightMode v) { return NameIn(kFlightModes, v); }
 std::string_view Name(AvoidState v) { return NameIn(kAvoidStates, v); }
+std::string Spoken(std::string_view name) {
+  std::string s(name);
+  for (char& c : s)
+    if (c == '_') c = ' ';
+  return s;
+}
+
+std::string_view Name(VehicleType v) { return NameIn(kVehicleTypes, v); }
+std::string_view Name(VtolMode v) { return NameIn(kVtolModes, v); }
 std::optional<Task> TaskFromWire(int v) { return FromWireIn(kTasks, v); }
+std::optional<VehicleType> VehicleTypeFromWire(int v) { return FromWireIn(kVehicleTypes, v); }
+std::optional<VtolMode> VtolModeFromWire(int v) { return FromWireIn(kVtolModes, v); }
 std::optional<CommandResult> CommandResultFromWire(int v) { return FromWireIn(kResults, v); }
 std::optional<FailsafeAction> FailsafeFromWire(int v) { return FromWireIn(kFailsafes, v); }
 std::optional<Severity> SeverityFromWire(int v) { return FromWireIn(kSeverities, v); }

@@ -83,6 +83,12 @@ const std::vector<Signal<VehicleState>>& VehicleStateSignals() {
       {{"avoid_speed", "avoid_speed_limit_m_s", "m/s", "N", F::kSpeed}, [](const S& s) { return s.avoid_speed_limit_m_s; }},
       {{"replan_ms", "replan_ms", "ms", "", F::kMilliseconds}, [](const S& s) { return s.replan_ms; }},
       {{"clearance_m", "sim_clearance_m", "m", "truth", F::kMetres}, [](const S& s) { return s.sim_clearance_m; }},
+      // U-Lion (thesis 2.6): the airframe, the tail-sitter's mode and its air data.
+      {{"vehicle", "vehicle_type", "1", "", F::kVehicleType}, [](const S& s) { return double(static_cast<int>(s.vehicle_type)); }},
+      {{"vtol_mode", "vtol_mode", "1", "", F::kVtolMode}, [](const S& s) { return double(static_cast<int>(s.vtol_mode)); }},
+      {{"transition", "transition_progress", "1", "", F::kFraction}, [](const S& s) { return s.transition_progress; }},
+      {{"airspeed", "airspeed_m_s", "m/s", "B, along x_B", F::kSpeed}, [](const S& s) { return s.airspeed_m_s; }},
+      {{"alpha", "alpha_rad", "rad", "B", F::kAngle}, [](const S& s) { return s.alpha_rad; }},
   };
   return kSignals;
 }
@@ -120,6 +126,8 @@ std::string FormatForDisplay(const SignalDef& d, double si) {
     case F::kFlightMode: return FlightModeFromWire(i) ? std::string(Name(*FlightModeFromWire(i))) : "unknown";
     case F::kAttitudeMode: return AttitudeModeFromWire(i) ? std::string(Name(*AttitudeModeFromWire(i))) : "unknown";
     case F::kAvoidState: return AvoidStateFromWire(i) ? std::string(Name(*AvoidStateFromWire(i))) : "unknown";
+    case F::kVehicleType: return VehicleTypeFromWire(i) ? std::string(Name(*VehicleTypeFromWire(i))) : "unknown";
+    case F::kVtolMode: return VtolModeFromWire(i) ? std::string(Name(*VtolModeFromWire(i))) : "unknown";
     case F::kInteger: std::snprintf(buf, sizeof buf, "%d", i); return buf;
     case F::kLatLon: std::snprintf(buf, sizeof buf, "%.7f deg", v); return buf;
     case F::kAngle:
@@ -145,6 +153,8 @@ std::string FormatForLog(const SignalDef& d, double si) {
     case F::kFailsafe:
     case F::kFlightMode:
     case F::kAvoidState:
+    case F::kVehicleType:
+    case F::kVtolMode:
     case F::kAttitudeMode: std::snprintf(buf, sizeof buf, "%d", static_cast<int>(std::lround(si))); break;
     default: std::snprintf(buf, sizeof buf, "%.4f", si); break;
   }

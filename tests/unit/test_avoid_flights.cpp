@@ -83,7 +83,7 @@ Flown FlyTo(const world::Scene& scene, const Eigen::Vector3d& goal_NEU, double l
     const double t = (now - start) * 1e-6;
     for (const StatusText& s : board.status.TakeAll()) f.said.push_back(s.text);
     const BlackboardData d = board.Snapshot();
-    const Eigen::Vector3d p = flight.vehicle().TruthState().p_N;
+    const Eigen::Vector3d p = flight.vehicle().Truth().p_N;
     if (stage == 0 && t > 1.0) send("arm"), stage = 1;
     else if (stage == 1 && d.armed) send("takeoff " + std::to_string(kAltitude)), stage = 2;
     else if (stage == 2 && d.task == Task::kHover && -p.z() > kAltitude - 0.5) send(goto_text), stage = 3, goto_t = t;
@@ -183,7 +183,7 @@ TEST(AvoidanceFlight, ACameraThatFailsMidFlightBrakesHoldsAndReturnsOnTheMap) {
   bool failed = false;
   double failed_at_north = 0;
   const Flown f = FlyTo(scene, {40, 0, kAltitude}, 120, [&](double, SimFlight& flight) {
-    const Eigen::Vector3d p = flight.vehicle().TruthState().p_N;
+    const Eigen::Vector3d p = flight.vehicle().Truth().p_N;
     if (!failed && p.x() > 18.0) {
       flight.sensing()->SetStereoFailed(0, true);
       failed = true;

@@ -280,7 +280,7 @@ double AbortAndRecover(TailSitterFlight& f, const Eigen::Vector3d& hover, const 
     return false;
   });
   std::printf("[ U-Lion ] recovered: %s, lost %.2f m at worst, %.2f m below the start now\n",
-              control::Name(f.controller().mode()), h0 - lowest, h0 - f.altitude());
+              std::string(Name(f.controller().mode())).c_str(), h0 - lowest, h0 - f.altitude());
   EXPECT_EQ(f.controller().mode(), TailSitterMode::kHover);
   EXPECT_LT((f.truth().q_NB * f.truth().v_B).norm(), 0.5);
   return h0 - lowest;

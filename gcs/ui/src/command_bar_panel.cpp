@@ -140,6 +140,14 @@ void DrawCommandBarPanel(GcsModel& model, UiContext& ctx) {
     if (a.key && !model.replay() && io.KeyCtrl && ImGui::IsKeyPressed(a.key, false)) st.pending_confirmation = a.text;
     ImGui::SameLine();
   }
+  // A tail-sitter's transitions (QGroundControl's VTOL transition buttons).
+  if (const VehicleModel* v = model.selected(); v && v->state && v->state->vehicle_type == VehicleType::kTailSitter) {
+    for (const char* text : {"transition fw", "transition mc"}) {
+      if (ImGui::Button(text)) st.pending_confirmation = text;
+      RegisterLastItem(ctx, std::string("button:") + text);
+      ImGui::SameLine();
+    }
+  }
   ImGui::NewLine();
   if (!st.pending_confirmation.empty() && io.KeyCtrl && ImGui::IsKeyPressed('K', false)) {
     model.SubmitCommand(st.pending_confirmation, ctx.now);

@@ -69,6 +69,19 @@ void DrawGlance(const VehicleState& s) {
   else ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1), "GPS %s %d sats", fix, s.gps_satellites);
   ImGui::SameLine();
   ImGui::Text("| HOME %.0f m", s.home_distance());
+  if (s.vehicle_type == VehicleType::kTailSitter) {
+    // U-Lion: its mode (a transition with its progress, in amber), the pitot's airspeed and alpha.
+    const bool transitioning = s.vtol_mode == VtolMode::kTransitionToWing || s.vtol_mode == VtolMode::kTransitionToHover;
+    std::string mode = Spoken(Name(s.vtol_mode));
+    for (char& c : mode) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    ImGui::SameLine();
+    if (transitioning)
+      ImGui::TextColored(ImVec4(1, 0.75f, 0.2f, 1), "| %s %.0f %%", mode.c_str(), 100.0 * s.transition_progress);
+    else
+      ImGui::Text("| %s", mode.c_str());
+    ImGui::SameLine();
+    ImGui::Text("| AS %.1f m/s | AOA %.0f", s.airspeed_m_s, s.alpha_rad * 180.0 / M_PI);
+  }
 }
 
 // The selected vehicle's perception warnings: a near wire, obstacles or a stereo channel down,

@@ -1,5 +1,7 @@
 #include "uav/app/reported_state.hpp"
 
+#include <cmath>
+
 namespace uav::app {
 
 VehicleState ReportedState(const BlackboardData& d, const GeodeticPoint& home, AttitudeMode attitude_mode) {
@@ -38,6 +40,14 @@ VehicleState ReportedState(const BlackboardData& d, const GeodeticPoint& home, A
   s.avoid_speed_limit_m_s = d.avoid_speed_limit;
   s.replan_ms = d.avoid_plan ? d.avoid_plan->planning_ms : -1.0;
   s.sim_clearance_m = d.sim_clearance_m;
+  const Eigen::Vector3d v_B = e.q_NB.conjugate() * e.v_N;
+  s.alpha_rad = v_B.norm() > 1.0 ? std::atan2(v_B.z(), v_B.x()) : 0.0;
+  if (d.tailsitter) {
+    s.vehicle_type = VehicleType::kTailSitter;
+    s.vtol_mode = d.tailsitter->mode;
+    s.transition_progress = d.tailsitter->transition_progress;
+    s.airspeed_m_s = d.sample.airspeed_valid ? d.sample.airspeed_mps : -1.0;
+  }
   return s;
 }
 

@@ -7,13 +7,15 @@ namespace uav::app {
 
 SimFlight::SimFlight(const ParameterSet& params, const Options& o)
     : options_(o),
-      vehicle_(params, o.home, o.start_utime),
-      imu_(vehicle_, board_, nav::InsParams::FromParameters(params), o.home),
+      vehicle_(sim::MakeSimulatedVehicle(params, o.home, o.start_utime)),
+      imu_(*vehicle_, board_, nav::InsParams::FromParameters(params), o.home),
       ctl_(control::TaskParams::FromParameters(params), control::ControllerParams::FromParameters(params),
            control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6, board_, o.missions,
            avoid::AvoidanceParams::FromParameters(params), control::PreArmParams::FromParameters(params)),
-      svo_(vehicle_, board_, params.Get("rotor_input_idle"), hal::VehicleParams::FromParameters(params).attitude_mode),
+      svo_(*vehicle_, board_, params.Get("rotor_input_idle"), hal::VehicleParams::FromParameters(params).attitude_mode),
       scheduler_({o.start_utime, kStepUs, o.speed, static_cast<int64_t>(o.duration_s * 1e6)}) {
+  if (params.Get("vehicle_type") == static_cast<double>(VehicleType::kTailSitter))
+    ctl_.UseTailSitter(control::TailSitterControlParams::FromParameters(params));
   if (o.scene) {
     // At real time the vision results are as late as their work takes; on a simulated clock
     // the vehicle file's latencies keep a run repeatable.
@@ -27,14 +29,14 @@ SimFlight::SimFlight(const ParameterSet& params, const Options& o)
   // Indoors (a scene without sky) the receiver never has a fix, whatever "gps 1" asks.
   sky_view_ = !o.scene || o.scene->sky();
   gps_enabled_ = sky_view_;
-  vehicle_.SetGpsEnabled(gps_enabled_);
+  vehicle_->SetGpsEnabled(gps_enabled_);
   if (!sky_view_) board_.PushStatus(Severity::kWarning, "simulator: indoors, no GPS fix");
 }
 
 SimFlight::~SimFlight() = default;
 
 Eigen::Isometry3d SimFlight::TruthPose() const {
-  const auto s = vehicle_.TruthState();
+  const sim::BodyTruth s = vehicle_->Truth();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = s.q_NB.toRotationMatrix();
   T.translation() = s.p_N;
@@ -46,16 +48,16 @@ void SimFlight::Run(const std::function<void(int64_t)>& each_period) {
   scheduler_.Run([&](int64_t dt) {
     // The simulator's faults, commanded like everything else ("gps 0").
     if (const bool want = board_.Snapshot().sim_gps_enabled && sky_view_; want != gps_enabled_) {
-      vehicle_.SetGpsEnabled(want);
+      vehicle_->SetGpsEnabled(want);
       gps_enabled_ = want;
       board_.PushStatus(want ? Severity::kInfo : Severity::kWarning, want ? "simulator: GPS fix restored" : "simulator: GPS fix lost");
     }
-    vehicle_.Step(dt);
+    vehicle_->Step(dt);
     const int64_t now = scheduler_.now() + dt;
     const bool period = (now - start) % kPeriodUs == 0;
     if (options_.scene && period) {
       // The true clearance for the flight log (the flight stack never reads it).
-      const double clearance = options_.scene->Clearance(vehicle_.TruthState().p_N, now * 1e-6);
+      const double clearance = options_.scene->Clearance(vehicle_->Truth().p_N, now * 1e-6);
       board_.Update([&](BlackboardData& b) { b.sim_clearance_m = clearance; });
     }
     if (sensing_) {

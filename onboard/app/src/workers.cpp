@@ -220,7 +220,7 @@ void ControlWorker::Tick(int64_t utime) {
   CheckPreArm(d, utime);
   for (const auto& req : board_.commands.TakeAll()) {
     if (req.command.id == CommandId::kParam) SetParameter(req, d, utime, &reports);
-    else tasks_.Submit(req, d.estimate, t, &reports);
+    else if (!(tailsitter_ && TailSitterCommand(req, d, &reports))) tasks_.Submit(req, d.estimate, t, &reports);
   }
   if (parameters_ && (last_parameters_report_ < 0 || utime - last_parameters_report_ >= 5'000'000)) PublishParameters(utime);
   const control::TaskManager::Output out = tasks_.Update(d.estimate, t, &reports);
@@ -237,7 +237,16 @@ void ControlWorker::Tick(int64_t utime) {
   if (bad != last_setpoint_error_ && !bad.empty()) board_.PushStatus(Severity::kError, "setpoint rejected: " + bad + "; holding the last valid one");
   last_setpoint_error_ = bad;
   control::ServoCommand servo;  // throttle -1: rotors off
-  if (required == control::FailsafeAction::kManual && out.airborne) {
+  std::optional<TailSitterStatus> tailsitter;
+  if (tailsitter_) {
+    // U-Lion: its own controller in every mode (its RC link has no fail-safe switch wired).
+    tailsitter.emplace();
+    if (out.airborne) tailsitter->inputs = FlyTailSitter(out, last_valid_setpoint_, d, &reports);
+    const control::TailSitterController& ctl = tailsitter_->controller;
+    tailsitter->mode = ctl.mode();
+    tailsitter->transition_progress = ctl.transition_progress();
+    tailsitter->airspeed_mps = d.sample.airspeed_mps;
+  } else if (required == control::FailsafeAction::kManual && out.airborne) {
     // Thesis 2.3.2 fail-safe switch: the pilot's sticks go straight to the servos.
     servo = {d.sample.rc_sticks[0], d.sample.rc_sticks[1], d.sample.rc_sticks[2], d.sample.rc_sticks[3]};
     controller_.Reset();
@@ -254,6 +263,7 @@ void ControlWorker::Tick(int64_t utime) {
   }
   board_.Update([&](BlackboardData& b) {
     b.servo = servo;
+    b.tailsitter = tailsitter;
     b.armed = out.armed;
     b.airborne = out.airborne;
     b.task = out.task;
@@ -286,6 +296,18 @@ void ControlWorker::Tick(int64_t utime) {
 
 void ServoWorker::Tick(int64_t utime) {
   const BlackboardData d = board_.Snapshot();
+  if (d.tailsitter) {
+    // U-Lion's eight channels (hal::ToChannels). On the ground the surfaces are neutral and the
+    // battery at the tail (the hover CG); armed, the rotors idle.
+    hal::TailSitterInputs in;
+    in.battery = 1.0;
+    if (d.armed && d.airborne) in = d.tailsitter->inputs;
+    hal::OutputChannels channels = hal::ToChannels(in);
+    if (!(d.armed && d.airborne)) channels[0] = d.armed ? rotor_input_idle_ : -1.0;
+    backend_.WriteOutputs(channels);
+    board_.Update([&](BlackboardData& b) { b.rotor_inputs = {channels[0], channels[0], -1, -1}; });
+    return;
+  }
   // Disarmed: stopped. Armed on the ground: idle, no lift. Flying: mixed, or to the gyro.
   std::array<double, 4> outputs = {-1.0, -1.0, -1.0, -1.0};
   std::array<double, 4> rotors = outputs;
@@ -300,7 +322,9 @@ void ServoWorker::Tick(int64_t utime) {
     outputs = {c.aileron, c.elevator, c.throttle, c.rudder};
     rotors.fill(c.throttle);  // the collective the gyro passes on (thesis 2.5)
   }
-  backend_.WriteOutputs(outputs);
+  hal::OutputChannels channels = hal::UnwiredChannels();
+  std::copy(outputs.begin(), outputs.end(), channels.begin());
+  backend_.WriteOutputs(channels);
   board_.Update([&](BlackboardData& b) { b.rotor_inputs = rotors; });
 }
 

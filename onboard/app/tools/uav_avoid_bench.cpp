@@ -138,7 +138,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   const double limit_s = 40.0 + 3.0 * kLength / speed;
   uav::app::SimFlight flight(params, {home, start, 0.0, limit_s, &scene, "", nullptr});
   uav::app::Blackboard& board = flight.board();
-  const uav::sim::SimVehicle& vehicle = flight.vehicle();
+  const uav::sim::SimulatedVehicle& vehicle = flight.vehicle();
   // The operator's side: arm, take off, go to the far end; the flight ends at the goal.
   int stage = 0, seq = 0;
   auto send = [&](const std::string& text) {
@@ -153,7 +153,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   flight.Run([&](int64_t now) {
     const double t = (now - start) * 1e-6;
     const uav::app::BlackboardData d = board.Snapshot();
-    const Eigen::Vector3d p = vehicle.TruthState().p_N;
+    const Eigen::Vector3d p = vehicle.Truth().p_N;
     if (stage == 0 && t > 1.0) send("arm"), stage = 1;
     else if (stage == 1 && d.armed) send("takeoff " + std::to_string(kAltitude)), stage = 2;
     else if (stage == 2 && d.task == uav::Task::kHover && -p.z() > kAltitude - 0.5) send(goto_text), stage = 3, travel_start_t = t;
@@ -178,8 +178,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
       } else if (d.avoid_state == uav::AvoidState::kClear) {
         last_side = 0;
       }
-      const auto truth_state = vehicle.TruthState();
-      const double v = (truth_state.q_NB * truth_state.v_B).head<2>().norm();
+      const double v = vehicle.Truth().v_N.head<2>().norm();
       if (v < 0.2) {
         if (still_since < 0) still_since = t;
       } else {

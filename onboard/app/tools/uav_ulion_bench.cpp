@@ -231,7 +231,7 @@ int main(int argc, char** argv) {
       char line[256];
       for (const auto& s : trace) {
         std::snprintf(line, sizeof line, "%.2f,%s,%.2f,%.2f,%.2f,%.2f,%.2f,%.1f,%.1f,%.1f,%.2f,%.2f\n", s.t_s,
-                      uav::control::Name(s.mode), s.p_N.x(), s.p_N.y(), s.altitude_m, s.airspeed_mps, s.ground_speed_mps,
+                      std::string(uav::Name(s.mode)).c_str(), s.p_N.x(), s.p_N.y(), s.altitude_m, s.airspeed_mps, s.ground_speed_mps,
                       s.pitch_deg, s.pitch_setpoint_deg, s.alpha_deg, s.thrust_n, s.wing_lift_n);
         csv += line;
       }

@@ -129,7 +129,7 @@ MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double d
   if (moving_ && !landing_) {
     const Eigen::Vector3d to_go = target_ - ref_;
     double dist = to_go.norm();
-    const bool stop = index_ < steps_.size() && (steps_[index_].kind != Kind::kWaypoint || IsStopAfter(index_));
+    const bool stop = index_ < steps_.size() && (steps_[index_].kind != Kind::kWaypoint || (!wing_ && IsStopAfter(index_)));
     if (!waiting_) {
       const Eigen::Vector3d dir = dist > 1e-9 ? Eigen::Vector3d(to_go / dist) : Eigen::Vector3d::Zero();
       // A vehicle more than a leash away and ahead of the reference along the leg (back from a
@@ -142,7 +142,7 @@ MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double d
         dist -= jump;
       }
       // Cruise speed, reduced so the vertical part stays within the climb/descent limits.
-      double cruise = speed_;
+      double cruise = wing_ ? wing_->speed_mps : speed_;
       if (std::abs(dir.z()) > 1e-6)
         cruise = std::min(cruise, (dir.z() < 0 ? p_.speed_max_up : p_.speed_max_down) / std::abs(dir.z()));
       double v = std::min(ref_speed_ + p_.accel * dt, cruise);
@@ -167,7 +167,9 @@ MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double d
         v_ff = dir * v;
       }
     }
-    if (waiting_ && (est.p_N - target_).norm() < p_.reached_radius && est.v_N.norm() < p_.reached_speed) {
+    const bool there = wing_ ? (est.p_N - target_).head<2>().norm() < wing_->acceptance_m
+                             : (est.p_N - target_).norm() < p_.reached_radius && est.v_N.norm() < p_.reached_speed;
+    if (waiting_ && there) {
       waiting_ = false;
       if (steps_[index_].kind == Kind::kReturnHome || steps_[index_].kind == Kind::kLand) {
         Advance();  // the next phase of the return/landing

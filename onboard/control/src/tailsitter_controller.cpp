@@ -61,15 +61,23 @@ double L1Course(const Eigen::Vector2d& from_N, const Eigen::Vector2d& to_N, cons
   return std::atan2((carrot - p_N).y(), (carrot - p_N).x());
 }
 
-const char* Name(TailSitterMode m) {
-  switch (m) {
-    case TailSitterMode::kHover: return "hover";
-    case TailSitterMode::kTransitionToWing: return "transition to wing";
-    case TailSitterMode::kCruise: return "cruise";
-    case TailSitterMode::kTransitionToHover: return "transition to hover";
-  }
-  return "?";
+double OrbitCourse(const Eigen::Vector2d& centre_N, const Eigen::Vector2d& p_N, double radius_m) {
+  const Eigen::Vector2d r = p_N - centre_N;
+  const double d = r.norm();
+  if (d < 1e-6) return 0.0;
+  const double bearing = std::atan2(r.y(), r.x());  // from the centre to the vehicle
+  // Clockwise: the tangent is 90 degrees right of the outward bearing; outside the circle turn in,
+  // by 45 degrees at a third of the radius off. The course loop needs a steady angle to hold the
+  // circle's turn (about 20 degrees with L1's look-ahead at 1.5 turn radii): this gain keeps the
+  // circle within a tenth of its radius.
+  const double correction = std::clamp(3.0 * (d - radius_m) / radius_m, -1.0, 1.0) * (kPi / 4);
+  return Wrap(bearing + kPi / 2 + correction);
 }
+
+double TailSitterController::TurnRadius() const {
+  return p_.cruise_speed * p_.cruise_speed / (p_.vehicle.gravity * std::tan(p_.bank_max));
+}
+
 
 TailSitterControlParams TailSitterControlParams::FromParameters(const ParameterSet& p) {
   TailSitterControlParams c;
@@ -129,7 +137,7 @@ double TailSitterController::ThrustCommand(double thrust_n, double airspeed) con
 
 std::string TailSitterController::StartTransition(bool to_wing, const hal::VehicleEstimate& est) {
   if (mode_ == TailSitterMode::kTransitionToWing || mode_ == TailSitterMode::kTransitionToHover)
-    return std::string("already in the ") + Name(mode_);
+    return "already in the " + Spoken(Name(mode_));
   if (to_wing && mode_ != TailSitterMode::kHover) return "not hovering: already on the wing";
   if (!to_wing && mode_ != TailSitterMode::kCruise) return "not on the wing: already hovering";
   if (to_wing && est.altitude() < p_.trans_min_alt)
@@ -180,13 +188,16 @@ Eigen::Vector3d TailSitterController::PropwashLift_B(double thrust_n) const {
   return Eigen::Vector3d(0, 0, -0.5 * v.air_density * wash * wash * washed_area * wing_.At(0.0).lift);
 }
 
-double TailSitterController::HoverHeading(double requested, double dt) {
+double TailSitterController::HoverHeading(double requested, bool face, double dt) {
   if (!p_.weathervane) return hover_heading_ = requested;
   // The velocity integrator leans into what pushes the vehicle: turn the wing edge-on to it,
   // whichever of the two ways is nearer, at a limited rate (PX4's weathervane, for a wing).
+  // Asked to face a heading (to transition that way), turn there at the same rate.
   const Eigen::Vector2d push = int_v_N_.head<2>();
   double target = hover_heading_;
-  if (push.norm() > kWeathervaneAccel) {
+  if (face && hover_heading_set_) {
+    target = requested;
+  } else if (push.norm() > kWeathervaneAccel) {
     target = std::atan2(push.y(), push.x()) + kPi / 2;
     if (std::abs(Wrap(target - hover_heading_)) > kPi / 2) target += kPi;
   } else if (!hover_heading_set_) {
@@ -297,7 +308,7 @@ hal::TailSitterInputs TailSitterController::Update(const hal::VehicleEstimate& e
       Eigen::Vector3d v_des;
       v_des.head<2>() = p_.pos_gain_xy * e_p.head<2>();
       if (v_des.head<2>().norm() > p_.speed_max_xy) v_des.head<2>() *= p_.speed_max_xy / v_des.head<2>().norm();
-      v_des.z() = std::clamp(p_.pos_gain_z * e_p.z(), -p_.speed_max_up, p_.speed_max_down);
+      v_des.z() = sp.descent_rate ? *sp.descent_rate : std::clamp(p_.pos_gain_z * e_p.z(), -p_.speed_max_up, p_.speed_max_down);
       const Eigen::Vector3d e_v = v_des - est.v_N;
       int_v_N_.head<2>() += p_.vel_int_xy * e_v.head<2>() * dt;
       int_v_N_.z() += p_.vel_int_z * e_v.z() * dt;
@@ -312,7 +323,7 @@ hal::TailSitterInputs TailSitterController::Update(const hal::VehicleEstimate& e
       const double horizontal_max = -F.z() * std::tan(p_.tilt_max);
       if (F.head<2>().norm() > horizontal_max) F.head<2>() *= horizontal_max / F.head<2>().norm();
       const Eigen::Vector3d x_d = F.normalized();
-      const double heading = HoverHeading(sp.heading, dt);
+      const double heading = HoverHeading(sp.heading, sp.face_heading, dt);
       const Eigen::Vector3d h(std::cos(heading), std::sin(heading), 0);
       const Eigen::Vector3d z_d = (h - h.dot(x_d) * x_d).normalized();
       Eigen::Matrix3d R_d;

@@ -126,12 +126,18 @@ void TaskManager::StartPath(Task task, std::vector<waypoints::MissionStep> steps
                          p_.speed_max_down, p_.path_accel,    p_.path_leash,   p_.return_alt};
   for (const Eigen::Vector3d& r : fence_.rally_N) rp.rally_N.push_back(r.head<2>());
   runner_ = std::make_unique<MissionRunner>(std::move(steps), rp, est);
+  runner_->SetWingBorne(wing_);
   path_ = runner_->Update(est, 0.0);
   setpoint_ = path_.setpoint;
   task_ = task;
   last_percent_ = 0;
   last_progress_t_ = t;
   deadline_ = t + p_.stall_time;
+}
+
+void TaskManager::SetWingBorne(std::optional<WingBorne> wing) {
+  wing_ = wing;
+  if (runner_) runner_->SetWingBorne(wing);
 }
 
 void TaskManager::StartLanding(const VehicleEstimate& est) {
@@ -342,6 +348,13 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       setpoint_ = first.setpoint;
       return Begin(Task::kFollow, req, est, t, reports);
     }
+    case CommandId::kGps:
+    case CommandId::kEmergencyStop:
+    case CommandId::kParam:  // the control thread sets parameters before commands reach here
+      return;
+    case CommandId::kTransition:
+      // A tail-sitter's control thread takes its transitions before they reach here.
+      return reject("this vehicle is a quadrotor: it has no wing to transition to");
     case CommandId::kChirp: {
       // Thesis 2.4.5: the vehicle first hovers, then one channel is excited.
       if (!airborne_ || task_ != Task::kHover) return reject("not hovering: hover first, then chirp");
@@ -471,7 +484,7 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
       const double slow_rate = p_.land_speed / 3.0;
       const bool at_ground = est.altitude() < p_.landed_alt && std::abs(est.v_N.z()) < 0.2;
       const bool stopped = std::abs(est.v_N.z()) < slow_rate / 3.0;
-      if (!at_ground && !stopped) still_since_ = -1.0;
+      if ((!at_ground && !stopped) || descent_deferred_) still_since_ = -1.0;
       else if (still_since_ < 0.0) still_since_ = t;
       const double needed = at_ground ? p_.landed_time : 4.0 * p_.landed_time;
       if (still_since_ >= 0.0 && t - still_since_ >= needed) {
@@ -485,8 +498,9 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
         Finish(AckResult::kCompleted, "", reports);
       }
     } else {
-      const bool reached = (setpoint_.p_N - est.p_N).norm() < p_.reached_radius &&
-                           est.v_N.norm() < p_.reached_speed;
+      const Eigen::Vector3d off = setpoint_.p_N - est.p_N;
+      const bool reached = wing_ ? wing_->OnLoiterCircle(setpoint_.p_N, est.p_N)
+                                 : off.norm() < p_.reached_radius && est.v_N.norm() < p_.reached_speed;
       if (reached) {
         task_ = Task::kHover;  // hold the reached target
         Finish(AckResult::kCompleted, "", reports);

@@ -1,5 +1,7 @@
 #include "uav/hal/tailsitter_params.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -111,6 +113,34 @@ TailSitterParams TailSitterParams::FromParameters(const ParameterSet& s) {
     throw std::invalid_argument(s.source() + ": " + e.what());
   }
   return p;
+}
+
+OutputChannels ToChannels(const TailSitterInputs& in) {
+  OutputChannels c = UnwiredChannels();
+  c[0] = 2.0 * in.thrust - 1.0;
+  c[1] = in.rotor_torque;
+  c[2] = in.gimbal_pitch;
+  c[3] = in.gimbal_yaw;
+  c[4] = in.elevator;
+  c[5] = in.aileron;
+  c[6] = in.canard;
+  c[7] = 2.0 * in.battery - 1.0;
+  return c;
+}
+
+TailSitterInputs FromChannels(const OutputChannels& channels) {
+  OutputChannels c;
+  for (int i = 0; i < kOutputChannels; ++i) c[i] = std::isfinite(channels[i]) ? std::clamp(channels[i], -1.0, 1.0) : -1.0;
+  TailSitterInputs in;
+  in.thrust = 0.5 * (c[0] + 1.0);
+  in.rotor_torque = c[1];
+  in.gimbal_pitch = c[2];
+  in.gimbal_yaw = c[3];
+  in.elevator = c[4];
+  in.aileron = c[5];
+  in.canard = c[6];
+  in.battery = 0.5 * (c[7] + 1.0);
+  return in;
 }
 
 }  // namespace uav::hal

@@ -81,7 +81,7 @@ hal::SensorSample SimVehicle::ReadSensors() {
   return s;
 }
 
-void SimVehicle::WriteOutputs(const std::array<double, 4>& channels) {
+void SimVehicle::WriteOutputs(const hal::OutputChannels& channels) {
   std::lock_guard<std::mutex> lock(mutex_);
   for (int i = 0; i < 4; ++i)
     outputs_[i] = std::isfinite(channels[i]) ? std::clamp(channels[i], -1.0, 1.0) : -1.0;
@@ -95,6 +95,16 @@ Eigen::Vector3d SimVehicle::TruthWind_N() const {
 Eigen::Vector3d SimVehicle::GpsError_N() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return sensors_.gps_error_N();
+}
+
+BodyTruth SimVehicle::Truth() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return {state_.p_N, state_.q_NB * state_.v_B, state_.q_NB, state_.w_B};
+}
+
+void SimVehicle::SetGpsEnabled(bool enabled) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  sensors_.SetGpsEnabled(enabled);
 }
 
 QuadrotorState SimVehicle::TruthState() const {

@@ -89,6 +89,11 @@ VehicleState FromMessage(const uavmsg::vehicle_state_t& m) {
   s.avoid_speed_limit_m_s = m.avoid_speed_limit_m_s;
   s.replan_ms = m.replan_ms;
   s.sim_clearance_m = m.sim_clearance_m;
+  s.vehicle_type = need(VehicleTypeFromWire(m.vehicle_type), "vehicle_type", m.vehicle_type);
+  s.vtol_mode = need(VtolModeFromWire(m.vtol_mode), "vtol_mode", m.vtol_mode);
+  s.transition_progress = m.transition_progress;
+  s.airspeed_m_s = m.airspeed_m_s;
+  s.alpha_rad = m.alpha_rad;
   return s;
 }
 
@@ -132,6 +137,11 @@ void ToMessage(const VehicleState& s, uavmsg::vehicle_state_t* m) {
   m->avoid_speed_limit_m_s = static_cast<float>(s.avoid_speed_limit_m_s);
   m->replan_ms = static_cast<float>(s.replan_ms);
   m->sim_clearance_m = static_cast<float>(s.sim_clearance_m);
+  m->vehicle_type = static_cast<int8_t>(s.vehicle_type);
+  m->vtol_mode = static_cast<int8_t>(s.vtol_mode);
+  m->transition_progress = static_cast<float>(s.transition_progress);
+  m->airspeed_m_s = static_cast<float>(s.airspeed_m_s);
+  m->alpha_rad = static_cast<float>(s.alpha_rad);
 }
 
 }  // namespace uav

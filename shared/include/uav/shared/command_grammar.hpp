@@ -10,7 +10,7 @@
 namespace uav {
 
 enum class CommandId { kArm, kDisarm, kTakeoff, kHover, kLand, kGoto, kTrack, kMission, kReturn, kChirp, kFollow, kGps, kParam,
-                       kEmergencyStop, kResume, kSticks };
+                       kEmergencyStop, kResume, kSticks, kTransition };
 
 struct ArgumentSpec {
   const char* name;   // e.g. "alt_m"
@@ -21,6 +21,9 @@ struct ArgumentSpec {
   // A word naming a vehicle parameter (VehicleParameterSchema), not a number; the next argument
   // is its value, held to that parameter's limits instead of min/max.
   bool parameter_name = false;
+  // Space-separated words the argument may be given as ("mc fw"): each stands for its position
+  // (0, 1, ...), and the canonical text uses the word.
+  const char* keywords = nullptr;
 };
 
 struct CommandSpec {

@@ -11,7 +11,7 @@ namespace uav {
 // How a signal is shown and logged. SI inside; the UI shows angles in degrees.
 enum class SignalFormat {
   kMetres, kSpeed, kAccel, kAngle, kAngularRate, kLatLon, kGeodeticAlt, kNormalised, kVolts, kFraction,
-  kInteger, kBool, kTask, kFailsafe, kFlightMode, kAttitudeMode, kAvoidState, kMilliseconds
+  kInteger, kBool, kTask, kFailsafe, kFlightMode, kAttitudeMode, kAvoidState, kMilliseconds, kVehicleType, kVtolMode
 };
 
 struct SignalDef {

@@ -4,6 +4,7 @@
 // carry it (vehicle_enums.cpp, at compile time). Compare these, never their names.
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace uav {
@@ -28,6 +29,11 @@ enum class AttitudeMode : int8_t {
   kGyroHover = 1,   // outputs go to the gyro, which holds roll and pitch angles (Eq. 2.17-2.19)
   kGyroCruise = 2,  // outputs go to the gyro, which holds the body rates (Eq. 2.20-2.22)
 };
+// The airframe the vehicle file describes (its vehicle_type; vehicle_state_t.VEHICLE_*).
+enum class VehicleType : int8_t { kQuadrotor = 0, kTailSitter = 1 };
+// A tail-sitter's flight mode (thesis 2.6; vehicle_state_t.VTOL_*): on its rotor, on its wing, or
+// between the two. A quadrotor always hovers.
+enum class VtolMode : int8_t { kHover = 0, kTransitionToWing = 1, kCruise = 2, kTransitionToHover = 3 };
 // Who flies: the autopilot, or the pilot through the fail-safe switch (vehicle_state_t.MODE_*).
 enum class FlightMode : int8_t { kManual = 0, kAuto = 1 };
 // What obstacle avoidance's safety layer is doing (vehicle_state_t.AVOID_*).
@@ -48,6 +54,11 @@ std::string_view Name(Severity v);
 std::string_view Name(AttitudeMode v);
 std::string_view Name(FlightMode v);
 std::string_view Name(AvoidState v);
+std::string_view Name(VehicleType v);
+std::string_view Name(VtolMode v);
+
+// A name as the operator reads it in a sentence: "transition to wing" for "transition_to_wing".
+std::string Spoken(std::string_view name);
 
 // The enum for a wire value; nullopt when the value names none (a newer or broken sender).
 std::optional<Task> TaskFromWire(int value);
@@ -57,6 +68,8 @@ std::optional<Severity> SeverityFromWire(int value);
 std::optional<AttitudeMode> AttitudeModeFromWire(int value);
 std::optional<FlightMode> FlightModeFromWire(int value);
 std::optional<AvoidState> AvoidStateFromWire(int value);
+std::optional<VehicleType> VehicleTypeFromWire(int value);
+std::optional<VtolMode> VtolModeFromWire(int value);
 
 // The enum whose Name() is `name` (for parameter files and scripts); nullopt when none is.
 std::optional<Task> TaskFromName(std::string_view name);

@@ -52,6 +52,11 @@ struct VehicleState {
   double avoid_speed_limit_m_s = -1.0;              // [m/s] what the space seen free allows; < 0 off
   double replan_ms = -1.0;                          // [ms] the avoidance planner's last plan; < 0 none
   double sim_clearance_m = -1.0;                    // [m] simulator's true clearance; < 0 none (hardware)
+  VehicleType vehicle_type = VehicleType::kQuadrotor;
+  VtolMode vtol_mode = VtolMode::kHover;            // a tail-sitter's; a quadrotor always hovers
+  double transition_progress = 1.0;                 // [0..1] 1 when not transitioning
+  double airspeed_m_s = -1.0;                       // [m/s] the pitot's; < 0 no pitot
+  double alpha_rad = 0.0;                           // [rad] angle of attack of the estimated velocity
 
   double altitude() const { return -p_N.z(); }      // [m] above home
   double ground_speed() const;                      // [m/s] horizontal, of v_N = R_NB v_B

@@ -14,6 +14,7 @@
 #include "uav/avoid/avoidance.hpp"
 #include "uav/hal/navigation_estimate.hpp"
 #include "uav/control/mixer.hpp"
+#include "uav/control/tailsitter_controller.hpp"
 #include "uav/control/task_manager.hpp"
 #include "uav/hal/vehicle_backend.hpp"
 #include "uav/app/mailbox.hpp"
@@ -49,12 +50,21 @@ struct SharedFrame {
   std::optional<Eigen::Vector3d> v_N_estimate;  // [m/s] the vehicle's estimated velocity then
 };
 
+// U-Lion's flight state, written by CTL (thesis 2.6).
+struct TailSitterStatus {
+  control::TailSitterMode mode = control::TailSitterMode::kHover;
+  double transition_progress = 1.0;  // 0..1 through a transition; 1 when not transitioning
+  double airspeed_mps = 0.0;         // the pitot's reading
+  hal::TailSitterInputs inputs;      // what the controller commands, SVO wires to the channels
+};
+
 struct BlackboardData {
   // IMU thread
   hal::SensorSample sample;
   hal::VehicleEstimate estimate;
   // CTL thread
   control::ServoCommand servo;
+  std::optional<TailSitterStatus> tailsitter;  // U-Lion only
   bool armed = false;
   bool airborne = false;
   control::Task task = control::Task::kIdle;

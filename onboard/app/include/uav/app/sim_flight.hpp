@@ -18,7 +18,7 @@
 #include "uav/app/workers.hpp"
 #include "uav/shared/geodesy.hpp"
 #include "uav/shared/parameters.hpp"
-#include "uav/sim/sim_vehicle.hpp"
+#include "uav/sim/simulated_vehicle.hpp"
 
 namespace uav::world {
 class Scene;
@@ -51,7 +51,8 @@ class SimFlight {
   void Run(const std::function<void(int64_t utime)>& each_period = {});
   void Stop() { scheduler_.Stop(); }
 
-  sim::SimVehicle& vehicle() { return vehicle_; }
+  // The X650 or U-Lion, as the vehicle file's vehicle_type says.
+  sim::SimulatedVehicle& vehicle() { return *vehicle_; }
   Blackboard& board() { return board_; }
   ControlWorker& control() { return ctl_; }
   LockstepScheduler& scheduler() { return scheduler_; }
@@ -61,7 +62,7 @@ class SimFlight {
 
  private:
   Options options_;
-  sim::SimVehicle vehicle_;
+  std::unique_ptr<sim::SimulatedVehicle> vehicle_;
   Blackboard board_;
   ImuWorker imu_;
   ControlWorker ctl_;

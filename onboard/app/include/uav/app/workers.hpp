@@ -11,6 +11,7 @@
 #include "uav/control/pre_arm.hpp"
 #include "uav/avoid/safety_layer.hpp"
 #include "uav/control/position_attitude_controller.hpp"
+#include "uav/control/tailsitter_controller.hpp"
 #include "uav/control/task_manager.hpp"
 #include "uav/hal/vehicle_backend.hpp"
 #include "uav/hal/vehicle_params.hpp"
@@ -54,6 +55,10 @@ class ControlWorker {
   // their ParamApply allows, and the table goes out every 5 s and after each change. Without it
   // a `param` command is refused.
   void ServeParameters(const ParameterSet& params);
+  // U-Lion (vehicle_type 1): its controller flies the tasks in place of the quadrotor's, takes
+  // `transition fw|mc`, flies goto and paths on the wing (legs by L1 guidance, a loiter circle
+  // where it holds), and transitions back to hover on its own before landing and on any failsafe.
+  void UseTailSitter(const control::TailSitterControlParams& params);
 
  private:
   // A `param` command: set, apply to every setting it reaches, answer with the value now used.
@@ -67,6 +72,26 @@ class ControlWorker {
 
   // The pre-arm checks on the ground, given to the task manager and, once a second, to the link.
   void CheckPreArm(const BlackboardData& d, int64_t utime);
+
+  // U-Lion: a command only a tail-sitter takes or refuses (transition; chirp, sticks and follow
+  // need a hover). True when it was handled here.
+  bool TailSitterCommand(const control::CommandRequest& req, const BlackboardData& d, std::vector<CommandAck>* reports);
+  // U-Lion: one control step of the task's setpoint; the inputs and the status to the blackboard.
+  hal::TailSitterInputs FlyTailSitter(const control::TaskManager::Output& out, const control::Setpoint& setpoint,
+                                      const BlackboardData& d, std::vector<CommandAck>* reports);
+  // U-Lion on its wing: how the task manager flies paths and holds (from the turn radius).
+  control::WingBorne WingBorne() const;
+  struct TailSitterControl {
+    explicit TailSitterControl(const control::TailSitterControlParams& params) : controller(params) {}
+    control::TailSitterController controller;
+    std::optional<Eigen::Vector3d> leg_from_N, leg_to_N;  // the leg flown on the wing
+    std::optional<CommandAck> transition;  // the transition command being carried out
+    bool transition_to_wing = false;
+    control::TailSitterMode last_mode = control::TailSitterMode::kHover;
+    std::string last_event;
+    double hover_heading = 0.0;  // where the belly faces in hover [rad]
+  };
+  std::optional<TailSitterControl> tailsitter_;
 
   control::TaskManager tasks_;
   control::MissionSource* missions_;

@@ -6,6 +6,7 @@
 // the acceptance radius; it never runs more than a leash length ahead of the vehicle. Speed and
 // camera steps take effect as the reference passes them; a hold keeps the vehicle at the point
 // it stopped at for its time. Plain class on the simulated clock.
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,6 +31,21 @@ struct MissionRunnerParams {
   std::vector<Eigen::Vector2d> rally_N = {};  // [m] a return lands at the nearest (none: home)
 };
 
+// A winged vehicle cruising (U-Lion on its wing) cannot stop: a path's waypoints are flown
+// through and count as reached within `acceptance_m` horizontally at any speed, and the reference
+// moves at its cruise speed; a point to hold (goto's target) is circled at `loiter_radius_m`, and
+// reached once the vehicle is on that circle.
+struct WingBorne {
+  double acceptance_m = 10.0;     // [m]
+  double speed_mps = 12.0;        // [m/s]
+  double loiter_radius_m = 40.0;  // [m]
+  // On a loiter circle about a point: within 1.2 of its radius and the altitude within the
+  // acceptance radius.
+  bool OnLoiterCircle(const Eigen::Vector3d& centre_N, const Eigen::Vector3d& p_N) const {
+    return (centre_N - p_N).head<2>().norm() < 1.2 * loiter_radius_m && std::abs(centre_N.z() - p_N.z()) < acceptance_m;
+  }
+};
+
 class MissionRunner {
  public:
   MissionRunner(std::vector<waypoints::MissionStep> steps, const MissionRunnerParams& p,
@@ -50,6 +66,8 @@ class MissionRunner {
     std::optional<double> capture_distance_m;  // ... or every this many metres
   };
   Output Update(const VehicleEstimate& est, double dt);
+  // On the wing (nullopt: hovering, the default), from the next step on.
+  void SetWingBorne(std::optional<WingBorne> wing) { wing_ = wing; }
 
   double path_length_m() const { return total_length_; }
 
@@ -74,6 +92,7 @@ class MissionRunner {
   double total_length_ = 0.0, flown_length_ = 0.0;
   std::optional<double> capture_interval_s_, capture_distance_m_;
   std::optional<Eigen::Vector2d> return_to_;  // where the return step lands, once chosen
+  std::optional<WingBorne> wing_;
 };
 
 }  // namespace uav::control

@@ -30,11 +30,11 @@
 #include "uav/hal/navigation_estimate.hpp"
 #include "uav/hal/tailsitter_params.hpp"
 #include "uav/shared/parameters.hpp"
+#include "uav/shared/vehicle_enums.hpp"
 
 namespace uav::control {
 
-enum class TailSitterMode : int8_t { kHover = 0, kTransitionToWing = 1, kCruise = 2, kTransitionToHover = 3 };
-const char* Name(TailSitterMode m);  // "hover", "transition to wing", "cruise", "transition to hover"
+using TailSitterMode = uav::VtolMode;
 
 // How the front transition schedules the pitch: ours (above), or PX4's tail-sitter law for
 // comparison (the pitch ramps linearly over ts 5 s; complete past 63 degrees of rotation once
@@ -57,11 +57,22 @@ struct TailSitterSetpoint {
   // On the wing: when set, the straight leg from here to p_N is followed (L1 guidance) instead
   // of the course `heading`.
   std::optional<Eigen::Vector3d> leg_from_N;
+  // Hover: when set, the vertical position loop is replaced by this descent rate [m/s, down
+  // positive] (a landing).
+  std::optional<double> descent_rate;
+  // Hover: the belly turns to `heading` whatever the wind (ts_weathervane yields), to transition
+  // that way.
+  bool face_heading = false;
 };
 
 // L1 guidance (Park, Deyst and How, 2004) for a straight leg: the course toward the point on the
 // leg `l1_m` from the vehicle (or the leg's nearest point when farther off than that) [rad].
 double L1Course(const Eigen::Vector2d& from_N, const Eigen::Vector2d& to_N, const Eigen::Vector2d& p_N, double l1_m);
+
+// Circling a point on the wing (a fixed wing's hold, PX4's loiter): the course along the circle of
+// `radius_m` about `centre_N`, clockwise seen from above, turned toward the circle in proportion
+// to how far off it the vehicle is, by up to 45 degrees [rad].
+double OrbitCourse(const Eigen::Vector2d& centre_N, const Eigen::Vector2d& p_N, double radius_m);
 
 class TailSitterController {
  public:
@@ -75,6 +86,7 @@ class TailSitterController {
                                double dt);
 
   TailSitterMode mode() const { return mode_; }
+  const TailSitterControlParams& params() const { return p_; }
   // 0..1 through the present transition (1 when not transitioning).
   double transition_progress() const;
   double transition_time() const { return mode_time_; }
@@ -85,6 +97,10 @@ class TailSitterController {
   // could stop), until the setpoint changes.
   const Eigen::Vector3d& hold_N() const { return hold_N_; }
   bool holding() const { return hold_set_; }
+  // Lets the hover go on to the setpoint from the hold (the vehicle has stopped there).
+  void ReleaseHold() { hold_set_ = false; }
+  // The radius of a level turn at cruise speed and the bank limit [m] (a loiter's circle).
+  double TurnRadius() const;
   // The lowest pitch at which `thrust_n` and the wing's lift at this airspeed in level flight
   // give `vertical_n` upward [rad]; 90 degrees when none does.
   double PitchForVertical(double airspeed_mps, double thrust_n, double vertical_n) const;
@@ -99,7 +115,7 @@ class TailSitterController {
   double ThrustCommand(double thrust_n, double airspeed) const;
   // The hover's heading: the requested one, or with ts_weathervane the wing turned edge-on to
   // the wind the velocity integrator feels.
-  double HoverHeading(double requested, double dt);
+  double HoverHeading(double requested, bool face, double dt);
   // The wing's lift in the propwash in still air at this thrust, in B [N] (hover feed-forward).
   Eigen::Vector3d PropwashLift_B(double thrust_n) const;
   void Enter(TailSitterMode m, const hal::VehicleEstimate& est);

@@ -65,6 +65,14 @@ class TaskManager {
   // New settings (a parameter changed over the link): limits apply at once, a follow's or a
   // path's own settings from its next start.
   void SetParams(const TaskParams& params) { p_ = params; }
+  const TaskParams& params() const { return p_; }
+  // A tail-sitter on its wing (nullopt: hovering): goto's target counts as reached within the
+  // acceptance radius at any speed, and paths are flown through their corners at cruise speed.
+  void SetWingBorne(std::optional<WingBorne> wing);
+  // The vehicle cannot descend yet (a tail-sitter still on its wing, or braking from its back
+  // transition toward the landing point): a landing's touchdown detection waits, so a vehicle
+  // holding its height is not taken for one the ground has stopped.
+  void DeferDescent(bool deferred) { descent_deferred_ = deferred; }
   // The uploaded geofence (targets in an exclusion zone or outside every inclusion zone are
   // refused) and rally points (a return goes to the nearest).
   void SetGeofence(waypoints::Geofence fence) { fence_ = std::move(fence); }
@@ -142,6 +150,8 @@ class TaskManager {
   void UpdateSticks(const VehicleEstimate& est, double t, double dt);
 
   TaskParams p_;
+  std::optional<WingBorne> wing_;
+  bool descent_deferred_ = false;
   waypoints::Geofence fence_;
   MissionSource* missions_;
   std::unique_ptr<MissionRunner> runner_;  // track, mission and return

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "uav/hal/tailsitter_aero.hpp"
+#include "uav/hal/vehicle_backend.hpp"
 #include "uav/shared/parameters.hpp"
 
 namespace uav::hal {
@@ -60,5 +61,12 @@ struct TailSitterInputs {
   double canard = 0;        // -1..1: differential, moment about x_B
   double battery = 0;       // 0 forward (cruise CG) .. 1 at the tail (hover CG)
 };
+
+// U-Lion's wiring of the servo board (each channel -1..1): 0 the rotors' collective (-1 stopped,
+// 1 full), 1 their differential, 2-3 the gimbal's pitch and yaw servos, 4 the elevator, 5 the
+// ailerons, 6 the canards, 7 the battery's belt (-1 forward, 1 at the tail).
+OutputChannels ToChannels(const TailSitterInputs& in);
+// The inverse, each value clamped to its range (a non-finite one taken as its channel's -1).
+TailSitterInputs FromChannels(const OutputChannels& channels);
 
 }  // namespace uav::hal

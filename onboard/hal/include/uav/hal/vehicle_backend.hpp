@@ -1,7 +1,8 @@
 #pragma once
 // What the onboard threads see of the vehicle (thesis 2.3.2): the IMU thread reads the raw
-// sensors of the INS box (IMU, GPS, barometer, sonar) and the RC receiver; the SVO thread writes
-// the four output channels. A simulator and, later, hardware drivers implement it.
+// sensors of the INS box (IMU, GPS, barometer, sonar, and on a winged vehicle the pitot) and the
+// RC receiver; the SVO thread writes the servo board's output channels. A simulator and, later,
+// hardware drivers implement it.
 #include <array>
 #include <cstdint>
 
@@ -31,6 +32,10 @@ struct SensorSample {
   int64_t sonar_utime = 0;
   double sonar_range_m = 0.0;
   bool sonar_valid = false;
+  // Pitot tube along x_B (a winged vehicle's air-data probe): the airspeed it reads [m/s];
+  // airspeed_valid false on a vehicle without one.
+  double airspeed_mps = 0.0;
+  bool airspeed_valid = false;
   double battery_voltage_v = 0.0;
   double battery_remaining = 0.0;                  // [0..1]
   // RC receiver (PPM read by the IMU board): aileron, elevator, throttle, rudder in -1..1,
@@ -39,14 +44,24 @@ struct SensorSample {
   bool rc_manual = false;
 };
 
+// The servo board's output channels, each in -1..1 (-1 also: a channel not wired). The quadrotor
+// uses the first four: the rotors M_1..M_4 directly, or the gyro's aileron, elevator, throttle and
+// rudder inputs (VehicleParams::attitude_mode; thesis 2.5, Fig. 2.21). U-Lion uses all eight
+// (hal::ToChannels in tailsitter_params.hpp).
+constexpr int kOutputChannels = 8;
+using OutputChannels = std::array<double, kOutputChannels>;
+inline OutputChannels UnwiredChannels() {
+  OutputChannels c;
+  c.fill(-1.0);
+  return c;
+}
+
 class VehicleBackend {
  public:
   virtual ~VehicleBackend() = default;
   virtual SensorSample ReadSensors() = 0;
-  // The four output channels of the servo board in -1..1; values outside are clamped. What they
-  // drive depends on the wiring (VehicleParams::attitude_mode): the rotors M_1..M_4 directly, or
-  // the gyro's aileron, elevator, throttle and rudder inputs (thesis 2.5, Fig. 2.21).
-  virtual void WriteOutputs(const std::array<double, 4>& channels) = 0;
+  // Values outside -1..1 are clamped; a non-finite value is taken as -1 (off).
+  virtual void WriteOutputs(const OutputChannels& channels) = 0;
 };
 
 }  // namespace uav::hal

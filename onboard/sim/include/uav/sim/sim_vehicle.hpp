@@ -1,5 +1,5 @@
 #pragma once
-// The simulated vehicle behind the VehicleBackend interface: quadrotor model (with the gyro in
+// The simulated X650 behind the VehicleBackend interface: quadrotor model (with the gyro in
 // the loop when the vehicle file says so), wind, battery and the INS box's sensors. Thread-safe:
 // the sim driver steps it while the IMU and SVO threads read and write it.
 #include <array>
@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "uav/hal/vehicle_backend.hpp"
+#include "uav/sim/simulated_vehicle.hpp"
 #include "uav/shared/geodesy.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/sim/quadrotor_model.hpp"
@@ -20,30 +21,26 @@ struct BatteryParams {
   static BatteryParams FromParameters(const ParameterSet& p);
 };
 
-class SimVehicle : public hal::VehicleBackend {
+class SimVehicle : public SimulatedVehicle {
  public:
   SimVehicle(const ParameterSet& params, const GeodeticPoint& home, int64_t start_utime);
 
-  // Advances the simulation by dt_us on the simulated clock.
-  void Step(int64_t dt_us);
-
+  void Step(int64_t dt_us) override;
   hal::SensorSample ReadSensors() override;
-  void WriteOutputs(const std::array<double, 4>& channels) override;
+  // The first four channels (rotors or the gyro's inputs); the others are not wired.
+  void WriteOutputs(const hal::OutputChannels& channels) override;
+  void SetRc(const std::array<double, 4>& sticks, bool manual) override;
+  BodyTruth Truth() const override;
+  Eigen::Vector3d TruthWind_N() const override;
+  int64_t utime() const override;
+  void SetGpsEnabled(bool enabled) override;
 
-  // The simulated RC transmitter: sticks (aileron, elevator, throttle, rudder in -1..1) and the
-  // fail-safe switch (true: the pilot flies).
-  void SetRc(const std::array<double, 4>& sticks, bool manual);
-
-  // Ground truth, for tests and the simulator's own logging; never for the flight stack.
+  // Ground truth with the rotors' state, for tests; never for the flight stack.
   QuadrotorState TruthState() const;
-  Eigen::Vector3d TruthWind_N() const;
   // The error of the latest GPS fix [m], truth to fix, in N.
   Eigen::Vector3d GpsError_N() const;
-  int64_t utime() const;
   const QuadrotorModel& model() const { return model_; }
   const SimSensors& sensors() const { return sensors_; }
-  // Simulator fault: the GPS receiver loses (false) or regains (true) its fix.
-  void SetGpsEnabled(bool enabled) { sensors_.SetGpsEnabled(enabled); }
 
  private:
   mutable std::mutex mutex_;
