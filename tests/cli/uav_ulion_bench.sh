@@ -26,7 +26,7 @@ e = j["endurance"]
 assert e["cruise_w"] < 0.2 * e["hover_w"] and e["cruise_min"] > 10, e
 rows = list(csv.DictReader(open(f"{out}/run.csv")))
 modes = [r["mode"] for r in rows]
-for m in ("hover", "transition to wing", "cruise", "transition to hover"):
+for m in ("hover", "transition_to_wing", "cruise", "transition_to_hover"):
     assert m in modes, m
 print("uav-ulion-bench: ok")
 PY

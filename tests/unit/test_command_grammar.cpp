@@ -110,9 +110,26 @@ TEST(CommandGrammar, RejectsOverlongLine) {
   EXPECT_NE(r.error.find("limit is 256"), std::string::npos);
 }
 
+// `transition fw|mc`: an argument given as one of its words, or the number it stands for; the
+// canonical text uses the word.
+TEST(CommandGrammar, KeywordArgumentsTakeTheirWordsOrNumbers) {
+  const ParseResult fw = ParseCommand("transition FW");
+  ASSERT_TRUE(fw.ok()) << fw.error;
+  EXPECT_EQ(fw.command->id, CommandId::kTransition);
+  EXPECT_EQ(fw.command->args, std::vector<double>{1.0});
+  EXPECT_EQ(fw.command->Text(), "transition fw");
+  const ParseResult mc = ParseCommand("transition 0");
+  ASSERT_TRUE(mc.ok()) << mc.error;
+  EXPECT_EQ(mc.command->Text(), "transition mc");
+  EXPECT_EQ(ParseCommand("transition up").error, "transition: argument to must be one of 'mc fw', got 'up'");
+  EXPECT_NE(ParseCommand("transition 2").error.find("outside [0, 1]"), std::string::npos);
+  EXPECT_NE(ParseCommand("transition").error.find("missing argument to"), std::string::npos);
+  EXPECT_EQ(ArgumentHint("transition"), "transition <mc|fw>");
+}
+
 TEST(CommandGrammar, CompletionAndHints) {
   EXPECT_EQ(CompleteCommandName("ta"), std::vector<std::string>{"takeoff"});
-  EXPECT_EQ(CompleteCommandName("t"), (std::vector<std::string>{"takeoff", "track"}));
+  EXPECT_EQ(CompleteCommandName("t"), (std::vector<std::string>{"takeoff", "track", "transition"}));
   EXPECT_EQ(CompleteCommandName("").size(), CommandSpecs().size());
   EXPECT_EQ(CompleteCommandName("d"), std::vector<std::string>{"disarm"});
   EXPECT_TRUE(CompleteCommandName("x").empty());

@@ -1,4 +1,5 @@
 // uav-onboard: the flight stack's five threads (thesis Table 2.1) against a vehicle backend.
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -65,7 +66,7 @@ struct CommandLine {
 void DeclareOptions(CLI::App& cli, CommandLine& o) {
   cli.add_flag("--list-params", o.list_params,
                "print every vehicle parameter the program declares (name, default, unit, limits, description) and exit");
-  cli.add_flag("--sim", o.sim, "run against the simulated quadrotor (thesis 2.4 model)");
+  cli.add_flag("--sim", o.sim, "run against the simulated vehicle the --params file describes (the X650 quadrotor, thesis 2.4; U-Lion, 2.6)");
   cli.add_option("--vehicle-id", o.vehicle_id, "vehicle id; channels are <ID>/<TOPIC>")->capture_default_str();
   cli.add_option("--lcm-url", o.lcm_url, "LCM URL")->capture_default_str();
   cli.add_option("--speed", o.speed_text, "simulated seconds per wall second, or 'max'")->capture_default_str();
@@ -136,7 +137,11 @@ int Fly(const CommandLine& o) {
   const int64_t start = uav::WallTimeMicros();
   std::unique_ptr<uav::world::Scene> scene;
   if (!o.scene_path.empty()) scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(o.scene_path));
-  uav::app::MissionStore missions(o.paths_dir, home, params.Get("ctl_speed_max_xy"));
+  // A mission may ask for up to the vehicle's speed: a tail-sitter's on its wing is its cruise.
+  const bool tail_sitter = params.Get("vehicle_type") == static_cast<double>(uav::VehicleType::kTailSitter);
+  uav::app::MissionStore missions(o.paths_dir, home,
+                                  tail_sitter ? std::max(params.Get("ctl_speed_max_xy"), params.Get("ts_cruise_speed"))
+                                              : params.Get("ctl_speed_max_xy"));
   uav::app::SimFlight flight(params, {home, start, speed, o.duration_s, scene.get(), o.log_dir, &missions});
   uav::app::Blackboard& board = flight.board();
   flight.control().ServeParameters(params);
@@ -161,8 +166,8 @@ int Fly(const CommandLine& o) {
 
   const std::string signing = link_params.signing_key ? "signed with key " + link_params.signing_key->Id()
                                                       : "INSECURE (unsigned commands from anyone are executed)";
-  std::printf("uav-onboard: vehicle %s, simulated quadrotor, speed %s, LCM %s, %s%s%s%s%s\n", o.vehicle_id.c_str(),
-              o.speed_text.c_str(), o.lcm_url.c_str(), signing.c_str(), log_path.empty() ? "" : ", log ",
+  std::printf("uav-onboard: vehicle %s, simulated %s, speed %s, LCM %s, %s%s%s%s%s\n", o.vehicle_id.c_str(),
+              tail_sitter ? "U-Lion tail-sitter" : "X650 quadrotor", o.speed_text.c_str(), o.lcm_url.c_str(), signing.c_str(), log_path.empty() ? "" : ", log ",
               log_path.c_str(), events_path.empty() ? "" : ", events ", events_path.c_str());
   std::fflush(stdout);
   flight.Run();

@@ -17,6 +17,7 @@ constexpr int kWarmUpFrames = 5;             // frames taken as sure while the P
 constexpr float kSurroundWeight = 0.2f;      // the surroundings' weight in the learned sample
 constexpr double kMinInViewShare = 0.5;
 constexpr int kRedetectReach = 1;
+constexpr double kSureLevelRate = 0.05, kUnsureLevelRate = 0.02;
 
 // |z|^2 of a complex (2-channel) spectrum.
 cv::Mat SquaredMagnitude(const cv::Mat& z) {
@@ -347,10 +348,15 @@ CorrelationDetection CorrelationTracker::Update(const cv::Mat& grey) {
       }
   }
   centre_ = found.centre;
+  // The PSR level follows sure frames quickly and the others slowly: a lasting change of
+  // appearance (a walker setting off, the camera turning, light) lowers it within a few frames,
+  // a brief occlusion hardly.
+  if (!sure && sure_frames_ >= kWarmUpFrames && in_view(found.centre))
+    psr_level_ += kUnsureLevelRate * (found.psr - psr_level_);
   if (sure) {
     last_sure_ = centre_;
     psr_level_ = sure_frames_ < kWarmUpFrames ? (psr_level_ * sure_frames_ + found.psr) / (sure_frames_ + 1)
-                                              : 0.95 * psr_level_ + 0.05 * found.psr;
+                                              : psr_level_ + kSureLevelRate * (found.psr - psr_level_);
     ++sure_frames_;
     scale_ = std::clamp(scale_ * EstimateScaleChange(grey), min_scale_, max_scale_);
     Learn(grey, p_.learning_rate, p_.scale_learning_rate);

@@ -255,14 +255,18 @@ struct TargetTracker::Impl {
     return r;
   }
 
-  // Sure detections track; lost_frames unsure ones in a row (occluded, out of view) lose the
-  // target, and the filter searches around where it was last seen until it is sure again.
+  // As CamShift's: a frame whose confidence (the PSR against its level) is under lost_confidence
+  // counts towards losing the target, lost_frames of them in a row lose it (occluded, out of
+  // view). Between that and a sure detection the filter follows without learning (a changed
+  // gait, a partial occlusion). Lost, it searches around where it was last seen until sure again.
   TrackResult UpdateCorrelation(const cv::Mat& bgr) {
     cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
     const detail::CorrelationDetection d = correlation->Update(grey);
     if (d.sure) {
       low_frames = 0;
       state = TrackState::kTracking;
+    } else if (d.confidence >= p.lost_confidence && state == TrackState::kTracking) {
+      low_frames = 0;
     } else if (++low_frames >= p.lost_frames) {
       state = TrackState::kLost;
     }
