@@ -64,11 +64,6 @@ void DrawSurveyPanel(GcsModel& model, UiContext& ctx) {
   Field(ctx, planner, "grid angle [deg]", "survey:angle", &p.grid_angle_deg, 1.0, "%.1f");
   ImGui::SameLine();
   Field(ctx, planner, "turnaround [m]", "survey:turnaround", &p.turnaround_m, 1.0, "%.1f");
-  // A fixed wing (U-Lion on its wing) cannot turn tighter than this: consecutive lines are then
-  // flown at least two radii apart, the lines between taken later (0: a multicopter turns on the spot).
-  Field(ctx, planner, "turn radius [m]", "survey:turn_radius", &p.turn_radius_m, 1.0, "%.1f");
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("a fixed wing's: cruise speed^2 / (g tan bank), 27 m for U-Lion at 12 m/s and 28.6 deg");
   Field(ctx, planner, "capture rate [Hz]", "survey:rate", &p.capture_rate_hz, 1.0, "%.1f");
   ImGui::SameLine();
   Field(ctx, planner, "trigger dist [m]", "survey:trigger", &p.trigger_distance_m, 1.0, "%.1f");
@@ -78,6 +73,12 @@ void DrawSurveyPanel(GcsModel& model, UiContext& ctx) {
   ImGui::SameLine();
   if (ImGui::Checkbox("crosshatch", &p.crosshatch)) planner.ParamsChanged();
   RegisterLastItem(ctx, "survey:crosshatch");
+  // A fixed wing (U-Lion on its wing) cannot turn tighter than this: consecutive lines are then
+  // flown at least two radii apart, the lines between taken later (0: a multicopter turns on the spot).
+  ImGui::SameLine();
+  Field(ctx, planner, "turn radius [m]", "survey:turn_radius", &p.turn_radius_m, 1.0, "%.1f");
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("a fixed wing's: cruise speed^2 / (g tan bank), 27 m for U-Lion at 12 m/s and 28.6 deg");
 
   ImGui::Separator();
   if (const auto& plan = planner.plan()) {

@@ -39,6 +39,21 @@ Eigen::Vector3d SimSensors::Normal3() {
   return {x, y, z};
 }
 
+ImuDeltas::Reading ImuDeltas::Measure(int64_t utime, const Eigen::Vector3d& v_N, const Eigen::Quaterniond& q_NB,
+                                      double gravity, const Reading& first) {
+  Reading r = first;
+  const double T = (utime - last_utime_) * 1e-6;
+  if (last_utime_ >= 0 && T > 0.0) {
+    r.f_B = q_NB.conjugate() * ((v_N - last_v_N_) / T - Eigen::Vector3d(0, 0, gravity));
+    const Eigen::AngleAxisd dq(last_q_NB_.conjugate() * q_NB);
+    r.w_B = dq.axis() * dq.angle() / T;
+  }
+  last_utime_ = utime;
+  last_v_N_ = v_N;
+  last_q_NB_ = q_NB;
+  return r;
+}
+
 void SimSensors::Sample(int64_t utime, const QuadrotorState& truth, const Eigen::Vector3d& specific_force_B,
                         hal::SensorSample* out) {
   const double dt = last_utime_ < 0 ? 0.0 : (utime - last_utime_) * 1e-6;

@@ -47,28 +47,17 @@ hal::SensorSample SimTailSitter::ReadSensors() {
   s.utime = utime_;
   s.rc_sticks = rc_sticks_;
   s.rc_manual = rc_manual_;
-  // Mean specific force and rate since the previous sample, as the quadrotor's (SimVehicle).
-  const Eigen::Vector3d v_N = state_.q_NB * state_.v_B;
-  const Eigen::Vector3d g_N(0, 0, model_.params().gravity);
-  Eigen::Vector3d f_B, w_B;
-  const double T = (utime_ - last_read_utime_) * 1e-6;
-  if (last_read_utime_ < 0 || T <= 0.0) {
-    f_B = state_.q_NB.conjugate() * -g_N;  // first sample: standing, the tail carries the weight
-    w_B = state_.w_B;
-  } else {
-    f_B = state_.q_NB.conjugate() * ((v_N - last_read_v_N_) / T - g_N);
-    const Eigen::AngleAxisd dq(last_read_q_NB_.conjugate() * state_.q_NB);
-    w_B = dq.axis() * dq.angle() / T;
-  }
-  last_read_utime_ = utime_;
-  last_read_v_N_ = v_N;
-  last_read_q_NB_ = state_.q_NB;
+  const double g = model_.params().gravity;
+  ImuDeltas::Reading first;  // standing, the tail carries the weight
+  first.f_B = state_.q_NB.conjugate() * Eigen::Vector3d(0, 0, -g);
+  first.w_B = state_.w_B;
+  const ImuDeltas::Reading imu = imu_.Measure(utime_, state_.q_NB * state_.v_B, state_.q_NB, g, first);
   QuadrotorState measured;
   measured.p_N = state_.p_N;
   measured.v_B = state_.v_B;
   measured.q_NB = state_.q_NB;
-  measured.w_B = w_B;
-  sensors_.Sample(utime_, measured, f_B, &s);
+  measured.w_B = imu.w_B;
+  sensors_.Sample(utime_, measured, imu.f_B, &s);
   // The pitot reads the flow along the fuselage; the rotor's slipstream does not reach it (it
   // sits ahead of the propeller disk on the nose boom).
   const TailSitterAirData air = model_.AirData(state_, wind_.wind_N());

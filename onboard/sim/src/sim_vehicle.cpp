@@ -52,27 +52,15 @@ hal::SensorSample SimVehicle::ReadSensors() {
   s.utime = utime_;
   s.rc_sticks = rc_sticks_;
   s.rc_manual = rc_manual_;
-  // Mean specific force and body rate since the previous sample (delta-velocity, delta-angle),
-  // so that touchdowns and fast manoeuvres between samples reach the INS.
-  const Eigen::Vector3d v_N = state_.q_NB * state_.v_B;
-  const Eigen::Vector3d g_N(0, 0, model_.params().gravity);
-  Eigen::Vector3d f_B, w_B;
-  const double T = (utime_ - last_read_utime_) * 1e-6;
-  if (last_read_utime_ < 0 || T <= 0.0) {
-    // First sample: instantaneous (on the ground the legs carry the weight).
-    f_B = on_ground_ ? Eigen::Vector3d(state_.q_NB.conjugate() * -g_N) : model_.SpecificForceB(state_, wind_.wind_N());
-    w_B = state_.w_B;
-  } else {
-    f_B = state_.q_NB.conjugate() * ((v_N - last_read_v_N_) / T - g_N);
-    const Eigen::AngleAxisd dq(last_read_q_NB_.conjugate() * state_.q_NB);
-    w_B = dq.axis() * dq.angle() / T;
-  }
-  last_read_utime_ = utime_;
-  last_read_v_N_ = v_N;
-  last_read_q_NB_ = state_.q_NB;
+  const double g = model_.params().gravity;
+  ImuDeltas::Reading first;  // on the ground the legs carry the weight
+  first.f_B = on_ground_ ? Eigen::Vector3d(state_.q_NB.conjugate() * Eigen::Vector3d(0, 0, -g))
+                         : model_.SpecificForceB(state_, wind_.wind_N());
+  first.w_B = state_.w_B;
+  const ImuDeltas::Reading imu = imu_.Measure(utime_, state_.q_NB * state_.v_B, state_.q_NB, g, first);
   QuadrotorState measured = state_;
-  measured.w_B = w_B;
-  sensors_.Sample(utime_, measured, f_B, &s);
+  measured.w_B = imu.w_B;
+  sensors_.Sample(utime_, measured, imu.f_B, &s);
   const double remaining =
       std::clamp(1.0 - battery_used_ah_ / battery_.capacity_ah, 0.0, 1.0);
   s.battery_remaining = remaining;

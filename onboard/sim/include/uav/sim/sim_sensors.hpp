@@ -7,6 +7,7 @@
 #include <random>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "uav/hal/vehicle_backend.hpp"
 #include "uav/shared/geodesy.hpp"
@@ -24,6 +25,26 @@ struct SensorParams {
   static SensorParams FromParameters(const ParameterSet& p);
   // Earth's field in N, unit strength (declination taken as zero: magnetic north is north).
   Eigen::Vector3d MagneticField_N() const;
+};
+
+// The IMU integrates between samples (as a MEMS IMU's filter and the ArduIMU's oversampling do):
+// what it reads are the mean specific force and body rate since the previous sample, from the
+// velocity and attitude then and now (delta-velocity, delta-angle), so that touchdowns and fast
+// manoeuvres between samples reach the INS.
+class ImuDeltas {
+ public:
+  struct Reading {
+    Eigen::Vector3d f_B = Eigen::Vector3d::Zero();  // [m/s^2] specific force
+    Eigen::Vector3d w_B = Eigen::Vector3d::Zero();  // [rad/s]
+  };
+  // The truth at `utime`; the first call (no previous sample) reads `first`, the instantaneous values.
+  Reading Measure(int64_t utime, const Eigen::Vector3d& v_N, const Eigen::Quaterniond& q_NB, double gravity,
+                  const Reading& first);
+
+ private:
+  int64_t last_utime_ = -1;
+  Eigen::Vector3d last_v_N_ = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond last_q_NB_ = Eigen::Quaterniond::Identity();
 };
 
 class SimSensors {

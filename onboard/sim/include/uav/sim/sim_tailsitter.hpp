@@ -41,9 +41,7 @@ class SimTailSitter : public SimulatedVehicle {
   TailSitterState state_;
   TailSitterInputs inputs_;
   bool on_ground_ = true;
-  int64_t last_read_utime_ = -1;
-  Eigen::Vector3d last_read_v_N_ = Eigen::Vector3d::Zero();
-  Eigen::Quaterniond last_read_q_NB_ = Eigen::Quaterniond::Identity();
+  ImuDeltas imu_;
   double battery_used_ah_ = 0.0;
   int64_t utime_;
   std::array<double, 4> rc_sticks_ = {0, 0, -1, 0};

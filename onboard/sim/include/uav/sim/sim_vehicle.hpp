@@ -51,11 +51,7 @@ class SimVehicle : public SimulatedVehicle {
   WindModel wind_;
   QuadrotorState state_;
   bool on_ground_ = true;
-  // The IMU integrates between samples (as a MEMS IMU's filter and the ArduIMU's oversampling
-  // do): the velocity and attitude at the previous sample give the mean specific force and rate.
-  int64_t last_read_utime_ = -1;
-  Eigen::Vector3d last_read_v_N_ = Eigen::Vector3d::Zero();
-  Eigen::Quaterniond last_read_q_NB_ = Eigen::Quaterniond::Identity();
+  ImuDeltas imu_;
   std::array<double, 4> outputs_;
   // Outputs of the last gyro_hover_delay, oldest first (Eq. 2.17-2.18 dead time).
   std::deque<std::array<double, 4>> output_history_;
