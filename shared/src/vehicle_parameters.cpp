@@ -127,6 +127,7 @@ const ParameterSchema& VehicleParameterSchema() {
     {"ts_trans_alt_loss", "m", 3, 0.5, 50, "a transition losing more height aborts to hover"},
     {"ts_weathervane", "-", 1, 0, 1, "hover: 1 turns the wing edge-on to the wind (the heading follows the wind), 0 holds the commanded heading"},
     {"ts_trans_min_alt", "m", 5, 1, 100, "no transition below this altitude"},
+    {"ts_land_approach_alt", "m", 20, 1, 100, "a landing from the wing circles its point down to this altitude, then transitions to hover (at least ts_trans_min_alt)"},
     {"ts_bank_max", "rad", 0.5, 0.05, 1.2, "cruise: bank limit in coordinated turns"},
 
     // --- Simulated sensors (thesis 2.3.2: ArduIMU with magnetometer, u-blox GPS, barometer, sonar) ---

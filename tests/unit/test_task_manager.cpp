@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
 
 #include "uav/control/task_manager.hpp"
 #include "uav/shared/parameters.hpp"
@@ -309,6 +310,53 @@ TEST_F(TaskManagerTest, AReturnAtAltitudeFliesHomeLevelAndLands) {
   EXPECT_TRUE(landing) << Name(out_.task) << " at " << est_.p_N.transpose();
   EXPECT_LT(highest, 4.3);
   EXPECT_LT(est_.p_N.head<2>().norm(), 0.5);
+}
+
+// U-Lion's front transition outruns the hover's reference and passes wide of a corner it cannot
+// stop at; once on the wing the runner counts the corner as passed (its finish line crossed) and
+// goes on, rather than holding the reference short of it while the wing flies on along the leg.
+TEST(MissionRunnerTest, AWingThatPassedACornerInItsTransitionGoesOnToTheNextLeg) {
+  using Step = waypoints::MissionStep;
+  std::vector<Step> steps;
+  for (auto [n, e, item] : {std::tuple{40.0, 0.0, 1}, {60.0, -40.0, 2}, {60.0, -100.0, 3}}) {
+    Step s{Step::Kind::kWaypoint};
+    s.p_N = {n, e, -30};
+    s.yaw_rad = NAN;
+    s.item = static_cast<std::size_t>(item);
+    steps.push_back(s);
+  }
+  const MissionRunnerParams p{1.0, 0.5, 3.0, 2.0, 1.0, 1.0, 5.0, 30.0};
+  VehicleEstimate est;
+  est.p_N = {0, 0, -30};
+  MissionRunner runner(steps, p, est);
+  // Hover's reference at 3 m/s; the vehicle transitions along the first leg at 12 m/s, through
+  // the corner before it is on the wing, and 56 m past it when it is.
+  MissionRunner::Output o;
+  const double dt = 0.02;
+  for (int i = 0; i < 400; ++i) {
+    est.p_N += Eigen::Vector3d(12 * dt, 0, 0);
+    est.v_N = {12, 0, 0};
+    o = runner.Update(est, dt);
+  }
+  ASSERT_EQ(o.item, 1) << "the hover's runner waits at its corner for a vehicle that is not there";
+  runner.SetWingBorne(WingBorne{13.5, 12.0, 40.0});
+  // The wing flies each leg as a straight line from where it was when the leg began, as the
+  // tail-sitter's L1 does, which goes on along the line past the leg's end.
+  bool passed_first = false, reached_last = false;
+  Eigen::Vector3d goal = steps[0].p_N, direction(1, 0, 0);
+  for (int i = 0; i < 6000 && !reached_last; ++i) {
+    o = runner.Update(est, dt);
+    passed_first = passed_first || o.item >= 2;
+    if (o.leg_end_N && !o.leg_end_N->isApprox(goal)) {
+      goal = *o.leg_end_N;
+      direction = (goal - est.p_N).normalized();
+    }
+    est.v_N = 12 * direction;
+    est.p_N += est.v_N * dt;
+    reached_last = o.done;
+  }
+  EXPECT_TRUE(passed_first);
+  EXPECT_TRUE(reached_last) << "item " << o.item << " at " << est.p_N.transpose();
 }
 
 // A goto replaced by hover closes as replaced and says nothing after.

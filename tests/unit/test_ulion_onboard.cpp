@@ -60,7 +60,7 @@ struct Pilot {
 double Altitude(const sim::BodyTruth& s) { return -s.p_N.z(); }
 
 // The whole VTOL flight: takeoff 30 m, transition fw, goto 300 m north on the wing, loiter,
-// land (back-transition on its own), touchdown and disarm.
+// land (circling down to 20 m on the wing, back-transition on its own), touchdown and disarm.
 TEST(ULionOnboard, TakesOffTransitionsFliesToAPointOnTheWingLoitersAndLands) {
   Pilot pilot(ULion(), 400.0);
   enum Stage { kArm, kTakeoff, kTransition, kGoto, kLoiter, kLand, kDone } stage = kArm;
@@ -72,7 +72,8 @@ TEST(ULionOnboard, TakesOffTransitionsFliesToAPointOnTheWingLoitersAndLands) {
   pilot.Run([&](double t, const BlackboardData& d) {
     const sim::BodyTruth truth = pilot.flight.vehicle().Truth();
     const bool wing = d.tailsitter && d.tailsitter->mode == control::TailSitterMode::kCruise;
-    if (wing) min_wing_alt = std::min(min_wing_alt, Altitude(truth)), max_wing_alt = std::max(max_wing_alt, Altitude(truth));
+    if (wing && stage < kLand)
+      min_wing_alt = std::min(min_wing_alt, Altitude(truth)), max_wing_alt = std::max(max_wing_alt, Altitude(truth));
     if (std::getenv("ULION_TRACE") && static_cast<int>(t * 50) % 50 == 0)
       std::printf("t %.0f stage %d task %s mode %s p %.1f %.1f alt %.1f v %.1f as %.1f\n", t, stage, std::string(Name(d.task)).c_str(),
                   d.tailsitter ? std::string(Name(d.tailsitter->mode)).c_str() : "-", truth.p_N.x(), truth.p_N.y(), Altitude(truth),
@@ -125,6 +126,7 @@ TEST(ULionOnboard, TakesOffTransitionsFliesToAPointOnTheWingLoitersAndLands) {
   // The loiter circle is 1.5 turn radii (40 m at 12 m/s and ts_bank_max).
   EXPECT_GT(loiter_min, 34.0);
   EXPECT_LT(loiter_max, 52.0);
+  EXPECT_TRUE(pilot.Said("landing: circling down on the wing to 20 m"));
   EXPECT_TRUE(pilot.Said("transition to hover before landing"));
   EXPECT_LT((touchdown - land_at).head<2>().norm(), 3.0);
   EXPECT_NEAR(touchdown.z(), 0.0, 0.2);
@@ -132,7 +134,8 @@ TEST(ULionOnboard, TakesOffTransitionsFliesToAPointOnTheWingLoitersAndLands) {
 
 // A mission uploaded as for the quadrotor: take-off to 40 m, a 400 x 200 m rectangle, return
 // home. The vehicle turns its belly toward the first leg, transitions on its own, flies the legs
-// on the wing through their corners, flies home on the wing and transitions back to land there.
+// on the wing through their corners, flies home on the wing, circles down to
+// ts_land_approach_alt (20 m) and transitions back there to land.
 TEST(ULionOnboard, FliesAMissionOnTheWingAndLandsAtHome) {
   const ParameterSet params = ULion();
   MissionStore missions(std::string(UAV_RESOURCE_DIR) + "/../waypoints/paths", Pilot::Home(), 12.0);
@@ -154,7 +157,7 @@ TEST(ULionOnboard, FliesAMissionOnTheWingAndLandsAtHome) {
   ASSERT_EQ(missions.AcceptUpload(m), "");
   Pilot pilot(params, 600.0, &missions);
   int mission = 0;
-  double worst_corner = 0, min_wing_alt = 1e9, wing_s = 0, flown_s = 0;
+  double worst_corner = 0, min_wing_alt = 1e9, wing_s = 0, flown_s = 0, back_transition_alt = -1;
   std::vector<double> nearest(corners.size(), 1e9);
   bool landed = false;
   Eigen::Vector3d touchdown = Eigen::Vector3d::Zero();
@@ -174,19 +177,26 @@ TEST(ULionOnboard, FliesAMissionOnTheWingAndLandsAtHome) {
                   std::atan2(belly.y(), belly.x()) * 180 / M_PI, d.mission_item);
     }
     for (std::size_t i = 0; i < corners.size(); ++i) nearest[i] = std::min(nearest[i], (truth.p_N.head<2>() - corners[i]).norm());
-    if (d.tailsitter && d.tailsitter->mode == control::TailSitterMode::kCruise)
-      wing_s += 0.02, min_wing_alt = std::min(min_wing_alt, Altitude(truth));
+    // On the legs (the landing's approach then circles down).
+    if (d.tailsitter && d.tailsitter->mode == control::TailSitterMode::kCruise) {
+      wing_s += 0.02;
+      if (d.task == Task::kMission) min_wing_alt = std::min(min_wing_alt, Altitude(truth));
+    }
+    if (d.tailsitter && d.tailsitter->mode == control::TailSitterMode::kTransitionToHover && back_transition_alt < 0)
+      back_transition_alt = Altitude(truth);
     return true;
   });
   for (double n : nearest) worst_corner = std::max(worst_corner, n);
-  std::printf("[ ulion ] mission: %.0f s in the air, %.0f s on the wing, lowest on the wing %.1f m, corners passed within "
-              "%.1f m at worst, touchdown %.1f m from home\n",
-              flown_s, wing_s, min_wing_alt, worst_corner, touchdown.head<2>().norm());
+  std::printf("[ ulion ] mission: %.0f s in the air, %.0f s on the wing, lowest on the legs %.1f m, corners passed within "
+              "%.1f m at worst, back transition at %.1f m, touchdown %.1f m from home\n",
+              flown_s, wing_s, min_wing_alt, worst_corner, back_transition_alt, touchdown.head<2>().norm());
   ASSERT_TRUE(landed);
   ASSERT_TRUE(pilot.Ack(mission));
   EXPECT_EQ(pilot.Ack(mission)->result, CommandResult::kCompleted) << pilot.Ack(mission)->reason;
   EXPECT_TRUE(pilot.Said("transition to the wing for the mission"));
   EXPECT_TRUE(pilot.Said("transition to hover before landing"));
+  EXPECT_TRUE(pilot.Said("landing: circling down on the wing to 20 m"));
+  EXPECT_NEAR(back_transition_alt, 21.0, 2.0);  // ts_land_approach_alt and its 2 m tolerance
   EXPECT_GT(wing_s, 100.0);  // 1600 m of legs and the way home at 12 m/s
   EXPECT_GT(min_wing_alt, 35.0);
   EXPECT_LT(worst_corner, 15.0);  // within the acceptance radius (half a turn radius)

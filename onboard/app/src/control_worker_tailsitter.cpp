@@ -20,6 +20,8 @@ constexpr double kContinueLegRadii = 3.0;
 // starts once the belly faces the leg's end within this [rad].
 constexpr double kWingLegLoiterRadii = 2.0;
 constexpr double kTransitionHeadingError = 10 * M_PI / 180;
+// A landing's approach on the wing ends this close above ts_land_approach_alt [m].
+constexpr double kApproachAltitudeTolerance = 2.0;
 // The hover lets go of the point where the back transition stopped once this slow [m/s].
 constexpr double kReleaseHoldSpeed = 0.5;
 
@@ -74,12 +76,28 @@ hal::TailSitterInputs ControlWorker::FlyTailSitter(const control::TaskManager::O
   TailSitterControl& ts = *tailsitter_;
   control::TailSitterController& ctl = ts.controller;
   const hal::VehicleEstimate& est = d.estimate;
-  // Back to hover on its own before a landing and on any failsafe (a wing cannot land here).
-  const bool must_hover = out.task == control::Task::kLand || setpoint.descent_rate || tasks_.enforced() != FailsafeAction::kNone;
+  // Back to hover on its own before a landing (a wing cannot land here) and on a failsafe that
+  // holds or lands. A failsafe return flies home on the wing, as PX4's VTOL return does: U-Lion
+  // cruises 40 minutes on a pack it hovers on for under 4, so a return in hover from the fence
+  // would end in the battery's forced landing; the landing at home transitions back.
+  const FailsafeAction failsafe = failsafes_.required();
+  const bool failsafe_hover = failsafe != FailsafeAction::kNone && failsafe != FailsafeAction::kReturn;
+  const bool landing = out.task == control::Task::kLand || setpoint.descent_rate;
+  // A landing from the wing first circles its point down to ts_land_approach_alt (hover costs 11
+  // times the cruise's power) and transitions on that circle, a loiter radius from the point; a
+  // failsafe that lands transitions where it is.
+  const bool approach = landing && !failsafe_hover && ctl.mode() == control::TailSitterMode::kCruise &&
+                        (est.altitude() > ctl.params().land_approach_alt + kApproachAltitudeTolerance ||
+                         !WingBorne().OnLoiterCircle(Eigen::Vector3d(setpoint.p_N.x(), setpoint.p_N.y(), est.p_N.z()), est.p_N));
+  if (approach && !ts.approaching)
+    board_.PushStatus(Severity::kInfo, "landing: circling down on the wing to " +
+                                           std::to_string(static_cast<int>(ctl.params().land_approach_alt)) + " m");
+  ts.approaching = approach;
+  const bool must_hover = (landing && !approach) || failsafe_hover;
   if (must_hover && OnTheWing(ctl.mode()) && ctl.StartTransition(false, est).empty()) {
     board_.PushStatus(Severity::kInfo, out.task == control::Task::kLand || setpoint.descent_rate
                                            ? "transition to hover before landing"
-                                           : "transition to hover: failsafe " + std::string(Name(tasks_.enforced())));
+                                           : "transition to hover: failsafe " + std::string(Name(failsafe)));
     if (ts.transition) {
       CommandAck ack = *ts.transition;
       ack.result = CommandResult::kFailed;
@@ -115,7 +133,10 @@ hal::TailSitterInputs ControlWorker::FlyTailSitter(const control::TaskManager::O
     const control::WingBorne wing = WingBorne();
     // A held point (a goto reached, a hover) is circled; a goto's target once on its circle.
     const bool hold = out.task != control::Task::kGoto;
-    if (!path && (hold || wing.OnLoiterCircle(Eigen::Vector3d(goal.x(), goal.y(), est.p_N.z()), est.p_N))) {
+    if (approach) {
+      sp.p_N = Eigen::Vector3d(setpoint.p_N.x(), setpoint.p_N.y(), -ctl.params().land_approach_alt);
+      sp.heading = control::OrbitCourse(setpoint.p_N.head<2>(), est.p_N.head<2>(), wing.loiter_radius_m);
+    } else if (!path && (hold || wing.OnLoiterCircle(Eigen::Vector3d(goal.x(), goal.y(), est.p_N.z()), est.p_N))) {
       sp.heading = control::OrbitCourse(goal.head<2>(), est.p_N.head<2>(), wing.loiter_radius_m);
     } else {
       sp.leg_from_N = ts.leg_from_N;

@@ -67,6 +67,7 @@ void MissionRunner::Advance() {
         ++index_;
         continue;
       case Kind::kWaypoint:
+        leg_from_ = target_;
         target_ = s.p_N;
         if (!std::isnan(s.yaw_rad)) yaw_ = s.yaw_rad;
         moving_ = true;
@@ -133,10 +134,12 @@ MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double d
     if (!waiting_) {
       const Eigen::Vector3d dir = dist > 1e-9 ? Eigen::Vector3d(to_go / dist) : Eigen::Vector3d::Zero();
       // A vehicle more than a leash away and ahead of the reference along the leg (back from a
-      // detour around an obstacle) takes the reference along to where it is.
+      // detour around an obstacle, or a wing that outran the hover's reference in its front
+      // transition) takes the reference along to where it is, up to the leg's end: the leash
+      // below would otherwise hold the reference short of it for good.
       const double ahead = (est.p_N - ref_).dot(dir);
       if (ahead > 0.0 && (est.p_N - ref_).norm() > p_.leash) {
-        const double jump = std::min(ahead, std::max(0.0, dist - 1e-3));
+        const double jump = std::min(ahead, dist);
         ref_ += dir * jump;
         flown_length_ += jump;
         dist -= jump;
@@ -167,7 +170,12 @@ MissionRunner::Output MissionRunner::Update(const VehicleEstimate& est, double d
         v_ff = dir * v;
       }
     }
-    const bool there = wing_ ? (est.p_N - target_).head<2>().norm() < wing_->acceptance_m
+    // On the wing a waypoint is also reached once the vehicle has crossed the line through it
+    // square to the leg (ArduPlane's finish line): a wing that passed wide of it (it was still
+    // transitioning there) would otherwise fly on along the leg.
+    const Eigen::Vector2d leg = (target_ - leg_from_).head<2>();
+    const bool crossed = leg.norm() > 1e-6 && (est.p_N - target_).head<2>().dot(leg) > 0.0;
+    const bool there = wing_ ? (est.p_N - target_).head<2>().norm() < wing_->acceptance_m || crossed
                              : (est.p_N - target_).norm() < p_.reached_radius && est.v_N.norm() < p_.reached_speed;
     if (waiting_ && there) {
       waiting_ = false;

@@ -94,6 +94,7 @@ TailSitterControlParams TailSitterControlParams::FromParameters(const ParameterS
   c.trans_timeout = p.Get("ts_trans_timeout");
   c.trans_alt_loss = p.Get("ts_trans_alt_loss");
   c.trans_min_alt = p.Get("ts_trans_min_alt");
+  c.land_approach_alt = p.Get("ts_land_approach_alt");
   c.bank_max = p.Get("ts_bank_max");
   c.weathervane = p.Get("ts_weathervane") != 0;
   return c;
@@ -114,6 +115,10 @@ TailSitterController::TailSitterController(const TailSitterControlParams& params
   if (p_.trans_airspeed < wing_.StallSpeed(v.mass_kg, v.air_density))
     throw std::invalid_argument("ts_trans_airspeed " + std::to_string(p_.trans_airspeed) + " m/s is below the stall speed " +
                                 std::to_string(wing_.StallSpeed(v.mass_kg, v.air_density)) + " m/s");
+  if (p_.land_approach_alt < p_.trans_min_alt)
+    throw std::invalid_argument("ts_land_approach_alt " + std::to_string(p_.land_approach_alt) +
+                                " m is below ts_trans_min_alt " + std::to_string(p_.trans_min_alt) +
+                                " m: the landing's back transition would be refused");
   stall_speed_ = wing_.StallSpeed(v.mass_kg, v.air_density);
   cruise_alpha_ = trim.alpha_rad;
   cruise_thrust_ = trim.thrust_n;

@@ -90,6 +90,7 @@ class ControlWorker {
     control::TailSitterMode last_mode = control::TailSitterMode::kHover;
     std::string last_event;
     double hover_heading = 0.0;  // where the belly faces in hover [rad]
+    bool approaching = false;    // a landing circling down on the wing
   };
   std::optional<TailSitterControl> tailsitter_;
 

@@ -32,7 +32,8 @@ struct MissionRunnerParams {
 };
 
 // A winged vehicle cruising (U-Lion on its wing) cannot stop: a path's waypoints are flown
-// through and count as reached within `acceptance_m` horizontally at any speed, and the reference
+// through and count as reached within `acceptance_m` horizontally at any speed (or once past the
+// line through them square to the leg), and the reference
 // moves at its cruise speed; a point to hold (goto's target) is circled at `loiter_radius_m`, and
 // reached once the vehicle is on that circle.
 struct WingBorne {
@@ -80,6 +81,7 @@ class MissionRunner {
   std::size_t index_ = 0;
   Eigen::Vector3d ref_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d target_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d leg_from_ = Eigen::Vector3d::Zero();  // the previous target: the leg to target_
   double yaw_ = 0.0;
   double speed_ = 0.0;      // commanded cruise speed
   double ref_speed_ = 0.0;  // current speed of the reference

@@ -46,6 +46,7 @@ struct TailSitterControlParams : PositionLoopParams {
   double att_gain, rate_gain, att_int, tilt_max;
   double cruise_speed, trans_airspeed, trans_pitch_rate, back_pitch_rate, trans_timeout, trans_alt_loss;
   double trans_min_alt, bank_max;
+  double land_approach_alt;  // [m] a landing's back transition from the wing happens at this altitude
   bool weathervane = true;
   TransitionSchedule schedule = TransitionSchedule::kLiftLimited;
   static TailSitterControlParams FromParameters(const ParameterSet& p);
