@@ -8,12 +8,23 @@
 #  - With a display: in the GCS window, so you watch the flight, the video and the map grow.
 #  - Without one (or with --headless): the same mission headless. As root it runs in a private
 #    network namespace so no LCM traffic leaves the machine.
+# With --ulion the survey is flown by U-Lion, the tail-sitter (resources/vehicles/ulion.params):
+# a larger block planned for its cruise and turns, the vertical take-off, the survey on the wing,
+# the vertical landing at home.
+# Usage: uav-demo [--headless] [--ulion]
 set -euo pipefail
 bin=$(cd "$(dirname "$0")" && pwd)
-mode=window
-{ [ -z "${DISPLAY:-}" ] || [ "${1:-}" = --headless ]; } && mode=headless
+mode=window ulion=0
+for arg in "$@"; do
+  case $arg in
+    --headless) mode=headless ;;
+    --ulion) ulion=1 ;;
+    *) echo "uav-demo: unknown option '$arg' (usage: uav-demo [--headless] [--ulion])" >&2; exit 2 ;;
+  esac
+done
+[ -z "${DISPLAY:-}" ] && mode=headless
 if [ "$mode" = headless ] && [ "$(id -u)" = 0 ] && [ "${UAV_IN_NETNS:-}" != 1 ] && command -v unshare >/dev/null; then
-  exec env UAV_IN_NETNS=1 unshare -n "$0" --headless
+  exec env UAV_IN_NETNS=1 unshare -n "$0" --headless "$@"
 fi
 if [ "${UAV_IN_NETNS:-}" = 1 ]; then
   ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo
@@ -27,16 +38,20 @@ key=${UAV_KEY:-$PWD/uav.key}
 [ -e "$key" ] || "$bin/uav-keygen" "$key"
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
 speed=2; [ "$mode" = headless ] && speed=8
-echo "uav-demo: starting the simulated vehicle over the village (speed x$speed, logs in $logs)"
-"$bin/uav-onboard" --sim --speed "$speed" --lcm-url "$url" --key "$key" --log-dir "$logs" --scene "$scene" > "$logs/onboard.txt" 2>&1 &
+vehicle=(); demo=--demo; who="the simulated vehicle"
+if [ $ulion = 1 ]; then
+  vehicle=(--params "@PROJECT_SOURCE_DIR@/resources/vehicles/ulion.params"); demo=--demo-ulion; who="U-Lion, the simulated tail-sitter,"
+fi
+echo "uav-demo: starting $who over the village (speed x$speed, logs in $logs)"
+"$bin/uav-onboard" --sim --speed "$speed" --lcm-url "$url" --key "$key" --log-dir "$logs" --scene "$scene" "${vehicle[@]}" > "$logs/onboard.txt" 2>&1 &
 onboard=$!
 trap 'kill $onboard 2>/dev/null || true; wait $onboard 2>/dev/null || true' EXIT
 status=0
 if [ "$mode" = window ]; then
-  "$bin/uav-gcs" --demo --lcm-url "$url" --key "$key" --download-dir "$maps" || status=$?
+  "$bin/uav-gcs" "$demo" --lcm-url "$url" --key "$key" --download-dir "$maps" || status=$?
 else
   echo "uav-demo: no display, running the survey mission headless"
-  "$bin/uav-gcs" --headless --demo --lcm-url "$url" --key "$key" --download-dir "$maps" || status=$?
+  "$bin/uav-gcs" --headless "$demo" --lcm-url "$url" --key "$key" --download-dir "$maps" || status=$?
 fi
 echo "uav-demo: flight log $(ls -t "$logs"/flight_*.csv 2>/dev/null | head -1)"
 echo "uav-demo: map saved as $(ls -t "$maps"/map_*.tif 2>/dev/null | head -1) (GeoTIFF; PNG + world file and KML beside it)"

@@ -2,14 +2,15 @@
 # The README's main job, headless: uav-demo flies the full survey mission over the village,
 # the GCS downloads the stitched map at landing; the saved GeoTIFF must be the onboard one. The
 # village has no power line: no wire may be reported within the GCS's warning distance (15 m).
-# Usage: main_job.sh BIN_DIR
+# Usage: main_job.sh BIN_DIR [--ulion]   (--ulion: the survey flown by U-Lion on its wing)
 set -euo pipefail
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/scaled_timeout.sh"
 bin=$1
+shift
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
-UAV_LOG_DIR="$work/logs" UAV_MAP_DIR="$work/maps" scaled_timeout 600 "$bin/uav-demo" --headless | tee demo.txt
+UAV_LOG_DIR="$work/logs" UAV_MAP_DIR="$work/maps" scaled_timeout 600 "$bin/uav-demo" --headless "$@" | tee demo.txt
 grep -q "uav-demo: PASSED" demo.txt
 grep -q "uav-demo: map saved as $work/maps/map_1.tif" demo.txt
 for f in "$work"/logs/maps_*/map_1.*; do

@@ -349,6 +349,34 @@ TEST_F(Panels, ShortcutsAskForConfirmationAndGoToTheSelectedVehicle) {
   EXPECT_FALSE(driver_.StartKey("f13", false, &err_));
 }
 
+// "fit to vehicle" in the Survey panel: without the vehicle's parameters nothing changes and the
+// log says why; U-Lion's table gives its cruise speed and the radius of its turns at ts_bank_max
+// (12 m/s at 0.5 rad: 12^2 / (9.80665 tan 0.5) = 26.88 m); a quadrotor's turns on the spot and
+// keeps the planned speed up to its limit.
+TEST_F(Panels, TheSurveyIsFittedToTheVehiclesSpeedAndTurns) {
+  model_.OnHeartbeat("UAV1", 1, Hb(0, false), now_);
+  Frames(2);
+  waypoints::SurveyParams& p = model_.missions().planner().params();
+  p.speed_m_s = 8.0;
+  ASSERT_TRUE(driver_.StartClick("survey:fit", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_EQ(p.speed_m_s, 8.0);
+  EXPECT_NE(model_.log().lines().back().text.find("no parameter table from the vehicle yet"), std::string::npos);
+  const ParameterSet ulion =
+      ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/ulion.params", VehicleParameterSchema());
+  model_.OnReport("UAV1", ParameterTable::Of(ulion, 1, 5), now_);
+  ASSERT_TRUE(driver_.StartClick("survey:fit", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_DOUBLE_EQ(p.speed_m_s, 12.0);
+  EXPECT_NEAR(p.turn_radius_m, 26.88, 0.01);
+  EXPECT_NE(model_.log().lines().back().text.find("a tail-sitter"), std::string::npos) << model_.log().lines().back().text;
+  model_.OnReport("UAV1", ParameterTable::Of(ParameterSet::Defaults(VehicleParameterSchema()).With("ctl_speed_max_xy", 5.0), 2, 6), now_);
+  ASSERT_TRUE(driver_.StartClick("survey:fit", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_DOUBLE_EQ(p.speed_m_s, 5.0);
+  EXPECT_EQ(p.turn_radius_m, 0.0);
+}
+
 // Parameters: opened from the status bar, searched, a value typed is checked against the
 // vehicle's table and sent as a `param` command; one outside its limits or read only at start is
 // not sent and the log says why; reset sends the default; save and load go through both formats.

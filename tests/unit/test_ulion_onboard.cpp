@@ -196,6 +196,7 @@ TEST(ULionOnboard, FliesAMissionOnTheWingAndLandsAtHome) {
   EXPECT_TRUE(pilot.Said("transition to the wing for the mission"));
   EXPECT_TRUE(pilot.Said("transition to hover before landing"));
   EXPECT_TRUE(pilot.Said("landing: circling down on the wing to 20 m"));
+  EXPECT_FALSE(pilot.Said("setpoint rejected"));  // the reference runs at the cruise speed on the wing
   EXPECT_NEAR(back_transition_alt, 21.0, 2.0);  // ts_land_approach_alt and its 2 m tolerance
   EXPECT_GT(wing_s, 100.0);  // 1600 m of legs and the way home at 12 m/s
   EXPECT_GT(min_wing_alt, 35.0);

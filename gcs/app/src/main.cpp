@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
   CLI::App cli{"uav-gcs: ground control station"};
   std::string lcm_url = uav::kDefaultLcmUrl;
   std::string name = "gcs-" + std::to_string(getpid());
-  bool headless = false, demo = false;
+  bool headless = false, demo = false, demo_ulion = false;
   std::string script_path, vehicle, layout = "uav-gcs.ini";
   double exit_after = 0.0;
   std::string download_dir;
@@ -81,6 +81,9 @@ int main(int argc, char** argv) {
   cli.add_flag("--headless", headless, "no window: ImGui null backend, same panels");
   cli.add_option("--script", script_path, "run a script of operator steps, exit 0 only if all pass");
   cli.add_flag("--demo", demo, "run the built-in demo flight script")->excludes("--script");
+  cli.add_flag("--demo-ulion", demo_ulion, "run the built-in demo flight script for U-Lion (the survey on its wing)")
+      ->excludes("--script")
+      ->excludes("--demo");
   bool no_speech = false;
   cli.add_flag("--no-speech", no_speech, "do not speak warnings and failsafes (spoken with espeak-ng when installed)");
   cli.add_option("--vehicle", vehicle, "vehicle to show first (default: the first one heard)");
@@ -123,9 +126,10 @@ int main(int argc, char** argv) {
         throw std::invalid_argument(std::string("UAV_TIMEOUT_SCALE must be a number from 1 to 100, not '") + scale + "'");
     }
     std::unique_ptr<uav::gcs::ScriptRunner> runner;
+    if (demo_ulion) demo = true;
     if (demo)
-      runner = std::make_unique<uav::gcs::ScriptRunner>(uav::gcs::Script::Parse(uav::gcs::kDemoScript, "demo"), stdout,
-                                                        timeout_scale);
+      runner = std::make_unique<uav::gcs::ScriptRunner>(
+          uav::gcs::Script::Parse(demo_ulion ? uav::gcs::kDemoScriptULion : uav::gcs::kDemoScript, "demo"), stdout, timeout_scale);
     else if (!script_path.empty())
       runner = std::make_unique<uav::gcs::ScriptRunner>(uav::gcs::Script::LoadFile(script_path), stdout, timeout_scale);
 

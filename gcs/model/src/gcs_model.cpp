@@ -1,6 +1,10 @@
 #include "uav/gcs/gcs_model.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+
+#include "uav/shared/flight_envelope.hpp"
 
 #include "uav/waypoints/mission_file.hpp"
 
@@ -153,6 +157,39 @@ bool GcsModel::ExportMission(const std::string& path, double now) { return missi
 bool GcsModel::ImportMission(const std::string& path, double now) {
   const VehicleModel* v = selected();
   return missions_.ImportMission(path, v ? v->home : std::nullopt, now, log_);
+}
+
+bool GcsModel::FitSurveyToVehicle(double now) {
+  const VehicleModel* v = selected();
+  const auto* table = v ? &v->reports.Get<ParameterTable>() : nullptr;
+  if (!table || !table->newest) {
+    log_.Add(now, selected_, "survey not fitted: no parameter table from the vehicle yet", Severity::kWarning);
+    return false;
+  }
+  auto value = [&](const char* name) {
+    const ParameterEntry* e = table->newest->Find(name);
+    return e ? e->value : NAN;
+  };
+  SurveyPlanner& planner = missions_.planner();
+  waypoints::SurveyParams& p = planner.params();
+  const bool wing = value("vehicle_type") == static_cast<double>(VehicleType::kTailSitter);
+  const double speed = wing ? value("ts_cruise_speed") : std::min(p.speed_m_s, value("ctl_speed_max_xy"));
+  const double radius = wing ? CoordinatedTurnRadius(speed, value("ts_bank_max"), value("gravity")) : 0.0;
+  if (!std::isfinite(speed) || !std::isfinite(radius)) {
+    log_.Add(now, selected_, "survey not fitted: the vehicle's parameter table lacks its speed or bank limit", Severity::kWarning);
+    return false;
+  }
+  p.speed_m_s = speed;
+  p.turn_radius_m = radius;
+  char text[160];
+  if (wing)
+    std::snprintf(text, sizeof text, "survey fitted to %s, a tail-sitter: its cruise %.1f m/s, turns of %.1f m radius",
+                  selected_.c_str(), speed, radius);
+  else
+    std::snprintf(text, sizeof text, "survey fitted to %s, a multicopter: %.1f m/s, turns on the spot", selected_.c_str(), speed);
+  planner.ParamsChanged();
+  log_.Add(now, selected_, text, Severity::kInfo);
+  return true;
 }
 
 bool GcsModel::StartDownload(const std::string& dir, double now) {

@@ -115,6 +115,8 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
   if (name == "survey.images") return *num = m.missions().planner().plan() ? static_cast<double>(m.missions().planner().plan()->captures.size()) : 0.0, true;
   if (name == "survey.lines") return *num = m.missions().planner().plan() ? m.missions().planner().plan()->lines : 0, true;
   if (name == "survey.altitude") return *num = m.missions().planner().plan() ? m.missions().planner().plan()->altitude_m : 0.0, true;
+  if (name == "survey.speed") return *num = m.missions().planner().params().speed_m_s, true;
+  if (name == "survey.turn_radius") return *num = m.missions().planner().params().turn_radius_m, true;
   if (name == "survey.ok") return *num = m.missions().planner().plan() && m.missions().planner().problem().empty() ? 1.0 : 0.0, true;
   if (name == "video.frames") return *num = v ? static_cast<double>(v->video.frames) : 0.0, true;
   if (name == "video.rejected") return *num = v ? static_cast<double>(v->video.rejected) : 0.0, true;

@@ -54,6 +54,12 @@ void DrawSurveyPanel(GcsModel& model, UiContext& ctx) {
     planner.ParamsChanged();
   }
   RegisterLastItem(ctx, "survey:portrait");
+  // The speed and turn radius the selected vehicle flies (a tail-sitter's cruise and turns).
+  ImGui::SameLine();
+  ImGui::BeginDisabled(!model.selected());
+  if (ImGui::Button("fit to vehicle")) model.FitSurveyToVehicle(ctx.now);
+  ImGui::EndDisabled();
+  RegisterLastItem(ctx, "survey:fit");
 
   Field(ctx, planner, "altitude [m]", "survey:altitude", &p.altitude_m, 1.0, "%.1f");
   ImGui::SameLine();

@@ -231,8 +231,11 @@ void ControlWorker::Tick(int64_t utime) {
       board_.PushStatus(Severity::kInfo, last_sticks_said_.empty() ? "sticks: flying" : "sticks: " + last_sticks_said_);
   }
   const control::Setpoint setpoint = Avoid(out, d, utime, &reports);
-  // A setpoint that is not finite or leaves the envelope never reaches the controller.
-  const std::string bad = control::CheckSetpoint(setpoint, failsafe_params_, controller_.params().speed_max_xy);
+  // A setpoint that is not finite or leaves the envelope never reaches the controller. U-Lion's
+  // envelope reaches its cruise speed: the mission's reference runs at it on the wing.
+  const double speed_max_xy = tailsitter_ ? std::max(controller_.params().speed_max_xy, tailsitter_->controller.params().cruise_speed)
+                                          : controller_.params().speed_max_xy;
+  const std::string bad = control::CheckSetpoint(setpoint, failsafe_params_, speed_max_xy);
   if (bad.empty()) last_valid_setpoint_ = setpoint;
   if (bad != last_setpoint_error_ && !bad.empty()) board_.PushStatus(Severity::kError, "setpoint rejected: " + bad + "; holding the last valid one");
   last_setpoint_error_ = bad;

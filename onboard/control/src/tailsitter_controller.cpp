@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "uav/shared/flight_envelope.hpp"
+
 namespace uav::control {
 
 namespace {
@@ -75,7 +77,7 @@ double OrbitCourse(const Eigen::Vector2d& centre_N, const Eigen::Vector2d& p_N, 
 }
 
 double TailSitterController::TurnRadius() const {
-  return p_.cruise_speed * p_.cruise_speed / (p_.vehicle.gravity * std::tan(p_.bank_max));
+  return CoordinatedTurnRadius(p_.cruise_speed, p_.bank_max, p_.vehicle.gravity);
 }
 
 

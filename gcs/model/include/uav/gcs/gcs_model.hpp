@@ -73,6 +73,11 @@ class GcsModel {
   bool UploadMission(double now);
   bool ExportMission(const std::string& path, double now);
   bool ImportMission(const std::string& path, double now);
+  // The survey planner's speed and turn radius from the selected vehicle's parameters: a
+  // tail-sitter's cruise speed and the radius of its turns at ts_bank_max; a multicopter turns on
+  // the spot (radius 0) and keeps the planned speed up to ctl_speed_max_xy. False (logged) without
+  // a parameter table from the vehicle.
+  bool FitSurveyToVehicle(double now);
   bool StartDownload(const std::string& dir, double now);
   // Fetches the mission the selected vehicle holds (the newest it offers, mission_N.plan) and
   // loads it into the mission editor when it has arrived, verified. False (logged) when there is
