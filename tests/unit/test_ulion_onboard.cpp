@@ -204,6 +204,46 @@ TEST(ULionOnboard, FliesAMissionOnTheWingAndLandsAtHome) {
   EXPECT_LT(touchdown.head<2>().norm(), 3.0);
 }
 
+// The GCS link lost while circling 300 m out: the failsafe's return flies home on the wing (a
+// return in hover at 3 m/s would take 100 s of a pack that hovers under 4 minutes), circles down
+// over home, transitions back there and lands.
+TEST(ULionOnboard, ALinkLossReturnFliesHomeOnTheWingAndLands) {
+  Pilot pilot(ULion(), 400.0);
+  int takeoff = 0, transition = 0, go = 0;
+  double lost_t = -1, wing_after_loss_s = 0, hover_after_loss_s = 0, back_transition_from_home = -1;
+  bool landed = false;
+  Eigen::Vector3d touchdown = Eigen::Vector3d::Zero();
+  pilot.Run([&](double t, const BlackboardData& d) {
+    const sim::BodyTruth truth = pilot.flight.vehicle().Truth();
+    if (t > 2.0 && pilot.seq == 0) pilot.Send("arm");
+    if (d.armed && !takeoff) takeoff = pilot.Send("takeoff 30");
+    if (takeoff && !transition && pilot.Ack(takeoff) && pilot.Ack(takeoff)->result == CommandResult::kCompleted)
+      transition = pilot.Send("transition fw");
+    if (transition && !go && pilot.Ack(transition) && pilot.Ack(transition)->result == CommandResult::kCompleted)
+      go = pilot.Send("goto 300 0 30");
+    if (go && lost_t < 0 && pilot.Ack(go) && pilot.Ack(go)->result == CommandResult::kCompleted) lost_t = t;
+    if (lost_t >= 0) {
+      // No heartbeat for 25 s: past fs_link_return_time.
+      pilot.flight.board().Update([](BlackboardData& b) { b.gcs_link_age_s = 25.0; });
+      if (d.tailsitter && d.tailsitter->mode == control::TailSitterMode::kCruise) wing_after_loss_s += 0.02;
+      if (d.tailsitter && d.tailsitter->mode == control::TailSitterMode::kHover && d.airborne) hover_after_loss_s += 0.02;
+      if (d.tailsitter && d.tailsitter->mode == control::TailSitterMode::kTransitionToHover && back_transition_from_home < 0)
+        back_transition_from_home = truth.p_N.head<2>().norm();
+      if (!d.armed) touchdown = truth.p_N, landed = true;
+    }
+    return !landed;
+  });
+  std::printf("[ ulion ] link loss at 300 m: %.0f s on the wing, %.0f s in hover, back transition %.0f m from home, "
+              "touchdown %.1f m from home\n",
+              wing_after_loss_s, hover_after_loss_s, back_transition_from_home, touchdown.head<2>().norm());
+  ASSERT_TRUE(landed);
+  EXPECT_TRUE(pilot.Said("failsafe"));
+  EXPECT_GT(wing_after_loss_s, 20.0);          // 300 m home at 12 m/s, then the circle down
+  EXPECT_LT(back_transition_from_home, 60.0);  // on the approach circle (40 m) over home
+  EXPECT_LT(hover_after_loss_s, 45.0);
+  EXPECT_LT(touchdown.head<2>().norm(), 3.0);
+}
+
 TEST(ULionOnboard, TransitionsAreRefusedWithTheReason) {
   Pilot pilot(ULion(), 60.0);
   int on_ground = 0, to_hover = 0, low = 0, quad = 0;
