@@ -377,6 +377,32 @@ TEST_F(Panels, TheSurveyIsFittedToTheVehiclesSpeedAndTurns) {
   EXPECT_EQ(p.turn_radius_m, 0.0);
 }
 
+// The attitude indicator: opened from the status bar; its horizon banks against the roll (right
+// bank: the right end rises) and moves down by the pitch at the ladder's scale; with no state yet
+// it says so.
+TEST_F(Panels, TheAttitudeIndicatorBanksAndPitchesItsHorizon) {
+  const Eigen::Vector2d c(100, 100);
+  const HorizonLine level = AttitudeHorizon(0, 0, c, 200, 50);
+  EXPECT_NEAR(level.left_px.y(), 100, 1e-9);
+  EXPECT_NEAR(level.right_px.y(), 100, 1e-9);
+  const HorizonLine h = AttitudeHorizon(30 * M_PI / 180, 10 * M_PI / 180, c, 200, 50);
+  EXPECT_LT(h.right_px.y(), h.left_px.y()) << "banked right, the horizon's right end rises";
+  EXPECT_NEAR((h.right_px - h.left_px).norm(), 100, 1e-9);
+  EXPECT_NEAR(std::atan2(h.left_px.y() - h.right_px.y(), h.right_px.x() - h.left_px.x()), 30 * M_PI / 180, 1e-9);
+  const Eigen::Vector2d mid = (h.left_px + h.right_px) / 2;
+  EXPECT_NEAR((mid - c).norm(), 200 * 10 * M_PI / 180, 1e-9) << "nose up 10 degrees: the horizon 10 degrees down";
+  EXPECT_GT(mid.y(), c.y());
+  model_.OnHeartbeat("UAV1", 1, Hb(0, false), now_);
+  Frames(2);
+  ASSERT_TRUE(driver_.StartClick("status:attitude", &err_)) << err_;
+  RunUntilIdle();
+  EXPECT_TRUE(ctx_.state.show_attitude);
+  EXPECT_FALSE(ctx_.widgets.count("attitude:horizon")) << "no state yet: nothing to draw";
+  model_.OnState("UAV1", 1, StateOf(0.0, {{"alt", 30.0}}), now_);
+  Frames(2);
+  EXPECT_TRUE(ctx_.widgets.count("attitude:horizon"));
+}
+
 // Parameters: opened from the status bar, searched, a value typed is checked against the
 // vehicle's table and sent as a `param` command; one outside its limits or read only at start is
 // not sent and the log says why; reset sends the default; save and load go through both formats.

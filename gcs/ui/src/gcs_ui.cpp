@@ -79,6 +79,7 @@ void DrawGcs(GcsModel& model, UiContext& ctx) {
   DrawParametersPanel(model, ctx);  // a window of its own, opened from the status bar
   DrawMissionPanel(model, ctx);     // a window of its own, while the map edits the mission
   DrawSticksPanel(model, ctx);      // a window of its own, opened from the status bar
+  DrawAttitudePanel(model, ctx);    // a window of its own, opened from the status bar
 }
 
 }  // namespace uav::gcs

@@ -132,6 +132,9 @@ void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
     if (ImGui::SmallButton(model.sticks().enabled() ? "STICKS ON" : "Sticks")) ctx.state.show_sticks = !ctx.state.show_sticks;
     RegisterLastItem(ctx, "status:sticks");
     ImGui::SameLine();
+    if (ImGui::SmallButton("Attitude")) ctx.state.show_attitude = !ctx.state.show_attitude;
+    RegisterLastItem(ctx, "status:attitude");
+    ImGui::SameLine();
   }
   if (model.signing_key_id().empty() && !model.replay()) {
     ImGui::TextColored(red, "INSECURE");

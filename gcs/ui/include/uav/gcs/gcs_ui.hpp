@@ -23,6 +23,17 @@ void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx);
 void DrawSensingPanel(GcsModel& model, UiContext& ctx);
 void DrawPreArmPanel(GcsModel& model, UiContext& ctx);
 void DrawParametersPanel(GcsModel& model, UiContext& ctx);
+void DrawAttitudePanel(GcsModel& model, UiContext& ctx);  // opened from the status bar
+
+// The attitude indicator's horizon on screen (x right, y down): its ends `half_length_px` either
+// side of where it crosses the wings' normal through `centre_px`, and that normal pointing down
+// from the sky (the pitch ladder's direction). Banked right the right end rises; nose up the line
+// moves down by pitch * px_per_rad.
+struct HorizonLine {
+  Eigen::Vector2d left_px, right_px, down_px;
+};
+HorizonLine AttitudeHorizon(double roll_rad, double pitch_rad, const Eigen::Vector2d& centre_px, double px_per_rad,
+                            double half_length_px);
 // Uploads the selected vehicle's changed live-map tiles into textures (shared by the Map and
 // Live map panels).
 void SyncLiveMapTextures(const VehicleModel& v, UiContext& ctx);

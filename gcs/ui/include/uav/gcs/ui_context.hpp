@@ -74,6 +74,7 @@ struct UiState {
   // Parameters panel: open, its search, the values being typed (by name) and the file.
   bool show_parameters = false;
   bool show_sticks = false;  // the Sticks window (virtual sticks, gamepad)
+  bool show_attitude = false;  // the Attitude window (artificial horizon)
   bool sticks_deadman_latched = false;  // the Sticks window's "deadman held" box
   bool sticks_left_held = false, sticks_right_held = false;  // the on-screen sticks, last frame
   std::string params_filter;
