@@ -244,6 +244,30 @@ TEST(ULionOnboard, ALinkLossReturnFliesHomeOnTheWingAndLands) {
   EXPECT_LT(touchdown.head<2>().norm(), 3.0);
 }
 
+// The operator's `hover` is not a failsafe: the transition after it is carried out. During a
+// failsafe (the GCS link lost) one is refused, naming it.
+TEST(ULionOnboard, AHoverCommandLetsATransitionThroughAFailsafeDoesNot) {
+  Pilot pilot(ULion(), 120.0);
+  int takeoff = 0, hover = 0, transition = 0, during_failsafe = 0;
+  pilot.Run([&](double t, const BlackboardData& d) {
+    if (t > 1.0 && pilot.seq == 0) pilot.Send("arm");
+    if (d.armed && !takeoff) takeoff = pilot.Send("takeoff 20");
+    if (takeoff && !hover && pilot.Ack(takeoff) && pilot.Ack(takeoff)->result == CommandResult::kCompleted) {
+      hover = pilot.Send("hover");
+      transition = pilot.Send("transition fw");
+    }
+    if (transition && !during_failsafe && pilot.Ack(transition) && pilot.Ack(transition)->result == CommandResult::kCompleted)
+      pilot.flight.board().Update([](BlackboardData& b) { b.gcs_link_age_s = 25.0; });
+    if (transition && !during_failsafe && pilot.Said("failsafe")) during_failsafe = pilot.Send("transition mc");
+    return !(during_failsafe && pilot.Ack(during_failsafe));
+  });
+  ASSERT_TRUE(pilot.Ack(transition));
+  EXPECT_EQ(pilot.Ack(transition)->result, CommandResult::kCompleted) << pilot.Ack(transition)->reason;
+  ASSERT_TRUE(pilot.Ack(during_failsafe));
+  EXPECT_EQ(pilot.Ack(during_failsafe)->result, CommandResult::kRejected);
+  EXPECT_NE(pilot.Ack(during_failsafe)->reason.find("failsafe return active"), std::string::npos) << pilot.Ack(during_failsafe)->reason;
+}
+
 TEST(ULionOnboard, TransitionsAreRefusedWithTheReason) {
   Pilot pilot(ULion(), 60.0);
   int on_ground = 0, to_hover = 0, low = 0, quad = 0;

@@ -59,8 +59,9 @@ bool ControlWorker::TailSitterCommand(const control::CommandRequest& req, const 
   if (c.id != CommandId::kTransition) return false;
   const bool to_wing = c.args.at(0) == 1.0;
   if (!d.airborne) return reject("not flying: take off first");
-  if (tasks_.enforced() != FailsafeAction::kNone)
-    return reject("failsafe " + std::string(Name(tasks_.enforced())) + " active: " + failsafes_.reason());
+  // A failsafe, not the operator's own `hover` or `land` (which also raise the task's level).
+  if (failsafes_.required() != FailsafeAction::kNone)
+    return reject("failsafe " + std::string(Name(failsafes_.required())) + " active: " + failsafes_.reason());
   if (tailsitter_->transition) return reject("a transition is already being carried out");
   const std::string why = tailsitter_->controller.StartTransition(to_wing, d.estimate);
   if (!why.empty()) return reject(why);
