@@ -96,9 +96,8 @@ hal::TailSitterInputs ControlWorker::FlyTailSitter(const control::TaskManager::O
   ts.approaching = approach;
   const bool must_hover = (landing && !approach) || failsafe_hover;
   if (must_hover && OnTheWing(ctl.mode()) && ctl.StartTransition(false, est).empty()) {
-    board_.PushStatus(Severity::kInfo, out.task == control::Task::kLand || setpoint.descent_rate
-                                           ? "transition to hover before landing"
-                                           : "transition to hover: failsafe " + std::string(Name(failsafe)));
+    board_.PushStatus(Severity::kInfo, landing ? "transition to hover before landing"
+                                               : "transition to hover: failsafe " + std::string(Name(failsafe)));
     if (ts.transition) {
       CommandAck ack = *ts.transition;
       ack.result = CommandResult::kFailed;
