@@ -152,6 +152,8 @@ const ParameterSchema& VehicleParameterSchema() {
     {"sonar_range_min", "m", 0.05, 0, 1, "closer than this the echo is lost"},
     {"sonar_range_max", "m", 5.0, 0.5, 20, "farther than this the echo is lost"},
     {"sonar_noise", "m", 0.01, 0, 1, "sonar range noise"},
+    {"sonar_mount_pitch", "rad", 0, -1.5708, 1.5708,
+     "the sonar's beam pitched from +z_B toward +x_B: 0 down on a multicopter, -pi/2 along a tail-sitter's tail"},
     {"ins_gyro_bias_walk", "rad/s/sqrt(s)", 0.00001, 0, 0.1, "INS: how fast it lets the gyro bias wander"},
     {"ins_accel_bias_walk", "m/s2/sqrt(s)", 0.0002, 0, 1, "INS: how fast it lets the accelerometer bias wander"},
     {"sim_seed", "-", 1, 0, 1e9, "seed of the simulated sensor noise and wind (runs are repeatable)"},

@@ -69,6 +69,28 @@ TEST(SimSensors, SonarSeesTheGroundOnlyWithinItsRangeAndCone) {
   EXPECT_FALSE(reading(2.0, M_PI / 6 + 0.01).sonar_valid);  // the echo glances off
 }
 
+// U-Lion's sonar looks out of its tail (sonar_mount_pitch -pi/2): it reads the height when the
+// vehicle stands or hovers upright (nose up) and loses the ground on the wing.
+TEST(SimSensors, ATailSittersTailSonarSeesTheGroundUprightNotOnTheWing) {
+  const ParameterSet ulion = ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/ulion.params",
+                                                    uav::VehicleParameterSchema());
+  const auto sp = sim::SensorParams::FromParameters(ulion.With("sonar_noise", 0));
+  ASSERT_NEAR(sp.sonar_mount_pitch, -M_PI / 2, 1e-4);
+  auto reading = [&](double height, double pitch) {
+    sim::SimSensors sensors(sp, kHome, 1);
+    sim::QuadrotorState s;
+    s.p_N = {0, 0, -height};
+    s.q_NB = Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY());
+    hal::SensorSample out;
+    sensors.Sample(0, s, Eigen::Vector3d::Zero(), &out);
+    return out;
+  };
+  EXPECT_TRUE(reading(1.5, M_PI / 2).sonar_valid);                          // upright
+  EXPECT_NEAR(reading(1.5, M_PI / 2).sonar_range_m, 1.5, 1e-3);
+  EXPECT_NEAR(reading(1.5, M_PI / 2 - 0.3).sonar_range_m, 1.5 / std::cos(0.3), 1e-3);  // leaning
+  EXPECT_FALSE(reading(1.5, 0.05).sonar_valid);                             // on the wing
+}
+
 TEST(WindModel, SteadyWindTurbulenceAndDraftsHaveTheirFigures) {
   const auto calm = sim::WindParams::FromParameters(VehicleFile());
   sim::WindModel still(calm, 3);

@@ -64,6 +64,7 @@ InsParams InsParams::FromParameters(const ParameterSet& p) {
   i.baro_drift = p.Get("baro_drift");
   i.baro_drift_time = p.Get("baro_drift_time");
   i.sonar_noise = p.Get("sonar_noise");
+  i.sonar_mount_pitch = p.Get("sonar_mount_pitch");
   i.gyro_bias_walk = p.Get("ins_gyro_bias_walk");
   i.accel_bias_walk = p.Get("ins_accel_bias_walk");
   return i;
@@ -216,7 +217,7 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
   }
   if (s.sonar_utime != last_sonar_utime_ && s.sonar_valid && sonar_ok) {
     last_sonar_utime_ = s.sonar_utime;
-    const double cos_tilt = q_NB_.toRotationMatrix()(2, 2);
+    const double cos_tilt = (q_NB_ * hal::SonarBeam_B(p_.sonar_mount_pitch)).z();
     const double height = s.sonar_range_m * cos_tilt;
     if (!Correct(height - (-p_N_.z()), -unit(kP + 2), p_.sonar_noise * p_.sonar_noise + 0.01 * 0.01, 5.0))
       ++health_.sonar_rejected;

@@ -20,7 +20,8 @@ SensorParams SensorParams::FromParameters(const ParameterSet& p) {
           p.Get("mag_noise"),      p.Get("mag_inclination"), p.Get("gps_rate"),       p.Get("gps_noise_h"),
           p.Get("gps_drift_h"),    p.Get("gps_noise_v"),    p.Get("gps_drift_v"),     p.Get("gps_drift_time"),
           p.Get("gps_vel_noise"),  p.Get("baro_noise"),     p.Get("baro_drift"),      p.Get("baro_drift_time"),
-          p.Get("sonar_rate"),     p.Get("sonar_range_min"), p.Get("sonar_range_max"), p.Get("sonar_noise")};
+          p.Get("sonar_rate"),     p.Get("sonar_range_min"), p.Get("sonar_range_max"), p.Get("sonar_noise"),
+          p.Get("sonar_mount_pitch")};
 }
 
 Eigen::Vector3d SensorParams::MagneticField_N() const { return uav::MagneticField_N(mag_inclination); }
@@ -82,9 +83,9 @@ void SimSensors::Sample(int64_t utime, const QuadrotorState& truth, const Eigen:
     next_gps_utime_ = std::max(next_gps_utime_ + static_cast<int64_t>(std::llround(1e6 * gps_dt)), utime);
   }
   if (utime >= next_sonar_utime_) {
-    // Slant range along -z_B to the flat ground at z = 0; the echo is lost out of range or when
-    // the beam meets the ground too obliquely (beyond 30 deg of tilt).
-    const double cos_tilt = R_NB(2, 2);
+    // Slant range along the beam to the flat ground at z = 0; the echo is lost out of range or
+    // when the beam meets the ground too obliquely (beyond 30 deg of tilt).
+    const double cos_tilt = (R_NB * hal::SonarBeam_B(p_.sonar_mount_pitch)).z();
     const double height = -truth.p_N.z();
     sonar_valid_ = false;
     if (cos_tilt > std::cos(M_PI / 6)) {

@@ -4,6 +4,7 @@
 // RC receiver; the SVO thread writes the servo board's output channels. A simulator and, later,
 // hardware drivers implement it.
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include <Eigen/Core>
@@ -28,7 +29,8 @@ struct SensorSample {
   int gps_satellites = 0;
   // Barometric altitude above the pressure at power-on [m], every sample.
   double baro_alt_m = 0.0;
-  // Downward sonar: slant range to the ground along -z_B [m]; sonar_valid false out of range.
+  // Downward sonar: slant range to the ground along SonarBeam_B [m]; sonar_valid false out of
+  // range.
   int64_t sonar_utime = 0;
   double sonar_range_m = 0.0;
   bool sonar_valid = false;
@@ -43,6 +45,13 @@ struct SensorSample {
   std::array<double, 4> rc_sticks = {0, 0, 0, 0};
   bool rc_manual = false;
 };
+
+// The sonar's beam in B, unit: +z_B (down on a level multicopter) pitched by the vehicle file's
+// `sonar_mount_pitch` [rad] toward +x_B; -pi/2 points it along the tail, down when a tail-sitter
+// stands or hovers upright.
+inline Eigen::Vector3d SonarBeam_B(double mount_pitch_rad) {
+  return {std::sin(mount_pitch_rad), 0.0, std::cos(mount_pitch_rad)};
+}
 
 // The servo board's output channels, each in -1..1 (-1 also: a channel not wired). The quadrotor
 // uses the first four: the rotors M_1..M_4 directly, or the gyro's aileron, elevator, throttle and

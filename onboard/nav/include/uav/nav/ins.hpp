@@ -26,7 +26,7 @@ struct InsParams {
   double gravity;
   double gyro_noise, gyro_bias, accel_noise, accel_bias, mag_noise, mag_inclination;
   double gps_noise_h, gps_noise_v, gps_vel_noise;  // total: white and wander together
-  double baro_noise, baro_drift, baro_drift_time, sonar_noise;
+  double baro_noise, baro_drift, baro_drift_time, sonar_noise, sonar_mount_pitch;
   double gyro_bias_walk, accel_bias_walk;  // [rad/s/sqrt(s)], [m/s^2/sqrt(s)]
   static InsParams FromParameters(const ParameterSet& p);
 };

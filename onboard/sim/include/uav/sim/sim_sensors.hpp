@@ -21,7 +21,7 @@ struct SensorParams {
   double gyro_noise, gyro_bias, accel_noise, accel_bias, mag_noise, mag_inclination;
   double gps_rate, gps_noise_h, gps_drift_h, gps_noise_v, gps_drift_v, gps_drift_time, gps_vel_noise;
   double baro_noise, baro_drift, baro_drift_time;
-  double sonar_rate, sonar_range_min, sonar_range_max, sonar_noise;
+  double sonar_rate, sonar_range_min, sonar_range_max, sonar_noise, sonar_mount_pitch;
   static SensorParams FromParameters(const ParameterSet& p);
   // Earth's field in N, unit strength (declination taken as zero: magnetic north is north).
   Eigen::Vector3d MagneticField_N() const;
