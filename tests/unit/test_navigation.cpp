@@ -49,16 +49,21 @@ TEST(SimSensors, NoiseBiasAndRatesFollowTheVehicleFile) {
   EXPECT_EQ(sonar_pings, 2000);  // 20 Hz
 }
 
+// One sample of a still vehicle at `height` over the ground with attitude q_NB.
+hal::SensorSample SonarReading(const sim::SensorParams& sp, double height, const Eigen::Quaterniond& q_NB) {
+  sim::SimSensors sensors(sp, kHome, 1);
+  sim::QuadrotorState s;
+  s.p_N = {0, 0, -height};
+  s.q_NB = q_NB;
+  hal::SensorSample out;
+  sensors.Sample(0, s, Eigen::Vector3d::Zero(), &out);
+  return out;
+}
+
 TEST(SimSensors, SonarSeesTheGroundOnlyWithinItsRangeAndCone) {
   const auto sp = sim::SensorParams::FromParameters(VehicleFile().With("sonar_noise", 0));
   auto reading = [&](double height, double tilt) {
-    sim::SimSensors sensors(sp, kHome, 1);
-    sim::QuadrotorState s;
-    s.p_N = {0, 0, -height};
-    s.q_NB = Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX());
-    hal::SensorSample out;
-    sensors.Sample(0, s, Eigen::Vector3d::Zero(), &out);
-    return out;
+    return SonarReading(sp, height, Eigen::Quaterniond(Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX())));
   };
   EXPECT_TRUE(reading(0.05, 0).sonar_valid);
   EXPECT_FALSE(reading(0.049, 0).sonar_valid);
@@ -77,13 +82,7 @@ TEST(SimSensors, ATailSittersTailSonarSeesTheGroundUprightNotOnTheWing) {
   const auto sp = sim::SensorParams::FromParameters(ulion.With("sonar_noise", 0));
   ASSERT_NEAR(sp.sonar_mount_pitch, -M_PI / 2, 1e-4);
   auto reading = [&](double height, double pitch) {
-    sim::SimSensors sensors(sp, kHome, 1);
-    sim::QuadrotorState s;
-    s.p_N = {0, 0, -height};
-    s.q_NB = Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY());
-    hal::SensorSample out;
-    sensors.Sample(0, s, Eigen::Vector3d::Zero(), &out);
-    return out;
+    return SonarReading(sp, height, Eigen::Quaterniond(Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY())));
   };
   EXPECT_TRUE(reading(1.5, M_PI / 2).sonar_valid);                          // upright
   EXPECT_NEAR(reading(1.5, M_PI / 2).sonar_range_m, 1.5, 1e-3);
