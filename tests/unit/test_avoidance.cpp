@@ -76,6 +76,30 @@ TEST(OccupancyMap, CylindersAndWiresMarkTheCellsTheyCover) {
   EXPECT_EQ(map.At({0, 0, -5}), Cell::kUnknown);
 }
 
+// The vehicle keeps its map in the odometry frame: a result and a plan cross frames whole (every
+// point of the scan, its origin, the cylinders with their heights, the wires, the path, the goal).
+TEST(AvoidanceFrames, AResultAndAPlanAreMovedWhole) {
+  const Eigen::Vector3d d(1.5, -2.0, 0.25);
+  avoid::PerceptionUpdate u;
+  u.scan = avoid::RangeScan{7, {1, 2, -3}, {{4.f, 5.f, -3.f}}, 10.0};
+  u.cylinders.push_back({{3, 4}, -5.0, 0.0, 0.3});
+  u.wires.push_back({{{0, 0, -4}, {1, 0, -4}}, 0.2});
+  const avoid::PerceptionUpdate m = avoid::Translated(u, d);
+  EXPECT_TRUE(m.scan->origin_N.isApprox(Eigen::Vector3d(2.5, 0, -2.75)));
+  EXPECT_TRUE(m.scan->p_N[0].isApprox(Eigen::Vector3f(5.5f, 3.f, -2.75f)));
+  EXPECT_TRUE(m.cylinders[0].p_NE.isApprox(Eigen::Vector2d(4.5, 2)));
+  EXPECT_DOUBLE_EQ(m.cylinders[0].top_down_m, -4.75);
+  EXPECT_DOUBLE_EQ(m.cylinders[0].bottom_down_m, 0.25);
+  EXPECT_DOUBLE_EQ(m.cylinders[0].radius_m, 0.3);
+  EXPECT_TRUE(m.wires[0].p_N[1].isApprox(Eigen::Vector3d(2.5, -2, -3.75)));
+  avoid::AvoidancePlan plan;
+  plan.goal_N = {10, 0, -4};
+  plan.path_N = {{0, 0, -4}, {10, 0, -4}};
+  const avoid::AvoidancePlan back = avoid::Translated(avoid::Translated(plan, d), -d);
+  EXPECT_TRUE(back.goal_N.isApprox(plan.goal_N));
+  EXPECT_TRUE(avoid::Translated(plan, d).path_N[1].isApprox(Eigen::Vector3d(11.5, -2, -3.75)));
+}
+
 TEST(OccupancyMap, TheMemoryBoundDropsTheFarthestCellsFirst) {
   MapParams p;
   p.max_cells = 5000;

@@ -38,8 +38,11 @@ void AvoidWorker::Save(Outbox* out) {
 
 void AvoidWorker::Work(Outbox& out) {
   const BlackboardData& d = at_begin_;
+  // The map and the planning are in the odometry frame O (VehicleEstimate::p_O): the results
+  // arrive in it; the task's goal and the plan cross between N and O here.
+  const Eigen::Vector3d p_NO = d.estimate.p_NO();
   for (const avoid::PerceptionUpdate& u : updates_) {
-    const std::string said = planner_.Add(u, d.estimate.p_N);
+    const std::string said = planner_.Add(u, d.estimate.p_O);
     if (!said.empty()) out.PushStatus(Severity::kWarning, said);
   }
   updates_.clear();
@@ -50,13 +53,14 @@ void AvoidWorker::Work(Outbox& out) {
     planner_.Reset();
     return;
   }
-  auto plan = std::make_shared<const avoid::AvoidancePlan>(
-      planner_.Plan(utime_, d.estimate.p_N, d.avoid_request.via_N, d.avoid_request.goal_N, d.avoid_request.map_only));
+  const avoid::AvoidancePlan plan_O = planner_.Plan(utime_, d.estimate.p_O, d.avoid_request.via_N - p_NO,
+                                                    d.avoid_request.goal_N - p_NO, d.avoid_request.map_only);
+  auto plan = std::make_shared<const avoid::AvoidancePlan>(avoid::Translated(plan_O, p_NO));
   out.Post([plan](Blackboard& b) { b.Update([&](BlackboardData& data) { data.avoid_plan = plan; }); });
-  Report(*plan, d.estimate.p_N, out);
+  Report(*plan, d.estimate, out);
 }
 
-void AvoidWorker::Report(const avoid::AvoidancePlan& plan, const Eigen::Vector3d& p_N, Outbox& out) {
+void AvoidWorker::Report(const avoid::AvoidancePlan& plan, const hal::VehicleEstimate& estimate, Outbox& out) {
   if (last_report_utime_ >= 0 && utime_ - last_report_utime_ < kReportPeriodUs) return;
   last_report_utime_ = utime_;
   AvoidanceReport r;
@@ -68,10 +72,12 @@ void AvoidWorker::Report(const avoid::AvoidancePlan& plan, const Eigen::Vector3d
   r.seen_free_m = plan.seen_free_m;
   r.planning_ms = plan.planning_ms;
   r.map_cells = static_cast<int64_t>(plan.map_cells);
-  r.origin_N = p_N;
+  r.origin_N = estimate.p_N;
   r.cell_m = planner_.grid_m();
   const avoid::AvoidanceParams& p = planner_.params();
-  r.occupied_N = planner_.OccupiedAround(p_N, Eigen::Vector3d(p.window_m, p.window_m, p.window_up_m));
+  r.occupied_N = planner_.OccupiedAround(estimate.p_O, Eigen::Vector3d(p.window_m, p.window_m, p.window_up_m));
+  const Eigen::Vector3f p_NO = estimate.p_NO().cast<float>();
+  for (Eigen::Vector3f& c : r.occupied_N) c += p_NO;
   out.Post([r = std::move(r)](Blackboard& b) { b.reports.Put(r); });
 }
 

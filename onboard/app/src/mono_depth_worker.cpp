@@ -23,8 +23,11 @@ void ShareFrame(Outbox& out, const BlackboardData& d, const std::string& camera,
   f.height = image.rows;
   const cv::Mat bgr = image.isContinuous() ? image : image.clone();
   f.bgr.assign(bgr.data, bgr.data + bgr.total() * bgr.elemSize());
-  f.T_NC_estimate = T_NC_estimate;
-  if (T_NC_estimate) f.v_N_estimate = d.estimate.v_N;
+  if (T_NC_estimate) {
+    f.T_OC_estimate = *T_NC_estimate;
+    f.T_OC_estimate->translation() -= d.estimate.p_NO();
+    f.v_N_estimate = d.estimate.v_N;
+  }
   out.Post([f = std::move(f)](Blackboard& b) { b.frame.Put(f); });
 }
 
@@ -56,14 +59,14 @@ void MonoDepthWorker::Work(Outbox& out) {
   frame_.reset();
   if (!f || f->camera != camera_) return;
   const cv::Mat image(f->height, f->width, CV_8UC3, const_cast<uint8_t*>(f->bgr.data()));
-  DepthGrid g = estimator_.Update(image, f->utime, f->T_NC_estimate, f->v_N_estimate);
+  DepthGrid g = estimator_.Update(image, f->utime, f->T_OC_estimate, f->v_N_estimate);
   g.camera = camera_;
   ++frames_;
-  if (to_map_ && g.healthy && f->T_NC_estimate) {
+  if (to_map_ && g.healthy && f->T_OC_estimate) {
     avoid::PerceptionUpdate u;
     u.utime = f->utime;
     u.watches_ahead = false;
-    u.scan = avoid::DepthGridScan(g, intrinsics_, *f->T_NC_estimate);
+    u.scan = avoid::DepthGridScan(g, intrinsics_, *f->T_OC_estimate);
     if (!u.scan->p_N.empty()) out.Post([u = std::move(u)](Blackboard& b) { b.perception.Push(u); });
   }
   out.Post([g = std::move(g)](Blackboard& b) { b.reports.Put(g); });

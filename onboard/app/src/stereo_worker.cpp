@@ -65,6 +65,7 @@ void StereoWorker::Begin(int64_t utime) {
   utime_ = utime;
   T_NB_.linear() = RotationNBFromEuler(d.estimate.euler);
   T_NB_.translation() = d.estimate.p_N;
+  p_NO_ = d.estimate.p_NO();
 }
 
 void StereoWorker::Work(Outbox& out) {
@@ -106,7 +107,7 @@ void StereoWorker::Work(Outbox& out) {
     wires = power_lines_->ProcessRectified(left_rect, right_rect, down_L);
     ReportPowerLines(wires, pair.left.size(), utime, T_NB, out);
   }
-  if (to_map_) ReportToMap(utime, found, wires, T_NB, out);
+  if (to_map_) ReportToMap(utime, found, wires, T_NB, p_NO_, out);
   ++frames_;
 }
 
@@ -222,7 +223,7 @@ void StereoWorker::ReportPowerLines(const std::vector<vision::Wire3D>& wires, co
 }
 
 void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& found, const std::vector<vision::Wire3D>& wires,
-                               const Eigen::Isometry3d& T_NB, Outbox& out) const {
+                               const Eigen::Isometry3d& T_NB, const Eigen::Vector3d& p_NO, Outbox& out) const {
   // Rays for the map: at most this many points per pair, evenly spread over the image's (the
   // map's cells are 20 cm: more rays only repeat the same cells).
   constexpr std::size_t kMaxRays = 6000;
@@ -270,7 +271,7 @@ void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& fou
       run.radius_m = kCableRadius;
     }
   }
-  out.Post([u = std::move(u)](Blackboard& b) { b.perception.Push(u); });
+  out.Post([u = avoid::Translated(std::move(u), -p_NO)](Blackboard& b) { b.perception.Push(u); });
 }
 
 }  // namespace uav::app

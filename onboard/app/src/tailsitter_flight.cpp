@@ -50,6 +50,7 @@ hal::VehicleEstimate TailSitterFlight::Estimate() const {
   hal::VehicleEstimate est;
   est.utime = static_cast<int64_t>(t_ * 1e6);
   est.p_N = state_.p_N;
+  est.p_O = state_.p_N;
   est.q_NB = state_.q_NB;
   est.v_N = state_.q_NB * state_.v_B;
   est.w_B = state_.w_B;

@@ -116,6 +116,9 @@ struct FlightResult {
   double min_clearance = 1e9, clearance_p5 = 0, path_m = 0, shortest_m = 0, mean_speed = 0, time_s = 0;
   std::vector<double> replan_ms;
   int reversals = 0, stops_over_3s = 0, obstacles_passed = 0;
+  // How far the navigation's error moves in 3 s (RMS, horizontal), in N and in the odometry
+  // frame the map is kept in: a wall seen 3 s ago is off by this much relative to the vehicle.
+  double error_drift_3s_N = 0, error_drift_3s_O = 0;
   std::vector<Eigen::Vector3d> track;  // truth, every 0.1 s
   std::vector<Eigen::Vector3f> occupied;  // the vehicle's map at the end, in the flight's band
 };
@@ -150,6 +153,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   int last_side = 0;
   std::vector<double> clearances;
   std::vector<Eigen::Vector2d> passed_near;
+  std::vector<Eigen::Vector2d> error_N, error_O;  // estimate minus truth, every 0.1 s
   flight.Run([&](int64_t now) {
     const double t = (now - start) * 1e-6;
     const uav::app::BlackboardData d = board.Snapshot();
@@ -165,6 +169,8 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
       r.min_clearance = std::min(r.min_clearance, c);
       if (!r.track.empty()) r.path_m += (p - r.track.back()).head<2>().norm();
       r.track.push_back(p);
+      error_N.push_back((d.estimate.p_N - p).head<2>());
+      error_O.push_back((d.estimate.p_O - p).head<2>());
       if (d.avoid_plan) r.replan_ms.push_back(d.avoid_plan->planning_ms);
       // Reversals: the side the detour takes (left/right of the line to the goal), counted when
       // it changes while avoiding.
@@ -196,13 +202,26 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
       flight.Stop();
     }
   });
-  if (const auto* map = flight.sensing()->avoidance_map())
-    r.occupied = map->OccupiedCentres({-10, -kWidth, -kAltitude - 1.5}, {kLength + 10, kWidth, -kAltitude + 1.5});
+  if (const auto* map = flight.sensing()->avoidance_map()) {
+    // The map is kept in the odometry frame: drawn in N where the navigation puts it at the end.
+    const Eigen::Vector3d p_NO = board.Snapshot().estimate.p_NO();
+    r.occupied = map->OccupiedCentres(Eigen::Vector3d(-10, -kWidth, -kAltitude - 1.5) - p_NO,
+                                      Eigen::Vector3d(kLength + 10, kWidth, -kAltitude + 1.5) - p_NO);
+    for (Eigen::Vector3f& c : r.occupied) c += p_NO.cast<float>();
+  }
   for (const auto& o : scene.obstacles()) {
     double nearest = 1e9;
     for (const auto& q : r.track) nearest = std::min(nearest, FootprintDistance(o, q.head<2>()));
     if (nearest < 3.0) ++r.obstacles_passed;
   }
+  auto drift_rms = [](const std::vector<Eigen::Vector2d>& e) {
+    constexpr std::size_t kLag = 30;  // 3 s of 0.1 s samples
+    double sq = 0;
+    for (std::size_t i = 0; i + kLag < e.size(); ++i) sq += (e[i + kLag] - e[i]).squaredNorm();
+    return e.size() > kLag ? std::sqrt(sq / (e.size() - kLag)) : NAN;
+  };
+  r.error_drift_3s_N = drift_rms(error_N);
+  r.error_drift_3s_O = drift_rms(error_O);
   r.clearance_p5 = Percentile(clearances, 0.05);
   r.mean_speed = r.reached && r.time_s > 0 ? r.path_m / r.time_s : 0.0;
   r.success = r.reached && r.min_clearance >= avd.body_radius_m;
@@ -276,15 +295,18 @@ int main(int argc, char** argv) {
     for (int seed = a; seed <= b; ++seed) {
       FlightResult r = Fly(params, density, seed, speed, !quiet);
       if (!quiet)
-        std::fprintf(stderr, "seed %d: %s, clearance min %.2f p5 %.2f m, path %.1f / %.1f m, %.1f m/s, reversals %d, stops %d\n", seed,
-                     r.success ? "success" : r.why.c_str(), r.min_clearance, r.clearance_p5, r.path_m, r.shortest_m, r.mean_speed,
-                     r.reversals, r.stops_over_3s);
+        std::fprintf(stderr,
+                     "seed %d: %s, clearance min %.2f p5 %.2f m, path %.1f / %.1f m, %.1f m/s, reversals %d, stops %d, "
+                     "navigation error moves %.2f m in 3 s (%.2f m in the map's odometry frame)\n",
+                     seed, r.success ? "success" : r.why.c_str(), r.min_clearance, r.clearance_p5, r.path_m, r.shortest_m,
+                     r.mean_speed, r.reversals, r.stops_over_3s, r.error_drift_3s_N, r.error_drift_3s_O);
       if (!picture_dir.empty()) Picture(picture_dir + "/field_" + std::to_string(seed) + ".png", r, density, seed);
       out["flights"].push_back({{"seed", seed}, {"success", r.success}, {"why", r.why}, {"min_clearance_m", r.min_clearance},
                                 {"clearance_p5_m", r.clearance_p5}, {"path_m", r.path_m}, {"shortest_m", r.shortest_m},
                                 {"mean_speed", r.mean_speed}, {"replan_p50_ms", Percentile(r.replan_ms, 0.5)},
                                 {"replan_p99_ms", Percentile(r.replan_ms, 0.99)}, {"reversals", r.reversals},
-                                {"obstacles_passed", r.obstacles_passed}, {"stops_over_3s", r.stops_over_3s}});
+                                {"obstacles_passed", r.obstacles_passed}, {"stops_over_3s", r.stops_over_3s},
+                                {"nav_error_drift_3s_N_m", r.error_drift_3s_N}, {"nav_error_drift_3s_O_m", r.error_drift_3s_O}});
       results.push_back(std::move(r));
     }
     std::vector<double> p5, mins, ratio, speeds, replans;

@@ -33,6 +33,27 @@ AvoidanceParams AvoidanceParams::FromParameters(const ParameterSet& p) {
   return a;
 }
 
+PerceptionUpdate Translated(PerceptionUpdate u, const Eigen::Vector3d& d_N) {
+  if (u.scan) {
+    u.scan->origin_N += d_N;
+    const Eigen::Vector3f d = d_N.cast<float>();
+    for (Eigen::Vector3f& p : u.scan->p_N) p += d;
+  }
+  for (MapCylinder& c : u.cylinders) {
+    c.p_NE += d_N.head<2>();
+    c.top_down_m += d_N.z(), c.bottom_down_m += d_N.z();
+  }
+  for (MapWire& w : u.wires)
+    for (Eigen::Vector3d& p : w.p_N) p += d_N;
+  return u;
+}
+
+AvoidancePlan Translated(AvoidancePlan plan, const Eigen::Vector3d& d_N) {
+  plan.goal_N += d_N;
+  for (Eigen::Vector3d& p : plan.path_N) p += d_N;
+  return plan;
+}
+
 double Length(const std::vector<Eigen::Vector3d>& path) {
   double s = 0.0;
   for (std::size_t i = 0; i + 1 < path.size(); ++i) s += (path[i + 1] - path[i]).norm();

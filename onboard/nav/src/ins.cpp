@@ -14,6 +14,7 @@ constexpr int kP = 0, kV = 3, kTh = 6, kBg = 9, kBa = 12, kBb = 15;
 constexpr int64_t kVisualReanchorUs = 500'000;
 // A GPS fix this recent is fresh: the next one of a 5 Hz receiver is not yet overdue [us].
 constexpr int64_t kGpsFreshUs = 300'000;
+constexpr double kOdometryTimeConstantS = 1.0;  // the odometry velocity's pull toward Doppler
 
 // Forgets what the filter knew of one 3-state block (position, velocity, ...): its correlations
 // with every other state dropped, its variances set anew (a reset of that block's states).
@@ -86,6 +87,8 @@ void Ins::Align(const hal::SensorSample& s) {
   p_N_.setZero();
   if (s.gps_utime > 0 && std::isfinite(s.gps.latitude_deg) && std::isfinite(s.gps.longitude_deg))
     p_N_.head<2>() = frame_.ToNed(s.gps).head<2>();
+  p_O_ne_ = p_N_.head<2>();
+  v_O_ne_.setZero();
   v_N_.setZero();
   bg_.setZero();
   ba_.setZero();
@@ -115,6 +118,10 @@ void Ins::Propagate(const Eigen::Vector3d& gyro_B, const Eigen::Vector3d& accel_
   const Eigen::Matrix3d R = q_NB_.toRotationMatrix();
   const Eigen::Vector3d a_N = R * f + Eigen::Vector3d(0, 0, p_.gravity);
   p_N_ += v_N_ * dt + 0.5 * a_N * dt * dt;
+  // The odometry frame moves with its own velocity (see Update); position corrections never
+  // reach it.
+  p_O_ne_ += v_O_ne_ * dt + 0.5 * a_N.head<2>() * dt * dt;
+  v_O_ne_ += a_N.head<2>() * dt;
   v_N_ += a_N * dt;
   q_NB_ = (q_NB_ * ExpQ(w * dt)).normalized();
 
@@ -187,6 +194,12 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
     return h;
   };
   if (s.gps_utime != last_gps_utime_ && s.gps_fix >= 3 && gps_ok) {
+    // The odometry frame's velocity: the IMU's acceleration between fixes, pulled toward the
+    // Doppler velocity with a 1 s time constant. The filter's own velocity also answers to the
+    // position fixes, so it takes up the fix's wander as motion (about 0.3 m in 10 s standing
+    // still); Doppler does not wander.
+    const double fix_dt = std::clamp((s.gps_utime - last_gps_utime_) * 1e-6, 0.0, kOdometryTimeConstantS);
+    v_O_ne_ += fix_dt / kOdometryTimeConstantS * (s.gps_v_N.head<2>() - v_O_ne_);
     last_gps_utime_ = s.gps_utime;
     last_gps_fix_utime_ = s.utime;
     const Eigen::Vector3d z = frame_.ToNed(s.gps);
@@ -296,8 +309,12 @@ void Ins::Update(const hal::SensorSample& s, bool at_rest) {
     // zeroes the barometer as PX4 does before arming.
     Correct(-(-p_N_.z()), -unit(kP + 2), 0.02 * 0.02, 0.0);
   }
+  // Without GPS (visual odometry, or inertial alone) the odometry frame follows the filter's
+  // velocity, which is then all there is.
+  if (gps_lost && dt > 0.0) v_O_ne_ += std::min(1.0, dt / kOdometryTimeConstantS) * (v_N_.head<2>() - v_O_ne_);
   if (at_rest) {
     // Standing on the ground: no velocity, no rotation (this is what calibrates the gyro bias).
+    v_O_ne_.setZero();
     for (int i = 0; i < 3; ++i) Correct(-v_N_[i], unit(kV + i), 0.02 * 0.02, 0.0);
     for (int i = 0; i < 3; ++i)
       Correct(s.gyro_B[i] - bg_[i], unit(kBg + i), p_.gyro_noise * p_.gyro_noise + 1e-8, 0.0);
@@ -314,6 +331,7 @@ void Ins::Publish(const hal::SensorSample& s) {
   past_p_N_.Record(s.utime, p_N_);
   estimate_.utime = s.utime;
   estimate_.p_N = p_N_;
+  estimate_.p_O << p_O_ne_, p_N_.z();
   estimate_.v_N = v_N_;
   estimate_.q_NB = q_NB_;
   estimate_.euler = EulerFromRotationNB(q_NB_.toRotationMatrix());

@@ -24,7 +24,7 @@ class AvoidWorker : public VisionWorker {
  private:
   void Save(Outbox* out);
   // The plan and the map around the vehicle for the GCS (avoidance_t), at kReportPeriod.
-  void Report(const avoid::AvoidancePlan& plan, const Eigen::Vector3d& p_N, Outbox& out);
+  void Report(const avoid::AvoidancePlan& plan, const hal::VehicleEstimate& estimate, Outbox& out);
 
   avoid::AvoidancePlanner planner_;
   std::string map_path_;

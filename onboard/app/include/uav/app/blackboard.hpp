@@ -40,13 +40,15 @@ struct SurveyCapture {
 };
 
 // A camera's newest frame for a thread that processes another thread's camera (MDEPTH), with
-// where the estimate put the camera when it was exposed (nullopt: no navigation sample then).
+// where the estimate put the camera when it was exposed, in the odometry frame (nullopt: no
+// navigation sample then): depth from motion reads the motion between frames, and O's does
+// not jump with a GPS correction.
 struct SharedFrame {
   int64_t utime = 0;
   std::string camera;
   int width = 0, height = 0;
   std::vector<uint8_t> bgr;  // width * height * 3, row-major
-  std::optional<Eigen::Isometry3d> T_NC_estimate;
+  std::optional<Eigen::Isometry3d> T_OC_estimate;
   std::optional<Eigen::Vector3d> v_N_estimate;  // [m/s] the vehicle's estimated velocity then
 };
 

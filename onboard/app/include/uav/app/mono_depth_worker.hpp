@@ -15,8 +15,9 @@ namespace uav::app {
 // The estimate is from within a control period of the frame (else there is no navigation sample
 // matching it).
 bool EstimateMatchesFrame(const hal::VehicleEstimate& estimate, int64_t frame_utime);
-// Shares `image` with MDEPTH when it wants this camera's frames, with the camera pose and the
-// vehicle's velocity from the estimate (when it matches the frame's time).
+// Shares `image` with MDEPTH when it wants this camera's frames, with the camera pose (given in
+// N, shared in the odometry frame) and the vehicle's velocity from the estimate (when it
+// matches the frame's time).
 void ShareFrame(Outbox& out, const BlackboardData& d, const std::string& camera, int64_t utime, const cv::Mat& image,
                 const std::optional<Eigen::Isometry3d>& T_NC_estimate);
 

@@ -45,9 +45,10 @@ class StereoWorker : public VisionWorker {
                         const Eigen::Isometry3d& T_NB, Outbox& out);
   void ReportObstacles(int64_t utime, const vision::StereoObstacles& found, const Eigen::Isometry3d& T_NB, Outbox& out);
   void ReportUnhealthy(int64_t utime, const std::string& reason, Outbox& out);
-  // The pair's reprojected points (for the rays), obstacles and wires, for obstacle avoidance.
+  // The pair's reprojected points (for the rays), obstacles and wires, for obstacle avoidance, in
+  // the odometry frame (O's origin at p_NO in N then).
   void ReportToMap(int64_t utime, const vision::StereoObstacles& found, const std::vector<vision::Wire3D>& wires,
-                   const Eigen::Isometry3d& T_NB, Outbox& out) const;
+                   const Eigen::Isometry3d& T_NB, const Eigen::Vector3d& p_NO, Outbox& out) const;
 
   hal::StereoCamera& camera_;
   vision::StereoRectifier rectifier_;
@@ -58,6 +59,7 @@ class StereoWorker : public VisionWorker {
   std::optional<vision::PowerLineStereo> power_lines_;
   PreviewStream preview_;
   Eigen::Isometry3d T_NB_ = Eigen::Isometry3d::Identity();  // the estimate then
+  Eigen::Vector3d p_NO_ = Eigen::Vector3d::Zero();          // and the odometry frame's origin
   static constexpr double kNoWire = 1e9;
   std::array<double, 3> recent_nearest_m_{kNoWire, kNoWire, kNoWire};  // per pair, kNoWire: none ranged
   int frames_ = 0;

@@ -132,6 +132,11 @@ class AvoidancePlanner {
   Eigen::Vector3d previous_goal_N_ = Eigen::Vector3d::Constant(1e9);
 };
 
+// The same result or plan with every position moved by d_N (between frames of the same axes: the
+// vehicle keeps its map in the odometry frame, hal::VehicleEstimate::p_O).
+PerceptionUpdate Translated(PerceptionUpdate update, const Eigen::Vector3d& d_N);
+AvoidancePlan Translated(AvoidancePlan plan, const Eigen::Vector3d& d_N);
+
 // Arc length of p on the polyline (its nearest point), and the point at arc length s.
 double ArcLengthOf(const std::vector<Eigen::Vector3d>& path, const Eigen::Vector3d& p);
 Eigen::Vector3d PointAt(const std::vector<Eigen::Vector3d>& path, double s);

@@ -14,6 +14,13 @@ namespace uav::hal {
 struct VehicleEstimate {
   int64_t utime = 0;
   Eigen::Vector3d p_N = Eigen::Vector3d::Zero();  // [m] NED from home
+  // [m] in the odometry frame O (REP-105's odom): NED axes; the horizontal position integrated
+  // from the estimated velocity alone, so it never jumps with a GPS or vision correction; the
+  // height is p_N's. It drifts from p_N slowly (GPS's wander: about a metre a minute). What the
+  // vehicle maps around itself (the obstacle map) is kept in O, so a wall stays where it was seen
+  // relative to the vehicle while the GPS fix wanders. An estimator that has no smoother
+  // position sets it to p_N.
+  Eigen::Vector3d p_O = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_N = Eigen::Vector3d::Zero();  // [m/s]
   Eigen::Quaterniond q_NB = Eigen::Quaterniond::Identity();
   EulerAngles euler;                              // of q_NB, z-y-x (Eq. 5.51)
@@ -29,6 +36,13 @@ struct VehicleEstimate {
     T.translation() = p_N;
     return T;
   }
+  Eigen::Isometry3d T_OB() const {  // body pose in the odometry frame
+    Eigen::Isometry3d T = T_NB();
+    T.translation() = p_O;
+    return T;
+  }
+  // O's origin in N: a point q_O is q_O + p_NO() in N (the axes are the same).
+  Eigen::Vector3d p_NO() const { return p_N - p_O; }
 };
 
 }  // namespace uav::hal

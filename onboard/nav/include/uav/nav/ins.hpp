@@ -97,6 +97,8 @@ class Ins {
   InsParams p_;
   LocalNedFrame frame_;
   Eigen::Vector3d p_N_ = Eigen::Vector3d::Zero(), v_N_ = Eigen::Vector3d::Zero();
+  Eigen::Vector2d p_O_ne_ = Eigen::Vector2d::Zero();  // VehicleEstimate::p_O, north and east
+  Eigen::Vector2d v_O_ne_ = Eigen::Vector2d::Zero();  // its rate of change
   Eigen::Quaterniond q_NB_ = Eigen::Quaterniond::Identity();
   Eigen::Vector3d bg_ = Eigen::Vector3d::Zero(), ba_ = Eigen::Vector3d::Zero();
   double baro_bias_ = 0.0;
