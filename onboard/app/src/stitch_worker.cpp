@@ -34,7 +34,7 @@ void StitchWorker::Work(Outbox& out) {
   captures_.clear();
   for (SurveyCapture& c : captures) {
     const cv::Mat image(c.height, c.width, CV_8UC3, c.bgr.data());
-    const vision::StitchStep step = stitcher_->Add({image, c.utime, c.T_NC_estimate});
+    const vision::StitchStep step = stitcher_->Add({image, c.utime, c.T_NC_estimate, {}});
     registered_ += step.registered;
   }
   // The live map: every changed tile, JPEG-compressed (unmapped pixels black).
