@@ -6,7 +6,18 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include <time.h>
+
 namespace uav::avoid {
+
+namespace {
+// CPU time this thread has used [ms].
+double ThreadCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}
+}  // namespace
 
 AvoidanceParams AvoidanceParams::FromParameters(const ParameterSet& p) {
   AvoidanceParams a;
@@ -159,6 +170,7 @@ std::vector<Eigen::Vector3f> AvoidancePlanner::OccupiedAround(const Eigen::Vecto
 AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, const Eigen::Vector3d& via_N,
                                      const Eigen::Vector3d& goal_N, bool map_only) {
   const auto t0 = std::chrono::steady_clock::now();
+  const double cpu0_ms = ThreadCpuMs();
   AvoidancePlan plan;
   plan.utime = utime;
   plan.perception_utime = perception_utime_;
@@ -198,6 +210,7 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
   auto finish = [&](AvoidancePlan& out) -> AvoidancePlan {
     out.seen_free_m = out.path_N.size() >= 2 ? SeenFreeLength(grid, out.path_N, p_.clearance()) : 0.0;
     out.planning_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    out.planning_cpu_ms = ThreadCpuMs() - cpu0_ms;
     return out;
   };
   if (direct) {

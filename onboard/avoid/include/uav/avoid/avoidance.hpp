@@ -86,6 +86,9 @@ struct AvoidancePlan {
   std::vector<Eigen::Vector3d> path_N;  // from where the vehicle was, toward the goal
   double seen_free_m = 0.0;             // along path_N: observed free with the clearance
   double planning_ms = 0.0;             // wall time of the window, the plan and the checks
+  // The planning thread's CPU time for the same: the work itself, without the time other
+  // threads (in simulation the renderer and the matchers) held the cores meanwhile.
+  double planning_cpu_ms = 0.0;
   std::size_t map_cells = 0;
 };
 
