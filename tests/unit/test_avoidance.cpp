@@ -184,6 +184,37 @@ TEST(LocalGrid, DistanceFieldMatchesBruteForce) {
       }
 }
 
+// The planner's copy of the map moves with the vehicle by reading only the slab it newly covers:
+// moved any way (back, sideways, up, several slabs at once), it is the copy read whole.
+TEST(LocalGrid, ARecentredCopyIsTheCopyReadAnew) {
+  OccupancyMap map;
+  for (int i = 0; i < 2; ++i) {
+    map.InsertScan(WallScan({0, 0, -2}, 6.0, 3.0, 4.0));
+    map.InsertScan(WallScan({4, 5, -3}, 12.0, 2.0, 3.0));
+    map.InsertCylinder({3, -4}, -5, 0, 0.4);
+  }
+  const Eigen::Vector3d half(6, 6, 2);
+  const LocalGrid start = LocalGrid::FromMap(map, {2, 0, -2}, half, 0.4, false);
+  int occupied = 0, free = 0;
+  for (const Eigen::Vector3d& to : {Eigen::Vector3d(5.3, 0, -2), Eigen::Vector3d(-1.1, 2.7, -2.5), Eigen::Vector3d(9, -4, -1.2),
+                                    Eigen::Vector3d(40, 0, -2)}) {
+    LocalGrid moved = start;
+    moved.Recentre(map, to);
+    const LocalGrid fresh = LocalGrid::FromMap(map, to, half, 0.4, false);
+    ASSERT_EQ(moved.size(), fresh.size());
+    ASSERT_TRUE(moved.min_N().isApprox(fresh.min_N()));
+    for (int z = 0; z < fresh.size().z(); ++z)
+      for (int y = 0; y < fresh.size().y(); ++y)
+        for (int x = 0; x < fresh.size().x(); ++x) {
+          ASSERT_EQ(moved.State({x, y, z}), fresh.State({x, y, z})) << to.transpose() << ": " << x << " " << y << " " << z;
+          occupied += fresh.State({x, y, z}) == Cell::kOccupied;
+          free += fresh.State({x, y, z}) == Cell::kFree;
+        }
+  }
+  EXPECT_GT(occupied, 100) << "the cases have walls to copy";
+  EXPECT_GT(free, 1000);
+}
+
 // A window with everything observed free but the boxes given (cells whose centre is inside).
 LocalGrid Field(const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& boxes) {
   LocalGrid g(Eigen::Vector3d(-2, -12, -8), Eigen::Vector3i(80, 60, 20), 0.4);

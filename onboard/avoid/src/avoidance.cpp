@@ -135,17 +135,21 @@ void AvoidancePlanner::RefreshKnown(const Eigen::Vector3d& p_N) {
   const int coarser = p_.GridLevels();
   bool complete = true;
   const std::vector<OccupancyMap::Change> changes = map_.TakeChanges(coarser, &complete);
-  // Three windows wide; copied anew from the tree when the next window would leave it.
+  // Three windows wide (a window reaches 1.5 windows from the vehicle). Once the vehicle has
+  // moved half a window from the copy's centre, the copy is moved with it: only the slab it
+  // newly covers is read from the tree. Reading the whole copy anew took 54-75 ms, the
+  // replanning's p99 in the field flights; a half-window slab is a twelfth of it.
   const Eigen::Vector3d half(3 * p_.window_m, 3 * p_.window_m, 3 * p_.window_up_m);
-  const Eigen::Vector3d margin(2 * p_.window_m, 2 * p_.window_m, 2 * p_.window_up_m);
+  const Eigen::Vector3d margin(2.5 * p_.window_m, 2.5 * p_.window_m, 2.5 * p_.window_up_m);
   const Eigen::Vector3d lo = known_.min_N(), hi = lo + known_.size().cast<double>() * known_.resolution();
   const bool inside = known_.size().prod() > 0 && ((p_N - margin).array() >= lo.array()).all() &&
                       ((p_N + margin).array() <= hi.array()).all();
-  if (!complete || !inside) {
+  if (!complete || known_.size().prod() == 0) {
     known_ = LocalGrid::FromMap(map_, p_N, half, p_.grid_m, /*distances=*/false);
     return;
   }
   for (const OccupancyMap::Change& c : changes) known_.SetAt(c.centre_N, c.state);
+  if (!inside) known_.Recentre(map_, p_N);
 }
 
 std::vector<Eigen::Vector3f> AvoidancePlanner::OccupiedAround(const Eigen::Vector3d& p_N, const Eigen::Vector3d& half_m) const {

@@ -36,8 +36,7 @@ void Transform1D(const double* f, int n, double* d, int* v, double* z) {
 
 LocalGrid::LocalGrid(const Eigen::Vector3d& min_N, const Eigen::Vector3i& size, double resolution_m)
     : min_N_(min_N), size_(size), res_(resolution_m),
-      cells_(static_cast<std::size_t>(size.prod()), Cell::kUnknown),
-      distance_(static_cast<std::size_t>(size.prod()), kFar) {}
+      cells_(static_cast<std::size_t>(size.prod()), Cell::kUnknown) {}
 
 LocalGrid LocalGrid::FromMap(const OccupancyMap& map, const Eigen::Vector3d& centre_N, const Eigen::Vector3d& half_extent_m,
                              double resolution_m, bool distances) {
@@ -45,26 +44,61 @@ LocalGrid LocalGrid::FromMap(const OccupancyMap& map, const Eigen::Vector3d& cen
   // Aligned to the resolution so that consecutive windows share their cells (no flicker).
   const Eigen::Vector3d min_N = ((centre_N - half_extent_m) / resolution_m).array().floor().matrix() * resolution_m;
   LocalGrid g(min_N, size, resolution_m);
-  const Eigen::Vector3d max_N = min_N + size.cast<double>() * resolution_m;
+  g.Fill(map, min_N, min_N + size.cast<double>() * resolution_m);
+  if (distances) g.ComputeDistances();
+  return g;
+}
+
+void LocalGrid::Fill(const OccupancyMap& map, const Eigen::Vector3d& lo_N, const Eigen::Vector3d& hi_N) {
   // A planning cell of 2^k map cells is read from the octree's inner cells at that size: 8^k
   // times fewer cells to visit.
   int coarser = 0;
   for (int k = 1; k <= 4; ++k)
-    if (std::abs(resolution_m - map.resolution() * (1 << k)) < 1e-9) coarser = k;
-  map.ForEachKnown(min_N, max_N, [&](const Eigen::Vector3d& c, double leaf, Cell state) {
+    if (std::abs(res_ - map.resolution() * (1 << k)) < 1e-9) coarser = k;
+  const Eigen::Vector3i box_lo = CellOf(lo_N + Eigen::Vector3d::Constant(1e-6)).cwiseMax(0);
+  const Eigen::Vector3i box_hi = CellOf(hi_N - Eigen::Vector3d::Constant(1e-6)).cwiseMin(size_ - Eigen::Vector3i::Ones());
+  map.ForEachKnown(lo_N, hi_N, [&](const Eigen::Vector3d& c, double leaf, Cell state) {
     const bool occupied = state == Cell::kOccupied;
     const Eigen::Vector3d lo = c.array() - 0.5 * leaf + 1e-6, hi = c.array() + 0.5 * leaf - 1e-6;
-    const Eigen::Vector3i a = g.CellOf(lo).cwiseMax(0), b = g.CellOf(hi).cwiseMin(size - Eigen::Vector3i::Ones());
+    const Eigen::Vector3i a = CellOf(lo).cwiseMax(box_lo), b = CellOf(hi).cwiseMin(box_hi);
     for (int z = a.z(); z <= b.z(); ++z)
       for (int y = a.y(); y <= b.y(); ++y)
         for (int x = a.x(); x <= b.x(); ++x) {
-          Cell& cell = g.cells_[g.Index({x, y, z})];
+          Cell& cell = cells_[Index({x, y, z})];
           if (occupied) cell = Cell::kOccupied;
           else if (cell == Cell::kUnknown) cell = Cell::kFree;
         }
   }, coarser);
-  if (distances) g.ComputeDistances();
-  return g;
+}
+
+void LocalGrid::Recentre(const OccupancyMap& map, const Eigen::Vector3d& centre_N) {
+  const Eigen::Vector3d half = 0.5 * size_.cast<double>() * res_;
+  const Eigen::Vector3d min_N = ((centre_N - half) / res_).array().floor().matrix() * res_;
+  // Old index = new index + offset; the overlap [lo, hi) in the new grid's cells, per axis.
+  const Eigen::Vector3i offset = ((min_N - min_N_) / res_).array().round().cast<int>();
+  if (offset == Eigen::Vector3i::Zero()) return;
+  const Eigen::Vector3i lo = (-offset).cwiseMax(0).cwiseMin(size_);
+  const Eigen::Vector3i hi = (size_ - offset).cwiseMin(size_).cwiseMax(lo);
+  spare_.assign(cells_.size(), Cell::kUnknown);
+  for (int z = lo.z(); z < hi.z(); ++z)
+    for (int y = lo.y(); y < hi.y(); ++y)
+      if (hi.x() > lo.x())
+        std::copy_n(&cells_[Index(offset + Eigen::Vector3i(lo.x(), y, z))], hi.x() - lo.x(), &spare_[Index({lo.x(), y, z})]);
+  cells_.swap(spare_);
+  min_N_ = min_N;
+  distance_.clear();
+  // The rest, as up to six slabs: outside the overlap in x; inside it in x and outside in y;
+  // inside in x and y and outside in z.
+  auto fill = [&](const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
+    if ((b.array() > a.array()).all()) Fill(map, min_N_ + a.cast<double>() * res_, min_N_ + b.cast<double>() * res_);
+  };
+  const Eigen::Vector3i& n = size_;
+  fill(Eigen::Vector3i::Zero(), {lo.x(), n.y(), n.z()});
+  fill({hi.x(), 0, 0}, n);
+  fill({lo.x(), 0, 0}, {hi.x(), lo.y(), n.z()});
+  fill({lo.x(), hi.y(), 0}, {hi.x(), n.y(), n.z()});
+  fill({lo.x(), lo.y(), 0}, {hi.x(), hi.y(), lo.z()});
+  fill({lo.x(), lo.y(), hi.z()}, {hi.x(), hi.y(), n.z()});
 }
 
 LocalGrid LocalGrid::Extract(const LocalGrid& big, const Eigen::Vector3d& centre_N, const Eigen::Vector3d& half_extent_m) {

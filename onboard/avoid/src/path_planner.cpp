@@ -14,6 +14,7 @@ void PlannerParams::Validate() const {
   if (!(proximity_cost >= 0) || !(unknown_cost >= 0) || !(vertical_cost >= 1))
     throw std::invalid_argument("planner costs must be non-negative (vertical factor at least 1)");
   if (max_expansions < 1) throw std::invalid_argument("planner max_expansions must be positive");
+  if (!(heuristic_weight >= 1 && heuristic_weight <= 5)) throw std::invalid_argument("planner heuristic_weight must be in [1, 5]");
 }
 
 namespace {
@@ -99,6 +100,7 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
   const double res = grid.resolution();
   const double soft = std::max(params.soft_clearance_m, need + 1e-6);
   auto h = [&](const Eigen::Vector3i& c) { return (grid.Centre(c) - goal_N).norm(); };
+  const float w = static_cast<float>(params.heuristic_weight);
   auto on_border = [&](const Eigen::Vector3i& c) {
     // The side faces only: a goal beyond the window is reached across the ground, not over the top.
     return c.x() == 0 || c.y() == 0 || c.x() == size.x() - 1 || c.y() == size.y() - 1;
@@ -141,7 +143,7 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
   const int s = grid.Index(start);
   g[s] = 0;
-  open.push({static_cast<float>(h(start)), s});
+  open.push({w * static_cast<float>(h(start)), s});
   int found = -1;
   auto cell_of = [&](int i) { return Eigen::Vector3i(i % size.x(), (i / size.x()) % size.y(), i / (size.x() * size.y())); };
   const int goal_index = goal_inside ? grid.Index(goal) : -1;
@@ -185,7 +187,7 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
       if (cost < g[j]) {
         g[j] = cost;
         parent[j] = i;
-        open.push({cost + static_cast<float>(h(cell_of(j))), j});
+        open.push({cost + w * static_cast<float>(h(cell_of(j))), j});
       }
     }
   }

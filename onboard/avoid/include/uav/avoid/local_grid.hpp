@@ -21,6 +21,10 @@ class LocalGrid {
   // occupied one, otherwise unknown. The ground is what the cameras saw of it, as any surface.
   static LocalGrid FromMap(const OccupancyMap& map, const Eigen::Vector3d& centre_N,
                            const Eigen::Vector3d& half_extent_m, double resolution_m, bool distances = true);
+  // This grid (read from `map` and kept current since) moved to be centred on centre_N, its
+  // size kept: the cells it still covers are kept, only the rest is read from the map (a slab
+  // of the tree instead of the whole window), in its own memory (no distances).
+  void Recentre(const OccupancyMap& map, const Eigen::Vector3d& centre_N);
   // The window [centre - half_extent, centre + half_extent] copied out of a larger grid of the
   // same resolution (cells outside it unknown), its distances computed.
   static LocalGrid Extract(const LocalGrid& big, const Eigen::Vector3d& centre_N, const Eigen::Vector3d& half_extent_m);
@@ -42,8 +46,9 @@ class LocalGrid {
   Eigen::Vector3i CellOf(const Eigen::Vector3d& p_N) const;
   Eigen::Vector3d Centre(const Eigen::Vector3i& c) const { return min_N_ + (c.cast<double>().array() + 0.5).matrix() * res_; }
   Cell State(const Eigen::Vector3i& c) const { return cells_[Index(c)]; }
-  // [m] from the cell's centre to the nearest occupied cell's centre; large where none is.
-  float Distance(const Eigen::Vector3i& c) const { return distance_[Index(c)]; }
+  // [m] from the cell's centre to the nearest occupied cell's centre; large where none is (and
+  // before ComputeDistances).
+  float Distance(const Eigen::Vector3i& c) const { return distance_.empty() ? kFar : distance_[Index(c)]; }
   // Outside the window: unknown, and no obstacle known.
   Cell StateAt(const Eigen::Vector3d& p_N) const;
   float DistanceAt(const Eigen::Vector3d& p_N) const;
@@ -55,11 +60,17 @@ class LocalGrid {
   static constexpr float kFar = 1e3f;
 
  private:
+  // Marks the cells of the box [lo, hi) from the map's known leaves there (read at the planning
+  // cell's size when it is the map's times 2^k): occupied where any occupied leaf overlaps,
+  // free where a free one does and no occupied one.
+  void Fill(const OccupancyMap& map, const Eigen::Vector3d& lo_N, const Eigen::Vector3d& hi_N);
+
   Eigen::Vector3d min_N_ = Eigen::Vector3d::Zero();
   Eigen::Vector3i size_ = Eigen::Vector3i::Zero();
   double res_ = 1.0;
   std::vector<Cell> cells_;
-  std::vector<float> distance_;
+  std::vector<float> distance_;  // empty until ComputeDistances
+  std::vector<Cell> spare_;      // Recentre's scratch, kept: a fresh block each time cost page faults
 };
 
 }  // namespace uav::avoid

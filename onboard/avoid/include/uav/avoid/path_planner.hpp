@@ -24,6 +24,11 @@ struct PlannerParams {
   double vertical_cost = 2.0;     // factor on vertical movement (keep the planned altitude)
   double shortcut_margin_m = 0.3; // a line-of-sight shortcut keeps this beyond the clearance
   int max_expansions = 200000;    // bounds the time on a window full of dead ends
+  // Weighted A* (Pohl 1970): f = g + w h, a path that costs at most w times the cheapest. Most
+  // of a window is unknown (1 + unknown_cost per metre) and the way out of it is costed so too,
+  // so with w = 1 the search expanded 75,000-82,000 of a 128,000-cell window (25-30 ms) before
+  // it left it; w = 1 + unknown_cost matches the heuristic to what the unseen way costs.
+  double heuristic_weight = 1.5;
   // Altitude band of the path [m, down positive]: cells below floor_down_m (the lowest altitude
   // allowed) or above ceiling_down_m (the geofence) are closed; the start is always open.
   double floor_down_m = 1e9, ceiling_down_m = -1e9;
