@@ -215,6 +215,36 @@ TEST(LocalGrid, ARecentredCopyIsTheCopyReadAnew) {
   EXPECT_GT(free, 1000);
 }
 
+// Blind, the vehicle returns the way it flew, at the altitude it flies: the only space seen free
+// is one layer of planning cells (3.6-4.0 m up) along its way, and it flies 3.9 m up, off that
+// layer's centre.
+TEST(AvoidancePlanner, OnTheMapAloneReturnsThroughTheOneLayerSeenFree) {
+  AvoidanceParams params;
+  params.enabled = true;
+  AvoidancePlanner planner(params);
+  for (int n = 0; n < 110; ++n)  // north -1..21, east -2.4..2.4, down -3.9 and -3.7 (leaf centres)
+    for (int e = 0; e < 24; ++e)
+      for (double d : {-3.9, -3.7}) planner.map().Mark({-0.9 + 0.2 * n, -2.3 + 0.2 * e, d}, false);
+  PerceptionUpdate u;
+  u.utime = 1'000'000;
+  planner.Add(u, {18.4, -0.7, -3.9});
+  const AvoidancePlan home = planner.Plan(5'000'000, {18.4, -0.7, -3.9}, {0, 0, -3.9}, {0, 0, -3.9}, /*map_only=*/true);
+  ASSERT_NE(home.state, AvoidState::kNoPath) << home.reason;
+  EXPECT_NEAR(home.seen_free_m, Length(home.path_N), 0.5);
+}
+
+// The way the vehicle has flown is free space in the planning grid: its body was there (the
+// return on the map alone flies it back).
+TEST(OccupancyMap, TheWayTheBodyFlewIsFreeInThePlanningGrid) {
+  OccupancyMap map;
+  for (double n = 0; n <= 20; n += 0.3) map.InsertBody({n, 0.37 * std::sin(n), -3.93}, 0.5);
+  const LocalGrid grid = LocalGrid::FromMap(map, {10, 0, -4}, {12, 4, 2}, 0.4, false);
+  for (double n = 0; n <= 20; n += 0.1) {
+    const Eigen::Vector3d p(n, 0.37 * std::sin(n), -3.93);
+    EXPECT_EQ(grid.StateAt(p), Cell::kFree) << p.transpose();
+  }
+}
+
 // A window with everything observed free but the boxes given (cells whose centre is inside).
 LocalGrid Field(const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& boxes) {
   LocalGrid g(Eigen::Vector3d(-2, -12, -8), Eigen::Vector3i(80, 60, 20), 0.4);
@@ -402,9 +432,9 @@ TEST(AvoidancePlanner, OnTheMapAloneGoesOnlyThroughSpaceSeenFree) {
   params.enabled = true;
   AvoidancePlanner planner(params);
   // The way the vehicle came (north 0..20, a corridor 4 m wide) seen free; the rest unknown.
-  for (double n = -1; n < 20; n += 0.2)
-    for (double e = -2; e < 2; e += 0.2)
-      for (double d = -6; d < -2; d += 0.2) planner.map().Mark({n, e, d}, false);
+  for (int n = 0; n < 105; ++n)  // every leaf's centre (0.2 m leaves)
+    for (int e = 0; e < 20; ++e)
+      for (int d = 0; d < 20; ++d) planner.map().Mark({-1.1 + 0.2 * n, -1.9 + 0.2 * e, -5.9 + 0.2 * d}, false);
   PerceptionUpdate u;
   u.utime = 1'000'000;
   planner.Add(u, {18, 0, -4});
@@ -531,3 +561,4 @@ TEST(SafetyLayer, HoldsWhenThePlannerFindsNoPathAndIsOffWithoutAGoal) {
 
 }  // namespace
 }  // namespace uav::avoid
+

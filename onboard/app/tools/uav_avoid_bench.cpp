@@ -45,7 +45,8 @@ const char* kBaseScene = R"({
   "objects": [],
   "generate": [{"type": "obstacle_field", "count": %d, "region_ne": [0, -10, 60, 10], "clear_radius_m": %.1f,
                 "keep_clear_ne": [60, 0], "wires": %d, "wire_height_m": [3, 8]}],
-  "cameras": {"stereo": {"rate_hz": 15, "baseline_m": 0.12, "preview_rate_hz": 0}}
+  "cameras": {"stereo": {"rate_hz": 15, "baseline_m": 0.12, "preview_rate_hz": 0,
+                         "laser": {"enabled": true, "rows": 15, "cols": 15, "pitch_deg": 2.5, "roll_deg": 16}}}
 })";
 
 // The seeded field of the scene generator `obstacle_field` at `density` obstacles per square
