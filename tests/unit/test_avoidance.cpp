@@ -561,4 +561,3 @@ TEST(SafetyLayer, HoldsWhenThePlannerFindsNoPathAndIsOffWithoutAGoal) {
 
 }  // namespace
 }  // namespace uav::avoid
-
