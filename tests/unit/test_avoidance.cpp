@@ -480,6 +480,57 @@ AvoidancePlan StraightPlan(double seen_free_m, int64_t utime, int64_t perception
   return plan;
 }
 
+// One control step of a point mass under the layer's setpoint, horizontally: the position loop
+// (gain 1/s, the feed-forward, the speed limit), then the velocity reached at no more than the
+// layer's deceleration.
+void FlyPointMass(const control::Setpoint& sp, const AvoidanceParams& params, double dt, hal::VehicleEstimate& est) {
+  const double limit = sp.speed_max_xy.value_or(params.cruise_speed);
+  Eigen::Vector2d want = sp.v_ff_N.head<2>() + (sp.p_N - est.p_N).head<2>();
+  if (want.norm() > limit) want *= limit / want.norm();
+  Eigen::Vector2d dv = want - est.v_N.head<2>();
+  if (dv.norm() > params.brake_accel * dt) dv *= params.brake_accel * dt / dv.norm();
+  est.v_N.head<2>() += dv;
+  est.p_N.head<2>() += est.v_N.head<2>() * dt;
+}
+
+// A detour turning a right angle round the corner of what it avoids (north, then east: the
+// obstacle lies inside the turn). The planner's shortcuts put their corners at the clearance
+// from it. A point mass flies it from 3 m/s: it slows for the corner (to 1.6 m/s) and cuts it
+// by 0.08 m, where the carrot 2 m ahead chased at cruise speed cut it by 0.31 m (at 2.6 m/s).
+TEST(SafetyLayer, SlowsForACornerAndDoesNotCutIt) {
+  AvoidanceParams params;
+  params.enabled = true;
+  params.cruise_speed = 3.0;
+  SafetyLayer layer(params);
+  hal::VehicleEstimate est;
+  est.p_N = {0, 0, -4};
+  est.v_N = {3, 0, 0};
+  control::Setpoint task;
+  task.p_N = {10, 10, -4};
+  const Eigen::Vector2d corner(10, 0);
+  const double dt = 0.02;
+  double cut = 0, slowest_near_corner = 1e9;
+  for (int i = 0; i < 600; ++i) {
+    const int64_t utime = int64_t(i) * 20000 + 1'000'000;
+    AvoidancePlan plan;
+    plan.utime = utime, plan.perception_utime = utime - 50'000;
+    plan.goal_N = {10, 10, -4};
+    plan.state = AvoidState::kAvoiding;
+    plan.path_N = {{0, 0, -4}, {10, 0, -4}, {10, 10, -4}};
+    plan.seen_free_m = 100;
+    const SafetyLayer::Output out = layer.Apply(task, task.p_N, est, &plan, utime, dt);
+    FlyPointMass(out.setpoint, params, dt, est);
+    // Inside the turn (short of the first leg's end, east of its line): off the path toward what
+    // the corner goes round.
+    if (est.p_N.x() < corner.x() && est.p_N.y() > corner.y()) cut = std::max(cut, std::min(corner.x() - est.p_N.x(), est.p_N.y()));
+    if ((est.p_N.head<2>() - corner).norm() < 1.0) slowest_near_corner = std::min(slowest_near_corner, est.v_N.head<2>().norm());
+  }
+  EXPECT_LT(cut, 0.2) << "cut the corner toward what it goes round";
+  std::printf("cut %.2f m, slowest near the corner %.2f m/s\n", cut, slowest_near_corner);
+  EXPECT_LT(slowest_near_corner, 2.0) << "did not slow for the corner";
+  EXPECT_GT(est.p_N.y(), 9.0) << "did not go on round it";
+}
+
 TEST(SafetyLayer, StopsWithinTheSpaceItHasSeen) {
   // A point mass that accelerates and brakes at the layer's deceleration toward unseen space
   // 15 m ahead, from 4 m/s (PX4 Collision Prevention's validated speed).
@@ -499,13 +550,7 @@ TEST(SafetyLayer, StopsWithinTheSpaceItHasSeen) {
     // The map saw 15 m ahead of the start; nothing new is seen (a textureless wall).
     AvoidancePlan plan = StraightPlan(15.0, utime, utime - 100'000);
     const SafetyLayer::Output out = layer.Apply(task, task.p_N, est, &plan, utime, dt);
-    const double limit = out.setpoint.speed_max_xy.value_or(params.cruise_speed);
-    // The position loop (gain 1/s, the feed-forward, the speed limit), then the velocity reached
-    // at no more than the layer's deceleration.
-    const double want = std::clamp(out.setpoint.v_ff_N.x() + (out.setpoint.p_N.x() - est.p_N.x()), -limit, limit);
-    const double dv = std::clamp(want - est.v_N.x(), -params.brake_accel * dt, params.brake_accel * dt);
-    est.v_N.x() += dv;
-    est.p_N.x() += est.v_N.x() * dt;
+    FlyPointMass(out.setpoint, params, dt, est);
     max_x = std::max(max_x, est.p_N.x());
   }
   EXPECT_LT(max_x, 15.0 - params.clearance() * 0) << "went into unseen space";

@@ -106,10 +106,13 @@ double ShortestPath(const TrueField& field, double clearance) {
   return -1;
 }
 
-// Horizontal distance from p to an obstacle's footprint (its radius, or a box's half diagonal).
+// Horizontal distance from p to an obstacle's footprint (its circle, or its turned box).
 double FootprintDistance(const uav::world::Obstacle& o, const Eigen::Vector2d& p) {
-  const double r = o.radius > 0 ? o.radius : 0.5 * o.size.head<2>().norm();
-  return (p - o.base_N.head<2>()).norm() - r;
+  if (!(o.size.x() > 0 && o.size.y() > 0)) return (p - o.base_N.head<2>()).norm() - o.radius;
+  const Eigen::Vector2d d = p - o.base_N.head<2>();
+  const Eigen::Vector2d local(std::cos(o.yaw) * d.x() + std::sin(o.yaw) * d.y(), -std::sin(o.yaw) * d.x() + std::cos(o.yaw) * d.y());
+  const Eigen::Vector2d out = (local.cwiseAbs() - 0.5 * o.size.head<2>());
+  return out.maxCoeff() > 0 ? out.cwiseMax(0.0).norm() : out.maxCoeff();
 }
 
 struct FlightResult {
@@ -123,6 +126,9 @@ struct FlightResult {
   // frame the map is kept in: a wall seen 3 s ago is off by this much relative to the vehicle.
   double error_drift_3s_N = 0, error_drift_3s_O = 0;
   std::vector<Eigen::Vector3d> track;  // truth, every 0.1 s
+  Eigen::Vector3d closest_N = Eigen::Vector3d::Zero();  // where the true clearance was least
+  double closest_t = 0;                                  // and when [s after the goto]
+  int closest_id = uav::world::kNoObject;                // and to what
   std::vector<Eigen::Vector3f> occupied;  // the vehicle's map at the end, in the flight's band
 };
 
@@ -173,9 +179,10 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
     }
     if (t - last_sample_t >= 0.1) {
       last_sample_t = t;
-      const double c = scene.Clearance(p, now * 1e-6);
+      int nearest = uav::world::kNoObject;
+      const double c = scene.Clearance(p, now * 1e-6, &nearest);
       clearances.push_back(c);
-      r.min_clearance = std::min(r.min_clearance, c);
+      if (c < r.min_clearance) r.min_clearance = c, r.closest_N = p, r.closest_t = t - travel_start_t, r.closest_id = nearest;
       if (!r.track.empty()) r.path_m += (p - r.track.back()).head<2>().norm();
       r.track.push_back(p);
       error_N.push_back((d.estimate.p_N - p).head<2>());
@@ -234,7 +241,12 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   r.mean_speed = r.reached && r.time_s > 0 ? r.path_m / r.time_s : 0.0;
   r.success = r.reached && r.min_clearance >= avd.body_radius_m;
   if (!r.reached) r.why = "goal not reached in " + std::to_string(static_cast<int>(limit_s)) + " s";
-  else if (!r.success) r.why = "true clearance fell to " + std::to_string(r.min_clearance) + " m";
+  else if (!r.success) {
+    char why[320];
+    std::snprintf(why, sizeof why, "true clearance fell to %.2f m at (%.1f, %.1f), %.1f m up, %.1f s after the goto, by %s",
+                  r.min_clearance, r.closest_N.x(), r.closest_N.y(), -r.closest_N.z(), r.closest_t, scene.Describe(r.closest_id).c_str());
+    r.why = why;
+  }
   return r;
 }
 
@@ -257,9 +269,15 @@ void Picture(const std::string& path, const FlightResult& r, double density, int
     const cv::Point q = P(c.head<2>().cast<double>());
     cv::rectangle(img, q - cv::Point(1, 1), q + cv::Point(1, 1), cv::Scalar(0, 140, 255), cv::FILLED);
   }
-  for (std::size_t i = 1; i < r.track.size(); ++i)
-    cv::line(img, P(r.track[i - 1].head<2>()), P(r.track[i].head<2>()), cv::Scalar(200, 80, 0), 2, cv::LINE_AA);
+  // The track, blue at the flight's altitude turning red as it goes 2.5 m or more below it.
+  for (std::size_t i = 1; i < r.track.size(); ++i) {
+    const double below = std::clamp((kAltitude + r.track[i].z()) / 2.5, 0.0, 1.0);
+    cv::line(img, P(r.track[i - 1].head<2>()), P(r.track[i].head<2>()), cv::Scalar(200 * (1 - below), 80 * (1 - below), 230 * below), 2,
+             cv::LINE_AA);
+  }
   cv::circle(img, P({0, 0}), 6, cv::Scalar(0, 160, 0), 2);
+  // The closest approach to a true surface.
+  if (!r.track.empty()) cv::circle(img, P(r.closest_N.head<2>()), 9, cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
   cv::circle(img, P({kLength, 0}), 6, cv::Scalar(0, 0, 200), 2);
   char text[160];
   std::snprintf(text, sizeof text, "density %.3f/m^2 seed %d: %s, min clearance %.2f m, path %.1f m (shortest %.1f)", density, seed,
@@ -312,6 +330,7 @@ int main(int argc, char** argv) {
                      r.mean_speed, r.reversals, r.stops_over_3s, r.error_drift_3s_N, r.error_drift_3s_O);
       if (!picture_dir.empty()) Picture(picture_dir + "/field_" + std::to_string(seed) + ".png", r, density, seed);
       out["flights"].push_back({{"seed", seed}, {"success", r.success}, {"why", r.why}, {"min_clearance_m", r.min_clearance},
+                                {"closest_ne_m", {r.closest_N.x(), r.closest_N.y()}}, {"closest_s", r.closest_t},
                                 {"clearance_p5_m", r.clearance_p5}, {"path_m", r.path_m}, {"shortest_m", r.shortest_m},
                                 {"mean_speed", r.mean_speed}, {"replan_p50_ms", Percentile(r.replan_ms, 0.5)},
                                 {"replan_p99_ms", Percentile(r.replan_ms, 0.99)},

@@ -12,6 +12,58 @@ double WrapPi(double a) { return std::remainder(a, 2.0 * M_PI); }
 constexpr double kBlockedSpeed = 0.2;
 // [m/s] the last body-and-margin's length to a goal is flown at least this fast.
 constexpr double kArrivalSpeed = 0.5;
+// [m] how far inside a corner of the detour the vehicle may cut. The planner's shortcuts keep
+// the clearance plus a small margin at their corners, which lie on the obstacles they turn
+// round: a carrot chased round a corner cuts it toward that obstacle (by 0.35 of the lead at a
+// right angle, 0.7 m with a 2 m lead).
+constexpr double kCornerCut = 0.2;
+
+// The fastest the vehicle may pass a corner where the path turns by `deflection` [rad]: on the
+// arc that stays within kCornerCut of the corner, r = kCornerCut / (1 / cos(deflection / 2) - 1),
+// with `accel` as the lateral acceleration, v = sqrt(accel r).
+double CornerSpeed(double deflection, double accel) {
+  const double c = std::cos(0.5 * std::min(deflection, M_PI - 1e-3));
+  return std::sqrt(accel * kCornerCut / (1.0 / c - 1.0 + 1e-9));
+}
+
+// The carrot: lookahead_m on along the path from arc length s, brought nearer while the straight
+// way from p to it strays more than kCornerCut from the path's corners in between.
+Eigen::Vector3d Carrot(const std::vector<Eigen::Vector3d>& path, const Eigen::Vector3d& p, double s, double lookahead_m) {
+  double lead = lookahead_m;
+  for (; lead > 0.25; lead *= 0.8) {
+    const Eigen::Vector3d carrot = PointAt(path, s + lead);
+    const Eigen::Vector3d chord = carrot - p;
+    bool within = true;
+    double along = 0.0;
+    for (std::size_t i = 1; within && i + 1 < path.size(); ++i) {
+      along += (path[i] - path[i - 1]).norm();
+      if (along <= s) continue;
+      if (along >= s + lead) break;
+      const double t = chord.squaredNorm() > 1e-12 ? std::clamp((path[i] - p).dot(chord) / chord.squaredNorm(), 0.0, 1.0) : 0.0;
+      within = (p + t * chord - path[i]).norm() <= kCornerCut;
+    }
+    if (within) return carrot;
+  }
+  return PointAt(path, s + lead);
+}
+
+// The speed that lets the vehicle slow to each corner's CornerSpeed (at least kArrivalSpeed) by
+// the time it gets there, braking at accel, over the corners within reach from arc length s.
+double CornerLimit(const std::vector<Eigen::Vector3d>& path, double s, double accel, double speed) {
+  double limit = speed, along = 0.0;
+  for (std::size_t i = 1; i + 1 < path.size(); ++i) {
+    along += (path[i] - path[i - 1]).norm();
+    if (along <= s) continue;
+    const double d = along - s;
+    if (d > speed * speed / (2 * accel) + 1.0) break;
+    const Eigen::Vector3d in = path[i] - path[i - 1], out = path[i + 1] - path[i];
+    if (in.norm() < 1e-6 || out.norm() < 1e-6) continue;
+    const double deflection = std::acos(std::clamp(in.dot(out) / (in.norm() * out.norm()), -1.0, 1.0));
+    const double v = std::max(kArrivalSpeed, CornerSpeed(deflection, accel));
+    limit = std::min(limit, std::sqrt(v * v + 2 * accel * d));
+  }
+  return limit;
+}
 }  // namespace
 
 control::Setpoint SafetyLayer::Hold(const control::Setpoint& task_setpoint, const hal::VehicleEstimate& est) {
@@ -96,7 +148,7 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
   // the way (the planner refuses a goal nearer an obstacle than that): it goes there at an
   // approach speed instead of holding short of a goal it was given (space just beside the goal
   // may never be seen free when only sky is behind it, or when the cameras are gone).
-  const double v_allow = std::max(arriving ? kArrivalSpeed : 0.0, -a * t + std::sqrt(a * a * t * t + 2.0 * a * d));
+  double v_allow = std::max(arriving ? kArrivalSpeed : 0.0, -a * t + std::sqrt(a * a * t * t + 2.0 * a * d));
   out.speed_limit = v_allow;
   const double to_go = (plan->path_N.back() - est.p_N).norm();
   // Blocked when the seen space no longer lets it move and it is not at its goal; it moves again
@@ -116,10 +168,12 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
   Eigen::Vector3d direction = sp.p_N - est.p_N;
   if (plan->state == AvoidState::kAvoiding) {
     state = AvoidState::kAvoiding;
-    const Eigen::Vector3d carrot = PointAt(plan->path_N, s_now + p_.lookahead_m);
+    const Eigen::Vector3d carrot = Carrot(plan->path_N, est.p_N, s_now, p_.lookahead_m);
     sp.p_N = carrot;
-    direction = carrot - est.p_N;
+    direction = PointAt(plan->path_N, s_now + p_.lookahead_m) - est.p_N;
     const double cruise = std::min(p_.cruise_speed, task_setpoint.speed_max_xy.value_or(p_.cruise_speed));
+    v_allow = std::min(v_allow, CornerLimit(plan->path_N, s_now, p_.brake_accel, cruise));
+    out.speed_limit = v_allow;
     const Eigen::Vector3d tangent = PointAt(plan->path_N, s_now + 0.5) - PointAt(plan->path_N, s_now);
     sp.v_ff_N = tangent.norm() > 1e-6 && to_go > p_.lookahead_m ? Eigen::Vector3d(tangent.normalized() * std::min(cruise, v_allow))
                                                                 : Eigen::Vector3d::Zero();

@@ -1,6 +1,7 @@
 // Scene geometry: building the world and exact ray intersections.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "scene_impl.hpp"
@@ -648,6 +649,25 @@ ObjectPlacement Scene::PlacementAt(int id, double t_s) const {
 
 const std::vector<Obstacle>& Scene::obstacles() const { return impl_->obstacles; }
 const std::vector<Cable>& Scene::cables() const { return impl_->cables; }
+
+std::string Scene::Describe(int object_id) const {
+  char text[160];
+  for (const Cable& c : impl_->cables)
+    if (c.id == object_id) {
+      std::snprintf(text, sizeof text, "a cable %.1f m long, %.1f-%.1f m high", (c.b_N - c.a_N).norm(), -c.a_N.z(), -c.b_N.z());
+      return text;
+    }
+  for (const Obstacle& o : impl_->obstacles) {
+    if (o.id != object_id) continue;
+    if (o.size.x() > 0 && o.size.y() > 0)
+      std::snprintf(text, sizeof text, "a %s %.1f x %.1f m, %.1f m high, turned %.0f deg", o.kind.c_str(), o.size.x(), o.size.y(),
+                    o.size.z(), o.yaw * 180 / M_PI);
+    else
+      std::snprintf(text, sizeof text, "a %s of radius %.2f m, %.1f m high", o.kind.c_str(), o.radius, o.height);
+    return text;
+  }
+  return "nothing";
+}
 const std::vector<Chessboard>& Scene::chessboards() const { return impl_->boards; }
 const std::optional<CameraSetup>& Scene::downward_camera() const { return impl_->downward; }
 const std::optional<StereoSetup>& Scene::stereo_camera() const { return impl_->stereo; }
@@ -693,10 +713,11 @@ std::optional<RayHit> Scene::Intersect(const Eigen::Vector3d& origin_N, const Ei
   return out;
 }
 
-double Scene::Clearance(const Eigen::Vector3d& p_N, double t_s) const {
+double Scene::Clearance(const Eigen::Vector3d& p_N, double t_s, int* nearest_id) const {
   const Impl& s = *impl_;
   const PrimitiveMotions motions = s.MotionsAt(t_s);
   double best = std::numeric_limits<double>::infinity();
+  if (nearest_id) *nearest_id = kNoObject;
   for (size_t i = 0; i < s.prims.size(); ++i) {
     const Primitive& q = s.prims[i];
     const Eigen::Vector3d p = q.mover >= 0 && !motions.T_declared_N.empty() ? Eigen::Vector3d(motions.T_declared_N[i] * p_N) : p_N;
@@ -726,14 +747,20 @@ double Scene::Clearance(const Eigen::Vector3d& p_N, double t_s) const {
       case Shape::kCable:
       case Shape::kBoard: break;  // cables below, from their catenaries; boards are calibration targets
     }
-    best = std::min(best, d);
+    if (d < best) {
+      best = d;
+      if (nearest_id) *nearest_id = q.object_id;
+    }
   }
   for (const Cable& c : s.cables) {
     const std::vector<Eigen::Vector3d> pts = c.Sample(64);
     for (size_t i = 0; i + 1 < pts.size(); ++i) {
       const Eigen::Vector3d ab = pts[i + 1] - pts[i];
       const double t = std::clamp((p_N - pts[i]).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
-      best = std::min(best, std::max(0.0, (pts[i] + t * ab - p_N).norm() - c.radius_m));
+      if (const double d = std::max(0.0, (pts[i] + t * ab - p_N).norm() - c.radius_m); d < best) {
+        best = d;
+        if (nearest_id) *nearest_id = c.id;
+      }
     }
   }
   return std::isfinite(best) ? best : -1.0;

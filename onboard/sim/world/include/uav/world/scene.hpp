@@ -170,6 +170,9 @@ class Scene {
   std::vector<int> MovingObjects() const;
   ObjectPlacement PlacementAt(int id, double t_s) const;
   const std::vector<Cable>& cables() const;
+  // An object or cable said in words for reports ("a wall 2.4 x 0.3 m, 6.2 m high, turned 16
+  // deg"); "nothing" for kNoObject or an id the scene does not have.
+  std::string Describe(int object_id) const;
   const std::vector<Chessboard>& chessboards() const;
   // Cameras declared by the scene file (defaults when the file has none).
   const std::optional<CameraSetup>& downward_camera() const;
@@ -192,8 +195,9 @@ class Scene {
 
   // Distance [m] from p_N to the nearest surface other than the ground (objects where they are
   // at t_s, cables as their catenaries); 0 inside an object, -1 when the world has none. The
-  // avoidance benchmark's and the flight log's true clearance.
-  double Clearance(const Eigen::Vector3d& p_N, double t_s = 0.0) const;
+  // avoidance benchmark's and the flight log's true clearance. `nearest_id`, when given, gets
+  // the id of the object or cable that surface belongs to (kNoObject when none).
+  double Clearance(const Eigen::Vector3d& p_N, double t_s = 0.0, int* nearest_id = nullptr) const;
 
   // The renderer's view of the scene (implementation detail).
   struct Impl;
