@@ -385,6 +385,30 @@ TEST(PathPlanner, UnknownSpaceIsOpenAndSeenFreeLengthStopsAtIt) {
   EXPECT_NEAR(seen, 8.0, 0.5);
 }
 
+// The vehicle has climbed to 10 m over something and the goal, 12 m ahead, is 4 m up: below the
+// planning window (4 m either side of the vehicle's height), with a tall pole between. The path
+// goes round the pole toward the goal and down to it; searched toward the window's side faces,
+// the back face was the cheaper way out and the vehicle flew away from the goal (a 1/12 field,
+// seed 3, never reached its goal).
+TEST(AvoidancePlanner, AGoalBelowTheWindowIsFlownTowardNotAwayFrom) {
+  AvoidanceParams params;
+  params.enabled = true;
+  AvoidancePlanner planner(params);
+  for (double n = -4; n < 24; n += 0.4)
+    for (double e = -10; e < 10; e += 0.4)
+      for (double d = -15; d < -0.5; d += 0.4) planner.map().Mark({n, e, d}, false);
+  PerceptionUpdate u;
+  u.utime = 1;
+  u.cylinders.push_back({{5.0, 0.0}, -16.0, 0.0, 1.5});
+  planner.Add(u, {0, 0, -10});
+  planner.Add(u, {0, 0, -10});
+  const Eigen::Vector3d goal(12, 0, -4);
+  const AvoidancePlan plan = planner.Plan(2, {0, 0, -10}, goal, goal);
+  ASSERT_EQ(plan.state, AvoidState::kAvoiding) << plan.reason;
+  EXPECT_TRUE(plan.path_N.back().isApprox(goal)) << plan.path_N.back().transpose();
+  for (const Eigen::Vector3d& q : plan.path_N) EXPECT_GT(q.x(), -0.5) << "heads away from the goal: " << q.transpose();
+}
+
 TEST(AvoidancePlanner, KeepsItsSideOfAnObstacleAsItFliesPast) {
   AvoidanceParams params;
   params.enabled = true;
