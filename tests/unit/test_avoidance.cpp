@@ -385,6 +385,19 @@ TEST(PathPlanner, UnknownSpaceIsOpenAndSeenFreeLengthStopsAtIt) {
   EXPECT_NEAR(seen, 8.0, 0.5);
 }
 
+// The box [lo, hi) seen free (one leaf every `step` m), then a pole seen twice (certain).
+void SeenFreeWithAPole(AvoidancePlanner& planner, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double step,
+                       const MapCylinder& pole) {
+  for (double n = lo.x(); n < hi.x(); n += step)
+    for (double e = lo.y(); e < hi.y(); e += step)
+      for (double d = lo.z(); d < hi.z(); d += step) planner.map().Mark({n, e, d}, false);
+  PerceptionUpdate u;
+  u.utime = 1;
+  u.cylinders.push_back(pole);
+  planner.Add(u, Eigen::Vector3d::Zero());
+  planner.Add(u, Eigen::Vector3d::Zero());
+}
+
 // The vehicle has climbed to 10 m over something and the goal, 12 m ahead, is 4 m up: below the
 // planning window (4 m either side of the vehicle's height), with a tall pole between. The path
 // goes round the pole toward the goal and down to it; searched toward the window's side faces,
@@ -394,14 +407,7 @@ TEST(AvoidancePlanner, AGoalBelowTheWindowIsFlownTowardNotAwayFrom) {
   AvoidanceParams params;
   params.enabled = true;
   AvoidancePlanner planner(params);
-  for (double n = -4; n < 24; n += 0.4)
-    for (double e = -10; e < 10; e += 0.4)
-      for (double d = -15; d < -0.5; d += 0.4) planner.map().Mark({n, e, d}, false);
-  PerceptionUpdate u;
-  u.utime = 1;
-  u.cylinders.push_back({{5.0, 0.0}, -16.0, 0.0, 1.5});
-  planner.Add(u, {0, 0, -10});
-  planner.Add(u, {0, 0, -10});
+  SeenFreeWithAPole(planner, {-4, -10, -15}, {24, 10, -0.5}, 0.4, {{5.0, 0.0}, -16.0, 0.0, 1.5});
   const Eigen::Vector3d goal(12, 0, -4);
   const AvoidancePlan plan = planner.Plan(2, {0, 0, -10}, goal, goal);
   ASSERT_EQ(plan.state, AvoidState::kAvoiding) << plan.reason;
@@ -414,14 +420,7 @@ TEST(AvoidancePlanner, KeepsItsSideOfAnObstacleAsItFliesPast) {
   params.enabled = true;
   AvoidancePlanner planner(params);
   // Everything seen free, then a pole right on the line to the goal.
-  for (double n = -2; n < 30; n += 0.2)
-    for (double e = -10; e < 10; e += 0.2)
-      for (double d = -8; d < -0.5; d += 0.2) planner.map().Mark({n, e, d}, false);
-  PerceptionUpdate u;
-  u.utime = 1;
-  u.cylinders.push_back({{10.0, 0.0}, -9.0, 0.0, 0.5});
-  planner.Add(u, {0, 0, -4});
-  planner.Add(u, {0, 0, -4});  // seen twice: certain
+  SeenFreeWithAPole(planner, {-2, -10, -8}, {30, 10, -0.5}, 0.2, {{10.0, 0.0}, -9.0, 0.0, 0.5});
   Eigen::Vector3d p(0, 0, -4);
   int side = 0;
   for (int step = 0; step < 40; ++step) {
