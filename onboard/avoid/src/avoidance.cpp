@@ -224,22 +224,7 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
     if ((via_N - goal_N).norm() > 1e-6) plan.path_N.push_back(goal_N);
     return finish(plan);
   }
-  // A goal above or below the window (the vehicle climbed over something; the goal is on the
-  // ground's side of it) but within it across the ground: the search goes to the goal's place at
-  // the window's nearest height, and the path on down to the goal. Reached through the window's
-  // side faces instead, its back face can be the cheaper way out (nearer, as the goal is
-  // near), and the vehicle flew away from a goal 10 m ahead.
-  const bool beside_window = (goal_N.head<2>().array() > lo.head<2>().array()).all() &&
-                             (goal_N.head<2>().array() < hi.head<2>().array()).all() &&
-                             (goal_N.z() < lo.z() || goal_N.z() > hi.z());
-  PlannedPath fresh;
-  if (beside_window) {
-    Eigen::Vector3d target_N = goal_N;
-    target_N.z() = std::clamp(goal_N.z(), lo.z() + 0.5 * grid.resolution(), hi.z() - 0.5 * grid.resolution());
-    fresh = PlanPath(grid, p_N, target_N, planner);
-    if (fresh.found) fresh.p_N.push_back(goal_N);
-  }
-  if (!fresh.found) fresh = PlanPath(grid, p_N, goal_N, planner);
+  PlannedPath fresh = PlanPath(grid, p_N, goal_N, planner);
   // Hysteresis: the detour being flown is kept while it stays clear and no new one is clearly
   // shorter, so the vehicle does not swap sides of an obstacle from one plan to the next.
   // A kept detour that ended on the border of an earlier window now ends inside this one: it

@@ -68,6 +68,21 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
   }
   const Eigen::Vector3i goal = grid.CellOf(goal_N);
   const bool goal_inside = grid.Contains(goal);
+  // A goal within the window across the ground but above or below it (the vehicle climbed over
+  // something; the goal is on the ground's side of it): the search goes to the goal's place at
+  // the window's nearest height, and the path on down (or up) to the goal. Reached through the
+  // side faces instead, the back face can be the cheaper way out (nearer, as the goal is near),
+  // and the vehicle flew away from a goal 10 m ahead.
+  if (!goal_inside && goal.x() >= 0 && goal.y() >= 0 && goal.x() < size.x() && goal.y() < size.y()) {
+    const double lo_z = grid.min_N().z(), hi_z = lo_z + size.z() * grid.resolution();
+    Eigen::Vector3d at_height = goal_N;
+    at_height.z() = std::clamp(goal_N.z(), lo_z + 0.5 * grid.resolution(), hi_z - 0.5 * grid.resolution());
+    PlannedPath to_height = PlanPath(grid, start_N, at_height, params);
+    if (to_height.found) {
+      to_height.p_N.push_back(goal_N);
+      return to_height;
+    }
+  }
   const double need = Inflated(grid, params.clearance_m);
   if (goal_inside && grid.Distance(goal) < params.clearance_m) {
     out.reason = grid.State(goal) == Cell::kOccupied ? "the goal is inside an obstacle" : "the goal is too close to an obstacle";

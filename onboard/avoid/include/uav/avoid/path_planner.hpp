@@ -6,7 +6,8 @@
 // faster than it can stop in the space it has seen). A goal outside the window is reached
 // through the window's border: the rest of the way is counted as a straight line, as the
 // heuristic does, which is the optimistic completion D* Lite and its peers use for unknown
-// space.
+// space. A goal above or below the window, but within it across the ground, is reached through
+// its place at the window's nearest height.
 #include <string>
 #include <vector>
 
