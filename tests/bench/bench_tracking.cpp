@@ -57,11 +57,12 @@ void BM_Track(benchmark::State& state) {
   uav::vision::TrackerParams p;
   p.kind = static_cast<uav::vision::TrackerKind>(state.range(0));
   uav::vision::TargetTracker tracker(p);
-  tracker.Start(clip.frames[0], clip.first_box);
+  tracker.Start(clip.frames[0], 0.0, clip.first_box);
   std::size_t k = 1;
   int step = 1;
+  double t_s = 0.0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(tracker.Update(clip.frames[k]));
+    benchmark::DoNotOptimize(tracker.Update(clip.frames[k], t_s += 0.1));
     // Back and forth through the clip, so the target keeps moving slowly.
     if (k + step >= clip.frames.size() || k + step == 0) step = -step;
     k += step;

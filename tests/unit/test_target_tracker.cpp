@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <vector>
 
@@ -113,13 +114,13 @@ TEST_P(TrackerAccuracy, SlowMotionCentreError) {
   TrackerParams p;
   p.kind = c.kind;
   TargetTracker tracker(p);
-  tracker.Start(s.images[0], s.truth[0]);
+  tracker.Start(s.images[0], 0.0, s.truth[0]);
   std::vector<double> errors, ms;
   int losses = 0;
   TrackState last = TrackState::kTracking;
   for (std::size_t k = 1; k < s.images.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();
-    const TrackResult r = tracker.Update(s.images[k]);
+    const TrackResult r = tracker.Update(s.images[k], 0.1 * k);
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     if (r.state == TrackState::kLost && last != TrackState::kLost) ++losses;
     last = r.state;
@@ -154,10 +155,10 @@ TEST(TrackerJump, RelocksWithinTenFrames) {
     TrackerParams p;
     p.window = mode;
     TargetTracker tracker(p);
-    tracker.Start(s.images[0], s.truth[0]);
+    tracker.Start(s.images[0], 0.0, s.truth[0]);
     int relocked_after = -1;
     for (std::size_t k = 1; k < s.images.size(); ++k) {
-      const TrackResult r = tracker.Update(s.images[k]);
+      const TrackResult r = tracker.Update(s.images[k], 0.1 * k);
       const double e = CentreError(r, s.truth[k]);
       if (k < 10) {
         EXPECT_LT(e, 3.0) << Name(mode) << " frame " << k;
@@ -175,19 +176,45 @@ TEST(TrackerJump, RelocksWithinTenFrames) {
 TEST(TrackerLoss, TargetLeavingIsLostAndFoundAgain) {
   const Sequence& s = Cached(Target::kBall);
   TargetTracker tracker(TrackerParams{});
-  tracker.Start(s.images[0], s.truth[0]);
+  tracker.Start(s.images[0], 0.0, s.truth[0]);
   // A frame with the ball painted over by grass from elsewhere in the same image.
   cv::Mat hidden = s.images[1].clone();
   const cv::Rect b = s.truth[1];
   const cv::Rect grass(b.x, std::min(hidden.rows - b.height, b.y + 3 * b.height), b.width, b.height);
   s.images[1](grass).copyTo(hidden(b));
   TrackResult r;
-  for (int k = 0; k < 5; ++k) r = tracker.Update(hidden);
+  for (int k = 1; k <= 5; ++k) r = tracker.Update(hidden, 0.1 * k);
   EXPECT_EQ(r.state, TrackState::kLost);
   EXPECT_LT(r.confidence, TrackerParams{}.lost_confidence);
-  r = tracker.Update(s.images[2]);
+  r = tracker.Update(s.images[2], 0.6);
   EXPECT_EQ(r.state, TrackState::kTracking);
   EXPECT_LT(CentreError(r, s.truth[2]), 3.0);
+}
+
+// Loss is a time, not a frame count: at 30 frames/s, 5 hidden frames (0.17 s, a runner behind a
+// pole) are not yet a loss; hidden for 0.3 s the target is lost, as after 3 frames at 10 Hz.
+// A frame time that is not finite or goes back is refused.
+TEST(TrackerLoss, LossComesAfterATimeWhateverTheFrameRate) {
+  const Sequence& s = Cached(Target::kBall);
+  cv::Mat hidden = s.images[1].clone();
+  const cv::Rect b = s.truth[1];
+  const cv::Rect grass(b.x, std::min(hidden.rows - b.height, b.y + 3 * b.height), b.width, b.height);
+  s.images[1](grass).copyTo(hidden(b));
+  TargetTracker tracker(TrackerParams{});
+  tracker.Start(s.images[0], 0.0, s.truth[0]);
+  const double period = 1.0 / 30;
+  TrackResult r;
+  for (int k = 1; k <= 5; ++k) r = tracker.Update(hidden, k * period);
+  EXPECT_LT(r.confidence, TrackerParams{}.lost_confidence);
+  EXPECT_EQ(r.state, TrackState::kTracking) << "lost after 5 frames at 30 frames/s";
+  for (int k = 6; k <= 8; ++k) r = tracker.Update(hidden, k * period);
+  EXPECT_EQ(r.state, TrackState::kTracking) << "lost after 0.27 s";
+  r = tracker.Update(hidden, 9 * period);
+  EXPECT_EQ(r.state, TrackState::kLost) << "not lost after 0.3 s";
+  EXPECT_THROW(tracker.Update(s.images[2], 0.1), std::invalid_argument);
+  EXPECT_THROW(tracker.Update(s.images[2], std::nan("")), std::invalid_argument);
+  TargetTracker fresh(TrackerParams{});
+  EXPECT_THROW(fresh.Start(s.images[0], std::numeric_limits<double>::infinity(), s.truth[0]), std::invalid_argument);
 }
 
 // A target with no colour: a grey van seen from above (dark body, lighter windscreen and roof
@@ -229,7 +256,7 @@ TEST(TrackerCorrelation, FollowsAGreyTargetThroughGrowthAndOcclusion) {
     return bgr;
   };
   TargetTracker tracker(TrackerParams{});
-  tracker.Start(frame(0), truth(0));
+  tracker.Start(frame(0), 0.0, truth(0));
   ASSERT_EQ(tracker.method(), TrackerKind::kCorrelation) << tracker.method_reason();
   const auto iou = [](const TrackResult& r, const cv::Rect& t) {
     const cv::Rect2d b = r.box.boundingRect2f();
@@ -239,7 +266,7 @@ TEST(TrackerCorrelation, FollowsAGreyTargetThroughGrowthAndOcclusion) {
   int relocked = -1;
   TrackState during = TrackState::kIdle;
   for (int k = 1; k < kFrames; ++k) {
-    const TrackResult r = tracker.Update(frame(k));
+    const TrackResult r = tracker.Update(frame(k), 0.1 * k);
     if (k < kHiddenFrom) {
       EXPECT_EQ(r.state, TrackState::kTracking) << "frame " << k;
       EXPECT_GT(iou(r, truth(k)), 0.8) << "frame " << k;
@@ -268,7 +295,7 @@ TEST(TrackerBadInput, SelectionsAreRefusedNamingWhy) {
     p.kind = kind;
     TargetTracker t(p);
     try {
-      t.Start(img, box);
+      t.Start(img, 0.0, box);
     } catch (const std::invalid_argument& e) {
       EXPECT_EQ(t.state(), TrackState::kIdle);
       return std::string(e.what());
@@ -286,10 +313,10 @@ TEST(TrackerBadInput, SelectionsAreRefusedNamingWhy) {
   EXPECT_EQ(refusal(cv::Rect2d(100, 100, 40, 20), grey), "accepted");
   EXPECT_EQ(refusal(s.truth[0], image), "accepted");
   TargetTracker t(TrackerParams{});
-  t.Start(image, s.truth[0]);
+  t.Start(image, 0.0, s.truth[0]);
   cv::Mat small;
   cv::resize(image, small, cv::Size(320, 240));
-  EXPECT_THROW(t.Update(small), std::invalid_argument);
+  EXPECT_THROW(t.Update(small, 0.1), std::invalid_argument);
   TrackerParams bad;
   bad.hue_bins = 0;
   EXPECT_THROW(TargetTracker{bad}, std::invalid_argument);
@@ -303,7 +330,7 @@ TEST(TrackerAuto, PicksCamShiftForColourAndTheCorrelationFilterWithout) {
   for (Target target : {Target::kBall, Target::kCar}) {
     const Sequence& s = Cached(target);
     TargetTracker t(TrackerParams{});
-    t.Start(s.images[0], s.truth[0]);
+    t.Start(s.images[0], 0.0, s.truth[0]);
     EXPECT_EQ(t.method(), TrackerKind::kCamShift) << TargetName(target) << ": " << t.method_reason();
     EXPECT_NE(t.method_reason().find("the target's colour stands out"), std::string::npos);
     std::printf("[ auto ] %s: %s\n", TargetName(target), t.method_reason().c_str());
@@ -311,12 +338,12 @@ TEST(TrackerAuto, PicksCamShiftForColourAndTheCorrelationFilterWithout) {
   cv::Mat grey(240, 320, CV_8UC3, cv::Scalar(120, 124, 126));
   cv::rectangle(grey, cv::Rect(100, 100, 40, 20), cv::Scalar(60, 62, 64), -1);
   TargetTracker t(TrackerParams{});
-  t.Start(grey, cv::Rect2d(100, 100, 40, 20));
+  t.Start(grey, 0.0, cv::Rect2d(100, 100, 40, 20));
   EXPECT_EQ(t.method(), TrackerKind::kCorrelation);
   EXPECT_NE(t.method_reason().find("too little colour"), std::string::npos) << t.method_reason();
   cv::Mat moved = cv::Mat(240, 320, CV_8UC3, cv::Scalar(120, 124, 126));
   cv::rectangle(moved, cv::Rect(104, 102, 40, 20), cv::Scalar(60, 62, 64), -1);
-  const TrackResult r = t.Update(moved);
+  const TrackResult r = t.Update(moved, 0.1);
   EXPECT_EQ(r.state, TrackState::kTracking);
   EXPECT_NEAR(r.box.center.x, 124, 2.0);
   EXPECT_NEAR(r.box.center.y, 112, 2.0);

@@ -64,7 +64,7 @@ void TrackWorker::Work(Outbox& out) {
   if (started_now) {
     r = last_result_;
   } else {
-    r = tracker_.Update(frame.image);
+    r = tracker_.Update(frame.image, utime * 1e-6);
     last_result_ = r;
   }
   Report(utime, r, out);
@@ -125,7 +125,7 @@ bool TrackWorker::Handle(const TrackTarget& request, Outbox& out) {
     for (const Eigen::Vector2d& c : request.corners) polygon.emplace_back(static_cast<float>(c.x() * W), static_cast<float>(c.y() * H));
   vision::TargetTracker fresh(params_.tracker);
   try {
-    fresh.Start(image, box, polygon);
+    fresh.Start(image, buffer_[k].utime * 1e-6, box, polygon);
   } catch (const std::invalid_argument& e) {
     Reject(request, e.what(), out);  // the target tracked before (if any) carries on
     return false;
@@ -137,7 +137,7 @@ bool TrackWorker::Handle(const TrackTarget& request, Outbox& out) {
   r.box = cv::RotatedRect(cv::Point2f(static_cast<float>(box.x + 0.5 * box.width), static_cast<float>(box.y + 0.5 * box.height)),
                           cv::Size2f(static_cast<float>(box.width), static_cast<float>(box.height)), 0.0f);
   r.search_window = box;
-  for (std::size_t i = k + 1; i < buffer_.size(); ++i) r = fresh.Update(buffer_[i].image);
+  for (std::size_t i = k + 1; i < buffer_.size(); ++i) r = fresh.Update(buffer_[i].image, buffer_[i].utime * 1e-6);
   tracker_ = std::move(fresh);
   last_result_ = r;
   target_seq_ = request.target_seq;

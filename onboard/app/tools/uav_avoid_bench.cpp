@@ -115,6 +115,13 @@ double FootprintDistance(const uav::world::Obstacle& o, const Eigen::Vector2d& p
   return out.maxCoeff() > 0 ? out.cwiseMax(0.0).norm() : out.maxCoeff();
 }
 
+// A CSV field: in double quotes, its own quotes doubled.
+std::string Quoted(const std::string& text) {
+  std::string out = "\"";
+  for (char ch : text) out += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return out + "\"";
+}
+
 struct FlightResult {
   int seed = 0;
   bool reached = false, success = false;
@@ -130,6 +137,7 @@ struct FlightResult {
   double closest_t = 0;                                  // and when [s after the goto]
   int closest_id = uav::world::kNoObject;                // and to what
   std::vector<Eigen::Vector3f> occupied;  // the vehicle's map at the end, in the flight's band
+  std::ostringstream trace;               // every 0.1 s after the goto: truth, estimate, avoidance
 };
 
 double Percentile(std::vector<double> v, double q) {
@@ -206,6 +214,12 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
         if (still_since >= 0 && t - still_since > 3.0) ++r.stops_over_3s;
         still_since = -1;
       }
+      char row[320];
+      std::snprintf(row, sizeof row, "%.1f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%d,%s,%.2f,%zu,%s\n", t - travel_start_t, p.x(),
+                    p.y(), -p.z(), d.estimate.p_N.x(), d.estimate.p_N.y(), -d.estimate.p_N.z(), vehicle.Truth().v_N.norm(), c,
+                    nearest, std::string(uav::Name(d.avoid_state)).c_str(), d.avoid_speed_limit,
+                    d.avoid_plan ? d.avoid_plan->path_N.size() : 0, Quoted(d.avoid_reason).c_str());
+      r.trace << row;
       if (progress && static_cast<int>(t * 10) % 50 == 0)
         std::fprintf(stderr, "  seed %d t %.0f s at (%.1f, %.1f) %s\n", seed, t, p.x(), p.y(), std::string(uav::Name(d.avoid_state)).c_str());
     }
@@ -301,6 +315,10 @@ int main(int argc, char** argv) {
   cli.add_option("--param", overrides, "NAME=VALUE override (repeatable)");
   cli.add_option("--json", json_path, "write the per-flight and per-cell results here");
   cli.add_option("--picture", picture_dir, "write one picture per flight (field, true obstacles, flown track) here");
+  std::string trace_dir;
+  cli.add_option("--trace", trace_dir,
+                 "write one CSV per flight here, every 0.1 s after the goto: the true and estimated position, speed, "
+                 "true clearance and the nearest object's id, the avoidance state, speed limit, path points and reason");
   cli.add_flag("--quiet", quiet, "no progress lines");
   CLI11_PARSE(cli, argc, argv);
   try {
@@ -318,6 +336,7 @@ int main(int argc, char** argv) {
     for (const auto& o : overrides) params = params.WithAssignment(o);
     // The picture folder is made up front: a bad one is said before the first flight, not after.
     if (!picture_dir.empty()) std::filesystem::create_directories(picture_dir);
+    if (!trace_dir.empty()) std::filesystem::create_directories(trace_dir);
     nlohmann::json out = {{"density", density}, {"speed", speed}, {"flights", nlohmann::json::array()}};
     std::vector<FlightResult> results;
     for (int seed = a; seed <= b; ++seed) {
@@ -329,6 +348,10 @@ int main(int argc, char** argv) {
                      seed, r.success ? "success" : r.why.c_str(), r.min_clearance, r.clearance_p5, r.path_m, r.shortest_m,
                      r.mean_speed, r.reversals, r.stops_over_3s, r.error_drift_3s_N, r.error_drift_3s_O);
       if (!picture_dir.empty()) Picture(picture_dir + "/field_" + std::to_string(seed) + ".png", r, density, seed);
+      if (!trace_dir.empty())
+        uav::WriteFileAtomically(trace_dir + "/trace_" + std::to_string(seed) + ".csv",
+                                 "t_s,n_m,e_m,alt_m,est_n_m,est_e_m,est_alt_m,speed_mps,clearance_m,nearest_id,avoid_state,"
+                                 "speed_limit_mps,path_points,reason\n" + r.trace.str());
       out["flights"].push_back({{"seed", seed}, {"success", r.success}, {"why", r.why}, {"min_clearance_m", r.min_clearance},
                                 {"closest_ne_m", {r.closest_N.x(), r.closest_N.y()}}, {"closest_s", r.closest_t},
                                 {"clearance_p5_m", r.clearance_p5}, {"path_m", r.path_m}, {"shortest_m", r.shortest_m},

@@ -103,7 +103,7 @@ void TrackerParams::Validate() const {
   Require(max_iterations >= 1 && max_iterations <= 100, "max_iterations must be 1..100");
   Require(std::isfinite(epsilon_px) && epsilon_px > 0, "epsilon_px must be positive");
   Require(std::isfinite(lost_confidence) && lost_confidence >= 0 && lost_confidence < 1, "lost_confidence must be in [0, 1)");
-  Require(lost_frames >= 1, "lost_frames must be at least 1");
+  Require(std::isfinite(lost_after_s) && lost_after_s >= 0, "lost_after_s must be finite and >= 0");
   Require(std::isfinite(reacquire_confidence) && reacquire_confidence >= lost_confidence && reacquire_confidence <= 1,
           "reacquire_confidence must be in [lost_confidence, 1]");
   Require(std::isfinite(min_side_px) && min_side_px >= 1, "min_side_px must be at least 1");
@@ -122,7 +122,8 @@ struct TargetTracker::Impl {
   double reference_density = 0.0;  // mean probability over the selection
   cv::Size2f reference_size;       // the selection's size: the whole-image search's window
   cv::Rect window;
-  int low_frames = 0;
+  double confident_at_s = 0.0;  // the last frame at or above lost_confidence
+  double now_s = 0.0;
   cv::Mat hsv, mask, probability;
   // KCF / CSRT.
   cv::Ptr<cv::Tracker> opencv;
@@ -236,6 +237,10 @@ struct TargetTracker::Impl {
     return ShiftFrom(Centred(cv::Point2f(best), reference_size));
   }
 
+  // The confidence has been low for lost_after_s (the last confident frame that long ago; the
+  // small tolerance takes 3 frames at 10 Hz as 0.3 s whatever the rounding of their times).
+  bool LowForLong() const { return now_s - confident_at_s >= p.lost_after_s - 1e-6; }
+
   TrackResult UpdateCamShift(const cv::Mat& bgr) {
     Probability(bgr);
     TrackResult r = ShiftFrom(window);
@@ -244,10 +249,10 @@ struct TargetTracker::Impl {
       if (found.confidence >= p.reacquire_confidence && found.confidence > r.confidence) r = found;
     }
     if (r.confidence >= (state == TrackState::kLost ? p.reacquire_confidence : p.lost_confidence)) {
-      low_frames = 0;
+      confident_at_s = now_s;
       state = TrackState::kTracking;
       window = r.search_window;
-    } else if (++low_frames >= p.lost_frames) {
+    } else if (LowForLong()) {
       state = TrackState::kLost;  // keep the last window; the whole image is searched each frame
     }
     r.state = state;
@@ -255,19 +260,18 @@ struct TargetTracker::Impl {
     return r;
   }
 
-  // As CamShift's: a frame whose confidence (the PSR against its level) is under lost_confidence
-  // counts towards losing the target, lost_frames of them in a row lose it (occluded, out of
-  // view). Between that and a sure detection the filter follows without learning (a changed
+  // As CamShift's: confidence (the PSR against its level) under lost_confidence for
+  // lost_after_s loses the target (occluded, out of view). Between that and a sure detection the filter follows without learning (a changed
   // gait, a partial occlusion). Lost, it searches around where it was last seen until sure again.
   TrackResult UpdateCorrelation(const cv::Mat& bgr) {
     cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
     const detail::CorrelationDetection d = correlation->Update(grey);
     if (d.sure) {
-      low_frames = 0;
+      confident_at_s = now_s;
       state = TrackState::kTracking;
     } else if (d.confidence >= p.lost_confidence && state == TrackState::kTracking) {
-      low_frames = 0;
-    } else if (++low_frames >= p.lost_frames) {
+      confident_at_s = now_s;
+    } else if (LowForLong()) {
       state = TrackState::kLost;
     }
     TrackResult r;
@@ -301,7 +305,7 @@ TargetTracker::~TargetTracker() = default;
 TargetTracker::TargetTracker(TargetTracker&&) noexcept = default;
 TargetTracker& TargetTracker::operator=(TargetTracker&&) noexcept = default;
 
-void TargetTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box, const std::vector<cv::Point2f>& polygon) {
+void TargetTracker::Start(const cv::Mat& bgr, double t_s, const cv::Rect2d& box, const std::vector<cv::Point2f>& polygon) {
   Impl& s = *impl_;
   Require(!bgr.empty(), "the image is empty");
   Require(bgr.type() == CV_8UC3, "the image must be 8-bit BGR");
@@ -318,7 +322,8 @@ void TargetTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box, const std::
   const cv::Rect roi(cv::Point(static_cast<int>(std::floor(inside.x)), static_cast<int>(std::floor(inside.y))),
                      cv::Point(static_cast<int>(std::ceil(inside.x + inside.width)), static_cast<int>(std::ceil(inside.y + inside.height))));
   s.image_size = bgr.size();
-  s.low_frames = 0;
+  Require(std::isfinite(t_s), "the frame time is not finite");
+  s.confident_at_s = s.now_s = t_s;
   s.method_reason.clear();
   s.method = s.p.kind;
   if (s.p.kind == TrackerKind::kCamShift) {
@@ -358,9 +363,11 @@ void TargetTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box, const std::
   s.state = TrackState::kTracking;
 }
 
-TrackResult TargetTracker::Update(const cv::Mat& bgr) {
+TrackResult TargetTracker::Update(const cv::Mat& bgr, double t_s) {
   Impl& s = *impl_;
   if (s.state == TrackState::kIdle) return TrackResult{};
+  Require(std::isfinite(t_s) && t_s >= s.now_s, "the frame time is not finite or goes back in time");
+  s.now_s = t_s;
   Require(!bgr.empty() && bgr.type() == CV_8UC3, "the image must be non-empty 8-bit BGR");
   Require(bgr.size() == s.image_size, "the image is " + std::to_string(bgr.cols) + " x " + std::to_string(bgr.rows) +
                                           ", the target was picked in " + std::to_string(s.image_size.width) + " x " +

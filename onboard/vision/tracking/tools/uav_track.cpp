@@ -8,6 +8,7 @@
 // input cannot be read or the box is refused (the reason on stderr), 2 on bad options.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -44,8 +45,12 @@ class FrameSource {
       video_.open(path);
       if (!video_.isOpened()) throw std::runtime_error(path + ": not a video OpenCV can read");
       count_ = static_cast<int>(video_.get(cv::CAP_PROP_FRAME_COUNT));
+      const double fps = video_.get(cv::CAP_PROP_FPS);
+      if (std::isfinite(fps) && fps > 0) rate_hz_ = fps;
     }
   }
+  // Frames per second: the video's own, or nullopt (a folder of images, a video that does not say).
+  std::optional<double> rate_hz() const { return rate_hz_; }
   int count() const { return count_; }  // 0 when the container does not say
   bool Next(cv::Mat* bgr) {
     while (!files_.empty() && next_ < files_.size()) {
@@ -78,6 +83,7 @@ class FrameSource {
   std::size_t next_ = 0;
   cv::VideoCapture video_;
   int count_ = 0;
+  std::optional<double> rate_hz_;
 };
 
 const char* StateName(uav::vision::TrackState s) {
@@ -103,6 +109,11 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_path, "CSV of boxes, one row per frame");
   app.add_option("--overlay", overlay_dir, "folder for frames with the box drawn");
   std::string truth_path;
+  double fps = 0.0;
+  app.add_option("--fps", fps,
+                 "frames per second of the input (default: the video's own; 30, OTB's rate, for a folder of images): "
+                 "the tracker reports a target lost after 0.3 s of low confidence")
+      ->check(CLI::Range(1.0, 1000.0));
   app.add_option("--truth", truth_path,
                  "ground-truth boxes, one x,y,w,h per frame (OTB's groundtruth_rect.txt): scores the run (success AUC, "
                  "precision at 20 px)");
@@ -133,6 +144,7 @@ int main(int argc, char** argv) {
 
   try {
     FrameSource source(input);
+    const double rate_hz = fps > 0 ? fps : source.rate_hz().value_or(30.0);
     if (!overlay_dir.empty()) std::filesystem::create_directories(overlay_dir);
     std::ofstream csv;
     const std::string tmp = out_path + ".part";
@@ -153,14 +165,14 @@ int main(int argc, char** argv) {
       uav::vision::TrackResult r;
       const auto t0 = std::chrono::steady_clock::now();
       if (n == 0) {
-        tracker_.Start(frame, box);
+        tracker_.Start(frame, source.index() / rate_hz, box);
         r.state = uav::vision::TrackState::kTracking;
         r.confidence = 1.0;
         r.box = cv::RotatedRect(cv::Point2f(static_cast<float>(box.x + 0.5 * box.width), static_cast<float>(box.y + 0.5 * box.height)),
                                 cv::Size2f(static_cast<float>(box.width), static_cast<float>(box.height)), 0.0f);
         r.search_window = box;
       } else {
-        r = tracker_.Update(frame);
+        r = tracker_.Update(frame, source.index() / rate_hz);
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       }
       if (r.state == uav::vision::TrackState::kLost && last != uav::vision::TrackState::kLost) ++losses;
@@ -208,11 +220,11 @@ int main(int argc, char** argv) {
     std::string skipped;
     for (const std::string& s : source.skipped()) skipped += (skipped.empty() ? "" : ", ") + uav::JsonString(s);
     if (!source.damaged().empty()) std::fprintf(stderr, "\nuav-track: %s: %s\n", input.c_str(), source.damaged().c_str());
-    std::printf("{\"input\": %s, \"tracker\": \"%s\", \"method\": \"%s\", \"method_reason\": %s, \"window\": \"%s\", \"frames\": %d, \"losses\": %d, "
-                "\"median_ms_per_frame\": %.3f, \"frames_per_s_median\": %.1f, \"final_state\": \"%s\", \"skipped\": [%s], "
+    std::printf("{\"input\": %s, \"tracker\": \"%s\", \"method\": \"%s\", \"method_reason\": %s, \"window\": \"%s\", \"frames\": %d, \"frame_rate_hz\": %.1f, "
+                "\"losses\": %d, \"median_ms_per_frame\": %.3f, \"frames_per_s_median\": %.1f, \"final_state\": \"%s\", \"skipped\": [%s], "
                 "\"damaged\": %s%s}\n",
                 uav::JsonString(input).c_str(), uav::vision::Name(params.kind), uav::vision::Name(tracker_.method()),
-                uav::JsonString(tracker_.method_reason()).c_str(), uav::vision::Name(params.window), n, losses, median,
+                uav::JsonString(tracker_.method_reason()).c_str(), uav::vision::Name(params.window), n, rate_hz, losses, median,
                 median > 0 ? 1000.0 / median : 0.0, StateName(last), skipped.c_str(), uav::JsonString(source.damaged()).c_str(),
                 score.c_str());
     // The boxes are written for the frames that were read; the exit status says not all were.

@@ -43,7 +43,11 @@ struct TrackerParams {
   int max_iterations = 10;        // mean-shift iterations per frame
   double epsilon_px = 0.5;        // stop when the window moves less than this
   double lost_confidence = 0.3;   // below this the frame counts towards losing the target
-  int lost_frames = 3;            // consecutive low-confidence frames before LOST
+  // [s] how long the confidence may stay under lost_confidence before the state is LOST: a
+  // time, not a frame count, so the rule is the same for the 10 Hz gimbal camera (3 frames, as
+  // the thesis's simulator) and a 30 frames/s video (a runner's 0.2 s dip behind a pole is not
+  // a loss there either).
+  double lost_after_s = 0.3;
   double reacquire_confidence = 0.5;  // a whole-image candidate must reach this to lock again
   double min_side_px = 4.0;       // a selection or box smaller than this each way is rejected/lost
   // kAuto takes CamShift when at least this share of the selection keeps a hue that tells the
@@ -78,9 +82,10 @@ class TargetTracker {
   // four clicks, thesis 3.7.3) only pixels inside it train the histogram. Throws
   // std::invalid_argument naming what is wrong: an empty or non-BGR image, a non-finite box, one
   // outside the image or smaller than min_side_px, a target with no usable hue (grey or dark).
-  void Start(const cv::Mat& bgr, const cv::Rect2d& box, const std::vector<cv::Point2f>& polygon = {});
-  // Tracks into the next frame (same size as the first). Idle until started.
-  TrackResult Update(const cv::Mat& bgr);
+  // `t_s` is the frame's time in seconds (any origin, finite, never decreasing).
+  void Start(const cv::Mat& bgr, double t_s, const cv::Rect2d& box, const std::vector<cv::Point2f>& polygon = {});
+  // Tracks into the next frame (same size as the first) taken at `t_s`. Idle until started.
+  TrackResult Update(const cv::Mat& bgr, double t_s);
   void Stop();
   TrackState state() const;
   // The method tracking now (kAuto's choice), and why it was chosen ("" when it was asked for).
