@@ -660,10 +660,11 @@ std::string Scene::Describe(int object_id) const {
   for (const Obstacle& o : impl_->obstacles) {
     if (o.id != object_id) continue;
     if (o.size.x() > 0 && o.size.y() > 0)
-      std::snprintf(text, sizeof text, "a %s %.1f x %.1f m, %.1f m high, turned %.0f deg", o.kind.c_str(), o.size.x(), o.size.y(),
-                    o.size.z(), o.yaw * 180 / M_PI);
+      std::snprintf(text, sizeof text, "a %s %.1f x %.1f m, %.1f m high, turned %.0f deg, at (%.1f, %.1f)", o.kind.c_str(), o.size.x(),
+                    o.size.y(), o.size.z(), o.yaw * 180 / M_PI, o.base_N.x(), o.base_N.y());
     else
-      std::snprintf(text, sizeof text, "a %s of radius %.2f m, %.1f m high", o.kind.c_str(), o.radius, o.height);
+      std::snprintf(text, sizeof text, "a %s of radius %.2f m, %.1f m high, at (%.1f, %.1f)", o.kind.c_str(), o.radius, o.height,
+                    o.base_N.x(), o.base_N.y());
     return text;
   }
   return "nothing";
