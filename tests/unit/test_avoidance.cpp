@@ -42,29 +42,6 @@ TEST(OccupancyMap, RaysClearFreeSpaceMarkTheirEndsAndLeaveTheRestUnknown) {
   EXPECT_EQ(map.At({std::nan(""), 0, 0}), Cell::kUnknown);
 }
 
-// A thin trunk (0.22 m, two cells wide) 5 m ahead of a wall: rays to the wall beside it cross
-// its cells in every scan. Only some of its points are cast as rays (one per 2x2x2 block, and at
-// most max_rays), yet every cell a point of the scan lands in is a hit of that scan, and a hit
-// outweighs the misses of the same scan (OctoMap's rule for the rays it casts): the trunk stays
-// an obstacle over many scans instead of being cleared by the rays past it.
-TEST(OccupancyMap, AThinTrunkIsNotClearedByTheRaysPastIt) {
-  MapParams params;
-  params.max_rays = 100;
-  OccupancyMap map(params);
-  for (int k = 0; k < 20; ++k) {
-    RangeScan s = WallScan({0.05 * k, 0.02 * (k % 3), -2}, 10.0, 3.0, 4.0, 0.05);
-    for (double down = -4; down <= 0; down += 0.05)
-      for (double e = -0.11; e <= 0.11; e += 0.04) s.p_N.emplace_back(5.0f, float(e), float(down));
-    map.InsertScan(s);
-  }
-  for (double down : {-3.5, -2.0, -0.5})
-    EXPECT_EQ(map.At({5.0, 0.05, down}) == Cell::kOccupied || map.At({5.0, -0.05, down}) == Cell::kOccupied, true)
-        << "the trunk at " << -down << " m up was cleared";
-  EXPECT_EQ(map.At({3.0, 0.0, -2}), Cell::kFree);
-  EXPECT_NE(map.At({5.0, 0.6, -2}), Cell::kOccupied) << "beside the trunk";
-  EXPECT_NE(map.At({5.0, -0.6, -2}), Cell::kOccupied) << "beside the trunk";
-}
-
 TEST(OccupancyMap, PointsBeyondTheTrustedRangeOnlyClear) {
   OccupancyMap map;
   RangeScan s = WallScan({0, 0, -2}, 12.0, 1.0, 3.0);

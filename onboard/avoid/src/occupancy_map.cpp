@@ -76,19 +76,7 @@ void OccupancyMap::InsertScan(const RangeScan& scan) {
   octomap::Pointcloud cloud;
   const std::size_t stride = std::max<std::size_t>(1, (ends.size() + impl_->params.max_rays - 1) / impl_->params.max_rays);
   for (std::size_t i = 0; i < ends.size(); i += stride) cloud.push_back(ends[i].x(), ends[i].y(), ends[i].z());
-  octomap::KeySet free_cells, hit_cells;
-  tree.computeUpdate(cloud, P(scan.origin_N), free_cells, hit_cells, scan.max_range_m);
-  // Every cell a point of the scan lands in is a hit, not only the cells of the rays cast: a
-  // thin trunk whose points were not picked to be cast would otherwise be cleared, scan after
-  // scan, by the rays to what stands behind it. A hit outweighs the misses of the same scan
-  // (OctoMap's own rule for the rays it casts).
-  for (const Eigen::Vector3f& p : scan.p_N) {
-    octomap::OcTreeKey key;
-    if (p.allFinite() && (p - o).norm() <= max_range && tree.coordToKeyChecked(p.x(), p.y(), p.z(), key)) hit_cells.insert(key);
-  }
-  for (const octomap::OcTreeKey& key : free_cells)
-    if (!hit_cells.count(key)) tree.updateNode(key, false);
-  for (const octomap::OcTreeKey& key : hit_cells) tree.updateNode(key, true);
+  tree.insertPointCloud(cloud, P(scan.origin_N), scan.max_range_m, /*lazy_eval=*/false, /*discretize=*/false);
 }
 
 void OccupancyMap::InsertCylinder(const Eigen::Vector2d& p_NE, double top_down_m, double bottom_down_m,
