@@ -33,7 +33,7 @@ struct PowerLineParams {
   double min_wire_fraction = 0.3;     // a wire spans at least this share of the diagonal ...
   double min_support = 0.5;           // ... with pieces along at least this share of its span
   double max_fit_rms_px = 2.0;        // [px] spread of the wire's flanks about their mean offset from the quadratic
-  double max_side_ratio = 0.5;        // background difference across the wire, at most half its contrast
+  double max_side_ratio = 1.0;        // background difference across the wire, at most this times its contrast
 
   // Throws std::invalid_argument naming the field when a value is out of its range.
   void Validate() const;
