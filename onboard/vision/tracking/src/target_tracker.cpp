@@ -261,8 +261,9 @@ struct TargetTracker::Impl {
   }
 
   // As CamShift's: confidence (the PSR against its level) under lost_confidence for
-  // lost_after_s loses the target (occluded, out of view). Between that and a sure detection the filter follows without learning (a changed
-  // gait, a partial occlusion). Lost, it searches around where it was last seen until sure again.
+  // lost_after_s loses the target (occluded, out of view). Between that and a sure detection
+  // the filter follows without learning (a changed gait, a partial occlusion). Lost, it
+  // searches around where it was last seen until sure again.
   TrackResult UpdateCorrelation(const cv::Mat& bgr) {
     cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
     const detail::CorrelationDetection d = correlation->Update(grey);
@@ -309,6 +310,7 @@ void TargetTracker::Start(const cv::Mat& bgr, double t_s, const cv::Rect2d& box,
   Impl& s = *impl_;
   Require(!bgr.empty(), "the image is empty");
   Require(bgr.type() == CV_8UC3, "the image must be 8-bit BGR");
+  Require(std::isfinite(t_s), "the frame time is not finite");
   Require(std::isfinite(box.x) && std::isfinite(box.y) && std::isfinite(box.width) && std::isfinite(box.height),
           "the box is not finite");
   Require(box.width >= s.p.min_side_px && box.height >= s.p.min_side_px,
@@ -322,7 +324,6 @@ void TargetTracker::Start(const cv::Mat& bgr, double t_s, const cv::Rect2d& box,
   const cv::Rect roi(cv::Point(static_cast<int>(std::floor(inside.x)), static_cast<int>(std::floor(inside.y))),
                      cv::Point(static_cast<int>(std::ceil(inside.x + inside.width)), static_cast<int>(std::ceil(inside.y + inside.height))));
   s.image_size = bgr.size();
-  Require(std::isfinite(t_s), "the frame time is not finite");
   s.confident_at_s = s.now_s = t_s;
   s.method_reason.clear();
   s.method = s.p.kind;
