@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <set>
 #include <string>
@@ -102,6 +103,17 @@ Flown FlyTo(const world::Scene& scene, const Eigen::Vector3d& goal_NEU, double l
     f.travel_s = t - goto_t;
     if (f.track.empty() || t - goto_t >= f.track.back()[0] + 1.0) f.track.emplace_back(t - goto_t, p.x(), p.y(), p.z());
     if (during) during(t - goto_t, flight);
+    // UAV_AVOID_TRACE=1: every 0.25 s the truth, its velocity and true clearance, the safety
+    // layer's state, speed limit and seen-free length, and the plan's points.
+    if (std::getenv("UAV_AVOID_TRACE") && std::fmod(t - goto_t, 0.25) < 0.021) {
+      const auto plan = d.avoid_plan;
+      std::printf("TR %.2f p %.2f %.2f %.2f v %.2f %.2f %.2f c %.2f st %s lim %.2f sf %.2f path", t - goto_t, p.x(), p.y(), -p.z(),
+                  flight.vehicle().Truth().v_N.x(), flight.vehicle().Truth().v_N.y(), -flight.vehicle().Truth().v_N.z(),
+                  scene.Clearance(p, now * 1e-6), std::string(Name(d.avoid_state)).c_str(), d.avoid_speed_limit,
+                  plan ? plan->seen_free_m : -1.0);
+      if (plan) for (const auto& q : plan->path_N) std::printf(" (%.1f,%.1f,%.1f)", q.x(), q.y(), -q.z());
+      std::printf(" | %s\n", d.avoid_reason.c_str());
+    }
     const Eigen::Vector3d goal_N(goal_NEU.x(), goal_NEU.y(), -goal_NEU.z());
     if (t - goto_t > 1.0 && d.task == Task::kHover && (p - goal_N).norm() < 3.0) {
       f.reached = true;
