@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <queue>
 #include <stdexcept>
 
@@ -121,26 +122,39 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
     return c.x() == 0 || c.y() == 0 || c.x() == size.x() - 1 || c.y() == size.y() - 1;
   };
   const int n = size.prod();
-  // Per cell: closed (the altitude band, or nearer an obstacle than allowed) and the cost factor
-  // of entering it; per neighbour: the index offset and the step length. The search then only
-  // adds and compares.
-  std::vector<float> factor(n);
-  std::vector<uint8_t> closed(n, 0);
+  // Per cell, worked out when the search first reaches it (it reaches a small part of the
+  // window): closed (the altitude band, or nearer an obstacle than allowed) or not, the cost
+  // factor of entering it, its cost so far, its parent and its weighted heuristic. Per
+  // neighbour: the index offset and the step length. The search then only adds and compares.
+  constexpr uint8_t kOpen = 0, kClosed = 1, kExpanded = 2, kNotReached = 3;
+  std::vector<uint8_t> closed(n, kNotReached);
+  std::unique_ptr<float[]> factor(new float[n]), g(new float[n]), weighted_h(new float[n]);
+  std::unique_ptr<int[]> parent(new int[n]);
+  std::vector<uint8_t> band(size.z());
   for (int z = 0; z < size.z(); ++z) {
     const double down = grid.Centre({0, 0, z}).z();
-    const bool band = down <= params.floor_down_m && down >= params.ceiling_down_m;
-    for (int y = 0; y < size.y(); ++y)
-      for (int x = 0; x < size.x(); ++x) {
-        const Eigen::Vector3i c(x, y, z);
-        const int i = grid.Index(c);
-        const double d = grid.Distance(c);
-        closed[i] = !band || d < open_from || (params.unknown_closed && grid.State(c) != Cell::kFree);
-        factor[i] = static_cast<float>(1.0 + params.proximity_cost * std::clamp((soft - d) / (soft - need), 0.0, 1.0) +
-                                       (grid.State(c) == Cell::kUnknown ? params.unknown_cost : 0.0));
-      }
+    band[z] = down <= params.floor_down_m && down >= params.ceiling_down_m;
   }
-  closed[grid.Index(start)] = 0;
-  if (goal_inside) closed[grid.Index(goal)] = 0;
+  auto cell_of = [&](int i) { return Eigen::Vector3i(i % size.x(), (i / size.x()) % size.y(), i / (size.x() * size.y())); };
+  auto reach = [&](int i) {
+    const Eigen::Vector3i c = cell_of(i);
+    const double d = grid.Distance(c);
+    const Cell state = grid.State(c);
+    closed[i] = !band[c.z()] || d < open_from || (params.unknown_closed && state != Cell::kFree) ? kClosed : kOpen;
+    factor[i] = static_cast<float>(1.0 + params.proximity_cost * std::clamp((soft - d) / (soft - need), 0.0, 1.0) +
+                                   (state == Cell::kUnknown ? params.unknown_cost : 0.0));
+    g[i] = std::numeric_limits<float>::infinity();
+    parent[i] = -1;
+    weighted_h[i] = w * static_cast<float>(h(c));
+  };
+  const int s = grid.Index(start);
+  reach(s);
+  closed[s] = kOpen;
+  const int goal_index = goal_inside ? grid.Index(goal) : -1;
+  if (goal_inside) {
+    reach(goal_index);
+    closed[goal_index] = kOpen;
+  }
   struct Step {
     int dx, dy, dz, offset;
     float length;
@@ -152,16 +166,11 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
         if (dx || dy || dz)
           steps.push_back({dx, dy, dz, (dz * size.y() + dy) * size.x() + dx,
                            static_cast<float>(std::hypot(res * std::hypot(dx, dy), res * std::abs(dz) * params.vertical_cost))});
-  std::vector<float> g(n, std::numeric_limits<float>::infinity());
-  std::vector<int> parent(n, -1);
   using Entry = std::pair<float, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
-  const int s = grid.Index(start);
   g[s] = 0;
-  open.push({w * static_cast<float>(h(start)), s});
+  open.push({weighted_h[s], s});
   int found = -1;
-  auto cell_of = [&](int i) { return Eigen::Vector3i(i % size.x(), (i / size.x()) % size.y(), i / (size.x() * size.y())); };
-  const int goal_index = goal_inside ? grid.Index(goal) : -1;
   // A goal beyond the window: leaving it across a border cell completes the way with the straight
   // line to the goal, costed as unknown space (it has not been seen). Costed as free, the straight
   // line would make any border cheap against unknown cells inside, and a blocked way ahead would
@@ -177,8 +186,8 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
       found = exit_from;
       break;
     }
-    if (closed[i] == 2) continue;
-    closed[i] = 2;
+    if (closed[i] == kExpanded) continue;
+    closed[i] = kExpanded;
     const Eigen::Vector3i c = cell_of(i);
     if (i == goal_index) {
       found = i;
@@ -197,12 +206,13 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
     for (const Step& st : steps) {
       if (!interior && !grid.Contains(c + Eigen::Vector3i(st.dx, st.dy, st.dz))) continue;
       const int j = i + st.offset;
-      if (closed[j]) continue;
+      if (closed[j] == kNotReached) reach(j);
+      if (closed[j] != kOpen) continue;
       const float cost = g[i] + st.length * factor[j];
       if (cost < g[j]) {
         g[j] = cost;
         parent[j] = i;
-        open.push({cost + w * static_cast<float>(h(cell_of(j))), j});
+        open.push({cost + weighted_h[j], j});
       }
     }
   }
