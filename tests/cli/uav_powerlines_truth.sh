@@ -34,7 +34,7 @@ python3 - "$work/none.json" <<'PY' || fail "more false wires than measured"
 import json, sys
 r = json.load(open(sys.argv[1]))
 print(f"photos without wires: {r['wires']} false wires on {r['processed']} photos ({r['wires_per_image']:.2f} per photo)")
-assert r["processed"] == 17 and r["wires"] <= 27
+assert r["processed"] == 17 and r["wires"] <= 34
 PY
 # A truth folder without the image's mask: named, nothing scored for it, exit 1.
 mkdir "$work/empty_truth"

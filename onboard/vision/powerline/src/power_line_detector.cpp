@@ -117,55 +117,36 @@ bool FitWire(const std::vector<const Segment*>& group, const PowerLineParams& P,
 // R) and on the curve (C): over texture L - R changes sign from place to place and its median is
 // near zero, across a boundary it keeps its sign. The wire is kept when that median is smaller
 // than `max_ratio` times the median contrast C - (L + R) / 2 of the wire against its background.
-// The sides are read just beyond where the wire ends, found on the coarsest thin-structure
-// response `thin` (`scale` px of the image per px of it): a wire found by one flank only has its
-// curve on that flank, and its own grey must not count as a side, while a fixed distance past the
-// widest wire would read the sky above a thin wire just below the horizon as its background.
-bool BackgroundAlikeOnBothSides(const cv::Mat& gray, const cv::Mat& thin, double scale, const WireCurve& w,
-                                double widest_px, double max_ratio) {
+bool BackgroundAlikeOnBothSides(const cv::Mat& gray, const WireCurve& w, double widest_px, double max_ratio) {
+  // [px] Past the widest wire the detector passes: a wide wire found by one flank only has its
+  // curve on that flank, and the wire's own grey must not count as a side.
+  const double beyond = std::max(0.5 * w.width_px, widest_px) + 2.0;
   auto grey_at = [&](const Eigen::Vector2d& p, double* value) {
     const int u = cvRound(p.x()), v = cvRound(p.y());
     if (u < 0 || v < 0 || u >= gray.cols || v >= gray.rows) return false;
     *value = gray.at<uint8_t>(v, u);
     return true;
   };
-  auto thin_at = [&](const Eigen::Vector2d& p) {
-    const int u = cvFloor(p.x() / scale), v = cvFloor(p.y() / scale);
-    if (u < 0 || v < 0 || u >= thin.cols || v >= thin.rows) return 0.0;
-    return static_cast<double>(thin.at<uint8_t>(v, u));
-  };
   auto median = [](std::vector<double> x) {
     std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
     return x[x.size() / 2];
   };
-  constexpr double kStripPx = 6.0;  // [px] width of the strip read on each side
   std::vector<double> side_difference, contrast;
   for (const Eigen::Vector2d& p : w.Sample(3.0)) {
     const Eigen::Vector2d n = w.NormalAt(w.axis.dot(p - w.origin_px));
-    const double inner = 0.5 * w.width_px + 1.0;
-    double peak = 0;
-    for (double t = -inner - scale; t <= inner + scale; t += 0.5) peak = std::max(peak, thin_at(p + t * n));
-    // Each side's level is the median over a strip beyond where the wire's response falls to
-    // half its peak, so a second wire strung beside this one, a pixel or two of the strip, does
-    // not count as a different surface.
-    auto side = [&](double sign, double* level) {
-      double t = inner;
-      while (t < widest_px + 2.0 && thin_at(p + sign * t * n) >= 0.5 * peak) t += 1.0;
-      std::vector<double> strip;
-      for (double s = t + 1.0; s <= t + 1.0 + kStripPx; s += 1.0) {
-        double g;
-        if (grey_at(p + sign * s * n, &g)) strip.push_back(g);
-      }
-      if (strip.size() < 4) return false;
-      *level = median(strip);
-      return true;
-    };
-    double left, right;
-    if (!side(-1.0, &left) || !side(1.0, &right)) continue;
-    const double background = 0.5 * (left + right);
+    // Each side's level is the median over a strip 8 px wide beyond the flank, so a second wire
+    // strung beside this one, a pixel or two of the strip, does not count as a different surface.
+    std::vector<double> left_strip, right_strip;
+    for (double t = beyond; t <= beyond + 8.0; t += 1.0) {
+      double g;
+      if (grey_at(p - t * n, &g)) left_strip.push_back(g);
+      if (grey_at(p + t * n, &g)) right_strip.push_back(g);
+    }
+    if (left_strip.size() < 5 || right_strip.size() < 5) continue;
+    const double left = median(left_strip), right = median(right_strip), background = 0.5 * (left + right);
     // The wire itself: the grey level between the flanks that stands out most from the background.
     double c = background;
-    for (double t = -inner; t <= inner; t += 0.5) {
+    for (double t = -0.5 * w.width_px - 1.0; t <= 0.5 * w.width_px + 1.0; t += 0.5) {
       double g;
       if (grey_at(p + t * n, &g) && std::abs(g - background) > std::abs(c - background)) c = g;
     }
@@ -204,7 +185,6 @@ void PowerLineParams::Validate() const {
   check(max_fit_rms_px > 0 && max_fit_rms_px < 50, "max_fit_rms_px (0..50)");
   check(pyramid_levels >= 1 && pyramid_levels <= 4, "pyramid_levels (1..4)");
   check(lsd_density > 0 && lsd_density <= 1, "lsd_density (0..1)");
-  check(max_ridge_gap_px >= 0 && max_ridge_gap_px < 100, "max_ridge_gap_px (0..100)");
   check(max_side_ratio > 0 && max_side_ratio < 100, "max_side_ratio (0..100)");
 }
 
@@ -243,9 +223,8 @@ PowerLineDetector::PowerLineDetector(const PowerLineParams& params) : params_(pa
 namespace {
 
 // LSD pieces of the thin structures in one grey image (steps 1-4 of Detect).
-std::vector<cv::Vec4f> ThinStructureSegments(const cv::Mat& gray, const PowerLineParams& P, cv::Mat* thin_out) {
+std::vector<cv::Vec4f> ThinStructureSegments(const cv::Mat& gray, const PowerLineParams& P) {
   const cv::Mat thin = ThinStructureResponse(gray, P.max_wire_width_px);
-  *thin_out = thin;
   // Sobel gradients of the thin structures (Eq. 3.28-3.30): both directions for wires at any
   // angle, d/dy alone for the thesis's near-horizontal wires.
   cv::Mat gx, gy, mag;
@@ -270,37 +249,7 @@ std::vector<cv::Vec4f> ThinStructureSegments(const cv::Mat& gray, const PowerLin
   // over foliage has gaps in its ridge that the default (0.7) splits into pieces too short to keep.
   std::vector<cv::Vec4f> raw;
   cv::createLineSegmentDetector(cv::LSD_REFINE_STD, 0.8, 0.6, 2.0, 22.5, 0.0, P.lsd_density)->detect(lsd_input, raw);
-  // At that density LSD also accepts a chord across a sagging bundle of wires, straight where
-  // they curve; each segment is kept only where it lies on the thin structures (within a pixel),
-  // cut where it leaves them for longer than a gap in a faint wire's ridge.
-  cv::Mat ridge;
-  cv::dilate(kept >= P.edge_threshold, ridge, cv::Mat());
-  std::vector<cv::Vec4f> pieces;
-  for (const cv::Vec4f& r : raw) {
-    const cv::Point2f a(r[0], r[1]), b(r[2], r[3]);
-    const int n = std::max(1, cvCeil(cv::norm(b - a)));
-    int run_start = -1, last_on = -1;
-    auto close_run = [&]() {
-      if (run_start >= 0 && last_on > run_start) {
-        const cv::Point2f p = a + (b - a) * (static_cast<float>(run_start) / n), q = a + (b - a) * (static_cast<float>(last_on) / n);
-        pieces.emplace_back(p.x, p.y, q.x, q.y);
-      }
-      run_start = -1;
-    };
-    for (int i = 0; i <= n; ++i) {
-      const cv::Point2f x = a + (b - a) * (static_cast<float>(i) / n);
-      const int u = cvRound(x.x), v = cvRound(x.y);
-      const bool on = u >= 0 && v >= 0 && u < ridge.cols && v < ridge.rows && ridge.at<uint8_t>(v, u);
-      if (on) {
-        if (run_start < 0) run_start = i;
-        last_on = i;
-      } else if (run_start >= 0 && i - last_on > P.max_ridge_gap_px) {
-        close_run();
-      }
-    }
-    close_run();
-  }
-  return pieces;
+  return raw;
 }
 
 }  // namespace
@@ -314,15 +263,13 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
   // The thickness filter passes structures up to max_wire_width_px; a wire near the camera is
   // wider. Each coarser pyramid level doubles the width that passes, and its pieces, scaled
   // back, join the finer levels' in the grouping.
-  cv::Mat coarsest_thin;  // the thin-structure response of the coarsest level, where every wire passes
-  std::vector<cv::Vec4f> raw = ThinStructureSegments(gray, P, &coarsest_thin);
+  std::vector<cv::Vec4f> raw = ThinStructureSegments(gray, P);
   cv::Mat level = gray;
   for (int l = 1; l < P.pyramid_levels; ++l) {
     cv::pyrDown(level, level);
     const float scale = static_cast<float>(1 << l);
-    for (const cv::Vec4f& r : ThinStructureSegments(level, P, &coarsest_thin)) raw.push_back(r * scale);
+    for (const cv::Vec4f& r : ThinStructureSegments(level, P)) raw.push_back(r * scale);
   }
-  const double coarsest_scale = static_cast<double>(1 << (P.pyramid_levels - 1));
   std::vector<Segment> segs;
   const double min_len = P.min_segment_fraction * diag;
   const double max_slope = std::tan(P.horizontal_max_angle_deg * kDeg);
@@ -382,8 +329,7 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
   for (const auto& g : wires_pieces) {
     WireCurve w;
     if (!g.empty() && FitWire(g, P, diag, &w) &&
-        BackgroundAlikeOnBothSides(gray, coarsest_thin, coarsest_scale, w, P.max_wire_width_px * coarsest_scale,
-                                   P.max_side_ratio))
+        BackgroundAlikeOnBothSides(gray, w, P.max_wire_width_px * (1 << (P.pyramid_levels - 1)), P.max_side_ratio))
       wires.push_back(w);
   }
   // Longest first, and one curve per wire: a curve lying along a longer one (its other flank, or

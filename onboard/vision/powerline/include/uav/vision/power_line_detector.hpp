@@ -25,7 +25,6 @@ struct PowerLineParams {
   int pyramid_levels = 2;             // ... at full resolution, twice as wide at each coarser level
   double edge_threshold = 7.0;        // [grey levels] weakest thin-structure edge kept (inverse threshold)
   double lsd_density = 0.4;           // LSD: share of aligned pixels in a segment's rectangle (OpenCV: 0.7)
-  double max_ridge_gap_px = 8.0;      // [px of each level] an LSD segment is cut where it leaves the thin structures longer
   double min_segment_fraction = 0.03;  // of the image diagonal: shorter LSD pieces are dropped
   double horizontal_max_angle_deg = 30.0;  // horizontal mode: steeper pieces are dropped
   double group_angle_deg = 5.0;       // pieces of one wire differ in direction by less ...
