@@ -135,16 +135,21 @@ void AvoidancePlanner::RefreshKnown(const Eigen::Vector3d& p_N) {
   const int coarser = p_.GridLevels();
   bool complete = true;
   const std::vector<OccupancyMap::Change> changes = map_.TakeChanges(coarser, &complete);
-  // Three windows wide (a window reaches 1.5 windows from the vehicle). Once the vehicle has
-  // moved half a window from the copy's centre, the copy is moved with it: only the slab it
-  // newly covers is read from the tree. Reading the whole copy anew took 54-75 ms, the
-  // replanning's p99 in the field flights; a half-window slab is a twelfth of it.
-  const Eigen::Vector3d half(3 * p_.window_m, 3 * p_.window_m, 3 * p_.window_up_m);
-  const Eigen::Vector3d margin(2.5 * p_.window_m, 2.5 * p_.window_m, 2.5 * p_.window_up_m);
+  // The copy covers every window the vehicle may plan in from where it is (a window reaches
+  // 1.5 windows from it across the ground, one window up and down) plus 2 m, and follows the
+  // vehicle once it is 2 m from the copy's centre: only the 2 m slab newly covered is read from
+  // the tree. Reading the whole copy anew took 54-75 ms; a copy three windows wide moved every
+  // half window still took up to 9 ms, the replanning's p99.
+  constexpr double kLag = 2.0;
+  const Eigen::Vector3d reach(1.5 * p_.window_m, 1.5 * p_.window_m, p_.window_up_m);
+  const Eigen::Vector3d half = reach + Eigen::Vector3d::Constant(kLag + p_.grid_m);
+  const Eigen::Vector3d margin = half - Eigen::Vector3d::Constant(kLag);
   const Eigen::Vector3d lo = known_.min_N(), hi = lo + known_.size().cast<double>() * known_.resolution();
   const bool inside = known_.size().prod() > 0 && ((p_N - margin).array() >= lo.array()).all() &&
                       ((p_N + margin).array() <= hi.array()).all();
-  if (!complete || known_.size().prod() == 0) {
+  // A new window size (a parameter changed) needs a copy of the new size.
+  const bool resized = (2.0 * half / p_.grid_m).array().ceil().cast<int>().max(1).matrix() != known_.size();
+  if (!complete || resized) {
     known_ = LocalGrid::FromMap(map_, p_N, half, p_.grid_m, /*distances=*/false);
     return;
   }
@@ -193,7 +198,8 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
   ahead.z() = 0;
   if (ahead.norm() > 1e-6) ahead *= std::min(ahead.norm(), 0.5 * p_.window_m) / ahead.norm();
   RefreshKnown(p_N);
-  const LocalGrid grid = LocalGrid::Extract(known_, p_N + ahead, Eigen::Vector3d(p_.window_m, p_.window_m, p_.window_up_m));
+  window_.Extract(known_, p_N + ahead, Eigen::Vector3d(p_.window_m, p_.window_m, p_.window_up_m));
+  const LocalGrid& grid = window_;
   PlannerParams planner = planner_;
   // Climbing or descending to the goal's altitude is the task's: the band opens to include it.
   planner.floor_down_m = std::max(planner.floor_down_m, std::max(p_N.z(), goal_N.z()));
@@ -224,7 +230,7 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
     if ((via_N - goal_N).norm() > 1e-6) plan.path_N.push_back(goal_N);
     return finish(plan);
   }
-  PlannedPath fresh = PlanPath(grid, p_N, goal_N, planner);
+  PlannedPath fresh = PlanPath(grid, p_N, goal_N, planner, &scratch_);
   // Hysteresis: the detour being flown is kept while it stays clear and no new one is clearly
   // shorter, so the vehicle does not swap sides of an obstacle from one plan to the next.
   // A kept detour that ended on the border of an earlier window now ends inside this one: it

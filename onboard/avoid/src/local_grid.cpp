@@ -8,29 +8,36 @@ namespace uav::avoid {
 
 namespace {
 // Felzenszwalb-Huttenlocher 1-D squared distance transform of f (n samples, unit spacing): the
-// lower envelope of the parabolas (q - v)^2 + f(v). Doubles: "no obstacle" is a large finite
-// value whose sums with q^2 stay exact.
-void Transform1D(const double* f, int n, double* d, int* v, double* z) {
-  int k = 0;
-  v[0] = 0;
-  z[0] = -std::numeric_limits<double>::infinity();
-  z[1] = std::numeric_limits<double>::infinity();
-  for (int q = 1; q < n; ++q) {
-    double s = ((f[q] + double(q) * q) - (f[v[k]] + double(v[k]) * v[k])) / (2.0 * (q - v[k]));
-    while (s <= z[k]) {
+// lower envelope of the parabolas (q - v)^2 + f(v), built from the samples that have an
+// obstacle within reach only (f < none), so "none" never enters the arithmetic and floats stay
+// exact (squared distances in cells are small integers). Returns false when no sample has one.
+bool Transform1D(const float* f, int n, float none, float* d, int* v, float* z) {
+  int k = -1;
+  for (int q = 0; q < n; ++q) {
+    if (f[q] >= none) continue;
+    if (k < 0) {
+      k = 0, v[0] = q;
+      z[0] = -std::numeric_limits<float>::infinity();
+      z[1] = std::numeric_limits<float>::infinity();
+      continue;
+    }
+    float s = ((f[q] + float(q) * q) - (f[v[k]] + float(v[k]) * v[k])) / (2.0f * (q - v[k]));
+    while (s <= z[k]) {  // z[0] is -inf: stops at k = 0
       --k;
-      s = ((f[q] + double(q) * q) - (f[v[k]] + double(v[k]) * v[k])) / (2.0 * (q - v[k]));
+      s = ((f[q] + float(q) * q) - (f[v[k]] + float(v[k]) * v[k])) / (2.0f * (q - v[k]));
     }
     ++k;
     v[k] = q;
     z[k] = s;
-    z[k + 1] = std::numeric_limits<double>::infinity();
+    z[k + 1] = std::numeric_limits<float>::infinity();
   }
+  if (k < 0) return false;
   k = 0;
   for (int q = 0; q < n; ++q) {
     while (z[k + 1] < q) ++k;
-    d[q] = double(q - v[k]) * (q - v[k]) + f[v[k]];
+    d[q] = float(q - v[k]) * (q - v[k]) + f[v[k]];
   }
+  return true;
 }
 }  // namespace
 
@@ -101,51 +108,81 @@ void LocalGrid::Recentre(const OccupancyMap& map, const Eigen::Vector3d& centre_
   fill({lo.x(), lo.y(), hi.z()}, {hi.x(), hi.y(), n.z()});
 }
 
-LocalGrid LocalGrid::Extract(const LocalGrid& big, const Eigen::Vector3d& centre_N, const Eigen::Vector3d& half_extent_m) {
-  const double res = big.res_;
-  const Eigen::Vector3i size = (2.0 * half_extent_m / res).array().ceil().cast<int>().max(1);
-  const Eigen::Vector3d min_N = ((centre_N - half_extent_m) / res).array().floor().matrix() * res;
-  LocalGrid g(min_N, size, res);
-  const Eigen::Vector3i offset = ((min_N - big.min_N_) / res).array().round().cast<int>();
-  for (int z = 0; z < size.z(); ++z)
-    for (int y = 0; y < size.y(); ++y) {
+void LocalGrid::Extract(const LocalGrid& big, const Eigen::Vector3d& centre_N, const Eigen::Vector3d& half_extent_m) {
+  res_ = big.res_;
+  size_ = (2.0 * half_extent_m / res_).array().ceil().cast<int>().max(1);
+  min_N_ = ((centre_N - half_extent_m) / res_).array().floor().matrix() * res_;
+  cells_.assign(static_cast<std::size_t>(size_.prod()), Cell::kUnknown);
+  const Eigen::Vector3i offset = ((min_N_ - big.min_N_) / res_).array().round().cast<int>();
+  for (int z = 0; z < size_.z(); ++z)
+    for (int y = 0; y < size_.y(); ++y) {
       const Eigen::Vector3i first = offset + Eigen::Vector3i(0, y, z);
       if (first.y() < 0 || first.z() < 0 || first.y() >= big.size_.y() || first.z() >= big.size_.z()) continue;
-      const int x0 = std::max(0, -first.x()), x1 = std::min(size.x(), big.size_.x() - first.x());
+      const int x0 = std::max(0, -first.x()), x1 = std::min(size_.x(), big.size_.x() - first.x());
       if (x1 <= x0) continue;
-      std::copy_n(&big.cells_[big.Index(first + Eigen::Vector3i(x0, 0, 0))], x1 - x0, &g.cells_[g.Index({x0, y, z})]);
+      std::copy_n(&big.cells_[big.Index(first + Eigen::Vector3i(x0, 0, 0))], x1 - x0, &cells_[Index({x0, y, z})]);
     }
-  g.ComputeDistances();
-  return g;
+  ComputeDistances();
 }
 
 void LocalGrid::ComputeDistances() {
-  // Three separable passes over lines of cells (x, then y, then z), each line copied out,
-  // transformed and written back; squared distances in cells.
+  // Squared distances in cells, in distance_ itself, by three separable passes: along x the
+  // nearest occupied cell of the line (two sweeps: there are no parabolas to intersect when
+  // every sample is 0 or none), then along y and z the parabolas' envelope over each line,
+  // copied out and written back; the last pass writes metres.
   const int nx = size_.x(), ny = size_.y(), nz = size_.z();
-  const double inf = 1e10;
-  std::vector<double> sq(cells_.size());
-  for (std::size_t i = 0; i < cells_.size(); ++i) sq[i] = cells_[i] == Cell::kOccupied ? 0.0 : inf;
-  const int n_max = std::max({nx, ny, nz});
-  std::vector<double> f(n_max), d(n_max), z(n_max + 1);
-  std::vector<int> v(n_max);
-  auto line = [&](std::size_t base, int n, std::size_t stride) {
-    bool any = false;
-    for (int i = 0; i < n; ++i) any |= (f[i] = sq[base + i * stride]) < inf;
-    if (!any) return;  // nothing within reach along this line yet: stays "none"
-    Transform1D(f.data(), n, d.data(), v.data(), z.data());
-    for (int i = 0; i < n; ++i) sq[base + i * stride] = d[i];
-  };
-  const std::size_t sy = nx, sz = static_cast<std::size_t>(nx) * ny;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j) line(k * sz + j * sy, nx, 1);
-  for (int k = 0; k < nz; ++k)
-    for (int i = 0; i < nx; ++i) line(k * sz + i, ny, sy);
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) line(j * sy + i, nz, sz);
+  constexpr float none = 1e30f;
   distance_.resize(cells_.size());
-  for (std::size_t i = 0; i < sq.size(); ++i)
-    distance_[i] = sq[i] >= inf * 0.5 ? kFar : static_cast<float>(std::sqrt(sq[i]) * res_);
+  float* sq = distance_.data();
+  for (std::size_t line = 0; line < static_cast<std::size_t>(ny) * nz; ++line) {
+    const Cell* c = &cells_[line * nx];
+    float* out = sq + line * nx;
+    int last = -1;
+    for (int i = 0; i < nx; ++i) {
+      if (c[i] == Cell::kOccupied) last = i;
+      out[i] = last < 0 ? none : float(i - last) * (i - last);
+    }
+    last = -1;
+    for (int i = nx - 1; i >= 0; --i) {
+      if (c[i] == Cell::kOccupied) last = i;
+      if (last >= 0) out[i] = std::min(out[i], float(last - i) * (last - i));
+    }
+  }
+  // The y and z lines of one plane of cells (fixed z, fixed y) are copied out together, row by
+  // row, into a small buffer (one line per row), and back: strided reads one cell at a time
+  // were most of the time.
+  const int n_max = std::max({nx, ny, nz});
+  std::vector<float> block(static_cast<std::size_t>(nx) * n_max), d(n_max), z(n_max + 1);
+  std::vector<uint8_t> any(nx);
+  std::vector<int> v(n_max);
+  const std::size_t sy = nx, sz = static_cast<std::size_t>(nx) * ny;
+  for (int k = 0; k < nz; ++k) {
+    float* plane = sq + k * sz;
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) block[i * ny + j] = plane[j * sy + i];
+    for (int i = 0; i < nx; ++i) {
+      float* f = &block[i * ny];
+      if (Transform1D(f, ny, none, d.data(), v.data(), z.data())) std::copy_n(d.data(), ny, f);
+    }
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) plane[j * sy + i] = block[i * ny + j];
+  }
+  // Squared distances are whole cells: their metres from a table.
+  std::vector<float> metres(static_cast<std::size_t>(nx) * nx + ny * ny + nz * nz);
+  for (std::size_t i = 0; i < metres.size(); ++i) metres[i] = static_cast<float>(std::sqrt(double(i)) * res_);
+  for (int j = 0; j < ny; ++j) {
+    float* plane = sq + j * sy;
+    for (int k = 0; k < nz; ++k)
+      for (int i = 0; i < nx; ++i) block[i * nz + k] = plane[k * sz + i];
+    for (int i = 0; i < nx; ++i) {
+      float* f = &block[i * nz];
+      any[i] = Transform1D(f, nz, none, d.data(), v.data(), z.data());
+      if (any[i]) std::copy_n(d.data(), nz, f);
+    }
+    for (int k = 0; k < nz; ++k)
+      for (int i = 0; i < nx; ++i)
+        plane[k * sz + i] = any[i] ? metres[static_cast<std::size_t>(block[i * nz + k])] : kFar;
+  }
 }
 
 Eigen::Vector3i LocalGrid::CellOf(const Eigen::Vector3d& p_N) const {

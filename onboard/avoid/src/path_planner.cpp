@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 #include <queue>
 #include <stdexcept>
 
@@ -54,7 +53,7 @@ double SeenFreeLength(const LocalGrid& grid, const std::vector<Eigen::Vector3d>&
 }
 
 PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, const Eigen::Vector3d& goal_N,
-                     const PlannerParams& params) {
+                     const PlannerParams& params, PlannerScratch* scratch) {
   params.Validate();
   PlannedPath out;
   if (!start_N.allFinite() || !goal_N.allFinite()) {
@@ -78,7 +77,7 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
     const double lo_z = grid.min_N().z(), hi_z = lo_z + size.z() * grid.resolution();
     Eigen::Vector3d at_height = goal_N;
     at_height.z() = std::clamp(goal_N.z(), lo_z + 0.5 * grid.resolution(), hi_z - 0.5 * grid.resolution());
-    PlannedPath to_height = PlanPath(grid, start_N, at_height, params);
+    PlannedPath to_height = PlanPath(grid, start_N, at_height, params, scratch);
     if (to_height.found) {
       to_height.p_N.push_back(goal_N);
       return to_height;
@@ -127,9 +126,14 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
   // factor of entering it, its cost so far, its parent and its weighted heuristic. Per
   // neighbour: the index offset and the step length. The search then only adds and compares.
   constexpr uint8_t kOpen = 0, kClosed = 1, kExpanded = 2, kNotReached = 3;
-  std::vector<uint8_t> closed(n, kNotReached);
-  std::unique_ptr<float[]> factor(new float[n]), g(new float[n]), weighted_h(new float[n]);
-  std::unique_ptr<int[]> parent(new int[n]);
+  PlannerScratch own;
+  PlannerScratch& arrays = scratch ? *scratch : own;
+  arrays.state.assign(n, kNotReached);
+  for (std::vector<float>* a : {&arrays.factor, &arrays.g, &arrays.weighted_h}) a->resize(n);
+  arrays.parent.resize(n);
+  uint8_t* closed = arrays.state.data();
+  float *factor = arrays.factor.data(), *g = arrays.g.data(), *weighted_h = arrays.weighted_h.data();
+  int* parent = arrays.parent.data();
   std::vector<uint8_t> band(size.z());
   for (int z = 0; z < size.z(); ++z) {
     const double down = grid.Centre({0, 0, z}).z();

@@ -129,6 +129,8 @@ class AvoidancePlanner {
   PlannerParams planner_;
   OccupancyMap map_;
   LocalGrid known_;
+  LocalGrid window_;        // this replan's window (its memory kept from one to the next)
+  PlannerScratch scratch_;  // the search's, likewise
   int64_t perception_utime_ = 0;
   bool bound_announced_ = false;
   std::vector<Eigen::Vector3d> previous_;  // the detour being flown

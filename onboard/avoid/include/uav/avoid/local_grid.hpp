@@ -25,9 +25,10 @@ class LocalGrid {
   // size kept: the cells it still covers are kept, only the rest is read from the map (a slab
   // of the tree instead of the whole window), in its own memory (no distances).
   void Recentre(const OccupancyMap& map, const Eigen::Vector3d& centre_N);
-  // The window [centre - half_extent, centre + half_extent] copied out of a larger grid of the
-  // same resolution (cells outside it unknown), its distances computed.
-  static LocalGrid Extract(const LocalGrid& big, const Eigen::Vector3d& centre_N, const Eigen::Vector3d& half_extent_m);
+  // Becomes the window [centre - half_extent, centre + half_extent] copied out of a larger grid
+  // of the same resolution (cells outside it unknown), its distances computed. Its own memory
+  // is reused: allocated anew at each replan, its pages were faulted in anew each time.
+  void Extract(const LocalGrid& big, const Eigen::Vector3d& centre_N, const Eigen::Vector3d& half_extent_m);
   // An all-unknown window (tests fill it with Set).
   LocalGrid(const Eigen::Vector3d& min_N, const Eigen::Vector3i& size, double resolution_m);
 

@@ -8,6 +8,7 @@
 // heuristic does, which is the optimistic completion D* Lite and its peers use for unknown
 // space. A goal above or below the window, but within it across the ground, is reached through
 // its place at the window's nearest height.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -46,9 +47,18 @@ struct PlannedPath {
   int expansions = 0;
 };
 
-// `start_N` and `goal_N` in N; the grid's distances must be computed.
+// The search's per-cell arrays, kept by a caller that plans again and again: allocated anew
+// at each plan, their pages were faulted in anew each time (more than the search itself).
+struct PlannerScratch {
+  std::vector<uint8_t> state;
+  std::vector<float> factor, g, weighted_h;
+  std::vector<int> parent;
+};
+
+// `start_N` and `goal_N` in N; the grid's distances must be computed. `scratch`: arrays to
+// reuse (none: the search's own).
 PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, const Eigen::Vector3d& goal_N,
-                     const PlannerParams& params);
+                     const PlannerParams& params, PlannerScratch* scratch = nullptr);
 
 // Whether the straight segment keeps `clearance_m` from every occupied cell of the grid (unknown
 // cells allowed), sampled at a third of a cell.
