@@ -165,23 +165,31 @@ TEST(DepthGridScan, ATrustedCellIsARayToItsDepthAndDoubtfulCellsAreLeftOut) {
   EXPECT_EQ(map.At(Eigen::Vector3d(4.0, -0.64, -4.0)), Cell::kFree);
 }
 
+// Dense and sparse (most rows and columns without an obstacle, which the transform skips), and
+// empty (every cell "none").
 TEST(LocalGrid, DistanceFieldMatchesBruteForce) {
-  LocalGrid g(Eigen::Vector3d::Zero(), Eigen::Vector3i(23, 17, 9), 0.5);
-  std::mt19937 rng(3);
-  std::vector<Eigen::Vector3i> occupied;
-  for (int i = 0; i < 25; ++i) {
-    const Eigen::Vector3i c(rng() % 23, rng() % 17, rng() % 9);
-    g.Set(c, Cell::kOccupied);
-    occupied.push_back(c);
+  struct Case {
+    Eigen::Vector3i size;
+    int obstacles;
+  };
+  for (const Case& k : {Case{{23, 17, 9}, 25}, Case{{41, 30, 12}, 3}, Case{{9, 8, 7}, 0}}) {
+    LocalGrid g(Eigen::Vector3d::Zero(), k.size, 0.5);
+    std::mt19937 rng(3);
+    std::vector<Eigen::Vector3i> occupied;
+    for (int i = 0; i < k.obstacles; ++i) {
+      const Eigen::Vector3i c(rng() % k.size.x(), rng() % k.size.y(), rng() % k.size.z());
+      g.Set(c, Cell::kOccupied);
+      occupied.push_back(c);
+    }
+    g.ComputeDistances();
+    for (int z = 0; z < k.size.z(); ++z)
+      for (int y = 0; y < k.size.y(); ++y)
+        for (int x = 0; x < k.size.x(); ++x) {
+          double best = LocalGrid::kFar;
+          for (const auto& o : occupied) best = std::min(best, (o - Eigen::Vector3i(x, y, z)).cast<double>().norm() * 0.5);
+          ASSERT_NEAR(g.Distance({x, y, z}), best, 1e-4) << x << " " << y << " " << z << " of " << k.size.transpose();
+        }
   }
-  g.ComputeDistances();
-  for (int z = 0; z < 9; ++z)
-    for (int y = 0; y < 17; ++y)
-      for (int x = 0; x < 23; ++x) {
-        double best = 1e9;
-        for (const auto& o : occupied) best = std::min(best, (o - Eigen::Vector3i(x, y, z)).cast<double>().norm() * 0.5);
-        ASSERT_NEAR(g.Distance({x, y, z}), best, 1e-4) << x << " " << y << " " << z;
-      }
 }
 
 // The planner's copy of the map moves with the vehicle by reading only the slab it newly covers:
@@ -413,6 +421,23 @@ TEST(AvoidancePlanner, AGoalBelowTheWindowIsFlownTowardNotAwayFrom) {
   ASSERT_EQ(plan.state, AvoidState::kAvoiding) << plan.reason;
   EXPECT_TRUE(plan.path_N.back().isApprox(goal)) << plan.path_N.back().transpose();
   for (const Eigen::Vector3d& q : plan.path_N) EXPECT_GT(q.x(), -0.5) << "heads away from the goal: " << q.transpose();
+}
+
+// The planner's copy of the map is sized to its windows: a window widened in flight (a
+// parameter changed) sees a wall 30 m ahead that the narrow one's copy did not hold.
+TEST(AvoidancePlanner, AWiderWindowSeesWhatTheNarrowOnesCopyDidNotHold) {
+  AvoidanceParams params;
+  params.enabled = true;
+  params.window_m = 8;
+  AvoidancePlanner planner(params);
+  for (double e = -4; e <= 4; e += 0.2)
+    for (double d = -7; d <= -1; d += 0.2) planner.map().Mark({30.1, e, d}, true);
+  const Eigen::Vector3d goal(60, 0, -4);
+  EXPECT_EQ(planner.Plan(1, {0, 0, -4}, goal, goal).state, AvoidState::kClear) << "the wall is beyond the narrow window";
+  params.window_m = 24;
+  planner.SetParams(params);
+  const AvoidancePlan plan = planner.Plan(2, {0, 0, -4}, goal, goal);
+  EXPECT_EQ(plan.state, AvoidState::kAvoiding) << plan.reason;
 }
 
 TEST(AvoidancePlanner, KeepsItsSideOfAnObstacleAsItFliesPast) {
