@@ -232,6 +232,38 @@ TEST(StereoWorker, ReportsObstacleCylindersInNed) {
 
 // A camera that goes blank: the channel reports unhealthy with the reason, no stale obstacles,
 // and the thread keeps running.
+// What a pair adds to the map: a thin cylinder whole (grown by its axis's standard deviation),
+// not a wide one (a crown would fill the space under it; its points describe its face); the
+// points as rays from the camera, trusted to the range gate.
+TEST(StereoWorker, MapUpdateDrawsThinCylindersAndThePointsAsRays) {
+  vision::StereoObstacles found;
+  found.gate_depth_m = 12.0;
+  found.ground_z_m = 0.0;
+  vision::ObstacleCylinder pole;
+  pole.centre_W = {8, 1, -3};
+  pole.radius_m = 0.3, pole.top_m = -6, pole.bottom_m = 0;
+  pole.cov_xy = Eigen::Matrix2d::Identity() * 0.01;  // sigma 0.1 m
+  vision::ObstacleCylinder crown = pole;
+  crown.centre_W = {10, -4, -7};
+  crown.radius_m = 1.8, crown.top_m = -9, crown.bottom_m = 0;
+  found.obstacles = {pole, crown};
+  found.points_L = {{0.f, 0.f, 5.f}};
+  Eigen::Isometry3d T_NL = Eigen::Isometry3d::Identity();
+  T_NL.translation() = Eigen::Vector3d(1, 2, -4);
+  const avoid::PerceptionUpdate u = StereoMapUpdate(42, found, {}, T_NL);
+  EXPECT_EQ(u.utime, 42);
+  ASSERT_TRUE(u.scan.has_value());
+  EXPECT_TRUE(u.scan->origin_N.isApprox(Eigen::Vector3d(1, 2, -4)));
+  ASSERT_EQ(u.scan->p_N.size(), 1u);
+  EXPECT_TRUE(u.scan->p_N[0].isApprox(Eigen::Vector3f(1, 2, 1)));
+  EXPECT_DOUBLE_EQ(u.scan->max_range_m, 12.0);
+  ASSERT_EQ(u.cylinders.size(), 1u) << "the crown is left to its points";
+  EXPECT_TRUE(u.cylinders[0].p_NE.isApprox(Eigen::Vector2d(8, 1)));
+  EXPECT_NEAR(u.cylinders[0].radius_m, 0.4, 1e-9);
+  EXPECT_DOUBLE_EQ(u.cylinders[0].top_down_m, -6.0);
+  EXPECT_DOUBLE_EQ(u.cylinders[0].bottom_down_m, 0.0);
+}
+
 TEST(StereoWorker, BlankCameraReportsUnhealthyAndNoObstacles) {
   const world::Scene scene = LoadScene("forest");
   Blackboard board;

@@ -222,15 +222,14 @@ void StereoWorker::ReportPowerLines(const std::vector<vision::Wire3D>& wires, co
   });
 }
 
-void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& found, const std::vector<vision::Wire3D>& wires,
-                               const Eigen::Isometry3d& T_NB, const Eigen::Vector3d& p_NO, Outbox& out) const {
+avoid::PerceptionUpdate StereoMapUpdate(int64_t utime, const vision::StereoObstacles& found,
+                                        const std::vector<vision::Wire3D>& wires, const Eigen::Isometry3d& T_NL) {
   // Rays for the map: at most this many points per pair, evenly spread over the image's (the
   // map's cells are 20 cm: more rays only repeat the same cells).
   constexpr std::size_t kMaxRays = 6000;
   // [m] the thickest pole of the benchmark's fields is 0.6 m; the matcher's window reads it wider
   // (0.61-0.67 m at 3-6 m, rendered), and at 0.6 the thickest poles were left out of the map.
   constexpr double kMaxMapCylinderRadius = 0.8;
-  const Eigen::Isometry3d T_NL = T_NB * camera_.left().T_BC;
   avoid::PerceptionUpdate u;
   u.utime = utime;
   avoid::RangeScan scan;
@@ -273,6 +272,12 @@ void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& fou
       run.radius_m = kCableRadius;
     }
   }
+  return u;
+}
+
+void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& found, const std::vector<vision::Wire3D>& wires,
+                               const Eigen::Isometry3d& T_NB, const Eigen::Vector3d& p_NO, Outbox& out) const {
+  avoid::PerceptionUpdate u = StereoMapUpdate(utime, found, wires, T_NB * camera_.left().T_BC);
   out.Post([u = avoid::Translated(std::move(u), -p_NO)](Blackboard& b) { b.perception.Push(u); });
 }
 

@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "uav/app/vision_worker.hpp"
+#include "uav/avoid/avoidance.hpp"
 #include "uav/app/preview_stream.hpp"
 #include "uav/hal/camera.hpp"
 #include "uav/shared/parameters.hpp"
@@ -30,6 +31,12 @@ struct StereoWorkerParams {
   // From a vehicle parameter file; throws naming a missing or out-of-range parameter.
   static StereoWorkerParams FromParameters(const ParameterSet& p);
 };
+
+// What one pair adds to the avoidance map, in N (T_NL: the left camera's pose at the pair, as
+// estimated): its points as rays from the camera, its thin obstacle cylinders (not the wide
+// ones: crowns, walls), and the runs of its wires whose depth is trusted.
+avoid::PerceptionUpdate StereoMapUpdate(int64_t utime, const vision::StereoObstacles& found,
+                                        const std::vector<vision::Wire3D>& wires, const Eigen::Isometry3d& T_NL);
 
 class StereoWorker : public VisionWorker {
  public:
