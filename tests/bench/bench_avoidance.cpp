@@ -117,6 +117,28 @@ void BM_PlanPath(benchmark::State& state) {
 }
 BENCHMARK(BM_PlanPath)->Unit(benchmark::kMillisecond);
 
+// The replanning's worst cycles in the dense fields: the way ahead blocked across most of the
+// window, so the search spreads through the (mostly unknown) window before it finds the way
+// round. A wall of known cells 2 m high across x = 20 m, from y = -13 to 13 m, on the field.
+void BM_PlanPathAroundAWall(benchmark::State& state) {
+  Field& f = TheField();
+  LocalGrid g = LocalGrid::FromMap(f.planner->map(), {17, 0, -4}, {16, 16, 4}, 0.4, /*distances=*/false);
+  for (double y = -13; y <= 13; y += 0.2)
+    for (double z = -6; z <= -2; z += 0.2) g.SetAt({20, y, z}, Cell::kOccupied);
+  g.ComputeDistances();
+  PlannerParams p;
+  p.floor_down_m = -1.5;
+  PlannerScratch scratch;
+  int expansions = 0;
+  for (auto _ : state) {
+    const PlannedPath path = PlanPath(g, {9, 0, -4}, {60, 0, -4}, p, &scratch);
+    expansions = path.expansions;
+    benchmark::DoNotOptimize(path);
+  }
+  state.counters["expansions"] = expansions;
+}
+BENCHMARK(BM_PlanPathAroundAWall)->Unit(benchmark::kMillisecond);
+
 void BM_ReplanCycle(benchmark::State& state) {
   Field& f = TheField();
   int64_t t = 0;

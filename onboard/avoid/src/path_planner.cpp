@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
-#include <queue>
+#include <utility>
+#include <vector>
 #include <stdexcept>
 
 namespace uav::avoid {
@@ -22,6 +25,57 @@ namespace {
 // The grid's distance is between cell centres; the vehicle may be anywhere in its cell and the
 // obstacle anywhere in its own, so a cell counts as clear only with half a cell to spare.
 double Inflated(const LocalGrid& g, double clearance_m) { return clearance_m + 0.5 * g.resolution(); }
+
+// The open list: a 4-ary min-heap of (f, cell) on the scratch's memory. Half as deep as a binary
+// heap, a node's four children are in one or two cache lines, and an entry is one 64-bit key
+// compared without branches: f's bits above the cell's (f >= 0, whose IEEE bits order as the
+// numbers do). Entries are ordered by f, then by cell, as std::priority_queue orders the pairs,
+// so the search pops them in the same order.
+class OpenList {
+ public:
+  explicit OpenList(std::vector<uint64_t>& heap) : v_(heap) { v_.clear(); }
+  static uint64_t Key(float f, int cell) {
+    uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    return (uint64_t{bits} << 32) | static_cast<uint32_t>(cell);
+  }
+  bool Empty() const { return v_.empty(); }
+  void Push(float f, int cell) {
+    const uint64_t e = Key(f, cell);
+    std::size_t i = v_.size();
+    v_.push_back(e);
+    while (i > 0) {
+      const std::size_t up = (i - 1) / 4;
+      if (e >= v_[up]) break;
+      v_[i] = v_[up];
+      i = up;
+    }
+    v_[i] = e;
+  }
+  // The cell of the least entry, removed.
+  int Pop() {
+    const uint64_t top = v_.front();
+    const uint64_t last = v_.back();
+    v_.pop_back();
+    const std::size_t n = v_.size();
+    std::size_t i = 0;
+    for (;;) {
+      const std::size_t first = 4 * i + 1;
+      if (first >= n) break;
+      std::size_t best = first;
+      const std::size_t end = std::min(first + 4, n);
+      for (std::size_t k = first + 1; k < end; ++k) best = v_[k] < v_[best] ? k : best;
+      if (v_[best] >= last) break;
+      v_[i] = v_[best];
+      i = best;
+    }
+    if (n > 0) v_[i] = last;
+    return static_cast<int>(static_cast<uint32_t>(top));
+  }
+
+ private:
+  std::vector<uint64_t>& v_;
+};
 
 }  // namespace
 
@@ -129,34 +183,32 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
   PlannerScratch own;
   PlannerScratch& arrays = scratch ? *scratch : own;
   arrays.state.assign(n, kNotReached);
-  for (std::vector<float>* a : {&arrays.factor, &arrays.g, &arrays.weighted_h}) a->resize(n);
-  arrays.parent.resize(n);
+  arrays.nodes.resize(n);
   uint8_t* closed = arrays.state.data();
-  float *factor = arrays.factor.data(), *g = arrays.g.data(), *weighted_h = arrays.weighted_h.data();
-  int* parent = arrays.parent.data();
+  PlannerScratch::Node* node = arrays.nodes.data();
   std::vector<uint8_t> band(size.z());
   for (int z = 0; z < size.z(); ++z) {
     const double down = grid.Centre({0, 0, z}).z();
     band[z] = down <= params.floor_down_m && down >= params.ceiling_down_m;
   }
   auto cell_of = [&](int i) { return Eigen::Vector3i(i % size.x(), (i / size.x()) % size.y(), i / (size.x() * size.y())); };
-  auto reach = [&](int i) {
-    const Eigen::Vector3i c = cell_of(i);
+  // Cell i, at c, reached for the first time.
+  auto reach = [&](int i, const Eigen::Vector3i& c) {
     const double d = grid.Distance(c);
     const Cell state = grid.State(c);
     closed[i] = !band[c.z()] || d < open_from || (params.unknown_closed && state != Cell::kFree) ? kClosed : kOpen;
-    factor[i] = static_cast<float>(1.0 + params.proximity_cost * std::clamp((soft - d) / (soft - need), 0.0, 1.0) +
-                                   (state == Cell::kUnknown ? params.unknown_cost : 0.0));
-    g[i] = std::numeric_limits<float>::infinity();
-    parent[i] = -1;
-    weighted_h[i] = w * static_cast<float>(h(c));
+    node[i].factor = static_cast<float>(1.0 + params.proximity_cost * std::clamp((soft - d) / (soft - need), 0.0, 1.0) +
+                                        (state == Cell::kUnknown ? params.unknown_cost : 0.0));
+    node[i].g = std::numeric_limits<float>::infinity();
+    node[i].parent = -1;
+    node[i].weighted_h = w * static_cast<float>(h(c));
   };
   const int s = grid.Index(start);
-  reach(s);
+  reach(s, start);
   closed[s] = kOpen;
   const int goal_index = goal_inside ? grid.Index(goal) : -1;
   if (goal_inside) {
-    reach(goal_index);
+    reach(goal_index, goal);
     closed[goal_index] = kOpen;
   }
   struct Step {
@@ -170,10 +222,9 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
         if (dx || dy || dz)
           steps.push_back({dx, dy, dz, (dz * size.y() + dy) * size.x() + dx,
                            static_cast<float>(std::hypot(res * std::hypot(dx, dy), res * std::abs(dz) * params.vertical_cost))});
-  using Entry = std::pair<float, int>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
-  g[s] = 0;
-  open.push({weighted_h[s], s});
+  OpenList open(arrays.open);
+  node[s].g = 0;
+  open.Push(node[s].weighted_h, s);
   int found = -1;
   // A goal beyond the window: leaving it across a border cell completes the way with the straight
   // line to the goal, costed as unknown space (it has not been seen). Costed as free, the straight
@@ -183,9 +234,8 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
   const float exit_factor = static_cast<float>(1.0 + params.unknown_cost);
   int exit_from = -1;
   float exit_cost = std::numeric_limits<float>::infinity();
-  while (!open.empty()) {
-    const auto [f, i] = open.top();
-    open.pop();
+  while (!open.Empty()) {
+    const int i = open.Pop();
     if (i == n) {
       found = exit_from;
       break;
@@ -198,10 +248,10 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
       break;
     }
     if (!goal_inside && on_border(c) && i != s) {
-      const float cost = g[i] + exit_factor * static_cast<float>(h(c));
+      const float cost = node[i].g + exit_factor * static_cast<float>(h(c));
       if (cost < exit_cost) {
         exit_cost = cost, exit_from = i;
-        open.push({cost, n});
+        open.Push(cost, n);
       }
       continue;
     }
@@ -210,13 +260,14 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
     for (const Step& st : steps) {
       if (!interior && !grid.Contains(c + Eigen::Vector3i(st.dx, st.dy, st.dz))) continue;
       const int j = i + st.offset;
-      if (closed[j] == kNotReached) reach(j);
+      if (closed[j] == kNotReached) reach(j, c + Eigen::Vector3i(st.dx, st.dy, st.dz));
       if (closed[j] != kOpen) continue;
-      const float cost = g[i] + st.length * factor[j];
-      if (cost < g[j]) {
-        g[j] = cost;
-        parent[j] = i;
-        open.push({cost + weighted_h[j], j});
+      PlannerScratch::Node& next = node[j];
+      const float cost = node[i].g + st.length * next.factor;
+      if (cost < next.g) {
+        next.g = cost;
+        next.parent = i;
+        open.Push(cost + next.weighted_h, j);
       }
     }
   }
@@ -226,12 +277,12 @@ PlannedPath PlanPath(const LocalGrid& grid, const Eigen::Vector3d& start_N, cons
     return out;
   }
   std::vector<Eigen::Vector3d> cells;
-  for (int i = found; i >= 0; i = parent[i]) cells.push_back(grid.Centre(cell_of(i)));
+  for (int i = found; i >= 0; i = node[i].parent) cells.push_back(grid.Centre(cell_of(i)));
   std::reverse(cells.begin(), cells.end());
   if (climb.size() == 1) cells.front() = start_N;
   out.reaches_goal = goal_inside;
   if (goal_inside) cells.back() = goal_N;
-  out.cost = g[found];
+  out.cost = node[found].g;
   // The climb out is flown as it is (each step farther from the obstacle than the one before).
   out.p_N.push_back(start_N);
   for (std::size_t i = 1; i + 1 < climb.size(); ++i) out.p_N.push_back(grid.Centre(climb[i]));
