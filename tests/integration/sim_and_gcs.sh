@@ -1,5 +1,7 @@
 # Sourced by the integration tests: runs uav-onboard --sim and a headless uav-gcs script against
 # it over LCM (inside netns.sh), then prints the vehicle's output.
+# A failed script's log/, onboard.log and gcs.log are copied to $UAV_FAILED_RUNS_DIR (default
+# $TMPDIR/uav-failed-runs or /tmp/uav-failed-runs).
 # Sets: work (temporary directory with log/, onboard.log and gcs.log, the GCS's output), key (the
 # signing key both use), status
 # (the GCS's exit code).
@@ -30,4 +32,12 @@ run_sim_and_gcs() {
   wait || true
   echo "--- onboard output"
   cat "$work/onboard.log"
+  # A failed run's flight log, events and outputs are kept (the work directory goes at exit):
+  # a failure that does not come back is otherwise left with nothing to read.
+  if [ "$status" -ne 0 ]; then
+    local kept="${UAV_FAILED_RUNS_DIR:-${TMPDIR:-/tmp}/uav-failed-runs}/$(basename "$script" .gcs)-$(date +%Y%m%d-%H%M%S)-$$"
+    mkdir -p "$kept" && cp -r "$work/onboard.log" "$work/gcs.log" "$kept/" &&
+      { [ ! -d "$work/log" ] || cp -r "$work/log" "$kept/"; } &&
+      echo "--- the failed run's logs are kept in $kept"
+  fi
 }
