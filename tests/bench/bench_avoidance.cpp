@@ -119,7 +119,7 @@ BENCHMARK(BM_PlanPath)->Unit(benchmark::kMillisecond);
 
 // The replanning's worst cycles in the dense fields: the way ahead blocked across most of the
 // window, so the search spreads through the (mostly unknown) window before it finds the way
-// round. A wall of known cells 2 m high across x = 20 m, from y = -13 to 13 m, on the field.
+// round. A wall of known cells across x = 20 m, from y = -13 to 13 m and 2 to 6 m up, on the field.
 void BM_PlanPathAroundAWall(benchmark::State& state) {
   Field& f = TheField();
   LocalGrid g = LocalGrid::FromMap(f.planner->map(), {17, 0, -4}, {16, 16, 4}, 0.4, /*distances=*/false);

@@ -10,7 +10,6 @@
 // its place at the window's nearest height.
 #include <cstdint>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
