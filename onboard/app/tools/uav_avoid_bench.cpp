@@ -45,17 +45,18 @@ const char* kBaseScene = R"({
   "objects": [],
   "generate": [{"type": "obstacle_field", "count": %d, "region_ne": [0, -10, 60, 10], "clear_radius_m": %.1f,
                 "keep_clear_ne": [60, 0], "wires": %d, "wire_height_m": [3, 8]}],
-  "cameras": {"stereo": {"rate_hz": 15, "baseline_m": 0.12, "preview_rate_hz": 0,
+  "cameras": {"stereo": {"rate_hz": 15, "baseline_m": 0.12, "mount_roll_deg": %.1f, "preview_rate_hz": 0,
                          "laser": {"enabled": true, "rows": 15, "cols": 15, "pitch_deg": 2.5, "roll_deg": 16}}}
 })";
 
 // The seeded field of the scene generator `obstacle_field` at `density` obstacles per square
 // metre of the corridor, with one wire between two poles per 200 m^2 (fewer in sparse fields).
-uav::world::Scene MakeField(double density, int seed) {
+// The stereo pair is rolled rig_roll_deg about its axis (45: level wires are ranged, thesis 3.6).
+uav::world::Scene MakeField(double density, int seed, double rig_roll_deg) {
   const int count = static_cast<int>(std::lround(density * kWidth * kLength));
   const int wires = static_cast<int>(std::lround(kWidth * kLength / 200.0 * std::min(1.0, density * 25)));
   char text[1200];
-  std::snprintf(text, sizeof text, kBaseScene, seed, count, kClearStart, wires);
+  std::snprintf(text, sizeof text, kBaseScene, seed, count, kClearStart, wires, rig_roll_deg);
   // Named as a file of the scenes folder, so that its cameras are found beside it.
   return uav::world::Scene::Parse(text, std::string(UAV_RESOURCE_DIR) + "/scenes/avoidance_field.scene.json");
 }
@@ -146,10 +147,10 @@ double Percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
 }
 
-FlightResult Fly(const uav::ParameterSet& params, double density, int seed, double speed, bool progress) {
+FlightResult Fly(const uav::ParameterSet& params, double density, int seed, double speed, double rig_roll_deg, bool progress) {
   FlightResult r;
   r.seed = seed;
-  const uav::world::Scene scene = MakeField(density, seed);
+  const uav::world::Scene scene = MakeField(density, seed, rig_roll_deg);
   const TrueField truth(scene);
   const auto avd = uav::avoid::AvoidanceParams::FromParameters(params);
   r.shortest_m = ShortestPath(truth, avd.body_radius_m);
@@ -265,7 +266,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
 }
 
 void Picture(const std::string& path, const FlightResult& r, double density, int seed) {
-  const TrueField truth(MakeField(density, seed));
+  const TrueField truth(MakeField(density, seed, 0.0));  // the field, whatever the camera
   const double px = 12.0;  // pixels per metre
   cv::Mat img(static_cast<int>((kWidth + 10) * px), static_cast<int>((kLength + 10) * px), CV_8UC3, cv::Scalar(235, 240, 235));
   auto P = [&](const Eigen::Vector2d& p) { return cv::Point(static_cast<int>((p.x() + 5) * px), static_cast<int>((kWidth / 2 + 5 - p.y()) * px)); };
@@ -305,12 +306,14 @@ void Picture(const std::string& path, const FlightResult& r, double density, int
 int main(int argc, char** argv) {
   CLI::App cli{"uav-avoid-bench: closed-loop obstacle avoidance over seeded obstacle fields, perception in the loop"};
   std::string density_text = "1/25", seeds_text = "1-3", json_path, picture_dir, params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
-  double speed = 3.0;
+  double speed = 3.0, rig_roll = 0.0;
   bool quiet = false;
   std::vector<std::string> overrides;
   cli.add_option("--density", density_text, "obstacles per square metre: 1/49, 1/25, 1/12 or a decimal");
   cli.add_option("--speed", speed, "cruise speed [m/s] (ctl_speed_max_xy)")->check(CLI::Range(0.5, 15.0));
   cli.add_option("--seeds", seeds_text, "seed range A-B (or one seed)");
+  cli.add_option("--rig-roll", rig_roll, "the stereo pair rolled this much about its axis [deg] (45 ranges level wires)")
+      ->check(CLI::Range(-90.0, 90.0));
   cli.add_option("--params", params_path, "vehicle file (avd_enable is set to 1)");
   cli.add_option("--param", overrides, "NAME=VALUE override (repeatable)");
   cli.add_option("--json", json_path, "write the per-flight and per-cell results here");
@@ -337,10 +340,10 @@ int main(int argc, char** argv) {
     // The picture folder is made up front: a bad one is said before the first flight, not after.
     if (!picture_dir.empty()) std::filesystem::create_directories(picture_dir);
     if (!trace_dir.empty()) std::filesystem::create_directories(trace_dir);
-    nlohmann::json out = {{"density", density}, {"speed", speed}, {"flights", nlohmann::json::array()}};
+    nlohmann::json out = {{"density", density}, {"speed", speed}, {"rig_roll_deg", rig_roll}, {"flights", nlohmann::json::array()}};
     std::vector<FlightResult> results;
     for (int seed = a; seed <= b; ++seed) {
-      FlightResult r = Fly(params, density, seed, speed, !quiet);
+      FlightResult r = Fly(params, density, seed, speed, rig_roll, !quiet);
       if (!quiet)
         std::fprintf(stderr,
                      "seed %d: %s, clearance min %.2f p5 %.2f m, path %.1f / %.1f m, %.1f m/s, reversals %d, stops %d, "
