@@ -295,7 +295,7 @@ const ParameterSchema& VehicleParameterSchema() {
     {"avd_enable", "-", 0, 0, 1, "1: every task that moves the vehicle goes through the 3-D map, the planner and the safety layer (needs a stereo rig for obstacles)"},
     {"avd_body_radius", "m", 0.5, 0.05, 5, "the airframe's radius, propellers included; the planner keeps this plus obs_margin from what it senses"},
     {"avd_brake_accel", "m/s^2", 2.5, 0.5, 10, "deceleration the speed limit counts on: the vehicle can always stop within the space it has seen"},
-    {"avd_reaction", "s", 0.3, 0, 2, "control and attitude lag before braking bites, added to the perception's age"},
+    {"avd_reaction", "s", 0.4, 0, 2, "control and attitude lag before braking bites, added to the perception's age"},
     {"avd_stale", "s", 0.5, 0.1, 5, "perception or plan older than this: brake and hold"},
     {"avd_blind_return", "s", 3, 0.5, 60, "no obstacle perception for this long in flight (a camera failed): return home at the altitude flown, on the map alone, through space seen free; hold where there is none"},
     {"avd_rate", "Hz", 10, 1, 50, "replanning rate"},

@@ -543,8 +543,8 @@ void FlyPointMass(const control::Setpoint& sp, const AvoidanceParams& params, do
 
 // A detour turning a right angle round the corner of what it avoids (north, then east: the
 // obstacle lies inside the turn). The planner's shortcuts put their corners at the clearance
-// from it. A point mass flies it from 3 m/s: it slows for the corner (to 1.6 m/s) and cuts it
-// by 0.08 m, where the carrot 2 m ahead chased at cruise speed cut it by 0.31 m (at 2.6 m/s).
+// from it. A point mass flies it from 3 m/s: it slows for the corner (to 1.1 m/s) and cuts it
+// by 0.16 m, where the carrot 2 m ahead chased at cruise speed cut it by 0.31 m (at 2.6 m/s).
 TEST(SafetyLayer, SlowsForACornerAndDoesNotCutIt) {
   AvoidanceParams params;
   params.enabled = true;
@@ -577,6 +577,46 @@ TEST(SafetyLayer, SlowsForACornerAndDoesNotCutIt) {
   std::printf("cut %.2f m, slowest near the corner %.2f m/s\n", cut, slowest_near_corner);
   EXPECT_LT(slowest_near_corner, 2.0) << "did not slow for the corner";
   EXPECT_GT(est.p_N.y(), 9.0) << "did not go on round it";
+}
+
+// A replanned path may leave across the way the vehicle flies, or turn back in a few short
+// corners that are one hairpin together. The turn is counted from the vehicle's velocity to each
+// leg ahead: at once for the leg it is on, after its reaction time for the legs ahead.
+TEST(SafetyLayer, SlowsForATurnFromTheWayItFliesNotCornerByCorner) {
+  AvoidanceParams params;
+  params.enabled = true;
+  params.cruise_speed = 3.0;
+  control::Setpoint task;
+  task.p_N = {0, 20, -4};
+  auto limit_for = [&](const std::vector<Eigen::Vector3d>& path) {
+    SafetyLayer layer(params);
+    hal::VehicleEstimate est;
+    est.p_N = {0, 0, -4};
+    est.v_N = {2.5, 0, 0};  // north
+    AvoidancePlan plan;
+    plan.utime = 1'000'000, plan.perception_utime = 950'000;
+    plan.goal_N = path.back();
+    plan.state = AvoidState::kAvoiding;
+    plan.path_N = path;
+    plan.seen_free_m = 100;
+    return layer.Apply(task, plan.goal_N, est, &plan, 1'010'000, 0.02).speed_limit;
+  };
+  // East at a right angle: the arc within 0.2 m of the turn at 2.5 m/s^2 sideways,
+  // sqrt(2.5 * 0.2 / (1 / cos 45deg - 1)) = 1.10 m/s.
+  EXPECT_NEAR(limit_for({{0, 0, -4}, {0, 20, -4}}), 1.10, 0.01);
+  // Straight on: cruise.
+  EXPECT_NEAR(limit_for({{0, 0, -4}, {20, 0, -4}}), 3.0, 1e-9);
+  // North 1 m, then three corners of 50 degrees 0.4 m apart (back south-west). Corner by corner
+  // each allows 2.2 m/s and the vehicle could arrive at cruise; from the way it flies, the
+  // 100-degree turn 1.4 m ahead allows -a t + sqrt((a t)^2 + v^2 + 2 a d) = 1.98 m/s
+  // (v = 0.95 m/s, a = 2.5 m/s^2, t = 0.4 s).
+  std::vector<Eigen::Vector3d> hairpin{{0, 0, -4}, {1, 0, -4}};
+  for (double heading_deg : {50.0, 100.0, 150.0}) {
+    const double h = heading_deg * M_PI / 180.0;
+    hairpin.push_back(hairpin.back() + 0.4 * Eigen::Vector3d(std::cos(h), std::sin(h), 0));
+  }
+  hairpin.push_back(hairpin.back() + Eigen::Vector3d(-10, 0, 0));
+  EXPECT_NEAR(limit_for(hairpin), 1.98, 0.01);
 }
 
 TEST(SafetyLayer, StopsWithinTheSpaceItHasSeen) {

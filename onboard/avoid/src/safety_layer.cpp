@@ -10,6 +10,8 @@ namespace {
 double WrapPi(double a) { return std::remainder(a, 2.0 * M_PI); }
 // Below this the vehicle is taken as stopped short (blocked); above twice it moves again.
 constexpr double kBlockedSpeed = 0.2;
+// [m/s] above this the vehicle's velocity gives the way it travels (turns are measured from it).
+constexpr double kTravelSpeed = 0.5;
 // [m/s] the last body-and-margin's length to a goal is flown at least this fast.
 constexpr double kArrivalSpeed = 0.5;
 // [m] how far inside a corner of the detour the vehicle may cut. The planner's shortcuts keep
@@ -47,20 +49,29 @@ Eigen::Vector3d Carrot(const std::vector<Eigen::Vector3d>& path, const Eigen::Ve
   return PointAt(path, s + lead);
 }
 
-// The speed that lets the vehicle slow to each corner's CornerSpeed (at least kArrivalSpeed) by
-// the time it gets there, braking at accel, over the corners within reach from arc length s.
-double CornerLimit(const std::vector<Eigen::Vector3d>& path, double s, double accel, double speed) {
+// The speed that lets the vehicle slow, after its reaction time, to the speed of each turn within
+// reach from arc length s. A turn is measured from the way the vehicle travels now (its velocity,
+// `travel`) to each leg ahead, not corner by corner: three corners of 50 degrees within a metre
+// are one hairpin, and a replanned path may leave at a right angle to the way the vehicle flies
+// (it carried on 2 m toward a trunk while it turned round, 1/25 field, seed 11). The turn onto
+// the leg the vehicle is on is taken at once.
+double TurnLimit(const std::vector<Eigen::Vector3d>& path, double s, const Eigen::Vector3d& travel, double accel,
+                 double reaction_s, double speed) {
   double limit = speed, along = 0.0;
-  for (std::size_t i = 1; i + 1 < path.size(); ++i) {
+  auto turn_speed = [&](const Eigen::Vector3d& leg) {
+    if (leg.norm() < 1e-6) return speed;
+    const double deflection = std::acos(std::clamp(travel.dot(leg.normalized()), -1.0, 1.0));
+    return std::max(kArrivalSpeed, CornerSpeed(deflection, accel));
+  };
+  const double reach = speed * reaction_s + speed * speed / (2 * accel) + 1.0;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const double start = along;
     along += (path[i] - path[i - 1]).norm();
     if (along <= s) continue;
-    const double d = along - s;
-    if (d > speed * speed / (2 * accel) + 1.0) break;
-    const Eigen::Vector3d in = path[i] - path[i - 1], out = path[i + 1] - path[i];
-    if (in.norm() < 1e-6 || out.norm() < 1e-6) continue;
-    const double deflection = std::acos(std::clamp(in.dot(out) / (in.norm() * out.norm()), -1.0, 1.0));
-    const double v = std::max(kArrivalSpeed, CornerSpeed(deflection, accel));
-    limit = std::min(limit, std::sqrt(v * v + 2 * accel * d));
+    const double d = std::max(0.0, start - s);
+    if (d > reach) break;
+    const double v = turn_speed(path[i] - path[i - 1]);
+    limit = std::min(limit, d <= 0.0 ? v : -accel * reaction_s + std::sqrt(accel * accel * reaction_s * reaction_s + v * v + 2 * accel * d));
   }
   return limit;
 }
@@ -172,7 +183,12 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
     sp.p_N = carrot;
     direction = PointAt(plan->path_N, s_now + p_.lookahead_m) - est.p_N;
     const double cruise = std::min(p_.cruise_speed, task_setpoint.speed_max_xy.value_or(p_.cruise_speed));
-    v_allow = std::min(v_allow, CornerLimit(plan->path_N, s_now, p_.brake_accel, cruise));
+    // The way the vehicle travels: its velocity, or at low speed the path's own direction.
+    const Eigen::Vector3d ahead = PointAt(plan->path_N, s_now + 0.5) - PointAt(plan->path_N, s_now);
+    const Eigen::Vector3d travel = est.v_N.norm() > kTravelSpeed ? est.v_N.normalized()
+                                   : ahead.norm() > 1e-6                  ? ahead.normalized()
+                                                                           : Eigen::Vector3d::UnitX();
+    v_allow = std::min(v_allow, TurnLimit(plan->path_N, s_now, travel, p_.brake_accel, p_.reaction_s, cruise));
     out.speed_limit = v_allow;
     const Eigen::Vector3d tangent = PointAt(plan->path_N, s_now + 0.5) - PointAt(plan->path_N, s_now);
     sp.v_ff_N = tangent.norm() > 1e-6 && to_go > p_.lookahead_m ? Eigen::Vector3d(tangent.normalized() * std::min(cruise, v_allow))

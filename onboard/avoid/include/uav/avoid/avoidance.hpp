@@ -30,7 +30,7 @@ struct AvoidanceParams {
   double body_radius_m = 0.5;   // the airframe's, props included
   double margin_m = 0.5;        // obs_margin: kept beyond the body radius
   double brake_accel = 2.5;     // [m/s^2] the deceleration the speed limit counts on
-  double reaction_s = 0.3;      // [s] control and attitude lag before the braking bites
+  double reaction_s = 0.4;      // [s] control and attitude lag before the braking bites
   double stale_s = 0.5;         // perception older than this: brake and hold (PX4 CP's 0.5 s)
   double blind_return_s = 3.0;  // no perception this long in flight: return on the map alone
   double rate_hz = 10.0;        // replanning rate
