@@ -183,14 +183,13 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
     sp.p_N = carrot;
     direction = PointAt(plan->path_N, s_now + p_.lookahead_m) - est.p_N;
     const double cruise = std::min(p_.cruise_speed, task_setpoint.speed_max_xy.value_or(p_.cruise_speed));
-    // The way the vehicle travels: its velocity, or at low speed the path's own direction.
-    const Eigen::Vector3d ahead = PointAt(plan->path_N, s_now + 0.5) - PointAt(plan->path_N, s_now);
-    const Eigen::Vector3d travel = est.v_N.norm() > kTravelSpeed ? est.v_N.normalized()
-                                   : ahead.norm() > 1e-6                  ? ahead.normalized()
-                                                                           : Eigen::Vector3d::UnitX();
-    v_allow = std::min(v_allow, TurnLimit(plan->path_N, s_now, travel, p_.brake_accel, p_.reaction_s, cruise));
-    out.speed_limit = v_allow;
     const Eigen::Vector3d tangent = PointAt(plan->path_N, s_now + 0.5) - PointAt(plan->path_N, s_now);
+    // The way the vehicle travels: its velocity, or at low speed the path's own direction.
+    if (est.v_N.norm() > kTravelSpeed || tangent.norm() > 1e-6) {
+      const Eigen::Vector3d travel = est.v_N.norm() > kTravelSpeed ? est.v_N.normalized() : tangent.normalized();
+      v_allow = std::min(v_allow, TurnLimit(plan->path_N, s_now, travel, p_.brake_accel, p_.reaction_s, cruise));
+    }
+    out.speed_limit = v_allow;
     sp.v_ff_N = tangent.norm() > 1e-6 && to_go > p_.lookahead_m ? Eigen::Vector3d(tangent.normalized() * std::min(cruise, v_allow))
                                                                 : Eigen::Vector3d::Zero();
     sp.descent_rate.reset();
