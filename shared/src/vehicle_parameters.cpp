@@ -246,15 +246,16 @@ const ParameterSchema& VehicleParameterSchema() {
     {"pwl_enable", "-", 1, 0, 1, "detect power lines in the stereo pair and range them"},
     {"pwl_min_range", "m", 1.5, 0.5, 20, "nearest wire searched for (largest disparity)"},
     {"pwl_max_range", "m", 60, 5, 500, "farthest wire ranged (smallest disparity)"},
+    {"pwl_rig", "-", -1, -1, 7, "stereo rig (the scene's, from 0) for wires alone, beside obs_rig: a pair rolled about its axis ranges the level wires a level pair cannot; -1: wires on obs_rig"},
 
     // --- Stereo obstacles (STEREO thread, thesis 3.2, 3.5) ---
-    {"obs_enable", "-", 1, 0, 1, "detect obstacles (and, with pwl_enable, wires) on obs_rig; 0: the rig is not used for them (obstacle avoidance needs 1)"},
+    {"obs_enable", "-", 1, 0, 1, "detect obstacles (and, with pwl_enable, wires unless pwl_rig has them) on obs_rig; 0: the rig is not used for them (obstacle avoidance needs 1)"},
     {"obs_matcher", "-", 1, 0, 1, "disparity by 0: block matching, 1: semi-global matching"},
     {"obs_max_sigma", "m", 0.3, 0.05, 2, "range gate: points deeper than where the depth error (Eq. 3.7) reaches this are dropped"},
     {"obs_margin", "m", 0.5, 0, 5, "safety margin added to each obstacle cylinder's radius"},
     {"obs_min_voxels", "-", 20, 3, 1000, "smallest cluster (5 cm voxels) reported as an obstacle"},
     {"obs_cloud_rate", "Hz", 1, 0, 5, "decimated point cloud to the GCS (0: none)"},
-    {"obs_rig", "-", -1, -1, 7, "stereo rig (the scene's, from 0) for obstacles and wires; -1: the first rig neither odometry nor active stereo uses"},
+    {"obs_rig", "-", -1, -1, 7, "stereo rig (the scene's, from 0) for obstacles and wires; -1: the first rig neither odometry, active stereo nor pwl_rig uses"},
 
     // --- Target tracking and follow (TRK thread, thesis 3.7) ---
     {"trk_tracker", "-", 3, 0, 4, "0: CamShift (thesis 3.7), 1: KCF, 2: CSRT (opencv-contrib), 3: auto (CamShift where the target's colour stands out, else the correlation filter), 4: the correlation filter (HOG, DSST scale, re-detection)"},

@@ -16,7 +16,7 @@ assert json.load(open(f"{out}/stdout.json")) == j["cell"]
 assert open(f"{out}/pictures/d49/field_2.png", "rb").read(8) == b"\x89PNG\r\n\x1a\n"
 f = j["flights"][0]
 assert f["seed"] == 2 and f["success"], f
-assert j["rig_roll_deg"] == 0, j["rig_roll_deg"]
+assert j["rig_roll_deg"] == 0 and j["wire_rig_roll_deg"] == 45, j
 # The true clearance never under the body radius (0.5 m); the path near the shortest.
 assert f["min_clearance_m"] >= 0.5 and f["path_m"] <= 1.15 * f["shortest_m"], f
 for k in ("replan_p50_ms", "replan_p99_ms", "replan_cpu_p50_ms", "replan_cpu_p99_ms"):
@@ -37,6 +37,7 @@ refuse() {  # refuse EXPECTED_TEXT ARGS...
 refuse "density must be in" --density 0
 refuse "seeds must be A-B" --seeds 5-2
 refuse "rig-roll" --rig-roll 120 --seeds 1
+refuse "wire-rig-roll" --wire-rig-roll -91 --seeds 1
 refuse "no_such_parameter" --param no_such_parameter=1 --seeds 1
 touch "$out/file"
 refuse "pictures" --seeds 1 --picture "$out/file/pictures"

@@ -23,10 +23,11 @@ namespace {
 
 constexpr double kAltitude = 4.0;  // [m] the flights'
 
-ParameterSet AvoidanceParameters() {
+ParameterSet AvoidanceParameters(bool wire_pair) {
   return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", VehicleParameterSchema())
       .With("avd_enable", 1)
-      .With("ctl_speed_max_xy", 3.0);
+      .With("ctl_speed_max_xy", 3.0)
+      .With("pwl_rig", wire_pair ? 1 : -1);
 }
 
 // A grass field with the forward stereo pair (15 Hz) and `objects` / `generate` entries. The
@@ -34,14 +35,19 @@ ParameterSet AvoidanceParameters() {
 // wire, parallel to it, gives no disparity (the power-line scenes roll it 45 degrees, thesis 3.6).
 // The pair carries the thesis's dot projector (4.2: 15 x 15 beams 2.5 degrees apart, the
 // grating turned 16 degrees), as uav-avoid-bench's fields do: its dots are what the matcher
-// finds on a plain wall.
-world::Scene SceneWith(const std::string& objects, const std::string& generate = "[]", int seed = 1, int roll_deg = 0) {
+// finds on a plain wall. With wire_pair, a second pair 10 cm above, rolled 45 degrees, has the
+// wires (pwl_rig 1) and the first the obstacles.
+constexpr bool kWirePair = true;
+world::Scene SceneWith(const std::string& objects, const std::string& generate = "[]", int seed = 1, int roll_deg = 0,
+                       bool wire_pair = false) {
+  const std::string second = R"(, {"name": "wires", "rate_hz": 15, "baseline_m": 0.12, "mount_xyz_m": [0.15, 0, -0.1], "mount_roll_deg": 45})";
   const std::string text = R"({"name": "avoidance scenario", "seed": )" + std::to_string(seed) + R"(,
     "sun": {"azimuth_deg": 200, "elevation_deg": 45, "ambient": 0.45},
     "ground": {"layout": "uniform", "material": "grass"},
     "objects": )" + objects + R"(, "generate": )" + generate + R"(,
-    "cameras": {"stereo": {"rate_hz": 15, "baseline_m": 0.12, "mount_roll_deg": )" + std::to_string(roll_deg) + R"(, "preview_rate_hz": 0,
-                           "laser": {"enabled": true, "rows": 15, "cols": 15, "pitch_deg": 2.5, "roll_deg": 16}}}})";
+    "cameras": {"stereo": [{"name": "stereo", "rate_hz": 15, "baseline_m": 0.12, "mount_roll_deg": )" + std::to_string(roll_deg) + R"(, "preview_rate_hz": 0,
+                            "laser": {"enabled": true, "rows": 15, "cols": 15, "pitch_deg": 2.5, "roll_deg": 16}})" +
+                           (wire_pair ? second : "") + "]}}";
   // Named as a file of the scenes folder, so that its cameras are found beside it.
   return world::Scene::Parse(text, std::string(UAV_RESOURCE_DIR) + "/scenes/avoidance_scenario.scene.json");
 }
@@ -77,7 +83,8 @@ Flown FlyTo(const world::Scene& scene, const Eigen::Vector3d& goal_NEU, double l
             const std::function<void(double, SimFlight&)>& during = {}) {
   const GeodeticPoint home{1.3521, 103.8198, 10.0};
   const int64_t start = 1'700'000'000'000'000;
-  SimFlight flight(AvoidanceParameters(), {home, start, 0.0, limit_s + 30.0, &scene, "", nullptr});
+  // A scene with a second pair gives it the wires.
+  SimFlight flight(AvoidanceParameters(scene.stereo_rigs().size() > 1), {home, start, 0.0, limit_s + 30.0, &scene, "", nullptr});
   Blackboard& board = flight.board();
   Flown f;
   int stage = 0, seq = 0;
@@ -174,20 +181,27 @@ TEST(AvoidanceFlight, StopsShortOfATexturelessWall) {
 // Measured 1.38 m with the map in the odometry frame (1.03, 0.73 and 1.35 m in earlier builds):
 // the planner keeps its clearance on 0.4 m cells, and up to 0.7 m of it can be lost to where
 // the wire and the vehicle fall in them (README, obstacle avoidance).
+// Flown twice: with one pair rolled 45 degrees for obstacles and wires, and with a level pair for
+// obstacles and a rolled one for the wires (the level pair alone sees this wire, parallel to its
+// baseline, with no disparity).
 TEST(AvoidanceFlight, PassesAWireAcrossTheWayWithAMetreToSpare) {
-  const world::Scene scene = SceneWith(R"([
-    {"type": "power_line", "poles_ne": [[15, -7], [15, 7]], "pole_height_m": 4.3, "sag_m": 0.3}])", "[]", 1, /*roll_deg=*/45);
-  const Flown f = FlyTo(scene, {30, 0, kAltitude}, 90);
-  EXPECT_TRUE(f.reached);
-  EXPECT_GE(f.min_clearance, 1.0);
+  const std::string wire = R"([
+    {"type": "power_line", "poles_ne": [[15, -7], [15, 7]], "pole_height_m": 4.3, "sag_m": 0.3}])";
+  for (const bool wire_pair : {false, true}) {
+    SCOPED_TRACE(wire_pair ? "level pair and a rolled pair for wires" : "one rolled pair");
+    const Flown f = FlyTo(SceneWith(wire, "[]", 1, wire_pair ? 0 : 45, wire_pair), {30, 0, kAltitude}, 90);
+    EXPECT_TRUE(f.reached);
+    EXPECT_GE(f.min_clearance, 1.0);
+  }
 }
 
-// The stereo camera goes black half way: the vehicle brakes and holds ("no data"), then returns
-// home at its altitude through the space its map has seen free (the way it came), and lands.
+// The obstacles' stereo camera goes black half way: the vehicle brakes and holds ("no data"), then
+// returns home at its altitude through the space its map has seen free (the way it came), and
+// lands. The pair for wires works on: its wires alone do not stand for a look ahead.
 TEST(AvoidanceFlight, ACameraThatFailsMidFlightBrakesHoldsAndReturnsOnTheMap) {
   const world::Scene scene = SceneWith(R"([
     {"type": "cylinder", "kind": "pole", "base_ned": [8, 2, 0], "radius_m": 0.3, "height_m": 8, "material": "concrete"},
-    {"type": "tree", "at_ne": [14, -3], "height_m": 9, "crown_radius_m": 2}])");
+    {"type": "tree", "at_ne": [14, -3], "height_m": 9, "crown_radius_m": 2}])", "[]", 1, 0, kWirePair);
   bool failed = false;
   double failed_at_north = 0;
   const Flown f = FlyTo(scene, {40, 0, kAltitude}, 120, [&](double, SimFlight& flight) {
@@ -211,7 +225,8 @@ TEST(AvoidanceFlight, ACameraThatFailsMidFlightBrakesHoldsAndReturnsOnTheMap) {
 }
 
 // Seeded obstacle fields (the scene generator obstacle_field, as uav-avoid-bench flies them, 60 m
-// at 3 m/s), one per density: reached with the true clearance never under the body radius.
+// at 3 m/s, a level pair for obstacles and a rolled one for wires), one per density: reached
+// with the true clearance never under the body radius.
 class AvoidanceField : public ::testing::TestWithParam<std::pair<double, int>> {};
 
 TEST_P(AvoidanceField, CrossesTheFieldWithItsClearance) {
@@ -220,7 +235,7 @@ TEST_P(AvoidanceField, CrossesTheFieldWithItsClearance) {
   const world::Scene scene = SceneWith("[]", R"([{"type": "obstacle_field", "count": )" + std::to_string(count) +
                                                  R"(, "region_ne": [0, -10, 60, 10], "clear_radius_m": 3, "keep_clear_ne": [60, 0],
                                                  "wires": 4, "wire_height_m": [3, 8]}])",
-                                       seed);
+                                       seed, 0, kWirePair);
   const Flown f = FlyTo(scene, {60, 0, kAltitude}, 100);
   std::string said;
   for (const auto& t : f.said) said += "\n  " + t;

@@ -191,6 +191,52 @@ TEST(StereoWorker, PowerLinesOffSendsNone) {
   EXPECT_LT(board.Snapshot().nearest_wire_m, 0.0);
 }
 
+// A second pair for wires alone (pwl_rig): it reports the wires and adds them to the map, but no
+// obstacles, no points and no look ahead: with the obstacles' pair gone, its wires must not keep
+// the avoidance's perception fresh (the vehicle would fly on, blind to all but wires).
+TEST(StereoWorker, AWirePairReportsAndMapsWiresAloneAndKeepsNoPerceptionFresh) {
+  const world::Scene scene = LoadScene("power_lines");
+  Blackboard board;
+  const Eigen::Isometry3d T_NB = Pose(15, 0, -8);
+  board.Update([&](BlackboardData& d) {
+    d.estimate.p_N = T_NB.translation();
+    d.estimate.p_O = T_NB.translation();  // the odometry frame (the map's) at N's origin
+    d.estimate.euler = {0.0, 0.0, 0.0};
+  });
+  sim::SimStereoCamera sim_pair(scene, *scene.stereo_camera(), [&](int64_t) { return T_NB; });
+  StereoWorkerParams params;
+  params.detect_obstacles = false;
+  params.to_map = true;
+  StereoWorker worker(sim_pair, board, params);
+  for (int i = 0; i < 3; ++i) worker.Tick(1'000'000 + i * 66'667);
+  EXPECT_FALSE(board.reports.Take<Obstacles>());
+  EXPECT_FALSE(board.reports.Take<PointCloud>());
+  const auto wires = board.reports.Take<PowerLines>();
+  ASSERT_TRUE(wires);
+  EXPECT_FALSE(wires->wires.empty());
+  // The nearest of the line's three cables, 3.8 m north and 0.5 m up: 3.7 m from the camera.
+  EXPECT_NEAR(board.Snapshot().nearest_wire_m, 3.7, 0.5);
+  const std::vector<avoid::PerceptionUpdate> updates = board.perception.TakeAll();
+  ASSERT_EQ(updates.size(), 3u);
+  int mapped = 0;
+  for (const avoid::PerceptionUpdate& u : updates) {
+    EXPECT_FALSE(u.scan.has_value());
+    EXPECT_TRUE(u.cylinders.empty());
+    EXPECT_FALSE(u.watches_ahead);
+    for (const avoid::MapWire& w : u.wires) {
+      ++mapped;
+      for (const Eigen::Vector3d& p_N : w.p_N) {
+        EXPECT_NEAR(p_N.x(), 20.0, 1.7);  // the cables at 18.8, 20 and 21.2 m north
+        EXPECT_LT(p_N.z(), -7.5);          // 8.5-10 m up
+      }
+    }
+  }
+  EXPECT_GT(mapped, 0);
+  StereoWorkerParams neither = params;
+  neither.power_lines = false;
+  EXPECT_THROW(StereoWorker(sim_pair, board, neither), std::invalid_argument);
+}
+
 // Obstacles (thesis 3.5) in NED with the estimate equal to the truth: at (3, -1.5), 1.5 m up,
 // facing north, the forest's person (6, -1.5), radius 0.2 m, is straight ahead, its surface
 // 2.8 m away; a decimated cloud goes out with the first pair.

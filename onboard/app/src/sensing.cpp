@@ -45,11 +45,12 @@ struct Sensing::Impl {
   std::unique_ptr<TrackWorker> trk;
   std::unique_ptr<MonoDepthWorker> mdepth;
   std::unique_ptr<StereoWorker> stereo;
+  std::unique_ptr<StereoWorker> wires;  // a second pair for wires alone (pwl_rig)
   std::unique_ptr<ActiveStereoWorker> active_stereo;
   std::unique_ptr<VoWorker> vo;
   std::unique_ptr<AvoidWorker> avd;  // obstacle avoidance's planner, on what STEREO senses
   double avd_rate_hz = 10.0;
-  int stereo_rig = -1, active_stereo_rig = -1, vo_rig = -1;  // which rig each runs on
+  int stereo_rig = -1, wire_rig = -1, active_stereo_rig = -1, vo_rig = -1;  // which rig each runs on
   // The vehicle file's latencies [us] by worker (0: measured).
   std::map<std::string, int64_t> latency_us;
   bool measured = false;  // latencies measured (real time), not the vehicle file's
@@ -81,6 +82,7 @@ Sensing::Sensing(const world::Scene& scene, const ParameterSet& params, Blackboa
                   {"TRK", LatencyUs(params, "trk_latency", measured)},
                   {"MDEPTH", LatencyUs(params, "mdp_latency", measured)},
                   {"STEREO", LatencyUs(params, "obs_latency", measured)},
+                  {"WIRES", LatencyUs(params, "obs_latency", measured)},
                   {"ASTEREO", LatencyUs(params, "asv_latency", measured)},
                   {"VO", LatencyUs(params, "vo_latency", measured)},
                   {"AVD", LatencyUs(params, "avd_latency", measured)}};
@@ -116,8 +118,10 @@ Sensing::Sensing(const world::Scene& scene, const ParameterSet& params, Blackboa
 void Sensing::BuildStereo(const world::Scene& scene, const ParameterSet& params) {
   // The stereo rigs and what runs on each (the vehicle file's *_rig): active stereo on a downward
   // rig whose laser dots give the height (asv_enable), visual odometry (vo_enable), obstacles
-  // and wires (obs_rig; by default the first rig neither of the others uses). Algorithms on one
-  // rig take its exposures in turn (AddTo): the projector on for one, off for the next.
+  // and wires (obs_rig; by default the first rig none of the others uses), and wires alone on a
+  // second pair (pwl_rig: rolled about its axis, it ranges the level wires whose image runs along
+  // the first pair's baseline, thesis 3.6). Algorithms on one rig take its exposures in turn
+  // (AddTo): the projector on for one, off for the next.
   Impl& s = *impl_;
   const int rigs = static_cast<int>(scene.stereo_rigs().size());
   if (rigs == 0) return;
@@ -143,13 +147,24 @@ void Sensing::BuildStereo(const world::Scene& scene, const ParameterSet& params)
     vop.stream_video = s.vo_rig != s.active_stereo_rig;
     s.vo = std::make_unique<VoWorker>(*s.stereo_rigs[s.vo_rig], s.board, vop);
   }
+  const StereoWorkerParams obs = StereoWorkerParams::FromParameters(params);
+  if (obs.power_lines) s.wire_rig = rig_of("pwl_rig");
   if (params.Get("obs_enable") != 0.0) {
     s.stereo_rig = rig_of("obs_rig");
     for (int k = 0; k < rigs && s.stereo_rig < 0; ++k)
-      if (k != s.active_stereo_rig && k != s.vo_rig) s.stereo_rig = k;
+      if (k != s.active_stereo_rig && k != s.vo_rig && k != s.wire_rig) s.stereo_rig = k;
   }
-  if (s.stereo_rig >= 0)
-    s.stereo = std::make_unique<StereoWorker>(*s.stereo_rigs[s.stereo_rig], s.board, StereoWorkerParams::FromParameters(params));
+  if (s.wire_rig >= 0 && s.wire_rig == s.stereo_rig) s.wire_rig = -1;  // the one rig has both
+  if (s.stereo_rig >= 0) {
+    StereoWorkerParams p = obs;
+    p.power_lines = obs.power_lines && s.wire_rig < 0;
+    s.stereo = std::make_unique<StereoWorker>(*s.stereo_rigs[s.stereo_rig], s.board, p);
+  }
+  if (s.wire_rig >= 0) {
+    StereoWorkerParams p = obs;
+    p.detect_obstacles = false;
+    s.wires = std::make_unique<StereoWorker>(*s.stereo_rigs[s.wire_rig], s.board, p);
+  }
   const auto avd = avoid::AvoidanceParams::FromParameters(params);
   if (avd.enabled && !s.stereo)
     throw std::invalid_argument("avd_enable 1 needs obstacles on a stereo rig: obs_enable is 0, or every rig is taken by odometry or active stereo (obs_rig)");
@@ -194,6 +209,7 @@ void Sensing::AddTo(LockstepScheduler& scheduler, int64_t step_us) {
     if (s.active_stereo && s.active_stereo_rig == k) on_rig.emplace_back("ASTEREO", s.active_stereo.get());
     if (s.vo && s.vo_rig == k) on_rig.emplace_back("VO", s.vo.get());
     if (s.stereo && s.stereo_rig == k) on_rig.emplace_back("STEREO", s.stereo.get());
+    if (s.wires && s.wire_rig == k) on_rig.emplace_back("WIRES", s.wires.get());
     const hal::CameraInfo& left = s.stereo_rigs[k]->left();
     const int64_t frame = period(left.rate_hz);
     const int64_t each = frame * static_cast<int64_t>(on_rig.size());
@@ -318,6 +334,7 @@ std::string Sensing::Summary() const {
   if (s.cam)
     out += ", " + std::to_string(s.cam->captures()) + " survey images captured, " + std::to_string(s.cam->previews()) + " previews";
   if (s.stereo) out += ", " + std::to_string(s.stereo->frames()) + " stereo pairs";
+  if (s.wires) out += ", " + std::to_string(s.wires->frames()) + " pairs for wires";
   if (s.active_stereo)
     out += ", " + std::to_string(s.active_stereo->frames()) + " active stereo pairs (" +
            std::to_string(s.active_stereo->unhealthy()) + " without a height)";

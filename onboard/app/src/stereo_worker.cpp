@@ -54,9 +54,12 @@ StereoWorker::StereoWorker(hal::StereoCamera& camera, Blackboard& board, const S
       camera_(camera),
       rectifier_(RigOf(camera)),
       obstacles_(rectifier_.geometry(), params.obstacles),
+      detect_obstacles_(params.detect_obstacles),
       cloud_rate_hz_(params.cloud_rate_hz),
       to_map_(params.to_map),
       preview_(camera.left().name, camera.left().preview_rate_hz) {
+  if (!params.detect_obstacles && !params.power_lines)
+    throw std::invalid_argument("a stereo worker with neither obstacles nor wires to detect");
   if (params.power_lines) power_lines_.emplace(RigOf(camera), vision::PowerLineParams(), params.ranging);
 }
 
@@ -89,16 +92,20 @@ void StereoWorker::Work(Outbox& out) {
                                  " DN, spread " + std::to_string(std::lround(spread[0])) + " DN)");
     }
     rectifier_.Rectify(pair.left, pair.right, &left_rect, &right_rect);
-    found = obstacles_.Process(left_rect, right_rect, T_NB * camera_.left().T_BC);
+    if (detect_obstacles_) found = obstacles_.Process(left_rect, right_rect, T_NB * camera_.left().T_BC);
   } catch (const std::exception& e) {
     ReportUnhealthy(utime, e.what(), out);
     return;
   }
-  // The corridor ahead from the same points (one disparity per pair).
-  const vision::StereoRangeResult corridor = vision::StereoRange::RangeFromPoints(found.points_L, vision::StereoRangeParams());
-  const double range_m = corridor.obstacle ? corridor.range_m : -1.0;
-  out.Post([range_m](Blackboard& b) { b.Update([&](BlackboardData& d) { d.obstacle_range_m = range_m; }); });
-  ReportObstacles(utime, found, T_NB, out);
+  if (detect_obstacles_) {
+    // The corridor ahead from the same points (one disparity per pair).
+    const vision::StereoRangeResult corridor = vision::StereoRange::RangeFromPoints(found.points_L, vision::StereoRangeParams());
+    const double range_m = corridor.obstacle ? corridor.range_m : -1.0;
+    out.Post([range_m](Blackboard& b) { b.Update([&](BlackboardData& d) { d.obstacle_range_m = range_m; }); });
+    ReportObstacles(utime, found, T_NB, out);
+  } else {
+    found.gate_depth_m = obstacles_.GateDepth();
+  }
   if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, pair.left)](Blackboard& b) { b.previews.Put(f.camera, f); });
   std::vector<vision::Wire3D> wires;
   if (power_lines_) {
@@ -112,6 +119,19 @@ void StereoWorker::Work(Outbox& out) {
 }
 
 void StereoWorker::ReportUnhealthy(int64_t utime, const std::string& reason, Outbox& out) {
+  ++unhealthy_;
+  if (!detect_obstacles_) {
+    // A pair for wires alone: no wire is ranged now (the obstacles' rig says its own health).
+    recent_nearest_m_.fill(kNoWire);
+    PowerLines report;
+    report.utime = utime;
+    report.camera = camera_.left().name;
+    out.Post([report](Blackboard& b) {
+      b.Update([](BlackboardData& d) { d.nearest_wire_m = -1.0; });
+      b.reports.Put(report);
+    });
+    return;
+  }
   out.Post([](Blackboard& b) {
     b.Update([](BlackboardData& d) {
       d.obstacle_range_m = -1.0;
@@ -127,7 +147,6 @@ void StereoWorker::ReportUnhealthy(int64_t utime, const std::string& reason, Out
   report.reason = reason;
   report.range_gate_m = obstacles_.GateDepth();
   out.Post([report](Blackboard& b) { b.reports.Put(report); });
-  ++unhealthy_;
 }
 
 void StereoWorker::ReportObstacles(int64_t utime, const vision::StereoObstacles& found, const Eigen::Isometry3d& T_NB,
@@ -278,6 +297,13 @@ avoid::PerceptionUpdate StereoMapUpdate(int64_t utime, const vision::StereoObsta
 void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& found, const std::vector<vision::Wire3D>& wires,
                                const Eigen::Isometry3d& T_NB, const Eigen::Vector3d& p_NO, Outbox& out) const {
   avoid::PerceptionUpdate u = StereoMapUpdate(utime, found, wires, T_NB * camera_.left().T_BC);
+  if (!detect_obstacles_) {
+    // Wires alone: the pair's points are not matched, so it clears no space and does not stand
+    // for a look ahead (the obstacles' pair keeps the perception fresh, or the vehicle holds).
+    u.scan.reset();
+    u.cylinders.clear();
+    u.watches_ahead = false;
+  }
   out.Post([u = avoid::Translated(std::move(u), -p_NO)](Blackboard& b) { b.perception.Push(u); });
 }
 

@@ -1,12 +1,13 @@
 // uav-avoid-bench: obstacle avoidance measured closed loop, with the vehicle's own perception in
-// the loop (the planner sees only what the stereo pair and its algorithms report, never the
+// the loop (the planner sees only what the stereo pairs and their algorithms report, never the
 // scene). Per cell (density, speed) it generates seeded obstacle fields, 20 m wide and 60 m
 // long, of trees, poles, walls, boxes and wires between poles, flies each one on the simulated
 // clock from one end to the other, and prints per cell: success (goal reached, the true
 // clearance never under the body radius), true clearance p5 and minimum, path length against
 // the shortest collision-free path on the true field, mean speed against cruise, replanning
 // time p50/p99 (wall, and the planning thread's CPU), left/right reversals per obstacle passed,
-// stops over 3 s, and how far the navigation's error moves in 3 s.
+// stops over 3 s, and how far the navigation's error moves in 3 s. The vehicle carries a level
+// pair for obstacles and, 10 cm above it, a pair rolled 45 degrees for wires (--wire-rig-roll).
 //   uav-avoid-bench --density 1/25 --speed 3 --seeds 1-10 [--json OUT] [--picture DIR]
 #include <algorithm>
 #include <cmath>
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <queue>
 #include <random>
 #include <sstream>
@@ -45,18 +47,24 @@ const char* kBaseScene = R"({
   "objects": [],
   "generate": [{"type": "obstacle_field", "count": %d, "region_ne": [0, -10, 60, 10], "clear_radius_m": %.1f,
                 "keep_clear_ne": [60, 0], "wires": %d, "wire_height_m": [3, 8]}],
-  "cameras": {"stereo": {"rate_hz": 15, "baseline_m": 0.12, "mount_roll_deg": %.1f, "preview_rate_hz": 0,
-                         "laser": {"enabled": true, "rows": 15, "cols": 15, "pitch_deg": 2.5, "roll_deg": 16}}}
+  "cameras": {"stereo": [{"name": "stereo", "rate_hz": 15, "baseline_m": 0.12, "mount_roll_deg": %.1f, "preview_rate_hz": 0,
+                          "laser": {"enabled": true, "rows": 15, "cols": 15, "pitch_deg": 2.5, "roll_deg": 16}}%s]}
 })";
+// The second pair, for wires alone (pwl_rig 1): 10 cm above the first, rolled about its axis.
+const char* kWireRig = R"(,
+                         {"name": "wires", "rate_hz": 15, "baseline_m": 0.12, "mount_xyz_m": [0.15, 0, -0.1], "mount_roll_deg": %.1f})";
 
 // The seeded field of the scene generator `obstacle_field` at `density` obstacles per square
 // metre of the corridor, with one wire between two poles per 200 m^2 (fewer in sparse fields).
-// The stereo pair is rolled rig_roll_deg about its axis (45: level wires are ranged, thesis 3.6).
-uav::world::Scene MakeField(double density, int seed, double rig_roll_deg) {
+// The stereo pair is rolled rig_roll_deg about its axis (45: level wires are ranged, thesis 3.6);
+// with wire_rig_roll_deg, a second pair rolled so has the wires.
+uav::world::Scene MakeField(double density, int seed, double rig_roll_deg, std::optional<double> wire_rig_roll_deg) {
   const int count = static_cast<int>(std::lround(density * kWidth * kLength));
   const int wires = static_cast<int>(std::lround(kWidth * kLength / 200.0 * std::min(1.0, density * 25)));
-  char text[1200];
-  std::snprintf(text, sizeof text, kBaseScene, seed, count, kClearStart, wires, rig_roll_deg);
+  char wire_rig[300] = "";
+  if (wire_rig_roll_deg) std::snprintf(wire_rig, sizeof wire_rig, kWireRig, *wire_rig_roll_deg);
+  char text[1600];
+  std::snprintf(text, sizeof text, kBaseScene, seed, count, kClearStart, wires, rig_roll_deg, wire_rig);
   // Named as a file of the scenes folder, so that its cameras are found beside it.
   return uav::world::Scene::Parse(text, std::string(UAV_RESOURCE_DIR) + "/scenes/avoidance_field.scene.json");
 }
@@ -147,10 +155,11 @@ double Percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
 }
 
-FlightResult Fly(const uav::ParameterSet& params, double density, int seed, double speed, double rig_roll_deg, bool progress) {
+FlightResult Fly(const uav::ParameterSet& params, double density, int seed, double speed, double rig_roll_deg,
+                 std::optional<double> wire_rig_roll_deg, bool progress) {
   FlightResult r;
   r.seed = seed;
-  const uav::world::Scene scene = MakeField(density, seed, rig_roll_deg);
+  const uav::world::Scene scene = MakeField(density, seed, rig_roll_deg, wire_rig_roll_deg);
   const TrueField truth(scene);
   const auto avd = uav::avoid::AvoidanceParams::FromParameters(params);
   r.shortest_m = ShortestPath(truth, avd.body_radius_m);
@@ -266,7 +275,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
 }
 
 void Picture(const std::string& path, const FlightResult& r, double density, int seed) {
-  const TrueField truth(MakeField(density, seed, 0.0));  // the field, whatever the camera
+  const TrueField truth(MakeField(density, seed, 0.0, std::nullopt));  // the field, whatever the cameras
   const double px = 12.0;  // pixels per metre
   cv::Mat img(static_cast<int>((kWidth + 10) * px), static_cast<int>((kLength + 10) * px), CV_8UC3, cv::Scalar(235, 240, 235));
   auto P = [&](const Eigen::Vector2d& p) { return cv::Point(static_cast<int>((p.x() + 5) * px), static_cast<int>((kWidth / 2 + 5 - p.y()) * px)); };
@@ -306,13 +315,17 @@ void Picture(const std::string& path, const FlightResult& r, double density, int
 int main(int argc, char** argv) {
   CLI::App cli{"uav-avoid-bench: closed-loop obstacle avoidance over seeded obstacle fields, perception in the loop"};
   std::string density_text = "1/25", seeds_text = "1-3", json_path, picture_dir, params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
-  double speed = 3.0, rig_roll = 0.0;
+  double speed = 3.0, rig_roll = 0.0, wire_rig_roll = 45.0;
   bool quiet = false;
   std::vector<std::string> overrides;
   cli.add_option("--density", density_text, "obstacles per square metre: 1/49, 1/25, 1/12 or a decimal");
   cli.add_option("--speed", speed, "cruise speed [m/s] (ctl_speed_max_xy)")->check(CLI::Range(0.5, 15.0));
   cli.add_option("--seeds", seeds_text, "seed range A-B (or one seed)");
   cli.add_option("--rig-roll", rig_roll, "the stereo pair rolled this much about its axis [deg] (45 ranges level wires)")
+      ->check(CLI::Range(-90.0, 90.0));
+  cli.add_option("--wire-rig-roll", wire_rig_roll,
+                 "the second pair, for wires alone (pwl_rig 1), 10 cm above the first, rolled this much about its axis [deg]; "
+                 "0: no second pair (the first has the wires)")
       ->check(CLI::Range(-90.0, 90.0));
   cli.add_option("--params", params_path, "vehicle file (avd_enable is set to 1)");
   cli.add_option("--param", overrides, "NAME=VALUE override (repeatable)");
@@ -336,14 +349,16 @@ int main(int argc, char** argv) {
     if (a < 0 || b < a || b - a > 10000) throw std::invalid_argument("--seeds must be A-B with 0 <= A <= B");
     uav::ParameterSet params = uav::ParameterSet::LoadFile(params_path, uav::VehicleParameterSchema());
     params = params.With("avd_enable", 1).With("ctl_speed_max_xy", speed);
+    std::optional<double> wire_rig;
+    if (wire_rig_roll != 0.0) wire_rig = wire_rig_roll, params = params.With("pwl_rig", 1);
     for (const auto& o : overrides) params = params.WithAssignment(o);
     // The picture folder is made up front: a bad one is said before the first flight, not after.
     if (!picture_dir.empty()) std::filesystem::create_directories(picture_dir);
     if (!trace_dir.empty()) std::filesystem::create_directories(trace_dir);
-    nlohmann::json out = {{"density", density}, {"speed", speed}, {"rig_roll_deg", rig_roll}, {"flights", nlohmann::json::array()}};
+    nlohmann::json out = {{"density", density}, {"speed", speed}, {"rig_roll_deg", rig_roll}, {"wire_rig_roll_deg", wire_rig_roll}, {"flights", nlohmann::json::array()}};
     std::vector<FlightResult> results;
     for (int seed = a; seed <= b; ++seed) {
-      FlightResult r = Fly(params, density, seed, speed, rig_roll, !quiet);
+      FlightResult r = Fly(params, density, seed, speed, rig_roll, wire_rig, !quiet);
       if (!quiet)
         std::fprintf(stderr,
                      "seed %d: %s, clearance min %.2f p5 %.2f m, path %.1f / %.1f m, %.1f m/s, reversals %d, stops %d, "

@@ -11,7 +11,7 @@ namespace uav {
 
 // One perception worker (a thread with its camera or pair and its algorithm).
 struct SensingWorker {
-  std::string name;                  // "STEREO", "VO", "ASTEREO", "TRK", "MDEPTH", "CAM", "STITCH"
+  std::string name;                  // "STEREO", "WIRES", "VO", "ASTEREO", "TRK", "MDEPTH", "CAM", "STITCH"
   std::string rig;                   // the camera or stereo pair it runs on
   double camera_rate_hz = 0.0;       // frames its camera gives per second (0: fed by another worker's queue)
   double configured_rate_hz = 0.0;   // frames it is offered: the camera's, or lower where the CPU cannot hold it

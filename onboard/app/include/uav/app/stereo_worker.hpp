@@ -1,5 +1,5 @@
 #pragma once
-// STEREO: the forward stereo pair on the vehicle clock. A thin shell around hal::StereoCamera
+// STEREO: the forward stereo pair on the vehicle clock (WIRES: a second pair for wires alone). A thin shell around hal::StereoCamera
 // (simulated or real): takes both images at the pair's rate, rectifies them once, feeds
 // vision::StereoObstacleDetector (obstacle cylinders, thesis 3.5: obstacles_t every pair, a
 // decimated point_cloud_t at obs_cloud_rate; its points give the nearest obstacle ahead in the
@@ -23,6 +23,10 @@
 namespace uav::app {
 
 struct StereoWorkerParams {
+  // What the pair is for: obstacles (and their points for the map) and wires, or one of them (a
+  // second pair rolled for wires, pwl_rig: it adds wires only, and does not keep the obstacle
+  // perception fresh). Sensing decides from obs_rig and pwl_rig.
+  bool detect_obstacles = true;
   bool power_lines = true;             // pwl_enable
   vision::WireRangingParams ranging;   // pwl_min_range, pwl_max_range
   vision::ObstacleParams obstacles;    // obs_matcher, obs_max_sigma, obs_margin, obs_min_voxels
@@ -59,7 +63,8 @@ class StereoWorker : public VisionWorker {
 
   hal::StereoCamera& camera_;
   vision::StereoRectifier rectifier_;
-  vision::StereoObstacleDetector obstacles_;
+  vision::StereoObstacleDetector obstacles_;  // its range gate also bounds the wires trusted on the map
+  bool detect_obstacles_;
   double cloud_rate_hz_;
   bool to_map_;
   int64_t last_cloud_utime_ = -1;
