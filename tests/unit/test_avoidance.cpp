@@ -423,6 +423,26 @@ TEST(AvoidancePlanner, AGoalBelowTheWindowIsFlownTowardNotAwayFrom) {
   for (const Eigen::Vector3d& q : plan.path_N) EXPECT_GT(q.x(), -0.5) << "heads away from the goal: " << q.transpose();
 }
 
+// A pole 2 m beside the straight way to the goal, and the vehicle, just off a detour, flying at
+// 2.8 m/s 45 degrees across that way toward the pole: the straight way is clear, the turn onto
+// it from where the momentum carries the vehicle is not. Still, the planner said "clear" and the
+// vehicle swung into a pole (1/49 field, seed 8).
+TEST(AvoidancePlanner, TheStraightWayIsClearOnlyIfTheTurnOntoItIs) {
+  AvoidanceParams params;
+  params.enabled = true;
+  AvoidancePlanner planner(params);
+  SeenFreeWithAPole(planner, {-2, -10, -8}, {30, 10, -0.5}, 0.2, {{8.5, 2.3}, -9.0, 0.0, 0.3});
+  const Eigen::Vector3d p(7, 0.3, -4), goal(22, 0.3, -4), across(2, 2, 0);
+  EXPECT_EQ(planner.Plan(1, p, goal, goal, false, Eigen::Vector3d(2.8, 0, 0)).state, AvoidState::kClear)
+      << "flying along the way";
+  const AvoidancePlan plan = planner.Plan(2, p, goal, goal, false, across);
+  ASSERT_EQ(plan.state, AvoidState::kAvoiding) << plan.reason;
+  for (double s = 0; s < Length(plan.path_N); s += 0.1) {
+    const Eigen::Vector3d q = PointAt(plan.path_N, s);
+    EXPECT_GT((q.head<2>() - Eigen::Vector2d(8.5, 2.3)).norm() - 0.3, params.clearance() - 0.25) << q.transpose();
+  }
+}
+
 // The planner's copy of the map is sized to its windows: a window widened in flight (a
 // parameter changed) sees a wall 30 m ahead that the narrow one's copy did not hold.
 TEST(AvoidancePlanner, AWiderWindowSeesWhatTheNarrowOnesCopyDidNotHold) {

@@ -54,7 +54,7 @@ void AvoidWorker::Work(Outbox& out) {
     return;
   }
   const avoid::AvoidancePlan plan_O = planner_.Plan(utime_, d.estimate.p_O, d.avoid_request.via_N - p_NO,
-                                                    d.avoid_request.goal_N - p_NO, d.avoid_request.map_only);
+                                                    d.avoid_request.goal_N - p_NO, d.avoid_request.map_only, d.estimate.v_N);
   auto plan = std::make_shared<const avoid::AvoidancePlan>(avoid::Translated(plan_O, p_NO));
   out.Post([plan](Blackboard& b) { b.Update([&](BlackboardData& data) { data.avoid_plan = plan; }); });
   Report(*plan, d.estimate, out);

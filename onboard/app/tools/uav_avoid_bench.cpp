@@ -145,9 +145,27 @@ struct FlightResult {
   Eigen::Vector3d closest_N = Eigen::Vector3d::Zero();  // where the true clearance was least
   double closest_t = 0;                                  // and when [s after the goto]
   int closest_id = uav::world::kNoObject;                // and to what
+  // Wires: the least true clearance to each cable the vehicle came within kWirePassed of (the
+  // target is 1 m from every wire, whatever the body radius).
+  std::vector<double> wire_clearances;
   std::vector<Eigen::Vector3f> occupied;  // the vehicle's map at the end, in the flight's band
   std::ostringstream trace;               // every 0.1 s after the goto: truth, estimate, avoidance
 };
+
+// A cable counts as passed when the track came this near it [m].
+constexpr double kWirePassed = 3.0;
+
+// Distance [m] from p_N to the cable's surface, along its catenary.
+double CableDistance(const uav::world::Cable& cable, const Eigen::Vector3d& p_N) {
+  const std::vector<Eigen::Vector3d> pts = cable.Sample(64);
+  double best = 1e9;
+  for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+    const Eigen::Vector3d ab = pts[i + 1] - pts[i];
+    const double t = std::clamp((p_N - pts[i]).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
+    best = std::min(best, (pts[i] + t * ab - p_N).norm() - cable.radius_m);
+  }
+  return std::max(0.0, best);
+}
 
 double Percentile(std::vector<double> v, double q) {
   if (v.empty()) return NAN;
@@ -180,7 +198,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   int64_t last_plan_utime = -1;
   int last_side = 0;
   std::vector<double> clearances;
-  std::vector<Eigen::Vector2d> passed_near;
+  std::vector<double> cable_least(scene.cables().size(), 1e9);
   std::vector<Eigen::Vector2d> error_N, error_O;  // estimate minus truth, every 0.1 s
   flight.Run([&](int64_t now) {
     const double t = (now - start) * 1e-6;
@@ -200,6 +218,8 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
       int nearest = uav::world::kNoObject;
       const double c = scene.Clearance(p, now * 1e-6, &nearest);
       clearances.push_back(c);
+      for (std::size_t i = 0; i < cable_least.size(); ++i)
+        cable_least[i] = std::min(cable_least[i], CableDistance(scene.cables()[i], p));
       if (c < r.min_clearance) r.min_clearance = c, r.closest_N = p, r.closest_t = t - travel_start_t, r.closest_id = nearest;
       if (!r.track.empty()) r.path_m += (p - r.track.back()).head<2>().norm();
       r.track.push_back(p);
@@ -262,6 +282,8 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   r.error_drift_3s_N = drift_rms(error_N);
   r.error_drift_3s_O = drift_rms(error_O);
   r.clearance_p5 = Percentile(clearances, 0.05);
+  for (double c : cable_least)
+    if (c < kWirePassed) r.wire_clearances.push_back(c);
   r.mean_speed = r.reached && r.time_s > 0 ? r.path_m / r.time_s : 0.0;
   r.success = r.reached && r.min_clearance >= avd.body_radius_m;
   if (!r.reached) r.why = "goal not reached in " + std::to_string(static_cast<int>(limit_s)) + " s";
@@ -308,6 +330,37 @@ void Picture(const std::string& path, const FlightResult& r, double density, int
                 r.success ? "success" : r.why.c_str(), r.min_clearance, r.path_m, r.shortest_m);
   cv::putText(img, text, {8, 18}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   if (!cv::imwrite(path, img)) throw std::runtime_error("could not write the picture " + path);
+}
+
+// The cell's figures over its flights (the targets are on these).
+nlohmann::json Cell(const std::vector<FlightResult>& results, double speed) {
+  std::vector<double> p5, mins, ratio, speeds, replans, replans_cpu, wires;
+  int successes = 0, reversals = 0, passed = 0, stops = 0;
+  for (const auto& r : results) {
+    successes += r.success;
+    reversals += r.reversals, passed += r.obstacles_passed, stops += r.stops_over_3s;
+    mins.push_back(r.min_clearance);
+    p5.push_back(r.clearance_p5);
+    if (r.reached && r.shortest_m > 0) ratio.push_back(r.path_m / r.shortest_m), speeds.push_back(r.mean_speed / speed);
+    replans.insert(replans.end(), r.replan_ms.begin(), r.replan_ms.end());
+    replans_cpu.insert(replans_cpu.end(), r.replan_cpu_ms.begin(), r.replan_cpu_ms.end());
+    wires.insert(wires.end(), r.wire_clearances.begin(), r.wire_clearances.end());
+  }
+  return {{"flights", results.size()},
+               {"success_rate", results.empty() ? 0.0 : double(successes) / results.size()},
+               {"clearance_p5_m", Percentile(p5, 0.5)},
+               {"clearance_min_m", mins.empty() ? NAN : *std::min_element(mins.begin(), mins.end())},
+               {"path_over_shortest", Percentile(ratio, 0.5)},
+               {"speed_over_cruise", Percentile(speeds, 0.5)},
+               {"replan_p50_ms", Percentile(replans, 0.5)},
+               {"replan_p99_ms", Percentile(replans, 0.99)},
+               {"replan_cpu_p50_ms", Percentile(replans_cpu, 0.5)},
+               {"replan_cpu_p99_ms", Percentile(replans_cpu, 0.99)},
+               {"reversals_per_obstacle", passed ? double(reversals) / passed : 0.0},
+               {"stops_over_3s", stops},
+               {"wires_passed", wires.size()},
+               {"wires_passed_at_1m", std::count_if(wires.begin(), wires.end(), [](double c) { return c >= 1.0; })},
+               {"wire_clearance_min_m", wires.empty() ? NAN : *std::min_element(wires.begin(), wires.end())}};
 }
 
 }  // namespace
@@ -362,9 +415,12 @@ int main(int argc, char** argv) {
       if (!quiet)
         std::fprintf(stderr,
                      "seed %d: %s, clearance min %.2f p5 %.2f m, path %.1f / %.1f m, %.1f m/s, reversals %d, stops %d, "
+                     "wires passed %zu (least clearance %.2f m), replan p50 %.2f p99 %.2f ms, "
                      "navigation error moves %.2f m in 3 s (%.2f m in the map's odometry frame)\n",
                      seed, r.success ? "success" : r.why.c_str(), r.min_clearance, r.clearance_p5, r.path_m, r.shortest_m,
-                     r.mean_speed, r.reversals, r.stops_over_3s, r.error_drift_3s_N, r.error_drift_3s_O);
+                     r.mean_speed, r.reversals, r.stops_over_3s, r.wire_clearances.size(),
+                     r.wire_clearances.empty() ? NAN : *std::min_element(r.wire_clearances.begin(), r.wire_clearances.end()),
+                     Percentile(r.replan_ms, 0.5), Percentile(r.replan_ms, 0.99), r.error_drift_3s_N, r.error_drift_3s_O);
       if (!picture_dir.empty()) Picture(picture_dir + "/field_" + std::to_string(seed) + ".png", r, density, seed);
       if (!trace_dir.empty())
         uav::WriteFileAtomically(trace_dir + "/trace_" + std::to_string(seed) + ".csv",
@@ -378,35 +434,17 @@ int main(int argc, char** argv) {
                                 {"replan_cpu_p50_ms", Percentile(r.replan_cpu_ms, 0.5)},
                                 {"replan_cpu_p99_ms", Percentile(r.replan_cpu_ms, 0.99)}, {"reversals", r.reversals},
                                 {"obstacles_passed", r.obstacles_passed}, {"stops_over_3s", r.stops_over_3s},
+                                {"wire_clearances_m", r.wire_clearances},
                                 {"nav_error_drift_3s_N_m", r.error_drift_3s_N}, {"nav_error_drift_3s_O_m", r.error_drift_3s_O}});
       results.push_back(std::move(r));
+      // Written after every flight: a long run stopped early keeps what it flew.
+      out["cell"] = Cell(results, speed);
+      if (!json_path.empty()) uav::WriteFileAtomically(json_path, out.dump(2) + "\n");
     }
-    std::vector<double> p5, mins, ratio, speeds, replans, replans_cpu;
-    int successes = 0, reversals = 0, passed = 0, stops = 0;
-    for (const auto& r : results) {
-      successes += r.success;
-      reversals += r.reversals, passed += r.obstacles_passed, stops += r.stops_over_3s;
-      mins.push_back(r.min_clearance);
-      p5.push_back(r.clearance_p5);
-      if (r.reached && r.shortest_m > 0) ratio.push_back(r.path_m / r.shortest_m), speeds.push_back(r.mean_speed / speed);
-      replans.insert(replans.end(), r.replan_ms.begin(), r.replan_ms.end());
-      replans_cpu.insert(replans_cpu.end(), r.replan_cpu_ms.begin(), r.replan_cpu_ms.end());
-    }
-    out["cell"] = {{"flights", results.size()},
-                   {"success_rate", results.empty() ? 0.0 : double(successes) / results.size()},
-                   {"clearance_p5_m", Percentile(p5, 0.5)},
-                   {"clearance_min_m", mins.empty() ? NAN : *std::min_element(mins.begin(), mins.end())},
-                   {"path_over_shortest", Percentile(ratio, 0.5)},
-                   {"speed_over_cruise", Percentile(speeds, 0.5)},
-                   {"replan_p50_ms", Percentile(replans, 0.5)},
-                   {"replan_p99_ms", Percentile(replans, 0.99)},
-                   {"replan_cpu_p50_ms", Percentile(replans_cpu, 0.5)},
-                   {"replan_cpu_p99_ms", Percentile(replans_cpu, 0.99)},
-                   {"reversals_per_obstacle", passed ? double(reversals) / passed : 0.0},
-                   {"stops_over_3s", stops}};
+    out["cell"] = Cell(results, speed);
     const std::string text = out["cell"].dump(2);
     std::printf("%s\n", text.c_str());
-    if (!json_path.empty()) uav::WriteFileAtomically(json_path, out.dump(2) + "\n");
+    const int successes = static_cast<int>(std::count_if(results.begin(), results.end(), [](const FlightResult& r) { return r.success; }));
     return successes == static_cast<int>(results.size()) ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "uav-avoid-bench: %s\n", e.what());

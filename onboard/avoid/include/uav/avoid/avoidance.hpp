@@ -101,10 +101,12 @@ class AvoidancePlanner {
   std::string Add(const PerceptionUpdate& update, const Eigen::Vector3d& p_N);
   // Plans from p_N (the vehicle at utime) to goal_N. `via_N` is the task's own setpoint (a
   // mission's reference on its leg; the goal itself for goto): the task flies as it planned
-  // while the straight way through it to the goal is clear.
+  // while the straight way through it to the goal is clear. `v_N` is the vehicle's velocity:
+  // the straight way is clear only if the turn onto it from where the momentum carries the
+  // vehicle is clear too.
   // `map_only`: the perception is lost; only cells seen free are open, unknown ones closed.
   AvoidancePlan Plan(int64_t utime, const Eigen::Vector3d& p_N, const Eigen::Vector3d& via_N, const Eigen::Vector3d& goal_N,
-                     bool map_only = false);
+                     bool map_only = false, const Eigen::Vector3d& v_N = Eigen::Vector3d::Zero());
   // New settings (a parameter changed over the link). The map is kept: its resolution and bound
   // are set at start only (std::invalid_argument when they differ or the cell does not fit).
   void SetParams(const AvoidanceParams& params);
