@@ -26,6 +26,10 @@ assert f["replan_cpu_p50_ms"] <= f["replan_p50_ms"] + 0.5, f
 assert 0 < f["nav_error_drift_3s_O_m"] < f["nav_error_drift_3s_N_m"] < 0.5, f
 c = j["cell"]
 assert c["flights"] == 1 and c["success_rate"] == 1.0, c
+# Each wire passed within 3 m, with its least true clearance; the cell counts those at 1 m or more.
+w = f["wire_clearances_m"]
+assert all(0.5 <= x < 3.0 for x in w), w
+assert c["wires_passed"] == len(w) and c["wires_passed_at_1m"] == sum(x >= 1.0 for x in w), (c, w)
 print("uav-avoid-bench: ok", json.dumps(f))
 PY
 refuse() {  # refuse EXPECTED_TEXT ARGS...
