@@ -155,18 +155,6 @@ struct FlightResult {
 // A cable counts as passed when the track came this near it [m].
 constexpr double kWirePassed = 3.0;
 
-// Distance [m] from p_N to the cable's surface, along its catenary.
-double CableDistance(const uav::world::Cable& cable, const Eigen::Vector3d& p_N) {
-  const std::vector<Eigen::Vector3d> pts = cable.Sample(64);
-  double best = 1e9;
-  for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
-    const Eigen::Vector3d ab = pts[i + 1] - pts[i];
-    const double t = std::clamp((p_N - pts[i]).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
-    best = std::min(best, (pts[i] + t * ab - p_N).norm() - cable.radius_m);
-  }
-  return std::max(0.0, best);
-}
-
 double Percentile(std::vector<double> v, double q) {
   if (v.empty()) return NAN;
   std::sort(v.begin(), v.end());
@@ -219,7 +207,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
       const double c = scene.Clearance(p, now * 1e-6, &nearest);
       clearances.push_back(c);
       for (std::size_t i = 0; i < cable_least.size(); ++i)
-        cable_least[i] = std::min(cable_least[i], CableDistance(scene.cables()[i], p));
+        cable_least[i] = std::min(cable_least[i], scene.cables()[i].Distance(p));
       if (c < r.min_clearance) r.min_clearance = c, r.closest_N = p, r.closest_t = t - travel_start_t, r.closest_id = nearest;
       if (!r.track.empty()) r.path_m += (p - r.track.back()).head<2>().norm();
       r.track.push_back(p);

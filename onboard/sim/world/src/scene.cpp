@@ -47,6 +47,17 @@ Eigen::Vector3d Cable::PointAt(double s) const {
   return a_N + s * chord + Eigen::Vector3d(0, 0, drop);
 }
 
+double Cable::Distance(const Eigen::Vector3d& p_N) const {
+  const std::vector<Eigen::Vector3d> pts = Sample(64);
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i + 1 < pts.size(); ++i) {
+    const Eigen::Vector3d ab = pts[i + 1] - pts[i];
+    const double t = std::clamp((p_N - pts[i]).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
+    best = std::min(best, (pts[i] + t * ab - p_N).norm() - radius_m);
+  }
+  return std::max(0.0, best);
+}
+
 std::vector<Eigen::Vector3d> Cable::Sample(int n) const {
   std::vector<Eigen::Vector3d> out;
   n = std::max(n, 2);
@@ -753,17 +764,11 @@ double Scene::Clearance(const Eigen::Vector3d& p_N, double t_s, int* nearest_id)
       if (nearest_id) *nearest_id = q.object_id;
     }
   }
-  for (const Cable& c : s.cables) {
-    const std::vector<Eigen::Vector3d> pts = c.Sample(64);
-    for (size_t i = 0; i + 1 < pts.size(); ++i) {
-      const Eigen::Vector3d ab = pts[i + 1] - pts[i];
-      const double t = std::clamp((p_N - pts[i]).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
-      if (const double d = std::max(0.0, (pts[i] + t * ab - p_N).norm() - c.radius_m); d < best) {
-        best = d;
-        if (nearest_id) *nearest_id = c.id;
-      }
+  for (const Cable& c : s.cables)
+    if (const double d = c.Distance(p_N); d < best) {
+      best = d;
+      if (nearest_id) *nearest_id = c.id;
     }
-  }
   return std::isfinite(best) ? best : -1.0;
 }
 

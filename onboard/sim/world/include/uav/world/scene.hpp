@@ -45,6 +45,8 @@ struct Cable {
   Eigen::Vector3d PointAt(double s) const;
   // The curve sampled at n points (n >= 2), a_N first.
   std::vector<Eigen::Vector3d> Sample(int n) const;
+  // Distance [m] from p_N to the cable's surface (0 inside), along the curve sampled at 64 points.
+  double Distance(const Eigen::Vector3d& p_N) const;
 };
 
 // A chessboard target: cols x rows inner corners, squares of square_m, a white margin of one
