@@ -335,20 +335,20 @@ nlohmann::json Cell(const std::vector<FlightResult>& results, double speed) {
     wires.insert(wires.end(), r.wire_clearances.begin(), r.wire_clearances.end());
   }
   return {{"flights", results.size()},
-               {"success_rate", results.empty() ? 0.0 : double(successes) / results.size()},
-               {"clearance_p5_m", Percentile(p5, 0.5)},
-               {"clearance_min_m", mins.empty() ? NAN : *std::min_element(mins.begin(), mins.end())},
-               {"path_over_shortest", Percentile(ratio, 0.5)},
-               {"speed_over_cruise", Percentile(speeds, 0.5)},
-               {"replan_p50_ms", Percentile(replans, 0.5)},
-               {"replan_p99_ms", Percentile(replans, 0.99)},
-               {"replan_cpu_p50_ms", Percentile(replans_cpu, 0.5)},
-               {"replan_cpu_p99_ms", Percentile(replans_cpu, 0.99)},
-               {"reversals_per_obstacle", passed ? double(reversals) / passed : 0.0},
-               {"stops_over_3s", stops},
-               {"wires_passed", wires.size()},
-               {"wires_passed_at_1m", std::count_if(wires.begin(), wires.end(), [](double c) { return c >= 1.0; })},
-               {"wire_clearance_min_m", wires.empty() ? NAN : *std::min_element(wires.begin(), wires.end())}};
+          {"success_rate", results.empty() ? 0.0 : double(successes) / results.size()},
+          {"clearance_p5_m", Percentile(p5, 0.5)},
+          {"clearance_min_m", mins.empty() ? NAN : *std::min_element(mins.begin(), mins.end())},
+          {"path_over_shortest", Percentile(ratio, 0.5)},
+          {"speed_over_cruise", Percentile(speeds, 0.5)},
+          {"replan_p50_ms", Percentile(replans, 0.5)},
+          {"replan_p99_ms", Percentile(replans, 0.99)},
+          {"replan_cpu_p50_ms", Percentile(replans_cpu, 0.5)},
+          {"replan_cpu_p99_ms", Percentile(replans_cpu, 0.99)},
+          {"reversals_per_obstacle", passed ? double(reversals) / passed : 0.0},
+          {"stops_over_3s", stops},
+          {"wires_passed", wires.size()},
+          {"wires_passed_at_1m", std::count_if(wires.begin(), wires.end(), [](double c) { return c >= 1.0; })},
+          {"wire_clearance_min_m", wires.empty() ? NAN : *std::min_element(wires.begin(), wires.end())}};
 }
 
 }  // namespace
@@ -429,7 +429,6 @@ int main(int argc, char** argv) {
       out["cell"] = Cell(results, speed);
       if (!json_path.empty()) uav::WriteFileAtomically(json_path, out.dump(2) + "\n");
     }
-    out["cell"] = Cell(results, speed);
     const std::string text = out["cell"].dump(2);
     std::printf("%s\n", text.c_str());
     const int successes = static_cast<int>(std::count_if(results.begin(), results.end(), [](const FlightResult& r) { return r.success; }));
