@@ -30,6 +30,11 @@ assert c["flights"] == 1 and c["success_rate"] == 1.0, c
 w = f["wire_clearances_m"]
 assert all(0.5 <= x < 3.0 for x in w), w
 assert c["wires_passed"] == len(w) and c["wires_passed_at_1m"] == sum(x >= 1.0 for x in w), (c, w)
+# And each one's angle to the corridor's axis; those at 45 degrees or more run across it.
+g = f["wire_angles_deg"]
+assert len(g) == len(w) and all(0 <= x <= 90 for x in g), g
+across = [x for x, a in zip(w, g) if a >= 45]
+assert c["wires_across_passed"] == len(across) and c["wires_across_passed_at_1m"] == sum(x >= 1.0 for x in across), (c, w, g)
 print("uav-avoid-bench: ok", json.dumps(f))
 PY
 refuse() {  # refuse EXPECTED_TEXT ARGS...
