@@ -444,9 +444,9 @@ TEST(AvoidancePlanner, TheStraightWayIsClearOnlyIfTheTurnOntoItIs) {
 }
 
 // A wire across the way, slanting across the planning cells and off their centres, drawn as the
-// stereo worker draws a well-ranged one (the cable's 0.1 m): the path passes it with the whole
-// clearance from the true cable, not from the cells the grid rounded it into (wires were passed
-// at 0.92 m in the 1/49 fields and 0.52 m in the 1/25 ones).
+// stereo worker draws a well-ranged one (the cable's 0.1 m): what is planned passes it with the
+// whole clearance from the true cable, not only from the cells the grid rounded it into (the
+// soft clearance keeps the detour off the rounding; the straight way's check adds half a cell).
 TEST(AvoidancePlanner, PassesAWireWithTheWholeClearanceFromTheCable) {
   AvoidanceParams params;
   params.enabled = true;

@@ -112,13 +112,7 @@ void AvoidancePlanner::SetParams(const AvoidanceParams& params) {
 std::string AvoidancePlanner::Add(const PerceptionUpdate& u, const Eigen::Vector3d& p_N) {
   if (u.scan) map_.InsertScan(*u.scan);
   for (const MapCylinder& c : u.cylinders) map_.InsertCylinder(c.p_NE, c.top_down_m, c.bottom_down_m, c.radius_m);
-  // A wire is drawn half a planning cell's diagonal thicker than ranged. The planning grid reads
-  // an obstacle at its cell's centre, up to that far from a thin cable, and a wire is to be passed
-  // with the whole clearance (body radius plus obs_margin), not the clearance less the rounding
-  // and the vehicle's tracking error (wires were passed at 0.92 m in the 1/49 fields and at
-  // 0.52 m in the 1/25 ones when drawn as ranged). Trunks and walls keep their drawn size.
-  const double wire_rounding_m = 0.5 * std::sqrt(3.0) * p_.grid_m;
-  for (const MapWire& w : u.wires) map_.InsertPolyline(w.p_N, w.radius_m + wire_rounding_m);
+  for (const MapWire& w : u.wires) map_.InsertPolyline(w.p_N, w.radius_m);
   if (u.watches_ahead) perception_utime_ = std::max(perception_utime_, u.utime);
   const std::size_t dropped = map_.EnforceBound(p_N);
   if (dropped > 0 && !bound_announced_) {
