@@ -591,7 +591,6 @@ void FlyPointMass(const control::Setpoint& sp, const AvoidanceParams& params, do
   if (dv.norm() > params.brake_accel * dt) dv *= params.brake_accel * dt / dv.norm();
   est.v_N.head<2>() += dv;
   est.p_N.head<2>() += est.v_N.head<2>() * dt;
-  est.p_O.head<2>() += est.v_N.head<2>() * dt;  // the odometry: the velocity integrated
 }
 
 // A detour turning a right angle round the corner of what it avoids (north, then east: the
@@ -723,31 +722,6 @@ TEST(SafetyLayer, BrakesAndHoldsOnStalePerceptionAndSaysWhy) {
   // No plan at all: holds too.
   out = layer.Apply(task, task.p_N, est, nullptr, 1'200'000, 0.02);
   EXPECT_EQ(out.state, AvoidState::kNoData);
-}
-
-// Held beside an obstacle, the vehicle stays where it stopped relative to the map (the odometry
-// frame) while the GPS fix wanders: the setpoint in N moves with the fix.
-TEST(SafetyLayer, HoldsWhereItStoppedInTheOdometryFrameWhileTheFixWanders) {
-  AvoidanceParams params;
-  params.enabled = true;
-  SafetyLayer layer(params);
-  hal::VehicleEstimate est;
-  est.p_N = {10, 2, -4};
-  est.p_O = {9, 1, -4};
-  control::Setpoint task;
-  task.p_N = {50, 0, -4};
-  AvoidancePlan plan = StraightPlan(0.0, 1'000'000, 950'000);  // nothing seen free ahead
-  SafetyLayer::Output out = layer.Apply(task, task.p_N, est, &plan, 1'000'000, 0.02);
-  ASSERT_EQ(out.state, AvoidState::kBlocked) << out.reason;
-  EXPECT_TRUE(out.setpoint.p_N.isApprox(Eigen::Vector3d(10, 2, -4))) << out.setpoint.p_N.transpose();
-  // 30 s on, the fix has wandered 0.6 m east; the odometry has not moved.
-  est.p_N = {10, 2.6, -4};
-  for (int64_t utime = 1'100'000; utime <= 31'000'000; utime += 1'000'000) {
-    plan = StraightPlan(0.0, utime, utime - 50'000);
-    out = layer.Apply(task, task.p_N, est, &plan, utime, 0.02);
-    ASSERT_EQ(out.state, AvoidState::kBlocked) << out.reason;
-  }
-  EXPECT_TRUE(out.setpoint.p_N.isApprox(Eigen::Vector3d(10, 2.6, -4))) << out.setpoint.p_N.transpose();
 }
 
 TEST(SafetyLayer, HoldsWhenThePlannerFindsNoPathAndIsOffWithoutAGoal) {

@@ -78,15 +78,13 @@ double TurnLimit(const std::vector<Eigen::Vector3d>& path, double s, const Eigen
 }  // namespace
 
 control::Setpoint SafetyLayer::Hold(const control::Setpoint& task_setpoint, const hal::VehicleEstimate& est) {
-  // Brake to where the vehicle can stop, then stay there. The point is kept in the odometry
-  // frame, as the map is: held in N it follows the GPS fix's wander (about a metre a minute), and
-  // a vehicle stopped beside a wall crept 0.7 m into it in 30 s (1/49 field, seed 4).
-  if (!hold_O_) {
+  // Brake to where the vehicle can stop, then stay there.
+  if (!hold_N_) {
     const Eigen::Vector3d v = est.v_N;
-    hold_O_ = est.p_O + v * (v.norm() / (2.0 * p_.brake_accel));
+    hold_N_ = est.p_N + v * (v.norm() / (2.0 * p_.brake_accel));
   }
   control::Setpoint sp = task_setpoint;
-  sp.p_N = *hold_O_ + est.p_NO();
+  sp.p_N = *hold_N_;
   sp.v_ff_N.setZero();
   sp.descent_rate.reset();
   sp.yaw_rate_ff = 0.0;
@@ -113,7 +111,7 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
     out.state = s;
     out.changed = s != state_;
     state_ = s;
-    if (s != AvoidState::kNoData && s != AvoidState::kNoPath && s != AvoidState::kBlocked) hold_O_.reset();
+    if (s != AvoidState::kNoData && s != AvoidState::kNoPath && s != AvoidState::kBlocked) hold_N_.reset();
     return out;
   };
   if (!p_.enabled || !goal_N) {
@@ -175,7 +173,7 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
     out.setpoint.yaw = FaceTravel(PointAt(plan->path_N, s_now + p_.lookahead_m) - est.p_N, est, dt);
     return finish(AvoidState::kBlocked);
   }
-  hold_O_.reset();
+  hold_N_.reset();
   control::Setpoint sp = task_setpoint;
   AvoidState state = AvoidState::kClear;
   Eigen::Vector3d direction = sp.p_N - est.p_N;

@@ -52,7 +52,7 @@ class SafetyLayer {
 
   AvoidanceParams p_;
   AvoidState state_ = AvoidState::kOff;
-  std::optional<Eigen::Vector3d> hold_O_;  // where it stops while holding, in the odometry frame
+  std::optional<Eigen::Vector3d> hold_N_;  // where it stops while holding
   std::optional<double> yaw_ref_;          // the rate-limited heading toward travel
   bool blocked_ = false;
 };
