@@ -7,7 +7,7 @@ bin=$1
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 "$bin/uav-avoid-bench" --density 1/49 --speed 3 --seeds 2 --quiet --json "$out/r.json" --picture "$out/pictures/d49" \
-  > "$out/stdout.json"
+  --trace "$out/trace" > "$out/stdout.json"
 python3 - "$out" <<'PY'
 import json, math, sys
 out = sys.argv[1]
@@ -35,6 +35,18 @@ g = f["wire_angles_deg"]
 assert len(g) == len(w) and all(0 <= x <= 90 for x in g), g
 across = [x for x, a in zip(w, g) if a >= 45]
 assert c["wires_across_passed"] == len(across) and c["wires_across_passed_at_1m"] == sum(x >= 1.0 for x in across), (c, w, g)
+# The trace: a row every 0.1 s from the goto to the goal; the heading, course and climb rate
+# agree with a flight north along the corridor at its altitude.
+import csv
+rows = list(csv.DictReader(open(f"{out}/trace/trace_2.csv")))
+assert len(rows) > 10 * 0.5 * j["flights"][0]["path_m"] / 3.0, len(rows)
+for r in rows:
+    assert -180 <= float(r["yaw_deg"]) <= 180 and -180 <= float(r["course_deg"]) <= 180, r
+    assert abs(float(r["climb_mps"])) < 3.0, r
+moving = [r for r in rows if float(r["speed_mps"]) > 1.0]
+north = sorted(abs(float(r["course_deg"])) for r in moving)
+assert north[len(north) // 2] < 30, north[len(north) // 2]
+assert sorted(abs(float(r["yaw_deg"])) for r in moving)[len(moving) // 2] < 30
 print("uav-avoid-bench: ok", json.dumps(f))
 PY
 refuse() {  # refuse EXPECTED_TEXT ARGS...
