@@ -250,8 +250,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
       const Eigen::Vector3d v_N = vehicle.Truth().v_N;
       char row[400];
       std::snprintf(row, sizeof row, "%.1f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.0f,%.0f,%.2f,%.2f,%d,%.2f,%.2f,%s,%.2f,%zu,%s\n",
-                    t - travel_start_t, p.x(),
-                    p.y(), -p.z(), d.estimate.p_N.x(), d.estimate.p_N.y(), -d.estimate.p_N.z(), v_N.norm(),
+                    t - travel_start_t, p.x(), p.y(), -p.z(), d.estimate.p_N.x(), d.estimate.p_N.y(), -d.estimate.p_N.z(), v_N.norm(),
                     d.estimate.euler.psi * 180 / M_PI, std::atan2(v_N.y(), v_N.x()) * 180 / M_PI, -v_N.z(), c,
                     nearest, d.obstacle_range_m, d.nearest_wire_m, std::string(uav::Name(d.avoid_state)).c_str(), d.avoid_speed_limit,
                     d.avoid_plan ? d.avoid_plan->path_N.size() : 0, Quoted(d.avoid_reason).c_str());
