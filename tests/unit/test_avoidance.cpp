@@ -580,17 +580,26 @@ AvoidancePlan StraightPlan(double seen_free_m, int64_t utime, int64_t perception
   return plan;
 }
 
-// One control step of a point mass under the layer's setpoint, horizontally: the position loop
-// (gain 1/s, the feed-forward, the speed limit), then the velocity reached at no more than the
-// layer's deceleration.
+// One control step of a point mass under the layer's setpoint: the position loop (gain 1/s, the
+// feed-forward, the horizontal and the 3-D speed limits, as the position controller has them),
+// then the velocity reached at no more than the layer's deceleration.
 void FlyPointMass(const control::Setpoint& sp, const AvoidanceParams& params, double dt, hal::VehicleEstimate& est) {
-  const double limit = sp.speed_max_xy.value_or(params.cruise_speed);
-  Eigen::Vector2d want = sp.v_ff_N.head<2>() + (sp.p_N - est.p_N).head<2>();
-  if (want.norm() > limit) want *= limit / want.norm();
-  Eigen::Vector2d dv = want - est.v_N.head<2>();
+  Eigen::Vector3d want = sp.v_ff_N + (sp.p_N - est.p_N);
+  const double limit_xy = sp.speed_max_xy.value_or(params.cruise_speed);
+  if (want.head<2>().norm() > limit_xy) want.head<2>() *= limit_xy / want.head<2>().norm();
+  if (sp.speed_max && want.norm() > *sp.speed_max) want *= *sp.speed_max / want.norm();
+  Eigen::Vector3d dv = want - est.v_N;
   if (dv.norm() > params.brake_accel * dt) dv *= params.brake_accel * dt / dv.norm();
-  est.v_N.head<2>() += dv;
-  est.p_N.head<2>() += est.v_N.head<2>() * dt;
+  est.v_N += dv;
+  est.p_N += est.v_N * dt;
+}
+
+// The layer as these tests fly it: on, cruising at 3 m/s.
+AvoidanceParams EnabledAtThreeMetresPerSecond() {
+  AvoidanceParams params;
+  params.enabled = true;
+  params.cruise_speed = 3.0;
+  return params;
 }
 
 // A detour turning a right angle round the corner of what it avoids (north, then east: the
@@ -598,9 +607,7 @@ void FlyPointMass(const control::Setpoint& sp, const AvoidanceParams& params, do
 // from it. A point mass flies it from 3 m/s: it slows for the corner (to 1.1 m/s) and cuts it
 // by 0.16 m, where the carrot 2 m ahead chased at cruise speed cut it by 0.31 m (at 2.6 m/s).
 TEST(SafetyLayer, SlowsForACornerAndDoesNotCutIt) {
-  AvoidanceParams params;
-  params.enabled = true;
-  params.cruise_speed = 3.0;
+  const AvoidanceParams params = EnabledAtThreeMetresPerSecond();
   SafetyLayer layer(params);
   hal::VehicleEstimate est;
   est.p_N = {0, 0, -4};
@@ -635,9 +642,7 @@ TEST(SafetyLayer, SlowsForACornerAndDoesNotCutIt) {
 // corners that are one hairpin together. The turn is counted from the vehicle's velocity to each
 // leg ahead: at once for the leg it is on, after its reaction time for the legs ahead.
 TEST(SafetyLayer, SlowsForATurnFromTheWayItFliesNotCornerByCorner) {
-  AvoidanceParams params;
-  params.enabled = true;
-  params.cruise_speed = 3.0;
+  const AvoidanceParams params = EnabledAtThreeMetresPerSecond();
   control::Setpoint task;
   task.p_N = {0, 20, -4};
   auto limit_for = [&](const std::vector<Eigen::Vector3d>& path) {
@@ -696,6 +701,44 @@ TEST(SafetyLayer, StopsWithinTheSpaceItHasSeen) {
   EXPECT_LT(max_x, 15.0 - params.clearance() * 0) << "went into unseen space";
   EXPECT_GT(max_x, 12.0) << "stopped needlessly early";
   EXPECT_NEAR(est.v_N.x(), 0.0, 0.25);
+}
+
+// A detour that climbs steeply (over a wall) into space seen free for 3 m only: the speed the
+// seen space allows holds for the speed in 3-D, climbing included, not for the speed across the
+// ground alone (which a steep climb hardly has).
+TEST(SafetyLayer, TheSeenSpaceLimitsTheClimbAsMuchAsTheLevelSpeed) {
+  const AvoidanceParams params = EnabledAtThreeMetresPerSecond();
+  SafetyLayer layer(params);
+  hal::VehicleEstimate est;
+  est.p_N = {0, 0, -4};
+  control::Setpoint task;
+  task.p_N = {20, 0, -4};
+  const double dt = 0.02;
+  double fastest = 0, allowed_then = 0, highest = 0;
+  for (int i = 0; i < 300; ++i) {
+    const int64_t utime = int64_t(i) * 20000 + 1'000'000;
+    AvoidancePlan plan;
+    plan.utime = utime, plan.perception_utime = utime - 50'000;
+    plan.goal_N = task.p_N;
+    plan.state = AvoidState::kAvoiding;
+    plan.path_N = {{0, 0, -4}, {1, 0, -4}, {2, 0, -10}, {20, 0, -10}, {20, 0, -4}};
+    plan.seen_free_m = 3.0;  // nothing more is seen (the cameras look ahead, not up)
+    const SafetyLayer::Output out = layer.Apply(task, task.p_N, est, &plan, utime, dt);
+    if (out.state == AvoidState::kAvoiding) {  // (else stopped short, holding)
+      ASSERT_TRUE(out.setpoint.speed_max.has_value());
+      EXPECT_NEAR(*out.setpoint.speed_max, std::max(0.05, out.speed_limit), 1e-9);
+      EXPECT_LE(out.setpoint.v_ff_N.norm(), *out.setpoint.speed_max + 1e-9);
+    }
+    FlyPointMass(out.setpoint, params, dt, est);
+    if (est.v_N.norm() > fastest) fastest = est.v_N.norm(), allowed_then = out.speed_limit;
+    highest = std::max(highest, -est.p_N.z());
+  }
+  std::printf("fastest %.2f m/s where %.2f m/s was allowed; climbed to %.2f m\n", fastest, allowed_then, highest);
+  // Stopping within the 3 m seen from 0.45 s of perception age and reaction at 2.5 m/s^2
+  // allows 2.9 m/s at the start; the vehicle stops short of the end of what it has seen.
+  EXPECT_LT(fastest, 2.0) << "climbed faster than the seen space allows";
+  EXPECT_GT(highest, 4.5) << "did not climb";
+  EXPECT_LT(est.p_N.head<2>().norm() + (-est.p_N.z() - 4), 3.0 + 0.3) << "flew beyond the space seen free";
 }
 
 TEST(SafetyLayer, BrakesAndHoldsOnStalePerceptionAndSaysWhy) {

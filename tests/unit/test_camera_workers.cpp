@@ -281,7 +281,7 @@ TEST(StereoWorker, ReportsObstacleCylindersInNed) {
 // What a pair adds to the map: a thin cylinder whole (grown by its axis's standard deviation),
 // not a wide one (a crown would fill the space under it; its points describe its face); the
 // points as rays from the camera, trusted to the range gate.
-TEST(StereoWorker, MapUpdateDrawsThinCylindersAndThePointsAsRays) {
+TEST(StereoWorker, MapUpdateDrawsThinCylindersCrownsOnTrunksAndThePointsAsRays) {
   vision::StereoObstacles found;
   found.gate_depth_m = 12.0;
   found.ground_z_m = 0.0;
@@ -292,7 +292,12 @@ TEST(StereoWorker, MapUpdateDrawsThinCylindersAndThePointsAsRays) {
   vision::ObstacleCylinder crown = pole;
   crown.centre_W = {10, -4, -7};
   crown.radius_m = 1.8, crown.top_m = -9, crown.bottom_m = 0;
-  found.obstacles = {pole, crown};
+  // A crown split off the trunk under it: it stands on the trunk, from its top to its bottom.
+  vision::ObstacleCylinder crown_on_trunk = crown;
+  crown_on_trunk.centre_W = {14, 3, -7};
+  crown_on_trunk.top_m = -9, crown_on_trunk.bottom_m = -5;
+  crown_on_trunk.on_trunk = true;
+  found.obstacles = {pole, crown, crown_on_trunk};
   found.points_L = {{0.f, 0.f, 5.f}};
   Eigen::Isometry3d T_NL = Eigen::Isometry3d::Identity();
   T_NL.translation() = Eigen::Vector3d(1, 2, -4);
@@ -303,11 +308,14 @@ TEST(StereoWorker, MapUpdateDrawsThinCylindersAndThePointsAsRays) {
   ASSERT_EQ(u.scan->p_N.size(), 1u);
   EXPECT_TRUE(u.scan->p_N[0].isApprox(Eigen::Vector3f(1, 2, 1)));
   EXPECT_DOUBLE_EQ(u.scan->max_range_m, 12.0);
-  ASSERT_EQ(u.cylinders.size(), 1u) << "the crown is left to its points";
+  ASSERT_EQ(u.cylinders.size(), 2u) << "the crown standing to the ground is left to its points";
   EXPECT_TRUE(u.cylinders[0].p_NE.isApprox(Eigen::Vector2d(8, 1)));
   EXPECT_NEAR(u.cylinders[0].radius_m, 0.4, 1e-9);
   EXPECT_DOUBLE_EQ(u.cylinders[0].top_down_m, -6.0);
   EXPECT_DOUBLE_EQ(u.cylinders[0].bottom_down_m, 0.0);
+  EXPECT_TRUE(u.cylinders[1].p_NE.isApprox(Eigen::Vector2d(14, 3)));
+  EXPECT_NEAR(u.cylinders[1].radius_m, 1.9, 1e-9);
+  EXPECT_DOUBLE_EQ(u.cylinders[1].bottom_down_m, -5.0) << "the space under the crown stays free";
 }
 
 TEST(StereoWorker, BlankCameraReportsUnhealthyAndNoObstacles) {

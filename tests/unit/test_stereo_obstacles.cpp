@@ -150,6 +150,42 @@ TEST(StereoObstacles, FeaturelessWallAndOpenGroundGiveNone) {
   }
 }
 
+// A tree whose crown starts just above the camera is seen whole, trunk and crown in one cluster:
+// the trunk must come out as a thin cylinder of its own (the map keeps thin cylinders and draws
+// wide ones from their points, which would leave the trunk to be cleared by rays past it).
+TEST(StereoObstacles, TreeSeenWholeGivesItsTrunkApartFromItsCrown) {
+  const world::Scene& scene = test::CachedScene("forest");
+  const world::StereoSetup& setup = *scene.stereo_camera();
+  const world::StereoRenderer renderer(scene, setup);
+  // The forest's tree at (12, -2): 9 m tall, crown radius 2.5 m (from 4 m up), trunk 0.15 m.
+  const Eigen::Vector2d trunk_N(12, -2);
+  for (const Eigen::Isometry3d& T_NB : {BodyPose(7.5, -2, -3.5, 0), BodyPose(7, -2, -4, 0), BodyPose(7.5, -1.2, -3.5, -8)}) {
+    const world::StereoFrame f = renderer.Render(T_NB, 1000000);
+    const StereoRectifier rectifier(RigOf(setup));
+    cv::Mat l, r;
+    rectifier.Rectify(f.left.image, f.right.image, &l, &r);
+    const StereoObstacleDetector detector(rectifier.geometry(), ObstacleParams());
+    const StereoObstacles found = detector.Process(l, r, T_NB * setup.left.T_BC);
+    const ObstacleCylinder* trunk = nullptr;
+    const ObstacleCylinder* crown = nullptr;
+    for (const ObstacleCylinder& o : found.obstacles) {
+      std::printf("[ found ] centre %.2f %.2f %.2f r %.2f top %.2f bottom %.2f voxels %d\n", o.centre_W.x(), o.centre_W.y(),
+                  o.centre_W.z(), o.radius_m, o.top_m, o.bottom_m, o.voxels);
+      if ((o.centre_W.head<2>() - trunk_N).norm() > 2.5) continue;
+      (o.radius_m < 0.8 ? trunk : crown) = &o;
+    }
+    ASSERT_NE(trunk, nullptr) << "no thin cylinder at the trunk";
+    ASSERT_NE(crown, nullptr) << "no wide cylinder for the crown";
+    EXPECT_LT((trunk->centre_W.head<2>() - trunk_N).norm(), 0.5);
+    // The trunk reaches from under the crown down out of view; the crown stays above it.
+    EXPECT_GT(trunk->bottom_m, -2.0);
+    EXPECT_LE(crown->bottom_m, trunk->top_m + 0.3);
+    EXPECT_GT(crown->radius_m, 1.0);
+    EXPECT_TRUE(crown->on_trunk);
+    EXPECT_FALSE(trunk->on_trunk);
+  }
+}
+
 TEST(StereoObstacles, RangeGateComesFromTheErrorModel) {
   const RectifiedGeometry g = RectifiedGeometry::OfRectifiedPair(640, 480, 500.0, 0.12);
   ObstacleParams p;

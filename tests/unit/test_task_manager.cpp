@@ -5,6 +5,7 @@
 #include <cmath>
 #include <tuple>
 
+#include "uav/control/position_attitude_controller.hpp"
 #include "uav/control/task_manager.hpp"
 #include "uav/shared/parameters.hpp"
 
@@ -519,6 +520,28 @@ TEST_F(FollowTest, AFailsafeTakesOverAndRefusesFollow) {
   Step();
   EXPECT_EQ(out_.task, Task::kReturn);
   EXPECT_EQ(Send("follow")[0].result, AckResult::kRejected);
+}
+
+// The 3-D speed limit (obstacle avoidance's) holds climbing: a vehicle climbing at the limit
+// toward a setpoint far above is asked for no more speed, exactly as one following a reference
+// that climbs at that rate; without the limit it is asked to climb faster.
+TEST(PositionAttitudeController, TheThreeDimensionalSpeedLimitHoldsClimbing) {
+  const ControllerParams params = ControllerParams::FromParameters(
+      ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", uav::VehicleParameterSchema()));
+  ASSERT_GT(params.speed_max_up, 1.5);
+  VehicleEstimate est;
+  est.p_N = {0, 0, -4};
+  est.v_N = {0, 0, -1.0};  // climbing at 1 m/s
+  Setpoint far_above;
+  far_above.p_N = {0, 0, -14};
+  Setpoint limited = far_above;
+  limited.speed_max = 1.0;
+  Setpoint steady;  // a reference climbing with the vehicle
+  steady.p_N = est.p_N;
+  steady.v_ff_N = {0, 0, -1.0};
+  auto throttle = [&](const Setpoint& sp) { return PositionAttitudeController(params).Update(est, sp, 0.01).throttle; };
+  EXPECT_NEAR(throttle(limited), throttle(steady), 1e-9);
+  EXPECT_GT(throttle(far_above), throttle(limited) + 0.01) << "the vehicle's own climb rate is above 1 m/s";
 }
 
 }  // namespace

@@ -260,10 +260,12 @@ avoid::PerceptionUpdate StereoMapUpdate(int64_t utime, const vision::StereoObsta
   for (std::size_t i = 0; i < found.points_L.size(); i += stride) scan.p_N.push_back(T * found.points_L[i]);
   u.scan = std::move(scan);
   for (const vision::ObstacleCylinder& c : found.obstacles) {
-    // Thin ones only (poles, trunks, people: few points reach the map from them). A wide
-    // cylinder is a tree crown or a wall drawn as one, standing from its top to the ground: its
-    // own points describe it, and the cylinder would fill the space under a crown.
-    if (c.radius_m > kMaxMapCylinderRadius) continue;
+    // Thin ones (poles, trunks, people: few points reach the map from them), and crowns found
+    // on their trunks: the crown's points are its near face, and a detour passing beside it
+    // needs its far side too. Any other wide cylinder may be a wall seen at a slant, or several
+    // obstacles drawn as one, whose cylinder would fill the gaps between them: its own points
+    // describe it.
+    if (c.radius_m > kMaxMapCylinderRadius && !c.on_trunk) continue;
     // Grown by one standard deviation of the axis position (its larger axis), at most 0.3 m.
     const double sigma = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(c.cov_xy).eigenvalues().maxCoeff()));
     u.cylinders.push_back({c.centre_W.head<2>(), c.top_m, c.bottom_m, c.radius_m + std::min(sigma, 0.3)});

@@ -43,6 +43,8 @@ std::string CheckSetpoint(const Setpoint& sp, const FailsafeParams& p, double sp
     return "descent rate is outside [0, 10] m/s";
   if (sp.speed_max_xy && !(std::isfinite(*sp.speed_max_xy) && *sp.speed_max_xy > 0))
     return "speed limit is not a positive number";
+  if (sp.speed_max && !(std::isfinite(*sp.speed_max) && *sp.speed_max > 0))
+    return "3-D speed limit is not a positive number";
   if (sp.p_N.head<2>().norm() > p.fence_radius_m + margin_m)
     return Format("target %.0f m from home is beyond the %.0f m geofence", sp.p_N.head<2>().norm(), p.fence_radius_m);
   if (-sp.p_N.z() > p.fence_alt_m + margin_m || -sp.p_N.z() < -margin_m)

@@ -10,6 +10,10 @@ Eigen::Vector2d ClampNorm(const Eigen::Vector2d& v, double max) {
   const double n = v.norm();
   return n > max ? Eigen::Vector2d(v * (max / n)) : v;
 }
+Eigen::Vector3d ClampNorm3(const Eigen::Vector3d& v, double max) {
+  const double n = v.norm();
+  return n > max ? Eigen::Vector3d(v * (max / n)) : v;
+}
 
 }  // namespace
 
@@ -47,6 +51,7 @@ ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, cons
   v_sp.head<2>() = ClampNorm(sp.v_ff_N.head<2>() + p_.pos_gain_xy * e_p.head<2>(), speed_xy);
   v_sp.z() = sp.descent_rate ? *sp.descent_rate : sp.v_ff_N.z() + p_.pos_gain_z * e_p.z();
   v_sp.z() = std::clamp(v_sp.z(), -p_.speed_max_up, p_.speed_max_down);
+  if (sp.speed_max) v_sp = ClampNorm3(v_sp, *sp.speed_max);
 
   // ---- Velocity -> acceleration setpoint, PI with clamped integrators (anti-windup).
   const Eigen::Vector3d e_v = v_sp - est.v_N;

@@ -31,6 +31,50 @@ double Quantile(std::vector<double> v, double q) {
   std::nth_element(v.begin(), v.begin() + k, v.end());
   return v[static_cast<std::size_t>(k)];
 }
+
+// A tree seen whole is one cluster: a thin trunk under a wide crown. As one cylinder it is as
+// wide as the crown from the crown's top to the ground, and a map that leaves wide cylinders to
+// their own points (the space under a crown is free) loses the trunk, whose few points the rays
+// past it clear. Splits a cluster whose lowest part is much thinner than the whole into that
+// part (standing on the ground) and the rest above it, in that order; any other cluster is
+// returned whole.
+std::vector<std::vector<int>> SplitTrunk(const std::vector<Eigen::Vector3f>& points_W, const std::vector<int>& cluster,
+                                         const Eigen::Vector2d& p_W_camera, int min_voxels) {
+  // [m] height of the bands the width is measured in; a trunk is thinner than this fraction of
+  // the cluster's width over at least this height, with this many voxels.
+  constexpr double kBand = 0.25, kThin = 0.4, kMinTrunkHeight = 0.75;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  double top = std::numeric_limits<double>::infinity(), bottom = -top;
+  for (int i : cluster) {
+    const Eigen::Vector3f& q = points_W[static_cast<std::size_t>(i)];
+    mean += q.head<2>().cast<double>();
+    top = std::min(top, static_cast<double>(q.z())), bottom = std::max(bottom, static_cast<double>(q.z()));
+  }
+  mean /= static_cast<double>(cluster.size());
+  const int bands = static_cast<int>((bottom - top) / kBand) + 1;
+  if ((mean - p_W_camera).norm() < 1e-6 || bands < 2) return {cluster};
+  // Across the line of sight: the extent stereo measures best.
+  const Eigen::Vector2d dir = (mean - p_W_camera).normalized(), lat(-dir.y(), dir.x());
+  std::vector<double> lo(bands, std::numeric_limits<double>::infinity()), hi(bands, -lo[0]);
+  std::vector<double> s_all;
+  auto band_of = [&](const Eigen::Vector3f& q) { return std::min(bands - 1, static_cast<int>((bottom - q.z()) / kBand)); };
+  for (int i : cluster) {
+    const Eigen::Vector3f& q = points_W[static_cast<std::size_t>(i)];
+    const double s = (q.head<2>().cast<double>() - p_W_camera).dot(lat);
+    const int b = band_of(q);
+    lo[b] = std::min(lo[b], s), hi[b] = std::max(hi[b], s);
+    s_all.push_back(s);
+  }
+  const double width = Quantile(s_all, 1.0 - kWidthTail) - Quantile(s_all, kWidthTail);
+  // The trunk: bands from the bottom up that are thin or empty (hidden behind something).
+  int trunk_bands = 0;
+  while (trunk_bands < bands && !(hi[trunk_bands] - lo[trunk_bands] > kThin * width)) ++trunk_bands;
+  if (trunk_bands * kBand < kMinTrunkHeight || trunk_bands == bands) return {cluster};
+  std::vector<int> trunk, crown;
+  for (int i : cluster) (band_of(points_W[static_cast<std::size_t>(i)]) < trunk_bands ? trunk : crown).push_back(i);
+  if (static_cast<int>(trunk.size()) < min_voxels / 2 || static_cast<int>(crown.size()) < min_voxels / 2) return {cluster};
+  return {trunk, crown};
+}
 }  // namespace
 
 void ObstacleParams::Validate() const {
@@ -190,7 +234,7 @@ StereoObstacles StereoObstacleDetector::Process(const cv::Mat& left_rect, const 
 
   t0 = std::chrono::steady_clock::now();
   const Eigen::Vector2d c = p_W_L.head<2>().cast<double>();
-  for (const std::vector<int>& cluster : clusters) {
+  auto fit = [&](const std::vector<int>& cluster, bool on_trunk) {
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     double top = std::numeric_limits<double>::infinity(), bottom = -top;
     for (int i : cluster) {
@@ -200,7 +244,7 @@ StereoObstacles StereoObstacleDetector::Process(const cv::Mat& left_rect, const 
       bottom = std::max(bottom, static_cast<double>(q.z()));
     }
     mean /= static_cast<double>(cluster.size());
-    if ((mean - c).norm() < 1e-6) continue;
+    if ((mean - c).norm() < 1e-6) return;
     // Along the line of sight (t) and across it (s), horizontally.
     const Eigen::Vector2d dir = (mean - c).normalized();
     const Eigen::Vector2d lat(-dir.y(), dir.x());
@@ -243,7 +287,12 @@ StereoObstacles StereoObstacleDetector::Process(const cv::Mat& left_rect, const 
     R.col(1) = lat;
     o.cov_xy = R * Eigen::Vector2d(sigma_t * sigma_t, sigma_s * sigma_s).asDiagonal() * R.transpose();
     o.voxels = static_cast<int>(cluster.size());
+    o.on_trunk = on_trunk;
     out.obstacles.push_back(o);
+  };
+  for (const std::vector<int>& cluster : clusters) {
+    const std::vector<std::vector<int>> parts = SplitTrunk(above, cluster, c, P.min_cluster_voxels);
+    for (std::size_t k = 0; k < parts.size(); ++k) fit(parts[k], k == 1);
   }
   std::sort(out.obstacles.begin(), out.obstacles.end(),
             [](const ObstacleCylinder& a, const ObstacleCylinder& b) { return a.range_m < b.range_m; });

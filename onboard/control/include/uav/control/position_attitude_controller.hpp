@@ -39,6 +39,9 @@ struct Setpoint {
   double yaw_rate_ff = 0.0;
   // Horizontal speed limit below the vehicle's own (mission DO_CHANGE_SPEED) [m/s].
   std::optional<double> speed_max_xy;
+  // Limit on the speed in any direction, climbing and descending included [m/s]: obstacle
+  // avoidance's stopping distance holds along a climbing detour as along a level one.
+  std::optional<double> speed_max;
 };
 
 class PositionAttitudeController {
