@@ -3,7 +3,8 @@
 // (Eq. 3.10-3.11), a range gate where the error model's depth error passes a limit (3.2,
 // Eq. 3.6-3.7), a voxel grid, removal of the ground plane, Euclidean clustering with a minimum
 // cluster size, and per cluster a vertical cylinder (centre, radius, top and bottom) inflated by
-// a safety margin, with its uncertainty from the error model. A plain class: the STEREO worker
+// a safety margin, with its uncertainty from the error model; a cluster with a thin lowest part
+// under a wide one (a tree seen whole) gives two, its trunk and its crown. A plain class: the STEREO worker
 // feeds it rendered (later: captured) pairs, uav-stereo feeds it files.
 #include <memory>
 #include <vector>
