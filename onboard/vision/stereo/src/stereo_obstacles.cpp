@@ -32,6 +32,24 @@ double Quantile(std::vector<double> v, double q) {
   return v[static_cast<std::size_t>(k)];
 }
 
+// A cluster's horizontal mean and its top and bottom (NED z: top is the least).
+struct ClusterExtent {
+  Eigen::Vector2d mean_W;
+  double top_m, bottom_m;
+};
+ClusterExtent Extent(const std::vector<Eigen::Vector3f>& points_W, const std::vector<int>& cluster) {
+  ClusterExtent e{Eigen::Vector2d::Zero(), std::numeric_limits<double>::infinity(),
+                  -std::numeric_limits<double>::infinity()};
+  for (int i : cluster) {
+    const Eigen::Vector3f& q = points_W[static_cast<std::size_t>(i)];
+    e.mean_W += q.head<2>().cast<double>();
+    e.top_m = std::min(e.top_m, static_cast<double>(q.z()));
+    e.bottom_m = std::max(e.bottom_m, static_cast<double>(q.z()));
+  }
+  e.mean_W /= static_cast<double>(cluster.size());
+  return e;
+}
+
 // A tree seen whole is one cluster: a thin trunk under a wide crown. As one cylinder it is as
 // wide as the crown from the crown's top to the ground, and a map that leaves wide cylinders to
 // their own points (the space under a crown is free) loses the trunk, whose few points the rays
@@ -43,14 +61,9 @@ std::vector<std::vector<int>> SplitTrunk(const std::vector<Eigen::Vector3f>& poi
   // [m] height of the bands the width is measured in; a trunk is thinner than this fraction of
   // the cluster's width over at least this height, with this many voxels.
   constexpr double kBand = 0.25, kThin = 0.4, kMinTrunkHeight = 0.75;
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  double top = std::numeric_limits<double>::infinity(), bottom = -top;
-  for (int i : cluster) {
-    const Eigen::Vector3f& q = points_W[static_cast<std::size_t>(i)];
-    mean += q.head<2>().cast<double>();
-    top = std::min(top, static_cast<double>(q.z())), bottom = std::max(bottom, static_cast<double>(q.z()));
-  }
-  mean /= static_cast<double>(cluster.size());
+  const ClusterExtent extent = Extent(points_W, cluster);
+  const Eigen::Vector2d mean = extent.mean_W;
+  const double top = extent.top_m, bottom = extent.bottom_m;
   const int bands = static_cast<int>((bottom - top) / kBand) + 1;
   if ((mean - p_W_camera).norm() < 1e-6 || bands < 2) return {cluster};
   // Across the line of sight: the extent stereo measures best.
@@ -235,15 +248,10 @@ StereoObstacles StereoObstacleDetector::Process(const cv::Mat& left_rect, const 
   t0 = std::chrono::steady_clock::now();
   const Eigen::Vector2d c = p_W_L.head<2>().cast<double>();
   auto fit = [&](const std::vector<int>& cluster, bool on_trunk) {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    double top = std::numeric_limits<double>::infinity(), bottom = -top;
-    for (int i : cluster) {
-      const Eigen::Vector3f& q = above[static_cast<std::size_t>(i)];
-      mean += q.head<2>().cast<double>();
-      top = std::min(top, static_cast<double>(q.z()));
-      bottom = std::max(bottom, static_cast<double>(q.z()));
-    }
-    mean /= static_cast<double>(cluster.size());
+    const ClusterExtent extent = Extent(above, cluster);
+    const Eigen::Vector2d mean = extent.mean_W;
+    const double top = extent.top_m;
+    double bottom = extent.bottom_m;
     if ((mean - c).norm() < 1e-6) return;
     // Along the line of sight (t) and across it (s), horizontally.
     const Eigen::Vector2d dir = (mean - c).normalized();
