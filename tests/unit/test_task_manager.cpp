@@ -3,11 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <tuple>
 
 #include "uav/control/position_attitude_controller.hpp"
 #include "uav/control/task_manager.hpp"
 #include "uav/shared/parameters.hpp"
+#include "uav/control/mixer.hpp"
+#include "uav/sim/quadrotor_model.hpp"
+#include "uav/shared/frames.hpp"
 
 namespace uav::control {
 namespace {
@@ -542,6 +546,104 @@ TEST(PositionAttitudeController, TheThreeDimensionalSpeedLimitHoldsClimbing) {
   auto throttle = [&](const Setpoint& sp) { return PositionAttitudeController(params).Update(est, sp, 0.01).throttle; };
   EXPECT_NEAR(throttle(limited), throttle(steady), 1e-9);
   EXPECT_GT(throttle(far_above), throttle(limited) + 0.01) << "the vehicle's own climb rate is above 1 m/s";
+}
+
+
+// The horizontal loops flown on the simulated airframe (thesis 2.4), the truth as the estimate.
+class HorizontalFlight {
+ public:
+  explicit HorizontalFlight(const ParameterSet& params)
+      : model_(hal::VehicleParams::FromParameters(params)), ctl_(ControllerParams::FromParameters(params)) {
+    s_.p_N = {0, 0, -5};
+  }
+  // Flies `sp` for `seconds` (the controller at 50 Hz, the airframe at 500 Hz); `each` sees the
+  // state after every step.
+  template <typename Each>
+  void Fly(const std::function<Setpoint(double)>& sp, double seconds, Each each) {
+    constexpr double kDt = 0.002;
+    for (int i = 0; i * kDt < seconds; ++i) {
+      if (i % 10 == 0) channels_ = MixToRotors(ctl_.Update(Estimate(), sp(i * kDt), 10 * kDt));
+      model_.Step(s_, channels_, Eigen::Vector3d::Zero(), kDt);
+      each(s_.p_N, Eigen::Vector3d(s_.q_NB * s_.v_B));
+    }
+  }
+  Eigen::Vector3d p_N() const { return s_.p_N; }
+
+ private:
+  VehicleEstimate Estimate() const {
+    VehicleEstimate e;
+    e.p_N = s_.p_N;
+    e.q_NB = s_.q_NB;
+    e.v_N = s_.q_NB * s_.v_B;
+    e.w_B = s_.w_B;
+    e.f_B = model_.SpecificForceB(s_, Eigen::Vector3d::Zero());
+    e.euler = EulerFromRotationNB(s_.q_NB.toRotationMatrix());
+    return e;
+  }
+  sim::QuadrotorModel model_;
+  PositionAttitudeController ctl_;
+  sim::QuadrotorState s_;
+  std::array<double, 4> channels_{};
+};
+
+ParameterSet X650() {
+  return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", uav::VehicleParameterSchema());
+}
+
+// A detour that turns round under obstacle avoidance's speed limit (0.6 m/s) while the vehicle
+// flies at 2 m/s: it brakes, and comes back no faster than a fifth over the limit. Without the
+// velocity loop's lead the tilt it braked with was still there when the velocity reversed, and it
+// came back at 1.35 m/s: the braking distance the safety layer counts on assumes its limit holds.
+TEST(PositionAttitudeController, AReversedDetourComesBackAtItsSpeedLimit) {
+  for (const double lead : {0.0, X650().Get("ctl_vel_lead")}) {
+    HorizontalFlight flight(X650().With("ctl_vel_lead", lead));
+    flight.Fly([](double t) {  // hover, then north at 2 m/s
+      Setpoint sp;
+      sp.p_N = {2.0 * std::max(0.0, t - 2.0), 0, -5};
+      sp.v_ff_N = {t > 2 ? 2.0 : 0.0, 0, 0};
+      return sp;
+    }, 8.0, [](const Eigen::Vector3d&, const Eigen::Vector3d&) {});
+    Setpoint back;
+    back.p_N = flight.p_N() - Eigen::Vector3d(3, 0, 0);
+    back.speed_max = 0.6;
+    double furthest = flight.p_N().x(), back_speed = 0.0;
+    flight.Fly([&](double) { return back; }, 6.0, [&](const Eigen::Vector3d& p, const Eigen::Vector3d& v) {
+      furthest = std::max(furthest, p.x());
+      back_speed = std::max(back_speed, -v.x());
+    });
+    if (lead > 0) {
+      EXPECT_LT(back_speed, 1.2 * 0.6) << "lead " << lead;
+    } else {
+      EXPECT_GT(back_speed, 2.0 * 0.6) << "without the lead the reversal overshoots (the test's premise)";
+    }
+    // The braking distance holds the safety layer's figure: v^2 / (2 * 2.5 m/s^2) + 0.4 s * v.
+    EXPECT_LT(furthest - (back.p_N.x() + 3), 2.0 * 2.0 / 5.0 + 0.4 * 2.0) << "lead " << lead;
+  }
+}
+
+// A 10 m goto from a hover flies at the vehicle's speed limit, not over it, and stops on its
+// target without passing it.
+TEST(PositionAttitudeController, AGotoHoldsItsSpeedLimitAndStopsOnItsTarget) {
+  for (const double lead : {0.0, X650().Get("ctl_vel_lead")}) {
+    HorizontalFlight flight(X650().With("ctl_vel_lead", lead));
+    flight.Fly([](double) { Setpoint sp; sp.p_N = {0, 0, -5}; return sp; }, 2.0,
+               [](const Eigen::Vector3d&, const Eigen::Vector3d&) {});
+    Setpoint go;
+    go.p_N = flight.p_N() + Eigen::Vector3d(10, 0, 0);
+    double fastest = 0.0, past = -1e9;
+    flight.Fly([&](double) { return go; }, 12.0, [&](const Eigen::Vector3d& p, const Eigen::Vector3d& v) {
+      fastest = std::max(fastest, v.x());
+      past = std::max(past, p.x() - go.p_N.x());
+    });
+    const double limit = X650().Get("ctl_speed_max_xy");
+    if (lead > 0) {
+      EXPECT_LT(fastest, 1.05 * limit);
+    } else {
+      EXPECT_GT(fastest, 1.15 * limit) << "without the lead the goto passes its speed limit (the test's premise)";
+    }
+    EXPECT_LT(past, 0.1) << "lead " << lead;
+    EXPECT_LT((flight.p_N() - go.p_N).norm(), 0.1) << "lead " << lead;
+  }
 }
 
 }  // namespace

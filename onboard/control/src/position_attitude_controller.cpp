@@ -22,6 +22,7 @@ ControllerParams ControllerParams::FromParameters(const ParameterSet& p) {
   static_cast<PositionLoopParams&>(c) = PositionLoopParams::FromParameters(p);
   c.vehicle = hal::VehicleParams::FromParameters(p);
   c.tilt_max = p.Get("ctl_tilt_max");
+  c.vel_lead = p.Get("ctl_vel_lead");
   c.att_gain = p.Get("ctl_att_gain");
   c.rate_gain = p.Get("ctl_rate_gain");
   c.yaw_gain = p.Get("ctl_yaw_gain");
@@ -54,7 +55,12 @@ ServoCommand PositionAttitudeController::Update(const VehicleEstimate& est, cons
   if (sp.speed_max) v_sp = ClampNorm3(v_sp, *sp.speed_max);
 
   // ---- Velocity -> acceleration setpoint, PI with clamped integrators (anti-windup).
-  const Eigen::Vector3d e_v = v_sp - est.v_N;
+  // Horizontally, against the velocity the present acceleration (measured: the specific force
+  // in N plus gravity, which is vertical) reaches vel_lead ahead: the tilt the loop asks for
+  // arrives 0.3-0.4 s late, so a loop that waits for the velocity itself keeps pushing after the
+  // setpoint is reached (a reversed detour came back at twice its speed limit).
+  Eigen::Vector3d e_v = v_sp - est.v_N;
+  e_v.head<2>() -= p_.vel_lead * (est.q_NB * est.f_B).head<2>();
   // Horizontally the integrator only learns while the acceleration asked for is within the
   // limit: while it is saturated (accelerating to or braking from cruise speed) the error is the
   // manoeuvre, not a steady push such as wind, and learning it would carry the vehicle past the

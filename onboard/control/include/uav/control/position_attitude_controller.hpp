@@ -20,6 +20,9 @@ using hal::VehicleEstimate;
 struct ControllerParams : PositionLoopParams {
   hal::VehicleParams vehicle;  // the model the controller inverts
   double tilt_max;
+  // [s] the horizontal velocity error is taken against v + vel_lead * a (a measured): the attitude
+  // loop behind the velocity loop lags, and without the lead a reversal overshoots its setpoint.
+  double vel_lead;
   double att_gain, rate_gain, yaw_gain, yaw_rate_gain;
   Eigen::Vector3d trim;  // aileron, elevator, rudder at zero controller output (Table 2.4)
   double gyro_att_gain, gyro_yaw_gain;
