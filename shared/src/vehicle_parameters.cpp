@@ -189,7 +189,7 @@ const ParameterSchema& VehicleParameterSchema() {
     // tilt back, while the velocity loop asks for it at once: reversed at 2 m/s under a 0.6 m/s
     // limit, the vehicle came back at 1.35 m/s, and a 10 m goto passed its 3 m/s limit at 3.65.
     // Taken against the velocity the measured acceleration reaches this far ahead, 0.68 m/s and
-    // 3.00 m/s (PositionAttitudeController tests).
+    // 3.04 m/s (PositionAttitudeController tests).
     {"ctl_vel_lead", "s", 0.25, 0, 1, "horizontal velocity loop: lead on the attitude loop's lag (0: none)"},
     {"ctl_speed_max_xy", "m/s", 3.0, 0.1, 15, "horizontal speed limit"},
     {"ctl_speed_max_up", "m/s", 2.0, 0.1, 10, "climb rate limit"},
