@@ -13,9 +13,11 @@
 #include "uav/app/lockstep_scheduler.hpp"
 #include "uav/app/workers.hpp"
 #include "uav/shared/parameters.hpp"
+#include "uav/shared/process_memory.hpp"
 #include "uav/sim/sim_vehicle.hpp"
 
 int main(int argc, char** argv) {
+  uav::KeepFreedMemory();
   const double sim_s = argc > 1 ? std::atof(argv[1]) : 600.0;
   const int repeats = argc > 2 ? std::atoi(argv[2]) : 3;
   if (!(sim_s > 0) || repeats < 1) {

@@ -26,6 +26,7 @@
 #include "uav/shared/channels.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/process_memory.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
 namespace {
@@ -66,6 +67,7 @@ class ReplayScriptControl : public uav::gcs::ReplayControl {
 }  // namespace
 
 int main(int argc, char** argv) {
+  uav::KeepFreedMemory();
   CLI::App cli{"uav-gcs: ground control station"};
   std::string lcm_url = uav::kDefaultLcmUrl;
   std::string name = "gcs-" + std::to_string(getpid());

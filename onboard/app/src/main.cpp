@@ -18,6 +18,7 @@
 #include "uav/app/sim_flight.hpp"
 #include "uav/app/workers.hpp"
 #include "uav/shared/channels.hpp"
+#include "uav/shared/process_memory.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/shared/time.hpp"
@@ -185,6 +186,7 @@ int Fly(const CommandLine& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  uav::KeepFreedMemory();
   CLI::App cli{"uav-onboard: onboard flight stack (threads IMU, CTL, SVO, DLG, CMM, and the vision workers)"};
   CommandLine options;
   DeclareOptions(cli, options);

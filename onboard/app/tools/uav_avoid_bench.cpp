@@ -30,6 +30,7 @@
 #include "uav/shared/command_grammar.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/shared/parameters.hpp"
+#include "uav/shared/process_memory.hpp"
 #include "uav/sim/sim_vehicle.hpp"
 #include "uav/world/scene.hpp"
 
@@ -381,6 +382,7 @@ nlohmann::json Cell(const std::vector<FlightResult>& results, double speed) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  uav::KeepFreedMemory();
   CLI::App cli{"uav-avoid-bench: closed-loop obstacle avoidance over seeded obstacle fields, perception in the loop"};
   std::string density_text = "1/25", seeds_text = "1-3", json_path, picture_dir, params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
   double speed = 3.0, rig_roll = 0.0, wire_rig_roll = 45.0;

@@ -20,6 +20,7 @@
 #include "uav/app/tailsitter_flight.hpp"
 #include "uav/hal/tailsitter_aero.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/process_memory.hpp"
 #include "uav/shared/text_file.hpp"
 
 namespace {
@@ -185,6 +186,7 @@ void Plot(const std::string& path, const std::vector<std::pair<std::string, std:
 }  // namespace
 
 int main(int argc, char** argv) {
+  uav::KeepFreedMemory();
   CLI::App cli{"uav-ulion-bench: U-Lion's transitions over many closed-loop runs (thesis 2.6.6)"};
   std::string params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/ulion.params", json_path, plot_path;
   int runs = 200;

@@ -1,0 +1,18 @@
+#include "uav/shared/process_memory.hpp"
+
+#include <malloc.h>
+
+#include <stdexcept>
+
+namespace uav {
+
+void KeepFreedMemory() {
+  // Blocks below 32 MiB (glibc's largest allowed threshold) come from the heap, not from their
+  // own mmap; the heap is never trimmed. The peak stays resident, as it would anyway at the next
+  // frame.
+  constexpr int kMmapThreshold = 32 << 20;
+  if (mallopt(M_MMAP_THRESHOLD, kMmapThreshold) != 1) throw std::runtime_error("mallopt(M_MMAP_THRESHOLD) refused");
+  if (mallopt(M_TRIM_THRESHOLD, -1) != 1) throw std::runtime_error("mallopt(M_TRIM_THRESHOLD) refused");
+}
+
+}  // namespace uav
