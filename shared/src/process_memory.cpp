@@ -2,17 +2,16 @@
 
 #include <malloc.h>
 
-#include <stdexcept>
-
 namespace uav {
 
-void KeepFreedMemory() {
+bool KeepFreedMemory() {
   // Blocks below 32 MiB (glibc's largest allowed threshold) come from the heap, not from their
   // own mmap; the heap is never trimmed. The peak stays resident, as it would anyway at the next
   // frame.
   constexpr int kMmapThreshold = 32 << 20;
-  if (mallopt(M_MMAP_THRESHOLD, kMmapThreshold) != 1) throw std::runtime_error("mallopt(M_MMAP_THRESHOLD) refused");
-  if (mallopt(M_TRIM_THRESHOLD, -1) != 1) throw std::runtime_error("mallopt(M_TRIM_THRESHOLD) refused");
+  const bool threshold = mallopt(M_MMAP_THRESHOLD, kMmapThreshold) == 1;
+  const bool trim = mallopt(M_TRIM_THRESHOLD, -1) == 1;
+  return threshold && trim;
 }
 
 }  // namespace uav

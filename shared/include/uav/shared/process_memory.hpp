@@ -11,8 +11,8 @@ namespace uav {
 // one avoidance benchmark flight (1/49, 3 m/s, seed 3, this 2-core machine): 59.6 s of wall time
 // with the defaults, 28.6-32.5 s with this, the flight itself identical. Page faults are also
 // latency on the control path; the PREEMPT_RT guides give the same advice (no trimming).
-// Call first thing in main(), before threads start. Throws std::runtime_error if the C library
-// refuses a setting.
-void KeepFreedMemory();
+// Call first thing in main(), before threads start. Returns false where the allocator is not
+// glibc's own (a sanitizer's refuses the settings): the process then runs as with the defaults.
+bool KeepFreedMemory();
 
 }  // namespace uav
