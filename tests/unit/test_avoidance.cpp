@@ -759,6 +759,42 @@ TEST(SafetyLayer, TheSeenSpaceLimitsTheClimbAsMuchAsTheLevelSpeed) {
   EXPECT_LT(est.p_N.head<2>().norm() + (-est.p_N.z() - 4), 3.0 + 0.3) << "flew beyond the space seen free";
 }
 
+// Moving where the watching pair does not look: the way north is seen free for 40 m, but the
+// nose points 90 degrees off it (the pair sees 33 degrees either side). The speed is what stops
+// the vehicle within its clearance (1 m, perception 0.1 s old, 0.4 s reaction, 2.5 m/s^2:
+// 1.31 m/s); at the edge of the view it is the seen space's; 5 degrees past it, half way. The
+// heading's reference turns toward the way at avd_yaw_rate, and that rate is fed forward.
+TEST(SafetyLayer, MovesWhereThePairDoesNotLookOnlyAsFastAsItStopsWithinItsClearance) {
+  AvoidanceParams params;
+  params.enabled = true;
+  params.cruise_speed = 5.0;
+  const double half_view = 33.0 * M_PI / 180.0;
+  auto limit_at = [&](double heading_deg) {
+    SafetyLayer layer(params);
+    hal::VehicleEstimate est;
+    est.p_N = {0, 0, -4};
+    est.v_N = {2, 0, 0};
+    est.euler.psi = heading_deg * M_PI / 180.0;
+    control::Setpoint task;
+    task.p_N = {50, 0, -4};
+    AvoidancePlan plan = StraightPlan(40.0, 1'000'000, 900'000);
+    plan.view_half_rad = half_view;
+    const SafetyLayer::Output out = layer.Apply(task, task.p_N, est, &plan, 1'000'000, 0.02);
+    EXPECT_EQ(out.state, AvoidState::kClear);
+    EXPECT_NEAR(out.setpoint.yaw_rate_ff, heading_deg > 0 ? -params.yaw_rate : heading_deg < 0 ? params.yaw_rate : 0.0, 1e-9);
+    return out.speed_limit;
+  };
+  const double a = params.brake_accel, t = 0.1 + params.reaction_s;
+  const double blind = -a * t + std::sqrt(a * a * t * t + 2 * a * params.clearance());
+  const double seen = -a * t + std::sqrt(a * a * t * t + 2 * a * 40.0);
+  EXPECT_NEAR(limit_at(90), blind, 1e-9);
+  EXPECT_NEAR(limit_at(-90), blind, 1e-9);
+  EXPECT_NEAR(limit_at(0), seen, 1e-9);
+  EXPECT_NEAR(limit_at(33), seen, 1e-6);
+  EXPECT_NEAR(limit_at(38), 0.5 * (seen + blind), 1e-6);
+  EXPECT_NEAR(blind, 1.31, 0.01);
+}
+
 TEST(SafetyLayer, BrakesAndHoldsOnStalePerceptionAndSaysWhy) {
   AvoidanceParams params;
   params.enabled = true;

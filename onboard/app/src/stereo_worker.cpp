@@ -298,7 +298,18 @@ avoid::PerceptionUpdate StereoMapUpdate(int64_t utime, const vision::StereoObsta
 
 void StereoWorker::ReportToMap(int64_t utime, const vision::StereoObstacles& found, const std::vector<vision::Wire3D>& wires,
                                const Eigen::Isometry3d& T_NB, const Eigen::Vector3d& p_NO, Outbox& out) const {
-  avoid::PerceptionUpdate u = StereoMapUpdate(utime, found, wires, T_NB * camera_.left().T_BC);
+  const hal::CameraInfo& left = camera_.left();
+  avoid::PerceptionUpdate u = StereoMapUpdate(utime, found, wires, T_NB * left.T_BC);
+  // What the pair sees across the ground: its optical axis's azimuth in the body frame, and the
+  // half view to the nearer image edge (to the nearer of the four for a pair rolled about its
+  // axis, whose image is no longer level).
+  const Eigen::Vector3d axis_B = left.T_BC.linear() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d across_B = left.T_BC.linear() * Eigen::Vector3d::UnitX();
+  const CameraIntrinsics& k = left.intrinsics;
+  double half_px = std::min(k.cx, k.width - k.cx);
+  if (std::abs(across_B.z()) > std::sin(10.0 * M_PI / 180.0)) half_px = std::min({half_px, k.cy, k.height - k.cy});
+  u.view_azimuth_B = std::atan2(axis_B.y(), axis_B.x());
+  u.view_half_rad = std::atan(half_px / k.fx);
   if (!detect_obstacles_) {
     // Wires alone: the pair's points are not matched, so it clears no space and does not stand
     // for a look ahead (the obstacles' pair keeps the perception fresh, or the vehicle holds).

@@ -113,7 +113,10 @@ std::string AvoidancePlanner::Add(const PerceptionUpdate& u, const Eigen::Vector
   if (u.scan) map_.InsertScan(*u.scan);
   for (const MapCylinder& c : u.cylinders) map_.InsertCylinder(c.p_NE, c.top_down_m, c.bottom_down_m, c.radius_m);
   for (const MapWire& w : u.wires) map_.InsertPolyline(w.p_N, w.radius_m);
-  if (u.watches_ahead) perception_utime_ = std::max(perception_utime_, u.utime);
+  if (u.watches_ahead) {
+    perception_utime_ = std::max(perception_utime_, u.utime);
+    if (u.view_half_rad > 0) view_azimuth_B_ = u.view_azimuth_B, view_half_rad_ = u.view_half_rad;
+  }
   const std::size_t dropped = map_.EnforceBound(p_N);
   if (dropped > 0 && !bound_announced_) {
     bound_announced_ = true;
@@ -183,6 +186,8 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
   AvoidancePlan plan;
   plan.utime = utime;
   plan.perception_utime = perception_utime_;
+  plan.view_azimuth_B = view_azimuth_B_;
+  plan.view_half_rad = view_half_rad_;
   plan.goal_N = goal_N;
   plan.map_cells = map_.cells();
   plan.map_only = map_only;

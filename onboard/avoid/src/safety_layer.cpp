@@ -14,6 +14,9 @@ constexpr double kBlockedSpeed = 0.2;
 constexpr double kTravelSpeed = 0.5;
 // [m/s] the last body-and-margin's length to a goal is flown at least this fast.
 constexpr double kArrivalSpeed = 0.5;
+// [rad] beyond the edge of the watching pair's view the speed falls over this angle to what
+// stops the vehicle within its clearance.
+constexpr double kViewEdge = 10.0 * M_PI / 180.0;
 // [m] how far inside a corner of the detour the vehicle may cut. The planner's shortcuts keep
 // the clearance plus a small margin at their corners, which lie on the obstacles they turn
 // round: a carrot chased round a corner cuts it toward that obstacle (by 0.35 of the lead at a
@@ -94,10 +97,14 @@ control::Setpoint SafetyLayer::Hold(const control::Setpoint& task_setpoint, cons
 
 double SafetyLayer::FaceTravel(const Eigen::Vector3d& direction_N, const hal::VehicleEstimate& est, double dt) {
   if (!yaw_ref_) yaw_ref_ = est.euler.psi;
+  yaw_rate_ = 0.0;
   if (direction_N.head<2>().norm() > 0.5) {
     const double want = std::atan2(direction_N.y(), direction_N.x());
     const double step = std::clamp(WrapPi(want - *yaw_ref_), -p_.yaw_rate * dt, p_.yaw_rate * dt);
     yaw_ref_ = WrapPi(*yaw_ref_ + step);
+    // The reference's rate goes with it: without it the yaw loop trails a turn at 1 rad/s by
+    // the rate times ctl_yaw_rate_gain / ctl_yaw_gain, and the cameras look that far behind.
+    if (dt > 0) yaw_rate_ = step / dt;
   }
   return *yaw_ref_;
 }
@@ -171,6 +178,7 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
     out.setpoint = Hold(task_setpoint, est);
     // Keep turning toward the way on: the cameras may see it free.
     out.setpoint.yaw = FaceTravel(PointAt(plan->path_N, s_now + p_.lookahead_m) - est.p_N, est, dt);
+    out.setpoint.yaw_rate_ff = yaw_rate_;
     return finish(AvoidState::kBlocked);
   }
   hold_N_.reset();
@@ -195,6 +203,21 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
     sp.descent_rate.reset();
     sp.yaw_rate_ff = 0.0;
   }
+  // Moving where the watching pair does not look (PX4 Collision Prevention's CP_GO_NO_DATA): the
+  // nose turns at avd_yaw_rate while a new detour may leave at a right angle at once, and the
+  // space beside the cells seen free on it may never have been in view. There the vehicle goes
+  // only as fast as it stops within its clearance: 1/12 seed 15 crossed the end of a wall that
+  // was not in the map, its nose 50 degrees off its course, at 2.5 m/s.
+  if (plan->view_half_rad > 0) {
+    const Eigen::Vector2d way = est.v_N.head<2>().norm() > kTravelSpeed ? Eigen::Vector2d(est.v_N.head<2>()) : Eigen::Vector2d(direction.head<2>());
+    if (way.norm() > 1e-6) {
+      const double off = std::abs(WrapPi(std::atan2(way.y(), way.x()) - est.euler.psi - plan->view_azimuth_B));
+      const double unseen = std::clamp((off - plan->view_half_rad) / kViewEdge, 0.0, 1.0);
+      const double blind = -a * t + std::sqrt(a * a * t * t + 2.0 * a * p_.clearance());
+      if (blind < v_allow) v_allow += unseen * (blind - v_allow);
+      out.speed_limit = v_allow;
+    }
+  }
   // The limit holds for the speed in 3-D, not only across the ground: the stopping distance is
   // the same climbing. Applied to the horizontal speed alone, a detour climbing at the vehicle's
   // climb rate outran it (1/12 field, seed 3: 2.9 m/s, 2.4 of it upward, on a path that allowed
@@ -203,7 +226,7 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
   if (limit < p_.cruise_speed) sp.speed_max = limit;
   if (sp.v_ff_N.norm() > limit) sp.v_ff_N *= limit / sp.v_ff_N.norm();
   sp.yaw = FaceTravel(direction, est, dt);
-  if (sp.yaw_rate_ff != 0.0 && state == AvoidState::kClear) sp.yaw_rate_ff = 0.0;
+  sp.yaw_rate_ff = yaw_rate_;
   out.setpoint = sp;
   return finish(state);
 }

@@ -73,6 +73,10 @@ struct PerceptionUpdate {
   // safety layer's avd_stale and the failsafe's avd_blind_return); others (depth from motion)
   // only add to the map.
   bool watches_ahead = true;
+  // The watching pair's view across the ground, in the body frame: the azimuth of its optical
+  // axis and half its horizontal field of view [rad] (0: not given).
+  double view_azimuth_B = 0.0;
+  double view_half_rad = 0.0;
 };
 
 // What the planner hands the safety layer.
@@ -85,6 +89,8 @@ struct AvoidancePlan {
   bool map_only = false;                // planned through space seen free only (perception lost)
   std::vector<Eigen::Vector3d> path_N;  // from where the vehicle was, toward the goal
   double seen_free_m = 0.0;             // along path_N: observed free with the clearance
+  double view_azimuth_B = 0.0;          // the watching pair's view, as in PerceptionUpdate
+  double view_half_rad = 0.0;
   double planning_ms = 0.0;             // wall time of the window, the plan and the checks
   // The planning thread's CPU time for the same: the work itself, without the time other
   // threads (in simulation the renderer and the matchers) held the cores meanwhile.
@@ -134,6 +140,7 @@ class AvoidancePlanner {
   LocalGrid window_;        // this replan's window (its memory kept from one to the next)
   PlannerScratch scratch_;  // the search's, likewise
   int64_t perception_utime_ = 0;
+  double view_azimuth_B_ = 0.0, view_half_rad_ = 0.0;  // the watching pair's, from its results
   bool bound_announced_ = false;
   std::vector<Eigen::Vector3d> previous_;  // the detour being flown
   Eigen::Vector3d previous_goal_N_ = Eigen::Vector3d::Constant(1e9);

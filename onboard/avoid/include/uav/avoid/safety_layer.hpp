@@ -13,7 +13,8 @@
 //   when the planner finds no path;
 // - with the perception lost for good (a failed camera: the failsafe's return), flies on the map
 //   alone: only plans made through space seen free, the plan's age in place of the perception's;
-// - turns the vehicle to face the way it flies, so that the forward cameras see it.
+// - turns the vehicle to face the way it flies, so that the forward cameras see it, and moves
+//   where the watching pair does not look only as fast as it stops within its clearance.
 // Failsafes and the geofence win: they change the task, and the layer only ever slows or
 // detours it. Plain class on the control clock.
 #include <cstdint>
@@ -54,6 +55,7 @@ class SafetyLayer {
   AvoidState state_ = AvoidState::kOff;
   std::optional<Eigen::Vector3d> hold_N_;  // where it stops while holding
   std::optional<double> yaw_ref_;          // the rate-limited heading toward travel
+  double yaw_rate_ = 0.0;                  // [rad/s] its rate this step (fed forward)
   bool blocked_ = false;
 };
 
