@@ -250,12 +250,22 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
       // The heading the cameras look along and the course flown [deg], and the climb rate [m/s].
       const Eigen::Vector3d v_N = vehicle.Truth().v_N;
       char row[400];
-      std::snprintf(row, sizeof row, "%.1f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.0f,%.0f,%.2f,%.2f,%d,%.2f,%.2f,%s,%.2f,%zu,%s\n",
+      std::snprintf(row, sizeof row, "%.1f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.0f,%.0f,%.2f,%.2f,%d,%.2f,%.2f,%s,%.2f,%zu,%s",
                     t - travel_start_t, p.x(), p.y(), -p.z(), d.estimate.p_N.x(), d.estimate.p_N.y(), -d.estimate.p_N.z(), v_N.norm(),
                     d.estimate.euler.psi * 180 / M_PI, std::atan2(v_N.y(), v_N.x()) * 180 / M_PI, -v_N.z(), c,
                     nearest, d.obstacle_range_m, d.nearest_wire_m, std::string(uav::Name(d.avoid_state)).c_str(), d.avoid_speed_limit,
                     d.avoid_plan ? d.avoid_plan->path_N.size() : 0, Quoted(d.avoid_reason).c_str());
       r.trace << row;
+      // The planned path itself, north:east:altitude per point, so a detour can be read off.
+      r.trace << ",\"";
+      if (d.avoid_plan)
+        for (std::size_t i = 0; i < d.avoid_plan->path_N.size(); ++i) {
+          const Eigen::Vector3d& q = d.avoid_plan->path_N[i];
+          char point[64];
+          std::snprintf(point, sizeof point, "%s%.1f:%.1f:%.1f", i ? " " : "", q.x(), q.y(), -q.z());
+          r.trace << point;
+        }
+      r.trace << "\"\n";
       if (progress && static_cast<int>(t * 10) % 50 == 0)
         std::fprintf(stderr, "  seed %d t %.0f s at (%.1f, %.1f) %s\n", seed, t, p.x(), p.y(), std::string(uav::Name(d.avoid_state)).c_str());
     }
@@ -444,7 +454,7 @@ int main(int argc, char** argv) {
         uav::WriteFileAtomically(trace_dir + "/trace_" + std::to_string(seed) + ".csv",
                                  "t_s,n_m,e_m,alt_m,est_n_m,est_e_m,est_alt_m,speed_mps,yaw_deg,course_deg,climb_mps,clearance_m,nearest_id,perceived_range_m,"
                                  "perceived_wire_m,avoid_state,"
-                                 "speed_limit_mps,path_points,reason\n" + r.trace.str());
+                                 "speed_limit_mps,path_points,reason,path_N\n" + r.trace.str());
       out["flights"].push_back({{"seed", seed}, {"success", r.success}, {"why", r.why}, {"min_clearance_m", r.min_clearance},
                                 {"closest_ne_m", {r.closest_N.x(), r.closest_N.y()}}, {"closest_s", r.closest_t},
                                 {"clearance_p5_m", r.clearance_p5}, {"path_m", r.path_m}, {"shortest_m", r.shortest_m},
