@@ -123,6 +123,7 @@ int main(int argc, char** argv) {
   int failed = 0, processed = 0, total_wires = 0, images_with_wires = 0;
   std::vector<double> times_ms;
   uav::vision::MaskTally ours, baseline;
+  nlohmann::json per_image = nlohmann::json::array();  // each scored image's own figures, to find the hard ones
   uav::ProgressBar progress(images.size());
   for (std::size_t i = 0; i < images.size(); ++i) {
     const std::string& path = images[i];
@@ -157,6 +158,10 @@ int main(int argc, char** argv) {
       if (!truth.empty()) {
         const double tol = kToleranceOfDiagonal * std::hypot(image.cols, image.rows);
         ours.Add(mask, truth, tol);
+        nlohmann::json scored = ScoreJson(uav::vision::ScoreMasks(mask, truth, tol));
+        scored["image"] = std::filesystem::path(path).filename().string();
+        scored["wires"] = wires.size();
+        per_image.push_back(std::move(scored));
         std::vector<cv::Vec4f> long_segments;
         for (const cv::Vec4f& s : uav::vision::LsdSegments(image))
           if (std::hypot(s[2] - s[0], s[3] - s[1]) >= kBaselineMinLengthPx) long_segments.push_back(s);
@@ -189,7 +194,8 @@ int main(int argc, char** argv) {
                        {"tolerance", "0.0075 x image diagonal, pixel counts summed over the set"},
                        {"ours", ScoreJson(ours.Score())},
                        {"lsd_baseline", ScoreJson(baseline.Score())},
-                       {"lsd_baseline_is", "every LSD segment of 30 px or more, drawn 2 px wide"}};
+                       {"lsd_baseline_is", "every LSD segment of 30 px or more, drawn 2 px wide"},
+                       {"per_image", per_image}};
   }
   std::printf("%s\n", report.dump(2).c_str());
   return failed ? 1 : 0;
