@@ -301,6 +301,7 @@ const ParameterSchema& VehicleParameterSchema() {
     // --- Obstacle avoidance (AVD thread and the safety layer in CTL, thesis 7.2) ---
     {"avd_enable", "-", 0, 0, 1, "1: every task that moves the vehicle goes through the 3-D map, the planner and the safety layer (needs a stereo rig for obstacles)"},
     {"avd_body_radius", "m", 0.5, 0.05, 5, "the airframe's radius, propellers included; the planner keeps this plus obs_margin from what it senses"},
+    {"avd_body_height", "m", 0.5, 0.05, 5, "the airframe's height, landing gear and propellers included: the map clears the unknown space the body fills, a disc this high, not a ball"},
     {"avd_brake_accel", "m/s^2", 2.5, 0.5, 10, "deceleration the speed limit counts on: the vehicle can always stop within the space it has seen"},
     {"avd_reaction", "s", 0.4, 0, 2, "control and attitude lag before braking bites, added to the perception's age"},
     {"avd_stale", "s", 0.5, 0.1, 5, "perception or plan older than this: brake and hold"},

@@ -23,6 +23,7 @@ AvoidanceParams AvoidanceParams::FromParameters(const ParameterSet& p) {
   AvoidanceParams a;
   a.enabled = p.Get("avd_enable") != 0.0;
   a.body_radius_m = p.Get("avd_body_radius");
+  a.body_height_m = p.Get("avd_body_height");
   a.margin_m = p.Get("obs_margin");
   a.brake_accel = p.Get("avd_brake_accel");
   a.reaction_s = p.Get("avd_reaction");
@@ -195,7 +196,7 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
   // no longer changes, so neither does the plan), and only through space seen free.
   if (map_only) previous_.clear();
   if ((goal_N - previous_goal_N_).norm() > 0.5) previous_.clear();
-  map_.InsertBody(p_N, p_.body_radius_m);
+  map_.InsertBody(p_N, p_.body_radius_m, p_.body_height_m);
   previous_goal_N_ = goal_N;
   // The window reaches ahead toward the goal: the vehicle sits a quarter of it from the back.
   const Eigen::Vector3d to_goal = goal_N - p_N;

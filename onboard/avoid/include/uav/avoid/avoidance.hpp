@@ -28,6 +28,7 @@ using uav::AvoidState;  // declared with the other vehicle enums (vehicle_state_
 struct AvoidanceParams {
   bool enabled = false;
   double body_radius_m = 0.5;   // the airframe's, props included
+  double body_height_m = 0.5;   // the airframe's, landing gear and props included
   double margin_m = 0.5;        // obs_margin: kept beyond the body radius
   double brake_accel = 2.5;     // [m/s^2] the deceleration the speed limit counts on
   double reaction_s = 0.4;      // [s] control and attitude lag before the braking bites

@@ -58,11 +58,13 @@ class OccupancyMap {
   void InsertCylinder(const Eigen::Vector2d& p_NE, double top_down_m, double bottom_down_m, double radius_m);
   // A polyline (a ranged wire) thickened to radius_m.
   void InsertPolyline(const std::vector<Eigen::Vector3d>& p_N, double radius_m);
-  // The space the vehicle's body is in: every cell whose centre is within radius_m of p_N is
-  // observed free once (a miss), except cells held occupied (an obstacle the body touches stays
-  // in the map; cells within one cell of the centre are cleared regardless). The vehicle has been there:
-  // the column it took off through and the cells beside its own camera are never in view.
-  void InsertBody(const Eigen::Vector3d& p_N, double radius_m);
+  // The space the vehicle's body is in, a flat disc radius_m across and height_m high about
+  // p_N: every cell whose centre is within radius_m of p_N across the ground, and which reaches
+  // into the disc's height, is observed free once (a miss), except cells held occupied (an
+  // obstacle the body touches stays in the map; cells within one cell of the centre are cleared
+  // regardless). The vehicle has been there: the column it took off through and the cells beside
+  // its own camera are never in view.
+  void InsertBody(const Eigen::Vector3d& p_N, double radius_m, double height_m);
   // Sets one cell to certainly occupied or certainly free (tests).
   void Mark(const Eigen::Vector3d& p_N, bool occupied);
 
