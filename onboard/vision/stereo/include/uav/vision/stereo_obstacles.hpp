@@ -43,8 +43,9 @@ struct ObstacleCylinder {
   double range_m = 0.0;          // [m] horizontal distance from the camera to the surface (centre - radius)
   Eigen::Matrix2d cov_xy = Eigen::Matrix2d::Zero();  // [m^2] horizontal covariance of the centre (Eq. 3.4-3.7)
   int voxels = 0;
-  // The part of a cluster above its trunk (a tree's crown, split off the thin part under it): it
-  // stands on that trunk, not on the ground, so the space under it is free.
+  // The part of a cluster above its trunk (a tree's crown, split off the thin part under it), and
+  // round (no deeper than wide beyond the depth noise): it stands on that trunk, not on the
+  // ground, so the space under it is free.
   bool on_trunk = false;
 };
 
