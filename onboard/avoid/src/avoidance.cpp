@@ -38,6 +38,8 @@ AvoidanceParams AvoidanceParams::FromParameters(const ParameterSet& p) {
   a.hysteresis = p.Get("avd_hysteresis");
   a.yaw_rate = p.Get("avd_yaw_rate") * M_PI / 180.0;
   a.cruise_speed = p.Get("ctl_speed_max_xy");
+  a.climb_speed = p.Get("ctl_speed_max_up");
+  a.sink_speed = p.Get("ctl_speed_max_down");
   a.map.resolution_m = p.Get("avd_map_res");
   a.map.max_cells = static_cast<std::size_t>(p.Get("avd_map_cells"));
   a.map.Validate();

@@ -52,19 +52,37 @@ Eigen::Vector3d Carrot(const std::vector<Eigen::Vector3d>& path, const Eigen::Ve
   return PointAt(path, s + lead);
 }
 
-// The speed that lets the vehicle slow, after its reaction time, to the speed of each turn within
-// reach from arc length s. A turn is measured from the way the vehicle travels now (its velocity,
-// `travel`) to each leg ahead, not corner by corner: three corners of 50 degrees within a metre
-// are one hairpin, and a replanned path may leave at a right angle to the way the vehicle flies
-// (it carried on 2 m toward a trunk while it turned round, 1/25 field, seed 11). The turn onto
-// the leg the vehicle is on is taken at once.
-double TurnLimit(const std::vector<Eigen::Vector3d>& path, double s, const Eigen::Vector3d& travel, double accel,
-                 double reaction_s, double speed) {
+// The fastest the vehicle may fly along `leg` without leaving it: the position controller
+// bounds the climb and the sink (ctl_speed_max_up, ctl_speed_max_down) apart from the speed across
+// the ground, so on a leg steeper than those allow it keeps its ground speed and falls behind the
+// leg's height. On a dive under a cable (6.2 to 3.0 m up over 3.5 m, 1/12 field, seed 82) it flew
+// 3.2 m/s across the ground sinking at 1 m/s: above the dive and toward the cable. Along the leg,
+// v <= v_sink |leg| / |dz| (v_climb going up).
+double SlopeSpeed(const Eigen::Vector3d& leg_N, const AvoidanceParams& p) {
+  const double dz = leg_N.z();  // down
+  if (std::abs(dz) < 1e-9) return 1e9;
+  return (dz > 0 ? p.sink_speed : p.climb_speed) * leg_N.norm() / std::abs(dz);
+}
+
+// The same across the ground: v_xy <= v_sink |leg_xy| / |dz|.
+double GroundSpeedOnSlope(const Eigen::Vector3d& leg_N, const AvoidanceParams& p) {
+  return leg_N.norm() < 1e-9 ? 1e9 : SlopeSpeed(leg_N, p) * leg_N.head<2>().norm() / leg_N.norm();
+}
+
+// The speed that lets the vehicle slow, after its reaction time, to the speed of each leg within
+// reach from arc length s: the speed of its turn and of its slope (SlopeSpeed). A turn is
+// measured from the way the vehicle travels now (its velocity, `travel`) to each leg ahead, not
+// corner by corner: three corners of 50 degrees within a metre are one hairpin, and a replanned
+// path may leave at a right angle to the way the vehicle flies (it carried on 2 m toward a trunk
+// while it turned round, 1/25 field, seed 11). The leg the vehicle is on is taken at once.
+double LegLimit(const std::vector<Eigen::Vector3d>& path, double s, const Eigen::Vector3d& travel, const AvoidanceParams& p,
+                double speed) {
+  const double accel = p.brake_accel, reaction_s = p.reaction_s;
   double limit = speed, along = 0.0;
-  auto turn_speed = [&](const Eigen::Vector3d& leg) {
+  auto leg_speed = [&](const Eigen::Vector3d& leg) {
     if (leg.norm() < 1e-6) return speed;
     const double deflection = std::acos(std::clamp(travel.dot(leg.normalized()), -1.0, 1.0));
-    return std::max(kArrivalSpeed, CornerSpeed(deflection, accel));
+    return std::min(std::max(kArrivalSpeed, CornerSpeed(deflection, accel)), SlopeSpeed(leg, p));
   };
   const double reach = speed * reaction_s + speed * speed / (2 * accel) + 1.0;
   for (std::size_t i = 1; i < path.size(); ++i) {
@@ -73,7 +91,7 @@ double TurnLimit(const std::vector<Eigen::Vector3d>& path, double s, const Eigen
     if (along <= s) continue;
     const double d = std::max(0.0, start - s);
     if (d > reach) break;
-    const double v = turn_speed(path[i] - path[i - 1]);
+    const double v = leg_speed(path[i] - path[i - 1]);
     limit = std::min(limit, d <= 0.0 ? v : -accel * reaction_s + std::sqrt(accel * accel * reaction_s * reaction_s + v * v + 2 * accel * d));
   }
   return limit;
@@ -195,13 +213,20 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
     // The way the vehicle travels: its velocity, or at low speed the path's own direction.
     if (est.v_N.norm() > kTravelSpeed || tangent.norm() > 1e-6) {
       const Eigen::Vector3d travel = est.v_N.norm() > kTravelSpeed ? est.v_N.normalized() : tangent.normalized();
-      v_allow = std::min(v_allow, TurnLimit(plan->path_N, s_now, travel, p_.brake_accel, p_.reaction_s, cruise));
+      v_allow = std::min(v_allow, LegLimit(plan->path_N, s_now, travel, p_, cruise));
     }
     out.speed_limit = v_allow;
     sp.v_ff_N = tangent.norm() > 1e-6 && to_go > p_.lookahead_m ? Eigen::Vector3d(tangent.normalized() * std::min(cruise, v_allow))
                                                                 : Eigen::Vector3d::Zero();
     sp.descent_rate.reset();
     sp.yaw_rate_ff = 0.0;
+    // The controller bounds the climb and the sink apart from the speed across the ground and
+    // the 3-D speed after both, so the carrot's pull alone (gain times lead) keeps the ground
+    // speed and loses the height: across the ground the vehicle goes only as fast as its climb
+    // or sink lets it keep to the way to the carrot (and to the leg it is on).
+    const Eigen::Vector3d chord = carrot - est.p_N;
+    const double ground = std::min(GroundSpeedOnSlope(chord, p_), GroundSpeedOnSlope(tangent, p_));
+    if (ground < std::min(cruise, v_allow)) sp.speed_max_xy = std::max(kArrivalSpeed, ground);
   }
   // Moving where the watching pair does not look (PX4 Collision Prevention's CP_GO_NO_DATA): the
   // nose turns at avd_yaw_rate while a new detour may leave at a right angle at once, and the

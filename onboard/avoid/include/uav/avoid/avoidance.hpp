@@ -43,6 +43,8 @@ struct AvoidanceParams {
   double hysteresis = 0.15;     // keep the current detour unless a new one is this much shorter
   double yaw_rate = 1.0;        // [rad/s] turning to face the way it flies (the cameras look ahead)
   double cruise_speed = 3.0;    // [m/s] ctl_speed_max_xy
+  double climb_speed = 2.0;     // [m/s] ctl_speed_max_up
+  double sink_speed = 1.0;      // [m/s] ctl_speed_max_down
   MapParams map;
   double clearance() const { return body_radius_m + margin_m; }
   // k where grid_m = map.resolution_m * 2^k (the octree level the planning cells are read at);

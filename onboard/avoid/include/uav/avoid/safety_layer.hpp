@@ -4,7 +4,8 @@
 // - flies the task's own setpoint while its straight way is clear, else the planner's detour
 //   (a carrot avd_lookahead ahead on the path, brought nearer so as not to cut the detour's
 //   corners by more than 0.2 m, and slowing, after its reaction time, before each turn to the
-//   speed of that arc; a turn is counted from the way the vehicle travels now to each leg ahead);
+//   speed of that arc, and before each leg steeper than ctl_speed_max_up or _down let it follow;
+//   a turn is counted from the way the vehicle travels now to each leg ahead);
 // - limits the speed so that the vehicle can always stop, after its reaction time, within the
 //   space seen free along its way: v = -a t + sqrt((a t)^2 + 2 a d), the stopping distance
 //   v t + v^2 / (2 a) solved for v (a = avd_brake_accel, t = the perception's age plus
