@@ -772,6 +772,22 @@ TEST(SafetyLayer, SlowsForALegSteeperThanItCanClimbOrSink) {
     const AvoidancePlan plan = plan_at(1'000'000);
     EXPECT_NEAR(layer.Apply(task, plan.goal_N, est, &plan, 1'010'000, 0.02).speed_limit, std::hypot(3.5, 3.0) / 3.0, 1e-6);
   }
+  {  // A near-vertical drop (3 m over 0.5 m: 0.17 m/s across the ground) brings the ground speed
+     // down to the arrival speed, 0.5 m/s, but never above what the task itself asks (0.3 m/s).
+    const std::vector<Eigen::Vector3d> drop{{0, 0, -6}, {0.5, 0, -3}, {10, 0, -3}};
+    AvoidancePlan plan = plan_at(1'000'000);
+    plan.path_N = drop;
+    hal::VehicleEstimate est;
+    est.p_N = drop.front();
+    for (double task_limit : {3.0, 0.3}) {
+      control::Setpoint slow = task;
+      slow.speed_max_xy = task_limit;
+      SafetyLayer slow_layer(params);
+      const auto out = slow_layer.Apply(slow, plan.goal_N, est, &plan, 1'010'000, 0.02);
+      ASSERT_TRUE(out.setpoint.speed_max_xy.has_value());
+      EXPECT_NEAR(*out.setpoint.speed_max_xy, std::min(task_limit, 0.5), 1e-9);
+    }
+  }
   SafetyLayer layer(params);
   hal::VehicleEstimate est;
   est.p_N = path.front();

@@ -226,7 +226,8 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
     // or sink lets it keep to the way to the carrot (and to the leg it is on).
     const Eigen::Vector3d chord = carrot - est.p_N;
     const double ground = std::min(GroundSpeedOnSlope(chord, p_), GroundSpeedOnSlope(tangent, p_));
-    if (ground < std::min(cruise, v_allow)) sp.speed_max_xy = std::max(kArrivalSpeed, ground);
+    // Never above the task's own limit (a task may ask for less than the arrival speed).
+    if (ground < std::min(cruise, v_allow)) sp.speed_max_xy = std::min(cruise, std::max(kArrivalSpeed, ground));
   }
   // Moving where the watching pair does not look (PX4 Collision Prevention's CP_GO_NO_DATA): the
   // nose turns at avd_yaw_rate while a new detour may leave at a right angle at once, and the
