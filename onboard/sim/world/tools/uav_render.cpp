@@ -108,6 +108,11 @@ int main(int argc, char** argv) {
       double max_disp = 0;
       cv::minMaxLoc(f.disparity, nullptr, &max_disp);
       Write(out + "_disparity.png", Colourise(f.disparity, 0, std::max(1.0, max_disp)));
+      // The true disparity in uav-stereo's format (16-bit, disparity x 16, 0 unknown), to score a
+      // matcher with `uav-stereo --truth <out>_disparity16.png --truth-scale 16`.
+      cv::Mat truth_x16;
+      f.disparity.convertTo(truth_x16, CV_16U, 16.0);
+      Write(out + "_disparity16.png", truth_x16);
     }
     return 0;
   } catch (const std::exception& e) {
