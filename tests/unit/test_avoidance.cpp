@@ -370,6 +370,27 @@ TEST(PathPlanner, SaysWhyWhenThereIsNoWayOrTheGoalIsInAnObstacle) {
   EXPECT_FALSE(PlanPath(wall, {0, 0, -4}, {std::nan(""), 0, -4}, params).found);
 }
 
+// A goal nearer an obstacle than the clearance, but not in one (0.5 m in front of a wall, the
+// clearance 1 m): the path goes as near it as the clearance lets it and says so; the vehicle
+// does not hold short of it, as it did with the goal refused (7 m short, 1/25 field, seed 1).
+TEST(PathPlanner, GoesAsNearAGoalBesideAnObstacleAsItsClearanceLets) {
+  const LocalGrid wall = Field({{{10, -12, -8}, {11, 12, 0}}});
+  const Eigen::Vector3d goal(9.4, 0, -4);
+  const PlannedPath p = PlanPath(wall, {0, 0, -4}, goal, Planner());
+  ASSERT_TRUE(p.found) << p.reason;
+  EXPECT_FALSE(p.reaches_goal);
+  EXPECT_TRUE(p.stops_short);
+  EXPECT_NE(p.reason.find("from an obstacle"), std::string::npos) << p.reason;
+  EXPECT_NE(p.reason.find("short of it"), std::string::npos) << p.reason;
+  const Eigen::Vector3d end = p.p_N.back();
+  // Kept the clearance (the wall's face is at north 10, its cells' centres from 10.2) ...
+  EXPECT_GE(wall.DistanceAt(end), 1.0);
+  EXPECT_LT(end.x(), 9.2);
+  // ... and within it of the goal.
+  EXPECT_LE((end - goal).norm(), 1.0 + 1e-9);
+  for (std::size_t i = 0; i + 1 < p.p_N.size(); ++i) EXPECT_TRUE(SegmentClear(wall, p.p_N[i], p.p_N[i + 1], 1.0));
+}
+
 TEST(PathPlanner, FromInsideTheClearanceGoesStraightOutBeforeGoingOn) {
   // A long wall along the way (east 1.2..1.6) and the vehicle 0.6 m from it, inside the 1 m
   // clearance. The way out leads away from the wall, each step farther from it: never along it
@@ -805,6 +826,34 @@ TEST(SafetyLayer, SlowsForALegSteeperThanItCanClimbOrSink) {
   std::printf("at most %.2f m above the dive\n", above);
   EXPECT_LT(above, 0.4) << "fell behind the dive";
   EXPECT_GT(est.p_N.x(), 28.0) << "did not go on";
+}
+
+// A plan that stops short of a goal too near an obstacle gives the task its stand-in (where the
+// goto completes), but only for the goal it was planned for.
+TEST(SafetyLayer, PassesOnWhereThePlanStopsShortOfItsGoal) {
+  const AvoidanceParams params = EnabledAtThreeMetresPerSecond();
+  AvoidancePlan plan;
+  plan.utime = 1'000'000, plan.perception_utime = 950'000;
+  plan.goal_N = {20, 0, -4};
+  plan.state = AvoidState::kAvoiding;
+  plan.path_N = {{0, 0, -4}, {10, 3, -4}, {19.2, 0, -4}};
+  plan.seen_free_m = 100;
+  plan.stops_short = true;
+  plan.reason = "the goal is 0.5 m from an obstacle";
+  hal::VehicleEstimate est;
+  est.p_N = {0, 0, -4};
+  control::Setpoint task;
+  task.p_N = plan.goal_N;
+  SafetyLayer layer(params);
+  const SafetyLayer::Output out = layer.Apply(task, plan.goal_N, est, &plan, 1'010'000, 0.02);
+  ASSERT_TRUE(out.stand_in_N.has_value());
+  EXPECT_EQ(*out.stand_in_N, plan.path_N.back());
+  EXPECT_EQ(out.reason, plan.reason);
+  SafetyLayer other(params);
+  EXPECT_FALSE(other.Apply(task, Eigen::Vector3d(21, 0, -4), est, &plan, 1'010'000, 0.02).stand_in_N.has_value());
+  plan.stops_short = false;
+  SafetyLayer reaching(params);
+  EXPECT_FALSE(reaching.Apply(task, plan.goal_N, est, &plan, 1'010'000, 0.02).stand_in_N.has_value());
 }
 
 TEST(SafetyLayer, StopsWithinTheSpaceItHasSeen) {

@@ -384,6 +384,33 @@ TEST_F(TaskManagerTest, AReplacedCommandsRowClosesAndStaysClosed) {
   for (const auto& x : after) EXPECT_NE(x.command_seq, goto_seq);
 }
 
+// A goto whose goal lies nearer an obstacle than the clearance: avoidance stops short of it and
+// says where. There the goto completes, saying how far short and why; at the same spot without
+// the stand-in it is still flying; a new goto does not inherit the last one's stand-in.
+TEST_F(TaskManagerTest, AGotoCompletesWhereAvoidanceStopsShortOfItsGoal) {
+  Send("arm");
+  Send("takeoff 10");
+  est_.p_N = {0, 0, -10};
+  Step();
+  Send("goto 20 0 10");
+  est_.p_N = {19.1, 0, -10};
+  est_.v_N.setZero();
+  for (int i = 0; i < 5; ++i) EXPECT_TRUE(Step().empty());
+  EXPECT_EQ(out_.task, Task::kGoto);
+  tm_.ObserveStandIn(Eigen::Vector3d(19.2, 0, -10), "the goal is 0.5 m from an obstacle");
+  const auto r = Step();
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].result, AckResult::kCompleted);
+  EXPECT_EQ(r[0].reason, "stopped 0.9 m short: the goal is 0.5 m from an obstacle");
+  EXPECT_EQ(out_.task, Task::kHover);
+  EXPECT_EQ(out_.setpoint.p_N, Eigen::Vector3d(19.2, 0, -10)) << "holds where it stopped, not at the goal";
+  // The next goto starts without it.
+  Send("goto 40 0 10");
+  est_.p_N = {19.2, 0, -10};
+  EXPECT_TRUE(Step().empty());
+  EXPECT_EQ(out_.task, Task::kGoto);
+}
+
 }  // namespace
 }  // namespace uav::control
 

@@ -117,6 +117,7 @@ control::Setpoint ControlWorker::Avoid(const control::TaskManager::Output& out, 
   const std::optional<Eigen::Vector3d> goal = out.airborne ? out.goal_N : std::nullopt;
   const bool map_only = failsafes_.perception_lost();
   const avoid::SafetyLayer::Output a = safety_.Apply(out.setpoint, goal, d.estimate, d.avoid_plan.get(), utime, period_s_, map_only);
+  tasks_.ObserveStandIn(a.stand_in_N, a.reason);
   board_.Update([&](BlackboardData& b) {
     b.avoid_request.active = a.state != avoid::AvoidState::kOff;
     b.avoid_request.map_only = map_only;

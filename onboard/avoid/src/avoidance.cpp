@@ -278,6 +278,8 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
     const double best = fresh.found ? Length(fresh.p_N) + (fresh.p_N.back() - goal_N).norm() : 1e18;
     if (clear && kept <= (1.0 + p_.hysteresis) * best) {
       plan.state = AvoidState::kAvoiding;
+      plan.reason = previous_reason_;
+      plan.stops_short = previous_stops_short_;
       plan.path_N = rest;
       previous_ = rest;
       return finish(plan);
@@ -291,8 +293,11 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
     return finish(plan);
   }
   plan.state = AvoidState::kAvoiding;
+  plan.reason = fresh.reason;
   plan.path_N = fresh.p_N;
   previous_ = fresh.p_N;
+  previous_reason_ = fresh.reason;
+  plan.stops_short = previous_stops_short_ = fresh.stops_short;
   return finish(plan);
 }
 

@@ -205,6 +205,9 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
   Eigen::Vector3d direction = sp.p_N - est.p_N;
   if (plan->state == AvoidState::kAvoiding) {
     state = AvoidState::kAvoiding;
+    out.reason = plan->reason;  // why the detour stops short of the goal, when it does
+    // Only a plan for this very goal (a plan for the goal before may be flown for a step).
+    if (plan->stops_short && !plan->path_N.empty() && (plan->goal_N - *goal_N).norm() < 0.01) out.stand_in_N = plan->path_N.back();
     const Eigen::Vector3d carrot = Carrot(plan->path_N, est.p_N, s_now, p_.lookahead_m);
     sp.p_N = carrot;
     direction = PointAt(plan->path_N, s_now + p_.lookahead_m) - est.p_N;

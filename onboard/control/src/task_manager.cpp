@@ -185,6 +185,7 @@ void TaskManager::Supersede(const std::string& by, std::vector<CommandAck>* repo
 void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstimate& est, double t,
                         std::vector<CommandAck>* reports) {
   Supersede(req.command.Name(), reports);
+  stand_in_N_.reset();  // the last goal's, until avoidance has planned for this one
   chirp_ = Chirp{};
   carried_capture_.reset();
   if (task != Task::kTrack && task != Task::kMission && task != Task::kReturn) runner_.reset();
@@ -498,12 +499,21 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
         Finish(AckResult::kCompleted, "", reports);
       }
     } else {
-      const Eigen::Vector3d off = setpoint_.p_N - est.p_N;
+      // A goal nearer an obstacle than the clearance is reached where avoidance stops short of it.
+      const bool short_of_it = task_ == Task::kGoto && stand_in_N_ && !wing_;
+      const Eigen::Vector3d off = (short_of_it ? *stand_in_N_ : setpoint_.p_N) - est.p_N;
       const bool reached = wing_ ? wing_->OnLoiterCircle(setpoint_.p_N, est.p_N)
                                  : off.norm() < p_.reached_radius && est.v_N.norm() < p_.reached_speed;
       if (reached) {
         task_ = Task::kHover;  // hold the reached target
-        Finish(AckResult::kCompleted, "", reports);
+        if (short_of_it) {
+          char buf[64];
+          std::snprintf(buf, sizeof buf, "stopped %.1f m short: ", (setpoint_.p_N - est.p_N).norm());
+          setpoint_.p_N = *stand_in_N_;
+          Finish(AckResult::kCompleted, buf + stand_in_why_, reports);
+        } else {
+          Finish(AckResult::kCompleted, "", reports);
+        }
       }
     }
     // A landing never gives up: holding instead would keep the vehicle in the air.

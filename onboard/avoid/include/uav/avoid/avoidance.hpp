@@ -88,7 +88,9 @@ struct AvoidancePlan {
   int64_t perception_utime = 0;  // capture time of the newest result in the map (0: none yet)
   Eigen::Vector3d goal_N = Eigen::Vector3d::Zero();
   AvoidState state = AvoidState::kOff;  // kClear, kAvoiding or kNoPath
-  std::string reason;                   // kNoPath: why
+  std::string reason;                   // kNoPath: why; kAvoiding: why it stops short, if it does
+  bool stops_short = false;             // the goal is nearer an obstacle than the clearance: path_N
+                                        // ends at the nearest point to it that keeps the clearance
   bool map_only = false;                // planned through space seen free only (perception lost)
   std::vector<Eigen::Vector3d> path_N;  // from where the vehicle was, toward the goal
   double seen_free_m = 0.0;             // along path_N: observed free with the clearance
@@ -146,6 +148,8 @@ class AvoidancePlanner {
   double view_azimuth_B_ = 0.0, view_half_rad_ = 0.0;  // the watching pair's, from its results
   bool bound_announced_ = false;
   std::vector<Eigen::Vector3d> previous_;  // the detour being flown
+  std::string previous_reason_;            // why it stops short of the goal, when it does
+  bool previous_stops_short_ = false;
   Eigen::Vector3d previous_goal_N_ = Eigen::Vector3d::Constant(1e9);
 };
 

@@ -40,9 +40,11 @@ struct PlannerParams {
 
 struct PlannedPath {
   bool found = false;
-  std::string reason;                // why not, when not found
+  std::string reason;                // why not, when not found; why it stops short, when found
   std::vector<Eigen::Vector3d> p_N;  // waypoints, the start first
   bool reaches_goal = false;         // ends at the goal (false: at the window's border toward it)
+  bool stops_short = false;          // the goal is nearer an obstacle than the clearance: ends at
+                                     // the nearest point to it that keeps the clearance
   double cost = 0.0;                 // of the cells' path, with the penalties
   int expansions = 0;
 };

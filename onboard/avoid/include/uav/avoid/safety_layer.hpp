@@ -40,6 +40,9 @@ class SafetyLayer {
     std::string reason;          // why blocked, no path, no data
     double speed_limit = 0.0;    // [m/s] what the seen space allows now
     bool changed = false;        // the state differs from the last step's
+    // Where the plan stops short of a goal nearer an obstacle than the clearance (`reason`
+    // says why); nullopt when the goal itself is planned to.
+    std::optional<Eigen::Vector3d> stand_in_N;
   };
   // `goal_N`: where the task is going (nullopt: a task that does not move the vehicle, or one
   // the layer leaves alone: takeoff, landing, hover). `plan`: the planner's newest, if any.

@@ -118,6 +118,12 @@ class TaskManager {
   // The pre-arm checks' failures ("gps: no 3-D fix ...; battery: ..."; "" when all pass), from
   // the control thread's newest evaluation (call before Submit): arm is refused while any fails.
   void ObservePreArm(std::string failing) { pre_arm_failing_ = std::move(failing); }
+  // Where obstacle avoidance stops short of a goto's goal that lies nearer an obstacle than the
+  // vehicle's clearance, and why (nullopt: the goal itself can be reached). Reached there, the
+  // goto completes, saying why it stopped short (call after each avoidance step).
+  void ObserveStandIn(const std::optional<Eigen::Vector3d>& p_N, std::string why) {
+    stand_in_N_ = p_N, stand_in_why_ = std::move(why);
+  }
 
   // One step at the control rate: advances the active task, appends progress reports.
   Output Update(const VehicleEstimate& est, double t, std::vector<CommandAck>* reports);
@@ -159,6 +165,8 @@ class TaskManager {
   double last_t_ = 0.0;
   bool armed_ = false;
   std::string pre_arm_failing_;
+  std::optional<Eigen::Vector3d> stand_in_N_;  // see ObserveStandIn
+  std::string stand_in_why_;
   bool airborne_ = false;
   FailsafeAction required_ = FailsafeAction::kNone;  // what the failsafes ask for now
   FailsafeAction enforced_ = FailsafeAction::kNone;  // what they made the vehicle do
