@@ -448,8 +448,34 @@ TEST(PathPlanner, UnknownSpaceIsOpenAndSeenFreeLengthStopsAtIt) {
   g.ComputeDistances();
   const PlannedPath p = PlanPath(g, {0, 0, -4}, {20, 0, -4}, Planner());
   ASSERT_TRUE(p.found);
-  const double seen = SeenFreeLength(g, p.p_N, 1.0);
+  const double seen = SeenFreeLength(g, p.p_N, 1.0, 0.25);
   EXPECT_NEAR(seen, 8.0, 0.5);
+}
+
+// A vehicle cruising on the face between two layers of cells, 4.0 m up on 0.4 m cells, in an
+// open field: rays from its camera down to the ground have crossed the layer below (3.6-4.0 m)
+// for metres ahead, the layer above hardly at all. Its body (0.5 m high) is in both, so the
+// seen-free length must not swing with which of the two its centre is in (2 cm higher or lower);
+// with neither layer seen it is nothing, and the layer below alone is not enough for a body that
+// does not reach into it.
+TEST(PathPlanner, SeenFreeLengthDoesNotTurnOnWhichCellTheBodysCentreIsIn) {
+  LocalGrid g(Eigen::Vector3d(-2, -6, -8), Eigen::Vector3i(60, 30, 20), 0.4);
+  for (int z = 0; z < 20; ++z)
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 60; ++x) {
+        const Eigen::Vector3d c = g.Centre({x, y, z});
+        if (c.z() > -4.0 && c.z() < -3.6 && c.x() < 12.0) g.Set({x, y, z}, Cell::kFree);  // 3.6-4.0 m up
+      }
+  g.ComputeDistances();
+  for (const double up : {3.98, 4.02}) {
+    const double seen = SeenFreeLength(g, {{0, 0, -up}, {20, 0, -up}}, 1.0, 0.25);
+    EXPECT_NEAR(seen, 12.0, 0.2) << up << " m up";
+  }
+  // 4.1 m up, a body 0.5 m high reaches into the layer seen; one 0.1 m high does not.
+  EXPECT_NEAR(SeenFreeLength(g, {{0, 0, -4.1}, {20, 0, -4.1}}, 1.0, 0.25), 12.0, 0.2);
+  EXPECT_LT(SeenFreeLength(g, {{0, 0, -4.1}, {20, 0, -4.1}}, 1.0, 0.05), 0.2);
+  // Nothing seen at 5 m up.
+  EXPECT_LT(SeenFreeLength(g, {{0, 0, -5.0}, {20, 0, -5.0}}, 1.0, 0.25), 0.2);
 }
 
 // The box [lo, hi) seen free (one leaf every `step` m), then a pole seen twice (certain).

@@ -222,7 +222,7 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
     return Eigen::Vector3d(a + (b - a) * std::max(0.0, 0.999 * t_exit));
   };
   auto way_clear = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    return map_only ? SeenFreeLength(grid, {a, b}, p_.clearance()) >= (b - a).norm() - 1e-6 : SegmentClear(grid, a, b, p_.clearance());
+    return map_only ? SeenFreeLength(grid, {a, b}, p_.clearance(), 0.5 * p_.body_height_m) >= (b - a).norm() - 1e-6 : SegmentClear(grid, a, b, p_.clearance());
   };
   // A vehicle flying across the straight way does not turn onto it where it is: its momentum
   // carries it on toward where it would stop braking at brake_accel, v|v| / 2a (no farther than
@@ -236,7 +236,7 @@ AvoidancePlan AvoidancePlanner::Plan(int64_t utime, const Eigen::Vector3d& p_N, 
   const bool direct = coast_clear && way_clear(p_N, clipped(p_N, via_N)) &&
                       ((via_N - goal_N).norm() < 1e-6 || way_clear(via_N, clipped(via_N, goal_N)));
   auto finish = [&](AvoidancePlan& out) -> AvoidancePlan {
-    out.seen_free_m = out.path_N.size() >= 2 ? SeenFreeLength(grid, out.path_N, p_.clearance()) : 0.0;
+    out.seen_free_m = out.path_N.size() >= 2 ? SeenFreeLength(grid, out.path_N, p_.clearance(), 0.5 * p_.body_height_m) : 0.0;
     out.planning_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     out.planning_cpu_ms = ThreadCpuMs() - cpu0_ms;
     return out;

@@ -88,8 +88,23 @@ bool SegmentClear(const LocalGrid& grid, const Eigen::Vector3d& a_N, const Eigen
   return true;
 }
 
-double SeenFreeLength(const LocalGrid& grid, const std::vector<Eigen::Vector3d>& p_N, double clearance_m) {
+double SeenFreeLength(const LocalGrid& grid, const std::vector<Eigen::Vector3d>& p_N, double clearance_m,
+                      double body_half_height_m) {
   if (p_N.empty()) return 0.0;
+  // Observed free: the body's centre's cell, or the cell above or below when the body reaches
+  // into it. A vehicle cruising on a cell's face (4.0 m up on 0.4 m cells) otherwise had its
+  // seen-free length swing between 0.3 and 5.6 m as its height wandered by 2 cm: rays from a
+  // camera at the bottom of the upper cell, down to the ground, hardly cross that cell, and
+  // cross the one below it for metres. In an open field it surged to 3 m/s and braked to
+  // 0.6 m/s every 2-3 s, 0.69 x cruise on average; 20 cm higher or lower, 0.86-0.89 x.
+  const double half = std::min(body_half_height_m, 0.5 * grid.resolution());
+  auto observed_free = [&](const Eigen::Vector3d& p) {
+    if (grid.StateAt(p) == Cell::kFree) return true;
+    const Eigen::Vector3i c = grid.CellOf(p);
+    const double into = p.z() - grid.Centre(c).z();  // [m] from the cell's middle, down positive
+    const Eigen::Vector3i across = c + Eigen::Vector3i(0, 0, into > 0 ? 1 : -1);
+    return 0.5 * grid.resolution() - std::abs(into) < half && grid.Contains(across) && grid.State(across) == Cell::kFree;
+  };
   // A vehicle already nearer an obstacle than the clearance may move as long as it gets no nearer
   // (the planner's way out).
   const double need = std::min(Inflated(grid, clearance_m), static_cast<double>(grid.DistanceAt(p_N.front())));
@@ -99,7 +114,7 @@ double SeenFreeLength(const LocalGrid& grid, const std::vector<Eigen::Vector3d>&
     const int n = std::max(1, static_cast<int>(std::ceil(length / (grid.resolution() / 3.0))));
     for (int k = i == 0 ? 0 : 1; k <= n; ++k) {
       const Eigen::Vector3d p = p_N[i] + (p_N[i + 1] - p_N[i]) * (double(k) / n);
-      if (grid.StateAt(p) != Cell::kFree || grid.DistanceAt(p) < need) return s + length * std::max(0, k - 1) / n;
+      if (!observed_free(p) || grid.DistanceAt(p) < need) return s + length * std::max(0, k - 1) / n;
     }
     s += length;
   }

@@ -181,7 +181,7 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
   const double arrival_m = p_.clearance();
   const bool arriving = (*goal_N - est.p_N).norm() <= arrival_m;
   // Within the clearance of its goal the vehicle's own body and margin already cover the rest of
-  // the way (the planner refuses a goal nearer an obstacle than that): it goes there at an
+  // the way (the planner ends short of a goal nearer an obstacle than that): it goes there at an
   // approach speed instead of holding short of a goal it was given (space just beside the goal
   // may never be seen free when only sky is behind it, or when the cameras are gone).
   double v_allow = std::max(arriving ? kArrivalSpeed : 0.0, -a * t + std::sqrt(a * a * t * t + 2.0 * a * d));

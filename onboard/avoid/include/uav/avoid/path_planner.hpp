@@ -76,7 +76,10 @@ bool SegmentClear(const LocalGrid& grid, const Eigen::Vector3d& a_N, const Eigen
 
 // Arc length along the polyline from its start to the first sample (a third of a cell apart)
 // that is not observed free or nearer an occupied cell than clearance_m: how far the vehicle
-// may count on. The polyline's length when all of it is.
-double SeenFreeLength(const LocalGrid& grid, const std::vector<Eigen::Vector3d>& p_N, double clearance_m);
+// may count on. The polyline's length when all of it is. A sample within body_half_height_m of
+// a cell's top or bottom face counts as observed free if the cell across that face is: the
+// body spans both, and which of the two holds its centre must not decide the speed.
+double SeenFreeLength(const LocalGrid& grid, const std::vector<Eigen::Vector3d>& p_N, double clearance_m,
+                      double body_half_height_m);
 
 }  // namespace uav::avoid
