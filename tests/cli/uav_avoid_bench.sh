@@ -49,6 +49,28 @@ assert north[len(north) // 2] < 30, north[len(north) // 2]
 assert sorted(abs(float(r["yaw_deg"])) for r in moving)[len(moving) // 2] < 30
 print("uav-avoid-bench: ok", json.dumps(f))
 PY
+# An obstacle layout of one's own (a scene file): a brick wall 8 m wide across the way and a pole
+# behind it, flown from home to (24, 0) with the bench's pairs in place of the file's cameras.
+cat > "$out/layout.json" <<'JSON'
+{"name": "wall and pole", "seed": 4,
+ "objects": [
+   {"type": "box", "kind": "wall", "center_ned": [12, 0, -4], "size": [0.3, 8, 8], "material": "brick"},
+   {"type": "cylinder", "kind": "pole", "base_ned": [18, 2.5, 0], "radius_m": 0.3, "height_m": 8, "material": "concrete"}],
+ "cameras": {"downward": {"rate_hz": 5}}}
+JSON
+"$bin/uav-avoid-bench" --scene "$out/layout.json" --to 24,0 --speed 3 --quiet --json "$out/s.json" --picture "$out/scene_pictures" > /dev/null
+python3 - "$out" <<'PY'
+import json, sys
+out = sys.argv[1]
+j = json.load(open(f"{out}/s.json"))
+assert j["scene"].endswith("layout.json") and j["goal_ne_m"] == [24, 0] and j["altitude_m"] == 4, j
+f = j["flights"][0]
+# The file's own seed; around the wall (the straight line runs through it), clear of both.
+assert f["seed"] == 4 and f["success"] and f["min_clearance_m"] >= 0.5, f
+assert 24.5 < f["shortest_m"] < 30 and f["path_m"] < 1.3 * f["shortest_m"], f
+assert open(f"{out}/scene_pictures/field_4.png", "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+print("uav-avoid-bench --scene: ok", json.dumps(f))
+PY
 refuse() {  # refuse EXPECTED_TEXT ARGS...
   local expected=$1
   shift
@@ -63,3 +85,11 @@ refuse "no_such_parameter" --param no_such_parameter=1 --seeds 1
 touch "$out/file"
 refuse "pictures" --seeds 1 --picture "$out/file/pictures"
 echo "refusals: ok"
+refuse "within the body radius" --scene "$out/layout.json" --to 12,0
+refuse "not both" --scene "$out/layout.json" --to 24,0 --density 1/49
+refuse "needs the goal" --scene "$out/layout.json"
+refuse "must be N,E" --scene "$out/layout.json" --to 24
+refuse "is for --scene" --density 1/49 --to 30,0
+printf '{"objects": [' > "$out/broken.json"
+refuse "is not JSON" --scene "$out/broken.json" --to 24,0
+refuse "seeds must be" --seeds 2-x

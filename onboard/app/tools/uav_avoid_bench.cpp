@@ -8,7 +8,9 @@
 // time p50/p99 (wall, and the planning thread's CPU), left/right reversals per obstacle passed,
 // stops over 3 s, and how far the navigation's error moves in 3 s. The vehicle carries a level
 // pair for obstacles and, 10 cm above it, a pair rolled 45 degrees for wires (--wire-rig-roll).
+// Any scene file (an obstacle layout of one's own) is flown the same way with --scene and --to.
 //   uav-avoid-bench --density 1/25 --speed 3 --seeds 1-10 [--json OUT] [--picture DIR]
+//   uav-avoid-bench --scene FILE --to N,E [--altitude M] --speed 3 --seeds 1
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -39,69 +41,101 @@ namespace {
 constexpr double kWidth = 20.0, kLength = 60.0;  // the corridor [m]: north 0..60, east -10..10
 constexpr double kAltitude = 4.0;                // [m] the flight's
 constexpr double kClearStart = 3.0;              // [m] nothing this near the start or the goal
+constexpr double kMargin = 15.0;                 // [m] the truth kept this far round a scene's home and goal
 
-const char* kBaseScene = R"({
-  "name": "avoidance field", "seed": %d,
-  "sun": {"azimuth_deg": 200, "elevation_deg": 45, "ambient": 0.45},
-  "ground": {"layout": "uniform", "material": "grass"},
-  "clouds": {"coverage": 0.25, "darkness": 0.3, "scale_m": 60},
-  "objects": [],
-  "generate": [{"type": "obstacle_field", "count": %d, "region_ne": [0, -10, 60, 10], "clear_radius_m": %.1f,
-                "keep_clear_ne": [60, 0], "wires": %d, "wire_height_m": [3, 8]}],
-  "cameras": {"stereo": [{"name": "stereo", "rate_hz": 15, "baseline_m": 0.12, "mount_roll_deg": %.1f, "preview_rate_hz": 0,
-                          "laser": {"enabled": true, "rows": 15, "cols": 15, "pitch_deg": 2.5, "roll_deg": 16}}%s]}
-})";
-// The second pair, for wires alone (pwl_rig 1): 10 cm above the first, rolled about its axis.
-const char* kWireRig = R"(,
-                         {"name": "wires", "rate_hz": 15, "baseline_m": 0.12, "mount_xyz_m": [0.15, 0, -0.1], "mount_roll_deg": %.1f})";
+// What is flown: the scene (made per seed), the goal, the altitude, and the rectangle the truth
+// is kept on.
+struct Course {
+  std::string scene_path;  // "": the generated corridor at `density`
+  nlohmann::json scene;    // the scene file's content (its cameras replaced by the bench's pairs)
+  double density = 0;
+  Eigen::Vector2d goal_NE{kLength, 0};
+  double altitude_m = kAltitude;
+  Eigen::Vector2d lo_NE{-5, -kWidth / 2 - 5}, hi_NE{kLength + 5, kWidth / 2 + 5};
+  double rig_roll_deg = 0;
+  std::optional<double> wire_rig_roll_deg;  // the second pair, for wires alone
+};
 
-// The seeded field of the scene generator `obstacle_field` at `density` obstacles per square
-// metre of the corridor, with one wire between two poles per 200 m^2 (fewer in sparse fields).
-// The stereo pair is rolled rig_roll_deg about its axis (45: level wires are ranged, thesis 3.6);
-// with wire_rig_roll_deg, a second pair rolled so has the wires.
-uav::world::Scene MakeField(double density, int seed, double rig_roll_deg, std::optional<double> wire_rig_roll_deg) {
-  const int count = static_cast<int>(std::lround(density * kWidth * kLength));
-  const int wires = static_cast<int>(std::lround(kWidth * kLength / 200.0 * std::min(1.0, density * 25)));
-  char wire_rig[300] = "";
-  if (wire_rig_roll_deg) std::snprintf(wire_rig, sizeof wire_rig, kWireRig, *wire_rig_roll_deg);
-  char text[1600];
-  std::snprintf(text, sizeof text, kBaseScene, seed, count, kClearStart, wires, rig_roll_deg, wire_rig);
-  // Named as a file of the scenes folder, so that its cameras are found beside it.
-  return uav::world::Scene::Parse(text, std::string(UAV_RESOURCE_DIR) + "/scenes/avoidance_field.scene.json");
+// The pairs the vehicle carries: a level pair for obstacles with the laser grid of thesis 4.2
+// and, with wire_rig_roll_deg, a second pair 10 cm above it, rolled about its axis, for wires
+// alone (pwl_rig 1: a rolled baseline ranges level wires, thesis 3.6).
+nlohmann::json Rigs(const Course& c) {
+  const std::string camera = std::string(UAV_RESOURCE_DIR) + "/cameras/sim_stereo_640x480.camera";
+  nlohmann::json stereo = nlohmann::json::array();
+  stereo.push_back({{"name", "stereo"}, {"file", camera}, {"rate_hz", 15}, {"baseline_m", 0.12}, {"mount_roll_deg", c.rig_roll_deg},
+                    {"preview_rate_hz", 0},
+                    {"laser", {{"enabled", true}, {"rows", 15}, {"cols", 15}, {"pitch_deg", 2.5}, {"roll_deg", 16}}}});
+  if (c.wire_rig_roll_deg)
+    stereo.push_back({{"name", "wires"}, {"file", camera}, {"rate_hz", 15}, {"baseline_m", 0.12}, {"mount_xyz_m", {0.15, 0, -0.1}},
+                      {"mount_roll_deg", *c.wire_rig_roll_deg}});
+  return {{"stereo", stereo}};
 }
 
-// The true field at the flight's altitude on a grid (north -5..65, east -15..15): each cell's
+// The scene of one seed. The generated corridor: the seeded field of the scene generator
+// `obstacle_field` at `density` obstacles per square metre, with one wire between two poles
+// per 200 m^2 (fewer in sparse fields), on grass under a sun and drifting cloud shadows. A
+// scene file: its content with the seed (its generators' and the sensors' noise) and the
+// bench's pairs; the light and the ground it does not give are the corridor's (a scene without
+// a ground has none: nothing below the horizon for the pairs to see).
+uav::world::Scene MakeScene(const Course& c, int seed) {
+  nlohmann::json j = c.scene;
+  const nlohmann::json outdoors = {{"sun", {{"azimuth_deg", 200}, {"elevation_deg", 45}, {"ambient", 0.45}}},
+                                   {"ground", {{"layout", "uniform"}, {"material", "grass"}}},
+                                   {"clouds", {{"coverage", 0.25}, {"darkness", 0.3}, {"scale_m", 60}}}};
+  if (c.scene_path.empty()) {
+    const int count = static_cast<int>(std::lround(c.density * kWidth * kLength));
+    const int wires = static_cast<int>(std::lround(kWidth * kLength / 200.0 * std::min(1.0, c.density * 25)));
+    j = {{"name", "avoidance field"},
+         {"objects", nlohmann::json::array()},
+         {"generate", {{{"type", "obstacle_field"}, {"count", count}, {"region_ne", {0, -kWidth / 2, kLength, kWidth / 2}},
+                        {"clear_radius_m", kClearStart}, {"keep_clear_ne", {kLength, 0}}, {"wires", wires},
+                        {"wire_height_m", {3, 8}}}}}};
+  }
+  if (!j.contains("sky") || j["sky"] != false)
+    for (const auto& [key, value] : outdoors.items())
+      if (!j.contains(key)) j[key] = value;
+  j["seed"] = seed;
+  j["cameras"] = Rigs(c);
+  return uav::world::Scene::Parse(j.dump(), c.scene_path.empty() ? "avoidance field" : c.scene_path);
+}
+
+// The true field at the flight's altitude on a grid over the course's rectangle: each cell's
 // distance to the nearest true surface (the scene's, cables included).
 struct TrueField {
   static constexpr double kRes = 0.1;
-  int nx = static_cast<int>((kLength + 10) / kRes), ny = static_cast<int>((kWidth + 10) / kRes);
+  Eigen::Vector2d lo;
+  int nx = 0, ny = 0;
   std::vector<float> clearance;
-  Eigen::Vector2d At(int x, int y) const { return {-5 + (x + 0.5) * kRes, -kWidth / 2 - 5 + (y + 0.5) * kRes}; }
-  explicit TrueField(const uav::world::Scene& scene) : clearance(static_cast<std::size_t>(nx * ny)) {
+  Eigen::Vector2d At(int x, int y) const { return lo + Eigen::Vector2d(x + 0.5, y + 0.5) * kRes; }
+  // The cell holding p_NE.
+  int X(double n) const { return static_cast<int>(std::floor((n - lo.x()) / kRes + 1e-9)); }
+  int Y(double e) const { return static_cast<int>(std::floor((e - lo.y()) / kRes + 1e-9)); }
+  TrueField(const uav::world::Scene& scene, const Course& c)
+      : lo(c.lo_NE), nx(X(c.hi_NE.x())), ny(Y(c.hi_NE.y())), clearance(static_cast<std::size_t>(nx) * ny) {
     for (int y = 0; y < ny; ++y)
       for (int x = 0; x < nx; ++x) {
         const Eigen::Vector2d p = At(x, y);
-        clearance[y * nx + x] = static_cast<float>(scene.Clearance({p.x(), p.y(), -kAltitude}));
+        clearance[static_cast<std::size_t>(y) * nx + x] = static_cast<float>(scene.Clearance({p.x(), p.y(), -c.altitude_m}));
       }
   }
 };
 
-// Shortest path from start to goal keeping `clearance` from the true field at the flight's
+// Shortest path from home to the goal keeping `clearance` from the true field at the flight's
 // altitude (8-connected A* on the 0.1 m grid; such paths are ~4 % long, corrected below).
-double ShortestPath(const TrueField& field, double clearance) {
+double ShortestPath(const TrueField& field, const Eigen::Vector2d& goal_NE, double clearance) {
   const int nx = field.nx, ny = field.ny;
   const double res = TrueField::kRes;
-  std::vector<float> g(nx * ny, 1e30f);
+  std::vector<float> g(static_cast<std::size_t>(nx) * ny, 1e30f);
   using E = std::pair<float, int>;
   std::priority_queue<E, std::vector<E>, std::greater<E>> open;
-  const int sx = static_cast<int>(5 / res), sy = ny / 2, gx = static_cast<int>((kLength + 5) / res);
+  const int sx = field.X(0), sy = field.Y(0), gx = field.X(goal_NE.x()), gy = field.Y(goal_NE.y());
   g[sy * nx + sx] = 0;
   open.push({0, sy * nx + sx});
   while (!open.empty()) {
     auto [f, i] = open.top();
     open.pop();
     const int x = i % nx, y = i / nx;
-    if (x == gx && y == sy) return g[i] * 0.96;
+    if (x == gx && y == gy) return g[i] * 0.96;
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         const int mx = x + dx, my = y + dy;
@@ -109,7 +143,7 @@ double ShortestPath(const TrueField& field, double clearance) {
         const float c = g[i] + static_cast<float>(res * std::hypot(dx, dy));
         if (c < g[my * nx + mx]) {
           g[my * nx + mx] = c;
-          open.push({c + static_cast<float>(res * std::hypot(gx - mx, sy - my)), my * nx + mx});
+          open.push({c + static_cast<float>(res * std::hypot(gx - mx, gy - my)), my * nx + mx});
         }
       }
   }
@@ -154,6 +188,7 @@ struct FlightResult {
   // poorly by any rolled pair; the target is set for cables across the corridor).
   std::vector<double> wire_angles_deg;
   std::vector<Eigen::Vector3f> occupied;  // the vehicle's map at the end, in the flight's band
+  std::shared_ptr<const TrueField> truth;  // the field at the flight's altitude
   std::ostringstream trace;               // every 0.1 s after the goto: truth, estimate, avoidance
 };
 
@@ -176,17 +211,32 @@ double Percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
 }
 
-FlightResult Fly(const uav::ParameterSet& params, double density, int seed, double speed, double rig_roll_deg,
-                 std::optional<double> wire_rig_roll_deg, bool progress) {
+FlightResult Fly(const uav::ParameterSet& params, const Course& course, int seed, double speed, bool progress) {
   FlightResult r;
   r.seed = seed;
-  const uav::world::Scene scene = MakeField(density, seed, rig_roll_deg, wire_rig_roll_deg);
-  const TrueField truth(scene);
+  const uav::world::Scene scene = MakeScene(course, seed);
   const auto avd = uav::avoid::AvoidanceParams::FromParameters(params);
-  r.shortest_m = ShortestPath(truth, avd.body_radius_m);
+  const Eigen::Vector3d goal_N(course.goal_NE.x(), course.goal_NE.y(), -course.altitude_m);
+  // Home (the climb) and the goal must leave the body room on the true field: a flight that
+  // cannot succeed is refused, not flown.
+  for (const auto& [what, p] : {std::pair<const char*, Eigen::Vector3d>{"home", {0, 0, -course.altitude_m}},
+                                {"home", {0, 0, -1.0}}, {"the goal", goal_N}}) {
+    int nearest = uav::world::kNoObject;
+    const double c = scene.Clearance(p, 0.0, &nearest);
+    if (c < avd.body_radius_m) {
+      char text[300];
+      char how[40] = "inside";
+      if (c > 0) std::snprintf(how, sizeof how, "%.2f m from", c);
+      std::snprintf(text, sizeof text, "%s (%.1f, %.1f) at %.1f m up is %s %s, within the body radius %.2f m (seed %d)", what, p.x(),
+                    p.y(), -p.z(), how, scene.Describe(nearest).c_str(), avd.body_radius_m, seed);
+      throw std::invalid_argument(text);
+    }
+  }
+  r.truth = std::make_shared<const TrueField>(scene, course);
+  r.shortest_m = ShortestPath(*r.truth, course.goal_NE, avd.body_radius_m);
   const uav::GeodeticPoint home{1.3521, 103.8198, 10.0};
   const int64_t start = 1'700'000'000'000'000;
-  const double limit_s = 40.0 + 3.0 * kLength / speed;
+  const double limit_s = 40.0 + 3.0 * course.goal_NE.norm() / speed;
   uav::app::SimFlight flight(params, {home, start, 0.0, limit_s, &scene, "", nullptr});
   uav::app::Blackboard& board = flight.board();
   const uav::sim::SimulatedVehicle& vehicle = flight.vehicle();
@@ -196,7 +246,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
     board.commands.Push({"bench", ++seq, *uav::ParseCommand(text).command});
   };
   char goto_text[64];
-  std::snprintf(goto_text, sizeof goto_text, "goto %.1f 0 %.1f", kLength, kAltitude);
+  std::snprintf(goto_text, sizeof goto_text, "goto %.2f %.2f %.2f", course.goal_NE.x(), course.goal_NE.y(), course.altitude_m);
   double last_sample_t = -1, still_since = -1, travel_start_t = -1;
   int64_t last_plan_utime = -1;
   int last_side = 0;
@@ -208,8 +258,17 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
     const uav::app::BlackboardData d = board.Snapshot();
     const Eigen::Vector3d p = vehicle.Truth().p_N;
     if (stage == 0 && t > 1.0) send("arm"), stage = 1;
-    else if (stage == 1 && d.armed) send("takeoff " + std::to_string(kAltitude)), stage = 2;
-    else if (stage == 2 && d.task == uav::Task::kHover && -p.z() > kAltitude - 0.5) send(goto_text), stage = 3, travel_start_t = t;
+    else if (stage == 1 && d.armed) send("takeoff " + std::to_string(course.altitude_m)), stage = 2;
+    else if (stage == 2 && d.task == uav::Task::kHover && -p.z() > course.altitude_m - 0.5) send(goto_text), stage = 3, travel_start_t = t;
+    // The vehicle's messages to the operator, as the GCS would show them.
+    for (const uav::app::StatusText& m : board.status.TakeAll())
+      if (progress) std::fprintf(stderr, "  seed %d t %.1f s: %s\n", seed, t, m.text.c_str());
+    // A command the vehicle refuses, or a goto it gives up (no path), ends the flight with its reason.
+    for (const uav::CommandAck& a : board.task_reports.TakeAll())
+      if (a.source == "bench" && uav::IsFailure(a.result)) {
+        r.why = a.command + (a.result == uav::CommandResult::kRejected ? " refused: " : " failed: ") + a.reason;
+        flight.Stop();
+      }
     if (stage != 3) return;
     if (d.avoid_plan && d.avoid_plan->utime != last_plan_utime) {
       last_plan_utime = d.avoid_plan->utime;
@@ -231,7 +290,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
       // Reversals: the side the detour takes (left/right of the line to the goal), counted when
       // it changes while avoiding.
       if (d.avoid_state == uav::AvoidState::kAvoiding && d.avoid_plan && d.avoid_plan->path_N.size() >= 2) {
-        const Eigen::Vector2d to_goal = Eigen::Vector2d(kLength, 0) - p.head<2>();
+        const Eigen::Vector2d to_goal = course.goal_NE - p.head<2>();
         const Eigen::Vector2d ahead = uav::avoid::PointAt(d.avoid_plan->path_N, 3.0).head<2>() - p.head<2>();
         const double cross = to_goal.x() * ahead.y() - to_goal.y() * ahead.x();
         const int side = std::abs(cross) / std::max(to_goal.norm(), 1e-6) > 0.5 ? (cross > 0 ? 1 : -1) : 0;
@@ -271,7 +330,7 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
     }
     // Reached: the goto completed (the vehicle holds at its goal, as its estimate has it) with
     // the truth within the GPS-grade navigation's few metres of it.
-    if (t - travel_start_t > 1.0 && d.task == uav::Task::kHover && (p - Eigen::Vector3d(kLength, 0, -kAltitude)).head<2>().norm() < 3.0) {
+    if (t - travel_start_t > 1.0 && d.task == uav::Task::kHover && (p - goal_N).head<2>().norm() < 3.0) {
       r.reached = true;
       r.time_s = t - travel_start_t;
       flight.Stop();
@@ -280,8 +339,8 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   if (const auto* map = flight.sensing()->avoidance_map()) {
     // The map is kept in the odometry frame: drawn in N where the navigation puts it at the end.
     const Eigen::Vector3d p_NO = board.Snapshot().estimate.p_NO();
-    r.occupied = map->OccupiedCentres(Eigen::Vector3d(-10, -kWidth, -kAltitude - 1.5) - p_NO,
-                                      Eigen::Vector3d(kLength + 10, kWidth, -kAltitude + 1.5) - p_NO);
+    r.occupied = map->OccupiedCentres(Eigen::Vector3d(course.lo_NE.x(), course.lo_NE.y(), -course.altitude_m - 1.5) - p_NO,
+                                      Eigen::Vector3d(course.hi_NE.x(), course.hi_NE.y(), -course.altitude_m + 1.5) - p_NO);
     for (Eigen::Vector3f& c : r.occupied) c += p_NO.cast<float>();
   }
   for (const auto& o : scene.obstacles()) {
@@ -302,12 +361,14 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
     if (cable_least[i] >= kWirePassed) continue;
     r.wire_clearances.push_back(cable_least[i]);
     const Eigen::Vector2d ab = (scene.cables()[i].b_N - scene.cables()[i].a_N).head<2>();
-    r.wire_angles_deg.push_back(std::atan2(std::abs(ab.y()), std::abs(ab.x())) * 180.0 / M_PI);
+    const Eigen::Vector2d axis = course.goal_NE.normalized();
+    r.wire_angles_deg.push_back(std::atan2(std::abs(ab.x() * axis.y() - ab.y() * axis.x()), std::abs(ab.dot(axis))) * 180.0 / M_PI);
   }
   r.mean_speed = r.reached && r.time_s > 0 ? r.path_m / r.time_s : 0.0;
   r.success = r.reached && r.min_clearance >= avd.body_radius_m;
-  if (!r.reached) r.why = "goal not reached in " + std::to_string(static_cast<int>(limit_s)) + " s";
-  else if (!r.success) {
+  if (!r.reached) {
+    if (r.why.empty()) r.why = "goal not reached in " + std::to_string(static_cast<int>(limit_s)) + " s";
+  } else if (!r.success) {
     char why[320];
     std::snprintf(why, sizeof why, "true clearance fell to %.2f m at (%.1f, %.1f), %.1f m up, %.1f s after the goto, by %s",
                   r.min_clearance, r.closest_N.x(), r.closest_N.y(), -r.closest_N.z(), r.closest_t, scene.Describe(r.closest_id).c_str());
@@ -316,11 +377,15 @@ FlightResult Fly(const uav::ParameterSet& params, double density, int seed, doub
   return r;
 }
 
-void Picture(const std::string& path, const FlightResult& r, double density, int seed) {
-  const TrueField truth(MakeField(density, seed, 0.0, std::nullopt));  // the field, whatever the cameras
-  const double px = 12.0;  // pixels per metre
-  cv::Mat img(static_cast<int>((kWidth + 10) * px), static_cast<int>((kLength + 10) * px), CV_8UC3, cv::Scalar(235, 240, 235));
-  auto P = [&](const Eigen::Vector2d& p) { return cv::Point(static_cast<int>((p.x() + 5) * px), static_cast<int>((kWidth / 2 + 5 - p.y()) * px)); };
+// Seen from above, north to the right and east down (a map turned a quarter to the right).
+void Picture(const std::string& path, const FlightResult& r, const Course& course) {
+  const TrueField& truth = *r.truth;
+  const Eigen::Vector2d extent = course.hi_NE - course.lo_NE;
+  const double px = std::min(12.0, 2400.0 / extent.maxCoeff());  // pixels per metre
+  cv::Mat img(static_cast<int>(extent.y() * px), static_cast<int>(extent.x() * px), CV_8UC3, cv::Scalar(235, 240, 235));
+  auto P = [&](const Eigen::Vector2d& p) {
+    return cv::Point(static_cast<int>((p.x() - course.lo_NE.x()) * px), static_cast<int>((p.y() - course.lo_NE.y()) * px));
+  };
   // The true field at the flight's altitude: inside a surface dark green, within the body radius
   // light green (where the body centre must not go).
   for (int y = 0; y < truth.ny; ++y)
@@ -337,16 +402,19 @@ void Picture(const std::string& path, const FlightResult& r, double density, int
   }
   // The track, blue at the flight's altitude turning red as it goes 2.5 m or more below it.
   for (std::size_t i = 1; i < r.track.size(); ++i) {
-    const double below = std::clamp((kAltitude + r.track[i].z()) / 2.5, 0.0, 1.0);
+    const double below = std::clamp((course.altitude_m + r.track[i].z()) / 2.5, 0.0, 1.0);
     cv::line(img, P(r.track[i - 1].head<2>()), P(r.track[i].head<2>()), cv::Scalar(200 * (1 - below), 80 * (1 - below), 230 * below), 2,
              cv::LINE_AA);
   }
   cv::circle(img, P({0, 0}), 6, cv::Scalar(0, 160, 0), 2);
   // The closest approach to a true surface.
   if (!r.track.empty()) cv::circle(img, P(r.closest_N.head<2>()), 9, cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
-  cv::circle(img, P({kLength, 0}), 6, cv::Scalar(0, 0, 200), 2);
-  char text[160];
-  std::snprintf(text, sizeof text, "density %.3f/m^2 seed %d: %s, min clearance %.2f m, path %.1f m (shortest %.1f)", density, seed,
+  cv::circle(img, P(course.goal_NE), 6, cv::Scalar(0, 0, 200), 2);
+  char field[120];
+  if (course.scene_path.empty()) std::snprintf(field, sizeof field, "density %.3f/m^2", course.density);
+  else std::snprintf(field, sizeof field, "%s", std::filesystem::path(course.scene_path).filename().c_str());
+  char text[400];
+  std::snprintf(text, sizeof text, "%s seed %d: %s, min clearance %.2f m, path %.1f m (shortest %.1f)", field, r.seed,
                 r.success ? "success" : r.why.c_str(), r.min_clearance, r.path_m, r.shortest_m);
   cv::putText(img, text, {8, 18}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   if (!cv::imwrite(path, img)) throw std::runtime_error("could not write the picture " + path);
@@ -394,13 +462,18 @@ nlohmann::json Cell(const std::vector<FlightResult>& results, double speed) {
 int main(int argc, char** argv) {
   uav::KeepFreedMemory();
   CLI::App cli{"uav-avoid-bench: closed-loop obstacle avoidance over seeded obstacle fields, perception in the loop"};
-  std::string density_text = "1/25", seeds_text = "1-3", json_path, picture_dir, params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
-  double speed = 3.0, rig_roll = 0.0, wire_rig_roll = 45.0;
+  std::string density_text, scene_path, goal_text, seeds_text, json_path, picture_dir, params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
+  double speed = 3.0, rig_roll = 0.0, wire_rig_roll = 45.0, altitude = kAltitude;
   bool quiet = false;
   std::vector<std::string> overrides;
-  cli.add_option("--density", density_text, "obstacles per square metre: 1/49, 1/25, 1/12 or a decimal");
+  cli.add_option("--density", density_text, "obstacles per square metre of the generated corridor: 1/49, 1/25, 1/12 or a decimal (default 1/25)");
+  cli.add_option("--scene", scene_path,
+                 "fly this scene file (its objects and generators; the bench's pairs replace its cameras; the corridor's sun, "
+                 "grass and clouds where it gives none) from home to --to, instead of a generated corridor");
+  cli.add_option("--to", goal_text, "the goal N,E [m from home] (default 60,0: the corridor's far end; needed with --scene)");
+  cli.add_option("--altitude", altitude, "the flight's altitude [m]")->check(CLI::Range(1.0, 100.0));
   cli.add_option("--speed", speed, "cruise speed [m/s] (ctl_speed_max_xy)")->check(CLI::Range(0.5, 15.0));
-  cli.add_option("--seeds", seeds_text, "seed range A-B (or one seed)");
+  cli.add_option("--seeds", seeds_text, "seed range A-B (or one seed): the scene's seed (default 1-3; with --scene, the file's own)");
   cli.add_option("--rig-roll", rig_roll, "the stereo pair rolled this much about its axis [deg] (45 ranges level wires)")
       ->check(CLI::Range(-90.0, 90.0));
   cli.add_option("--wire-rig-roll", wire_rig_roll,
@@ -418,27 +491,67 @@ int main(int argc, char** argv) {
   cli.add_flag("--quiet", quiet, "no progress lines");
   CLI11_PARSE(cli, argc, argv);
   try {
-    double density = 0;
-    if (const auto slash = density_text.find('/'); slash != std::string::npos)
-      density = std::stod(density_text.substr(0, slash)) / std::stod(density_text.substr(slash + 1));
-    else
-      density = std::stod(density_text);
-    if (!(density > 0 && density <= 0.25)) throw std::invalid_argument("--density must be in (0, 1/4] per square metre");
-    int a = 0, b = 0;
-    if (std::sscanf(seeds_text.c_str(), "%d-%d", &a, &b) == 1) b = a;
-    if (a < 0 || b < a || b - a > 10000) throw std::invalid_argument("--seeds must be A-B with 0 <= A <= B");
+    Course course;
+    course.altitude_m = altitude;
+    course.rig_roll_deg = rig_roll;
+    if (!scene_path.empty()) {
+      if (!density_text.empty()) throw std::invalid_argument("give --density (a generated corridor) or --scene, not both");
+      if (goal_text.empty()) throw std::invalid_argument("--scene needs the goal: --to N,E [m from home]");
+      course.scene_path = scene_path;
+      try {
+        course.scene = nlohmann::json::parse(uav::ReadTextFile(scene_path, "scene"));
+      } catch (const nlohmann::json::exception& e) {
+        throw std::invalid_argument("scene " + scene_path + " is not JSON: " + e.what());
+      }
+      if (!course.scene.is_object()) throw std::invalid_argument("scene " + scene_path + " must hold a JSON object");
+    } else {
+      if (density_text.empty()) density_text = "1/25";
+      double density = 0;
+      try {
+        if (const auto slash = density_text.find('/'); slash != std::string::npos)
+          density = std::stod(density_text.substr(0, slash)) / std::stod(density_text.substr(slash + 1));
+        else
+          density = std::stod(density_text);
+      } catch (const std::exception&) {
+        density = NAN;
+      }
+      if (!(density > 0 && density <= 0.25)) throw std::invalid_argument("--density must be in (0, 1/4] per square metre, not '" + density_text + "'");
+      course.density = density;
+    }
+    if (!goal_text.empty()) {
+      double n = NAN, e = NAN;
+      char rest = 0;
+      if (std::sscanf(goal_text.c_str(), "%lf,%lf%c", &n, &e, &rest) != 2 || !std::isfinite(n) || !std::isfinite(e))
+        throw std::invalid_argument("--to must be N,E in metres from home, not '" + goal_text + "'");
+      course.goal_NE = {n, e};
+      if (!(course.goal_NE.norm() >= 5.0 && course.goal_NE.norm() <= 2000.0))
+        throw std::invalid_argument("--to must be 5 m to 2 km from home, not " + std::to_string(course.goal_NE.norm()) + " m");
+      if (!scene_path.empty()) {
+        course.lo_NE = course.goal_NE.cwiseMin(Eigen::Vector2d::Zero()) - Eigen::Vector2d::Constant(kMargin);
+        course.hi_NE = course.goal_NE.cwiseMax(Eigen::Vector2d::Zero()) + Eigen::Vector2d::Constant(kMargin);
+      } else if (course.goal_NE != Eigen::Vector2d(kLength, 0)) {
+        throw std::invalid_argument("the generated corridor's goal is its far end (60,0): --to is for --scene");
+      }
+    }
+    if (seeds_text.empty())
+      seeds_text = course.scene_path.empty() ? "1-3" : course.scene.contains("seed") ? course.scene["seed"].dump() : "1";
+    int a = -1, b = -1, used = 0;
+    const int read = std::sscanf(seeds_text.c_str(), "%d%n-%d%n", &a, &used, &b, &used);
+    if (read == 1) b = a;
+    if (read < 1 || used != static_cast<int>(seeds_text.size()) || a < 0 || b < a || b - a > 10000)
+      throw std::invalid_argument("--seeds must be A-B with 0 <= A <= B (or one seed), not '" + seeds_text + "'");
     uav::ParameterSet params = uav::ParameterSet::LoadFile(params_path, uav::VehicleParameterSchema());
     params = params.With("avd_enable", 1).With("ctl_speed_max_xy", speed);
-    std::optional<double> wire_rig;
-    if (wire_rig_roll != 0.0) wire_rig = wire_rig_roll, params = params.With("pwl_rig", 1);
+    if (wire_rig_roll != 0.0) course.wire_rig_roll_deg = wire_rig_roll, params = params.With("pwl_rig", 1);
     for (const auto& o : overrides) params = params.WithAssignment(o);
     // The picture folder is made up front: a bad one is said before the first flight, not after.
     if (!picture_dir.empty()) std::filesystem::create_directories(picture_dir);
     if (!trace_dir.empty()) std::filesystem::create_directories(trace_dir);
-    nlohmann::json out = {{"density", density}, {"speed", speed}, {"rig_roll_deg", rig_roll}, {"wire_rig_roll_deg", wire_rig_roll}, {"flights", nlohmann::json::array()}};
+    nlohmann::json out = {{"density", course.density}, {"scene", scene_path}, {"goal_ne_m", {course.goal_NE.x(), course.goal_NE.y()}},
+                          {"altitude_m", course.altitude_m}, {"speed", speed}, {"rig_roll_deg", rig_roll}, {"wire_rig_roll_deg", wire_rig_roll}, {"flights", nlohmann::json::array()}};
     std::vector<FlightResult> results;
     for (int seed = a; seed <= b; ++seed) {
-      FlightResult r = Fly(params, density, seed, speed, rig_roll, wire_rig, !quiet);
+      FlightResult r = Fly(params, course, seed, speed, !quiet);
       if (!quiet)
         std::fprintf(stderr,
                      "seed %d: %s, clearance min %.2f p5 %.2f m, path %.1f / %.1f m, %.1f m/s, reversals %d, stops %d, "
@@ -449,7 +562,7 @@ int main(int argc, char** argv) {
                      r.wire_clearances.empty() ? NAN : *std::min_element(r.wire_clearances.begin(), r.wire_clearances.end()),
                      LeastAcross(r),
                      Percentile(r.replan_ms, 0.5), Percentile(r.replan_ms, 0.99), r.error_drift_3s_N, r.error_drift_3s_O);
-      if (!picture_dir.empty()) Picture(picture_dir + "/field_" + std::to_string(seed) + ".png", r, density, seed);
+      if (!picture_dir.empty()) Picture(picture_dir + "/field_" + std::to_string(seed) + ".png", r, course);
       if (!trace_dir.empty())
         uav::WriteFileAtomically(trace_dir + "/trace_" + std::to_string(seed) + ".csv",
                                  "t_s,n_m,e_m,alt_m,est_n_m,est_e_m,est_alt_m,speed_mps,yaw_deg,course_deg,climb_mps,clearance_m,nearest_id,perceived_range_m,"
