@@ -215,6 +215,7 @@ TEST(AvoidanceFlight, ACameraThatFailsMidFlightBrakesHoldsAndReturnsOnTheMap) {
   ASSERT_TRUE(failed);
   EXPECT_TRUE(f.states.count(AvoidState::kNoData));
   EXPECT_TRUE(f.Said("obstacle perception lost")) << "the failsafe said why";
+  EXPECT_TRUE(f.Said("blank or flat")) << "and what the camera gave";
   EXPECT_TRUE(f.tasks.count(Task::kReturn));
   std::string said;
   for (const auto& t : f.said) said += "\n  " + t;

@@ -101,7 +101,12 @@ void StereoWorker::Work(Outbox& out) {
     // The corridor ahead from the same points (one disparity per pair).
     const vision::StereoRangeResult corridor = vision::StereoRange::RangeFromPoints(found.points_L, vision::StereoRangeParams());
     const double range_m = corridor.obstacle ? corridor.range_m : -1.0;
-    out.Post([range_m](Blackboard& b) { b.Update([&](BlackboardData& d) { d.obstacle_range_m = range_m; }); });
+    out.Post([range_m](Blackboard& b) {
+      b.Update([&](BlackboardData& d) {
+        d.obstacle_range_m = range_m;
+        d.obstacle_unhealthy_reason.clear();
+      });
+    });
     ReportObstacles(utime, found, T_NB, out);
   } else {
     found.gate_depth_m = obstacles_.GateDepth();
@@ -132,8 +137,9 @@ void StereoWorker::ReportUnhealthy(int64_t utime, const std::string& reason, Out
     });
     return;
   }
-  out.Post([](Blackboard& b) {
-    b.Update([](BlackboardData& d) {
+  out.Post([reason, camera = camera_.left().name](Blackboard& b) {
+    b.Update([&](BlackboardData& d) {
+      d.obstacle_unhealthy_reason = camera + ": " + reason;
       d.obstacle_range_m = -1.0;
       d.obstacle_count = 0;
       d.nearest_obstacle_m = -1.0;

@@ -212,6 +212,7 @@ void ControlWorker::Tick(int64_t utime) {
     char why[96];
     std::snprintf(why, sizeof why, "none for %.1f s", age);
     fin.perception_lost_reason = why;
+    if (!d.obstacle_unhealthy_reason.empty()) fin.perception_lost_reason += " (" + d.obstacle_unhealthy_reason + ")";
   }
   const control::FailsafeAction required = failsafes_.Update(fin, &events);
   for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? Severity::kWarning : Severity::kInfo, e);

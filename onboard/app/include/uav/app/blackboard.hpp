@@ -111,6 +111,7 @@ struct BlackboardData {
   };
   std::optional<VisionPosition> vision_position;
   std::string vision_unhealthy_reason;  // the odometry's last refusal ("" while it is healthy)
+  std::string obstacle_unhealthy_reason;  // the obstacle pair's last unusable frame ("" while it is healthy)
   // IMU thread: where the INS takes its position from, and the VO+IMU filter's track.
   PositionSource position_source = PositionSource::kGps;
   std::optional<Eigen::Vector3d> vo_track_N;
