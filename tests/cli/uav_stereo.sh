@@ -21,6 +21,7 @@ pcd = open(f"{out}/c.pcd", "rb").read(400).decode("latin1")
 assert "FIELDS x y z" in pcd and "DATA binary" in pcd, pcd[:200]
 o = json.load(open(f"{out}/o.json"))
 assert "obstacles" in o and o["range_gate_m"] > 0
+assert all(isinstance(c["crown_on_trunk"], bool) for c in o["obstacles"]), o["obstacles"][:2]
 e, dense = r["errors"]["bad_fraction"], r["dense_errors"]["bad_fraction"]
 cv = r["opencv"]
 d = cv["sgbm_defaults"]["bad_fraction"]

@@ -247,7 +247,10 @@ int main(int argc, char** argv) {
                                   {"bottom_m", o.bottom_m},
                                   {"range_m", o.range_m},
                                   {"cov_xy_m2", {o.cov_xy(0, 0), o.cov_xy(0, 1), o.cov_xy(1, 1)}},
-                                  {"voxels", o.voxels}});
+                                  {"voxels", o.voxels},
+                                  // A round crown above a trunk: drawn into the vehicle's map at any width
+                                  // (other wide cylinders are left to their points).
+                                  {"crown_on_trunk", o.on_trunk}});
       uav::WriteFileAtomically(obstacles_out, j.dump(2) + "\n");
     }
     std::printf("%s\n", report.dump(2).c_str());
