@@ -43,6 +43,7 @@ assert len(rows) > 10 * 0.5 * j["flights"][0]["path_m"] / 3.0, len(rows)
 for r in rows:
     assert -180 <= float(r["yaw_deg"]) <= 180 and -180 <= float(r["course_deg"]) <= 180, r
     assert abs(float(r["climb_mps"])) < 3.0, r
+    assert abs(float(r["pitch_deg"])) < 45 and abs(float(r["roll_deg"])) < 45, r
 moving = [r for r in rows if float(r["speed_mps"]) > 1.0]
 north = sorted(abs(float(r["course_deg"])) for r in moving)
 assert north[len(north) // 2] < 30, north[len(north) // 2]

@@ -309,9 +309,10 @@ FlightResult Fly(const uav::ParameterSet& params, const Course& course, int seed
       // The heading the cameras look along and the course flown [deg], and the climb rate [m/s].
       const Eigen::Vector3d v_N = vehicle.Truth().v_N;
       char row[400];
-      std::snprintf(row, sizeof row, "%.1f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.0f,%.0f,%.2f,%.2f,%d,%.2f,%.2f,%s,%.2f,%zu,%s",
+      std::snprintf(row, sizeof row, "%.1f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.0f,%.1f,%.1f,%.0f,%.2f,%.2f,%d,%.2f,%.2f,%s,%.2f,%zu,%s",
                     t - travel_start_t, p.x(), p.y(), -p.z(), d.estimate.p_N.x(), d.estimate.p_N.y(), -d.estimate.p_N.z(), v_N.norm(),
-                    d.estimate.euler.psi * 180 / M_PI, std::atan2(v_N.y(), v_N.x()) * 180 / M_PI, -v_N.z(), c,
+                    d.estimate.euler.psi * 180 / M_PI, d.estimate.euler.theta * 180 / M_PI, d.estimate.euler.phi * 180 / M_PI,
+                    std::atan2(v_N.y(), v_N.x()) * 180 / M_PI, -v_N.z(), c,
                     nearest, d.obstacle_range_m, d.nearest_wire_m, std::string(uav::Name(d.avoid_state)).c_str(), d.avoid_speed_limit,
                     d.avoid_plan ? d.avoid_plan->path_N.size() : 0, Quoted(d.avoid_reason).c_str());
       r.trace << row;
@@ -565,7 +566,7 @@ int main(int argc, char** argv) {
       if (!picture_dir.empty()) Picture(picture_dir + "/field_" + std::to_string(seed) + ".png", r, course);
       if (!trace_dir.empty())
         uav::WriteFileAtomically(trace_dir + "/trace_" + std::to_string(seed) + ".csv",
-                                 "t_s,n_m,e_m,alt_m,est_n_m,est_e_m,est_alt_m,speed_mps,yaw_deg,course_deg,climb_mps,clearance_m,nearest_id,perceived_range_m,"
+                                 "t_s,n_m,e_m,alt_m,est_n_m,est_e_m,est_alt_m,speed_mps,yaw_deg,pitch_deg,roll_deg,course_deg,climb_mps,clearance_m,nearest_id,perceived_range_m,"
                                  "perceived_wire_m,avoid_state,"
                                  "speed_limit_mps,path_points,reason,path_N\n" + r.trace.str());
       out["flights"].push_back({{"seed", seed}, {"success", r.success}, {"why", r.why}, {"min_clearance_m", r.min_clearance},
