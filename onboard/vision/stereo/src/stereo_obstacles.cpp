@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -288,15 +287,19 @@ StereoObstacles StereoObstacleDetector::Process(const cv::Mat& left_rect, const 
     // several objects joined at range (a thin pole and a tree crown behind it, two poles 2.4 m
     // apart: 1/12 fields' seeds 77 and 31 drew them as one crown 5 m across, over the goal).
     const bool round = t_far - t_near <= width + 2.0 * 1.645 * sigma_t;
-    // And not flat: the near cap of a ball stands off the line through it by about 0.22-0.29 of
-    // its radius (RMS, horizontally), while a flat face (a wall or a box's side, seen square or at
-    // a slant, whose lower part the image's bottom edge cuts away so that it reads as a narrow
-    // trunk under a wide top) lies on that line within its depth noise. The bar: half the cap's
-    // least spread, over the noise (a wall 8 m wide, seen banked, read as a crown 1.2-2.9 m in
-    // radius behind itself).
-    constexpr double kCapOffLinePerRadius = 0.11;
+    // And not flat: the near cap of a ball stands off the line through its points, seen from
+    // above, by 0.14-0.29 of its radius (RMS; the least for crowns near the range gate, of which
+    // the view holds the lower part), while a flat face (a wall or a box's side, seen square or
+    // at a slant, whose lower part the image's bottom edge cuts away so that it reads as a narrow
+    // trunk under a wide top) lies on that line within its depth noise after the voxel grid
+    // (0.04-0.08 of the radius: 8-15 cm at 4-7 m). The bar sits between them, nearer the faces:
+    // a crown taken for a face loses its far side in the map, a face taken for a crown only
+    // widens it (a wall 8 m wide, seen banked, read as a crown 1.2-2.9 m in radius behind itself).
+    constexpr double kFlatOffLinePerRadius = 0.10;
+    double s_mean = 0.0, t_mean = 0.0;
+    for (std::size_t i = 0; i < s.size(); ++i) s_mean += s[i], t_mean += t[i];
+    s_mean /= static_cast<double>(s.size()), t_mean /= static_cast<double>(t.size());
     Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-    const double s_mean = std::accumulate(s.begin(), s.end(), 0.0) / s.size(), t_mean = std::accumulate(t.begin(), t.end(), 0.0) / t.size();
     for (std::size_t i = 0; i < s.size(); ++i) {
       const Eigen::Vector2d q(s[i] - s_mean, t[i] - t_mean);
       scatter += q * q.transpose();
@@ -305,7 +308,7 @@ StereoObstacles StereoObstacleDetector::Process(const cv::Mat& left_rect, const 
     const double spread_across = 0.5 * (scatter(0, 0) + scatter(1, 1)) -
                                  std::hypot(0.5 * (scatter(0, 0) - scatter(1, 1)), scatter(0, 1));  // the smaller eigenvalue
     const double off_line = std::sqrt(std::max(0.0, spread_across));
-    const bool flat = off_line < std::hypot(kCapOffLinePerRadius * 0.5 * width, sigma_t);
+    const bool flat = off_line < kFlatOffLinePerRadius * 0.5 * width;
     ObstacleCylinder o;
     o.centre_W.head<2>() = c + t_mid * dir + s_mid * lat;
     // Standing on the ground: the cylinder reaches down to it.
