@@ -296,19 +296,20 @@ StereoObstacles StereoObstacleDetector::Process(const cv::Mat& left_rect, const 
     // a crown taken for a face loses its far side in the map, a face taken for a crown only
     // widens it (a wall 8 m wide, seen banked, read as a crown 1.2-2.9 m in radius behind itself).
     constexpr double kFlatOffLinePerRadius = 0.10;
-    double s_mean = 0.0, t_mean = 0.0;
-    for (std::size_t i = 0; i < s.size(); ++i) s_mean += s[i], t_mean += t[i];
-    s_mean /= static_cast<double>(s.size()), t_mean /= static_cast<double>(t.size());
-    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      const Eigen::Vector2d q(s[i] - s_mean, t[i] - t_mean);
-      scatter += q * q.transpose();
-    }
-    scatter /= static_cast<double>(s.size());
-    const double spread_across = 0.5 * (scatter(0, 0) + scatter(1, 1)) -
-                                 std::hypot(0.5 * (scatter(0, 0) - scatter(1, 1)), scatter(0, 1));  // the smaller eigenvalue
-    const double off_line = std::sqrt(std::max(0.0, spread_across));
-    const bool flat = off_line < kFlatOffLinePerRadius * 0.5 * width;
+    auto flat = [&] {
+      double s_mean = 0.0, t_mean = 0.0;
+      for (std::size_t i = 0; i < s.size(); ++i) s_mean += s[i], t_mean += t[i];
+      s_mean /= static_cast<double>(s.size()), t_mean /= static_cast<double>(t.size());
+      Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+      for (std::size_t i = 0; i < s.size(); ++i) {
+        const Eigen::Vector2d q(s[i] - s_mean, t[i] - t_mean);
+        scatter += q * q.transpose();
+      }
+      scatter /= static_cast<double>(s.size());
+      const double spread_across = 0.5 * (scatter(0, 0) + scatter(1, 1)) -
+                                   std::hypot(0.5 * (scatter(0, 0) - scatter(1, 1)), scatter(0, 1));  // the smaller eigenvalue
+      return std::sqrt(std::max(0.0, spread_across)) < kFlatOffLinePerRadius * 0.5 * width;
+    };
     ObstacleCylinder o;
     o.centre_W.head<2>() = c + t_mid * dir + s_mid * lat;
     // Standing on the ground: the cylinder reaches down to it.
@@ -324,7 +325,7 @@ StereoObstacles StereoObstacleDetector::Process(const cv::Mat& left_rect, const 
     R.col(1) = lat;
     o.cov_xy = R * Eigen::Vector2d(sigma_t * sigma_t, sigma_s * sigma_s).asDiagonal() * R.transpose();
     o.voxels = static_cast<int>(cluster.size());
-    o.on_trunk = on_trunk && round && !flat;
+    o.on_trunk = on_trunk && round && !flat();
     out.obstacles.push_back(o);
   };
   for (const std::vector<int>& cluster : clusters) {
