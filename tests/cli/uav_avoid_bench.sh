@@ -72,6 +72,22 @@ assert 24.5 < f["shortest_m"] < 30 and f["path_m"] < 1.3 * f["shortest_m"], f
 assert open(f"{out}/scene_pictures/field_4.png", "rb").read(8) == b"\x89PNG\r\n\x1a\n"
 print("uav-avoid-bench --scene: ok", json.dumps(f))
 PY
+# A power line across the whole way, its two cables sagging to about the flight's height: there
+# is no level way, so the path is not scored against one; the vehicle passes under or over with
+# a metre from each cable.
+"$bin/uav-avoid-bench" --scene "$(dirname "$0")/../../resources/scenes/avoid/power_line_across.scene.json" --to 30,0 --altitude 5 --speed 3 --json "$out/w.json" 2> "$out/w.err" > /dev/null
+grep -q "no level way" "$out/w.err" || { echo "no level way not said:"; cat "$out/w.err"; exit 1; }
+python3 - "$out" <<'PY'
+import json, sys
+j = json.load(open(f"{sys.argv[1]}/w.json"))
+f = j["flights"][0]
+assert f["success"] and f["shortest_m"] is None, f
+assert len(f["wire_clearances_m"]) == 2 and min(f["wire_clearances_m"]) >= 1.0, f
+assert all(a > 80 for a in f["wire_angles_deg"]), f
+c = j["cell"]
+assert c["path_over_shortest"] is None and 0 < c["speed_over_cruise"] <= 1, c
+print("uav-avoid-bench power line: ok", json.dumps(f))
+PY
 refuse() {  # refuse EXPECTED_TEXT ARGS...
   local expected=$1
   shift

@@ -121,7 +121,9 @@ struct TrueField {
 };
 
 // Shortest path from home to the goal keeping `clearance` from the true field at the flight's
-// altitude (8-connected A* on the 0.1 m grid; such paths are ~4 % long, corrected below).
+// altitude (8-connected A* on the 0.1 m grid; such paths are ~4 % long, corrected below). NaN
+// when there is no level way: the flight must climb or dive (a cable or a wall across the whole
+// course at that height), and its path is not scored against a level one.
 double ShortestPath(const TrueField& field, const Eigen::Vector2d& goal_NE, double clearance) {
   const int nx = field.nx, ny = field.ny;
   const double res = TrueField::kRes;
@@ -147,7 +149,7 @@ double ShortestPath(const TrueField& field, const Eigen::Vector2d& goal_NE, doub
         }
       }
   }
-  return -1;
+  return NAN;
 }
 
 // Horizontal distance from p to an obstacle's footprint (its circle, or its turned box).
@@ -157,6 +159,14 @@ double FootprintDistance(const uav::world::Obstacle& o, const Eigen::Vector2d& p
   const Eigen::Vector2d local(std::cos(o.yaw) * d.x() + std::sin(o.yaw) * d.y(), -std::sin(o.yaw) * d.x() + std::cos(o.yaw) * d.y());
   const Eigen::Vector2d out = (local.cwiseAbs() - 0.5 * o.size.head<2>());
   return out.maxCoeff() > 0 ? out.cwiseMax(0.0).norm() : out.maxCoeff();
+}
+
+// The shortest path's length for the operator: metres, or why there is none.
+std::string ShortestText(double shortest_m) {
+  if (!std::isfinite(shortest_m)) return "no level way at the flight's altitude";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f m", shortest_m);
+  return text;
 }
 
 // A CSV field: in double quotes, its own quotes doubled.
@@ -415,8 +425,8 @@ void Picture(const std::string& path, const FlightResult& r, const Course& cours
   if (course.scene_path.empty()) std::snprintf(field, sizeof field, "density %.3f/m^2", course.density);
   else std::snprintf(field, sizeof field, "%s", std::filesystem::path(course.scene_path).filename().c_str());
   char text[400];
-  std::snprintf(text, sizeof text, "%s seed %d: %s, min clearance %.2f m, path %.1f m (shortest %.1f)", field, r.seed,
-                r.success ? "success" : r.why.c_str(), r.min_clearance, r.path_m, r.shortest_m);
+  std::snprintf(text, sizeof text, "%s seed %d: %s, min clearance %.2f m, path %.1f m (shortest %s)", field, r.seed,
+                r.success ? "success" : r.why.c_str(), r.min_clearance, r.path_m, ShortestText(r.shortest_m).c_str());
   cv::putText(img, text, {8, 18}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   if (!cv::imwrite(path, img)) throw std::runtime_error("could not write the picture " + path);
 }
@@ -430,7 +440,8 @@ nlohmann::json Cell(const std::vector<FlightResult>& results, double speed) {
     reversals += r.reversals, passed += r.obstacles_passed, stops += r.stops_over_3s;
     mins.push_back(r.min_clearance);
     p5.push_back(r.clearance_p5);
-    if (r.reached && r.shortest_m > 0) ratio.push_back(r.path_m / r.shortest_m), speeds.push_back(r.mean_speed / speed);
+    if (r.reached && r.shortest_m > 0) ratio.push_back(r.path_m / r.shortest_m);
+    if (r.reached) speeds.push_back(r.mean_speed / speed);
     replans.insert(replans.end(), r.replan_ms.begin(), r.replan_ms.end());
     replans_cpu.insert(replans_cpu.end(), r.replan_cpu_ms.begin(), r.replan_cpu_ms.end());
     wires.insert(wires.end(), r.wire_clearances.begin(), r.wire_clearances.end());
@@ -555,11 +566,11 @@ int main(int argc, char** argv) {
       FlightResult r = Fly(params, course, seed, speed, !quiet);
       if (!quiet)
         std::fprintf(stderr,
-                     "seed %d: %s, clearance min %.2f p5 %.2f m, path %.1f / %.1f m, %.1f m/s, reversals %d, stops %d, "
+                     "seed %d: %s, clearance min %.2f p5 %.2f m, path %.1f m (shortest %s), %.1f m/s, reversals %d, stops %d, "
                      "wires passed %zu (least clearance %.2f m; least across the corridor %.2f m), replan p50 %.2f p99 %.2f ms, "
                      "navigation error moves %.2f m in 3 s (%.2f m in the map's odometry frame)\n",
-                     seed, r.success ? "success" : r.why.c_str(), r.min_clearance, r.clearance_p5, r.path_m, r.shortest_m,
-                     r.mean_speed, r.reversals, r.stops_over_3s, r.wire_clearances.size(),
+                     seed, r.success ? "success" : r.why.c_str(), r.min_clearance, r.clearance_p5, r.path_m,
+                     ShortestText(r.shortest_m).c_str(), r.mean_speed, r.reversals, r.stops_over_3s, r.wire_clearances.size(),
                      r.wire_clearances.empty() ? NAN : *std::min_element(r.wire_clearances.begin(), r.wire_clearances.end()),
                      LeastAcross(r),
                      Percentile(r.replan_ms, 0.5), Percentile(r.replan_ms, 0.99), r.error_drift_3s_N, r.error_drift_3s_O);
