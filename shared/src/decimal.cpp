@@ -60,7 +60,11 @@ std::optional<std::vector<double>> ParseDecimalList(std::string_view text, std::
 
 void RequireDecimalNumbers(CLI::App& app) {
   for (CLI::Option* opt : app.get_options(std::function<bool(CLI::Option*)>{})) {
-    const std::string type = opt->get_type_name();
+    // The type name carries each validator's description after a colon ("FLOAT:FLOAT in [1 -
+    // 100]"); CLI::Range lets NaN through (every comparison with it is false), so an option with
+    // a range needs this check as much as one without.
+    const std::string full = opt->get_type_name();
+    const std::string type = full.substr(0, full.find(':'));
     const bool whole = type == "INT" || type == "UINT";
     if (!whole && type != "FLOAT") continue;
     opt->check(CLI::Validator(

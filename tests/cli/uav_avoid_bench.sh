@@ -110,3 +110,7 @@ refuse "is for --scene" --density 1/49 --to 30,0
 printf '{"objects": [' > "$out/broken.json"
 refuse "is not JSON" --scene "$out/broken.json" --to 24,0
 refuse "seeds must be" --seeds 2-x
+refuse "not a finite number" --scene "$out/layout.json" --to 24,0 --altitude nan
+refuse "not a finite number" --speed nan --seeds 1
+refuse "density must be" --density 0x10
+refuse "must be N,E" --scene "$out/layout.json" --to 24,0x1

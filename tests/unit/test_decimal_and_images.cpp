@@ -42,10 +42,11 @@ TEST(Decimal, TheCommandGrammarTakesDecimalNumbersOnly) {
 
 std::string ParseCli(std::vector<std::string> args) {
   CLI::App app{"t"};
-  double focal = 0;
+  double focal = 0, fps = 0;
   int frames = 0;
   std::vector<double> box;
   app.add_option("--focal", focal);
+  app.add_option("--fps", fps)->check(CLI::Range(1.0, 1000.0));
   app.add_option("--frames", frames);
   app.add_option("--box", box)->delimiter(',');
   RequireDecimalNumbers(app);
@@ -67,6 +68,10 @@ TEST(Decimal, EveryNumberOptionOfACliRefusesNonFiniteAndHex) {
       << ParseCli({"--frames", "0x10"});
   EXPECT_NE(ParseCli({"--frames", "2.5"}).find("--frames"), std::string::npos);
   EXPECT_NE(ParseCli({"--box", "1,nan,3,4"}).find("--box"), std::string::npos);
+  // An option with a range of its own too (CLI::Range alone lets NaN through).
+  EXPECT_EQ(ParseCli({"--fps", "30"}), "");
+  EXPECT_NE(ParseCli({"--fps", "nan"}).find("--fps: 'nan' is not a finite number"), std::string::npos) << ParseCli({"--fps", "nan"});
+  EXPECT_NE(ParseCli({"--fps", "2000"}).find("--fps"), std::string::npos);
 }
 
 TEST(Decimal, JsonStringsAreEscaped) { EXPECT_EQ(JsonString("a \"b\" \\c\n"), "\"a \\\"b\\\" \\\\c\\n\""); }

@@ -30,6 +30,7 @@
 
 #include "uav/app/sim_flight.hpp"
 #include "uav/shared/command_grammar.hpp"
+#include "uav/shared/decimal.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/process_memory.hpp"
@@ -501,6 +502,7 @@ int main(int argc, char** argv) {
                  "write one CSV per flight here, every 0.1 s after the goto: the true and estimated position, speed, "
                  "true clearance and the nearest object's id, the avoidance state, speed limit, path points and reason");
   cli.add_flag("--quiet", quiet, "no progress lines");
+  uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
     Course course;
@@ -518,24 +520,18 @@ int main(int argc, char** argv) {
       if (!course.scene.is_object()) throw std::invalid_argument("scene " + scene_path + " must hold a JSON object");
     } else {
       if (density_text.empty()) density_text = "1/25";
-      double density = 0;
-      try {
-        if (const auto slash = density_text.find('/'); slash != std::string::npos)
-          density = std::stod(density_text.substr(0, slash)) / std::stod(density_text.substr(slash + 1));
-        else
-          density = std::stod(density_text);
-      } catch (const std::exception&) {
-        density = NAN;
-      }
+      double density = NAN;
+      const auto slash = density_text.find('/');
+      const auto a = uav::ParseDecimal(density_text.substr(0, slash));
+      const auto b = slash == std::string::npos ? std::optional<double>(1.0) : uav::ParseDecimal(density_text.substr(slash + 1));
+      if (a && b && *b != 0) density = *a / *b;
       if (!(density > 0 && density <= 0.25)) throw std::invalid_argument("--density must be in (0, 1/4] per square metre, not '" + density_text + "'");
       course.density = density;
     }
     if (!goal_text.empty()) {
-      double n = NAN, e = NAN;
-      char rest = 0;
-      if (std::sscanf(goal_text.c_str(), "%lf,%lf%c", &n, &e, &rest) != 2 || !std::isfinite(n) || !std::isfinite(e))
-        throw std::invalid_argument("--to must be N,E in metres from home, not '" + goal_text + "'");
-      course.goal_NE = {n, e};
+      const auto ne = uav::ParseDecimalList(goal_text, 2);
+      if (!ne) throw std::invalid_argument("--to must be N,E in metres from home, not '" + goal_text + "'");
+      course.goal_NE = {(*ne)[0], (*ne)[1]};
       if (!(course.goal_NE.norm() >= 5.0 && course.goal_NE.norm() <= 2000.0))
         throw std::invalid_argument("--to must be 5 m to 2 km from home, not " + std::to_string(course.goal_NE.norm()) + " m");
       if (!scene_path.empty()) {
