@@ -2,7 +2,7 @@
 # uav-powerlines --truth on the 50 real aerial photos of ../shared/data/powerlines_real (PLD-UAV,
 # mountain scenes, pixel masks): precision, recall and F1 with the data set's boundary matching,
 # beside the LSD-only baseline, held at the values measured when this test was written (F1 within
-# 0.3 points), so a change to the detector or to the scoring shows. Also: false wires on
+# 0.3 points, and 5 points above the baseline), so a change to the detector or to the scoring shows. Also: false wires on
 # opencv-doc's photos without wires, at most today's count, and a truth folder missing a mask is
 # named; the report's per-photo figures find the photos that fail. Usage: uav_powerlines_truth.sh BIN_DIR DATA_DIR
 set -uo pipefail
@@ -20,17 +20,18 @@ t = r["truth"]
 ours, lsd = t["ours"], t["lsd_baseline"]
 print(f"ours F1 {ours['f1']:.2f} (P {ours['precision']:.3f} R {ours['recall']:.3f}), LSD-only F1 {lsd['f1']:.2f}")
 assert r["processed"] == 50, r["processed"]
-assert abs(ours["f1"] - 96.26) < 0.3, ours
+assert abs(ours["f1"] - 98.53) < 0.3, ours
 assert abs(lsd["f1"] - 93.38) < 0.3, lsd
-assert ours["f1"] > lsd["f1"] + 2.5
-# Each photo's own figures, to find the hard ones: one entry per photo, and the three that score
-# under F1 70 (faint wires over foliage and ploughed ground) are the ones the README names.
+assert ours["f1"] > lsd["f1"] + 5.0
+# Each photo's own figures, to find the hard ones: one entry per photo, and the two that score
+# under F1 90 (two wires a few pixels apart over forest; a faint wire over a hillside) are the
+# ones the README names.
 per = t["per_image"]
 assert len(per) == 50 and len({p["image"] for p in per}) == 50, len(per)
 assert all(0 <= p["precision"] <= 1 and 0 <= p["recall"] <= 1 for p in per)
-worst = sorted(p["image"] for p in per if p["f1"] < 70)
-print("photos under F1 70:", worst)
-assert worst == ["12.jpg", "142.jpg", "43.jpg"], worst
+worst = sorted(p["image"] for p in per if p["f1"] < 90)
+print("photos under F1 90:", worst)
+assert worst == ["12.jpg", "195.jpg"], worst
 PY
 # Photos without wires (a building's facade, a butterfly, fruit, a face, paintings, aerial
 # photos, graffiti, a fish, a board): false wires per image, at most what was measured.
@@ -42,7 +43,7 @@ python3 - "$work/none.json" <<'PY' || fail "more false wires than measured"
 import json, sys
 r = json.load(open(sys.argv[1]))
 print(f"photos without wires: {r['wires']} false wires on {r['processed']} photos ({r['wires_per_image']:.2f} per photo)")
-assert r["processed"] == 17 and r["wires"] <= 34
+assert r["processed"] == 17 and r["wires"] <= 45
 PY
 # A truth folder without the image's mask: named, nothing scored for it, exit 1.
 mkdir "$work/empty_truth"

@@ -186,6 +186,9 @@ void PowerLineParams::Validate() const {
   check(pyramid_levels >= 1 && pyramid_levels <= 4, "pyramid_levels (1..4)");
   check(lsd_density > 0 && lsd_density <= 1, "lsd_density (0..1)");
   check(max_side_ratio > 0 && max_side_ratio < 100, "max_side_ratio (0..100)");
+  check(line_orientations >= 0 && line_orientations <= 180, "line_orientations (0..180)");
+  check(line_length_px >= 4 && line_length_px <= 200, "line_length_px (4..200)");
+  check(line_flank_px >= 2 && line_flank_px <= 50, "line_flank_px (2..50)");
 }
 
 Eigen::Vector2d WireCurve::PointAt(double u) const {
@@ -222,17 +225,19 @@ PowerLineDetector::PowerLineDetector(const PowerLineParams& params) : params_(pa
 
 namespace {
 
-// LSD pieces of the thin structures in one grey image (steps 1-4 of Detect).
-std::vector<cv::Vec4f> ThinStructureSegments(const cv::Mat& gray, const PowerLineParams& P) {
-  const cv::Mat thin = ThinStructureResponse(gray, P.max_wire_width_px);
+// LSD pieces of the thin structures in a thickness-filtered image (8-bit or float; steps 2-4 of
+// Detect); `gain` scales the structures' grey levels before the edge threshold.
+std::vector<cv::Vec4f> ThinStructureSegments(const cv::Mat& thin, const PowerLineParams& P, double gain = 1.0) {
   // Sobel gradients of the thin structures (Eq. 3.28-3.30): both directions for wires at any
   // angle, d/dy alone for the thesis's near-horizontal wires.
+  cv::Mat scaled;
+  thin.convertTo(scaled, CV_8U, gain);
   cv::Mat gx, gy, mag;
-  cv::Sobel(thin, gy, CV_32F, 0, 1, 3);
+  cv::Sobel(scaled, gy, CV_32F, 0, 1, 3);
   if (P.mode == PowerLineParams::Mode::kHorizontal) {
     mag = cv::abs(gy);
   } else {
-    cv::Sobel(thin, gx, CV_32F, 1, 0, 3);
+    cv::Sobel(scaled, gx, CV_32F, 1, 0, 3);
     cv::magnitude(gx, gy, mag);
   }
   // Inverse threshold: thin structures whose edges are strong enough (the Sobel kernel's gain of
@@ -241,8 +246,8 @@ std::vector<cv::Vec4f> ThinStructureSegments(const cv::Mat& gray, const PowerLin
   cv::Mat strong;
   mag.convertTo(strong, CV_32F, 0.25);
   cv::dilate(strong > P.edge_threshold, strong, cv::Mat());  // the ridge lies between its edges
-  cv::Mat kept = cv::Mat::zeros(thin.size(), CV_8U);
-  thin.copyTo(kept, strong);
+  cv::Mat kept = cv::Mat::zeros(scaled.size(), CV_8U);
+  scaled.copyTo(kept, strong);
   cv::Mat lsd_input;
   kept.convertTo(lsd_input, CV_8U, -2.0, 255.0);
   // LSD with OpenCV's defaults except the share of aligned pixels a region needs: a faint wire
@@ -252,24 +257,9 @@ std::vector<cv::Vec4f> ThinStructureSegments(const cv::Mat& gray, const PowerLin
   return raw;
 }
 
-}  // namespace
-
-std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
-  CheckImage(bgr);
-  const PowerLineParams& P = params_;
-  const double diag = std::hypot(bgr.cols, bgr.rows);
-  cv::Mat gray;
-  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
-  // The thickness filter passes structures up to max_wire_width_px; a wire near the camera is
-  // wider. Each coarser pyramid level doubles the width that passes, and its pieces, scaled
-  // back, join the finer levels' in the grouping.
-  std::vector<cv::Vec4f> raw = ThinStructureSegments(gray, P);
-  cv::Mat level = gray;
-  for (int l = 1; l < P.pyramid_levels; ++l) {
-    cv::pyrDown(level, level);
-    const float scale = static_cast<float>(1 << l);
-    for (const cv::Vec4f& r : ThinStructureSegments(level, P)) raw.push_back(r * scale);
-  }
+// Steps 5-7 of Detect: the pieces (image pixels) grouped into wires, fitted and tested.
+std::vector<WireCurve> WiresOfPieces(const std::vector<cv::Vec4f>& raw, const cv::Mat& gray, const PowerLineParams& P) {
+  const double diag = std::hypot(gray.cols, gray.rows);
   std::vector<Segment> segs;
   const double min_len = P.min_segment_fraction * diag;
   const double max_slope = std::tan(P.horizontal_max_angle_deg * kDeg);
@@ -332,8 +322,74 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
         BackgroundAlikeOnBothSides(gray, w, P.max_wire_width_px * (1 << (P.pyramid_levels - 1)), P.max_side_ratio))
       wires.push_back(w);
   }
-  // Longest first, and one curve per wire: a curve lying along a longer one (its other flank, or
-  // the same wire found again on the coarser pyramid level) is that wire.
+  return wires;
+}
+
+// A curve of the second search, found at half resolution, may lie on one flank of its wire's
+// response, a pixel or two off: each of its samples moves to the strongest thin-structure response
+// within 2 of those pixels across it, and the quadratic is fitted again to those points in the
+// curve's frame. The wire is taken as thin (its centre line): a wide one is the first search's.
+WireCurve OnTheRidge(const cv::Mat& thin, const WireCurve& w) {
+  const Eigen::Vector2d perp(-w.axis.y(), w.axis.x());
+  std::vector<Eigen::Vector2d> uv;
+  for (const Eigen::Vector2d& p : w.Sample(2.0)) {
+    const Eigen::Vector2d n = w.NormalAt(w.axis.dot(p - w.origin_px));
+    double best = -1, best_t = 0;
+    for (double t = -4.0; t <= 4.0; t += 0.5) {
+      const int u = cvRound(p.x() + t * n.x()), v = cvRound(p.y() + t * n.y());
+      if (u < 0 || v < 0 || u >= thin.cols || v >= thin.rows) continue;
+      const double g = thin.at<uint8_t>(v, u);
+      if (g > best || (g == best && std::abs(t) < std::abs(best_t))) best = g, best_t = t;
+    }
+    if (best < 0) continue;
+    const Eigen::Vector2d q = p + best_t * n;
+    uv.emplace_back(w.axis.dot(q - w.origin_px), perp.dot(q - w.origin_px));
+  }
+  if (uv.size() < 5) return w;
+  WireCurve refined = w;
+  refined.b = FitQuadratic(uv);
+  refined.width_px = 0.0;
+  return refined;
+}
+
+}  // namespace
+
+std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
+  CheckImage(bgr);
+  const PowerLineParams& P = params_;
+  cv::Mat gray;
+  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+  // Step 1, the thickness filter, passes structures up to max_wire_width_px; a wire near the
+  // camera is wider. Each coarser pyramid level doubles the width that passes, and its pieces,
+  // scaled back, join the finer levels' in the grouping.
+  const cv::Mat thin = ThinStructureResponse(gray, P.max_wire_width_px);
+  std::vector<cv::Vec4f> raw = ThinStructureSegments(thin, P);
+  cv::Mat level = gray;
+  for (int l = 1; l < P.pyramid_levels; ++l) {
+    cv::pyrDown(level, level);
+    const float scale = static_cast<float>(1 << l);
+    for (const cv::Vec4f& r : ThinStructureSegments(ThinStructureResponse(level, P.max_wire_width_px), P))
+      raw.push_back(r * scale);
+  }
+  std::vector<WireCurve> wires = WiresOfPieces(raw, gray, P);
+  if (P.line_orientations > 0) {
+    // The second search, for the wires whose ridge the texture around them broke into pieces
+    // too short to keep. At half resolution (max-pooled, so a wire a pixel wide keeps its
+    // strength), four times cheaper; averaged along a line of n pixels, texture's spread falls by
+    // about sqrt(n) (3.3 over 11), so edges half as strong pass the same threshold: the response
+    // is doubled before it.
+    cv::Mat pooled, half;
+    cv::dilate(thin, pooled, cv::Mat::ones(2, 2, CV_8U), cv::Point(0, 0));
+    cv::resize(pooled, half, cv::Size(thin.cols / 2, thin.rows / 2), 0, 0, cv::INTER_NEAREST);
+    const int length = 2 * static_cast<int>(P.line_length_px / 4.0) + 1;  // half resolution, odd
+    const int flank = std::max(1, static_cast<int>(std::lround(P.line_flank_px / 2.0)));
+    std::vector<cv::Vec4f> pieces =
+        ThinStructureSegments(OrientedLineResponse(half, P.line_orientations, length, flank), P, 2.0);
+    for (cv::Vec4f& r : pieces) r = 2.0f * r + cv::Vec4f::all(0.5f);  // half-resolution pixel centres
+    for (const WireCurve& w : WiresOfPieces(pieces, gray, P)) wires.push_back(OnTheRidge(thin, w));
+  }
+  // One curve per wire, longest first: a curve lying along a longer one (its other flank, the same
+  // wire found again on the coarser pyramid level or by the second search) is that wire.
   std::sort(wires.begin(), wires.end(),
             [](const WireCurve& a, const WireCurve& b) { return a.u_max - a.u_min > b.u_max - b.u_min; });
   std::vector<WireCurve> kept;
@@ -353,6 +409,34 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
     if (std::none_of(kept.begin(), kept.end(), along_kept)) kept.push_back(w);
   }
   return kept;
+}
+
+cv::Mat OrientedLineResponse(const cv::Mat& thin, int orientations, int length_px, int flank_px) {
+  if (thin.empty() || thin.type() != CV_8U) throw std::invalid_argument("OrientedLineResponse needs an 8-bit grey image");
+  if (orientations < 1 || length_px < 1 || flank_px < 1)
+    throw std::invalid_argument("OrientedLineResponse needs orientations, length and flank of 1 or more");
+  cv::Mat t;
+  thin.convertTo(t, CV_32F);
+  // Each direction: the image turned so that the direction runs along the rows (on a canvas that
+  // holds it whole, the outside mirrored so the border makes no line), a box mean along the rows,
+  // the rows `flank_px` above and below subtracted, and turned back.
+  const cv::Point2f centre(0.5f * static_cast<float>(t.cols), 0.5f * static_cast<float>(t.rows));
+  const int side = static_cast<int>(std::ceil(std::hypot(t.cols, t.rows)));
+  cv::Mat best(t.size(), CV_32F, cv::Scalar(0));
+  for (int k = 0; k < orientations; ++k) {
+    cv::Mat R = cv::getRotationMatrix2D(centre, 180.0 * k / orientations, 1.0);
+    R.at<double>(0, 2) += 0.5 * side - centre.x;
+    R.at<double>(1, 2) += 0.5 * side - centre.y;
+    cv::Mat turned, along, line(side, side, CV_32F, cv::Scalar(0)), back;
+    cv::warpAffine(t, turned, R, cv::Size(side, side), cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
+    cv::blur(turned, along, cv::Size(length_px, 1));
+    const cv::Range inner(flank_px, side - flank_px);
+    line.rowRange(inner) = along.rowRange(inner) - 0.5 * (along.rowRange(inner.start - flank_px, inner.end - flank_px) +
+                                                          along.rowRange(inner.start + flank_px, inner.end + flank_px));
+    cv::warpAffine(line, back, R, t.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP);
+    best = cv::max(best, back);
+  }
+  return best;
 }
 
 cv::Mat ThinStructureResponse(const cv::Mat& grey, double max_wire_width_px) {

@@ -34,6 +34,13 @@ struct PowerLineParams {
   double min_support = 0.5;           // ... with pieces along at least this share of its span
   double max_fit_rms_px = 2.0;        // [px] spread of the wire's flanks about their mean offset from the quadratic
   double max_side_ratio = 1.0;        // background difference across the wire, at most this times its contrast
+  // Second search, for faint wires over texture whose ridge breaks into pieces too short for the
+  // first: the thin-structure response at half resolution, averaged along straight lines in
+  // `line_orientations` directions, less the mean of the parallel lines `line_flank_px` either
+  // side; LSD and the same grouping, fit and tests run on the strongest direction's response.
+  int line_orientations = 24;         // 0: no second search
+  double line_length_px = 22.0;       // [px] length of the averaging line
+  double line_flank_px = 4.0;         // [px] distance of the subtracted parallel lines
 
   // Throws std::invalid_argument naming the field when a value is out of its range.
   void Validate() const;
@@ -77,6 +84,12 @@ class PowerLineDetector {
 // of the black-hat (dark structures) and top-hat (bright ones) with a disc a little wider than
 // max_wire_width_px, so thin lines stay bright and step edges (roofs, roads, walls) drop out.
 cv::Mat ThinStructureResponse(const cv::Mat& grey, double max_wire_width_px);
+
+// The second search's map (CV_32F, grey levels, the size of the 8-bit `thin`): per pixel the largest over
+// `orientations` directions of the mean of `thin` along a line of `length_px` through it, less
+// the mean of the two parallel lines `flank_px` either side (negative: 0). Texture averages out
+// along a line, a straight wire does not, and a wire beside the pixel is in a flank, not on the line.
+cv::Mat OrientedLineResponse(const cv::Mat& thin, int orientations, int length_px, int flank_px);
 
 // The LSD-only baseline of the accuracy tables: every segment LSD finds in the grey image.
 std::vector<cv::Vec4f> LsdSegments(const cv::Mat& bgr);
