@@ -154,7 +154,8 @@ TEST(StereoWorker, ReportsPowerLinesInNedAndTheNearestWire) {
   // Ranged wires lie on the line: at its north (+-1.2 m wire spacing) and above the vehicle
   // (poles 10 m, 1.5 m sag). Today the boundary between two fields near the horizon, parallel to
   // the wires and different on its two sides only in shade, is ranged too (15-60 m, a disparity of
-  // 1-4 px on a line with no texture along it): at most two such are held.
+  // 1-4 px on a line with no texture along it): at most three such are held (two before the
+  // detector's second search for faint wires, which finds one more of these boundaries).
   int on_line = 0, off_line = 0;
   for (const PowerLine& w : report->wires) {
     for (const Eigen::Vector2d& uv : w.image_uv) {
@@ -168,7 +169,7 @@ TEST(StereoWorker, ReportsPowerLinesInNedAndTheNearestWire) {
     ++(on ? on_line : off_line);
   }
   EXPECT_GT(on_line, 0);
-  EXPECT_LE(off_line, 2);
+  EXPECT_LE(off_line, 3);
   EXPECT_NEAR(board.Snapshot().nearest_wire_m, 13.8, 2.0);  // nearest visible cable point 13.77 m
   EXPECT_DOUBLE_EQ(board.Snapshot().nearest_wire_m, report->nearest_m);
   // Turned away from the line: one pair without wires does not clear it, two do.

@@ -415,30 +415,35 @@ cv::Mat OrientedLineResponse(const cv::Mat& thin, int orientations, int length_p
   if (thin.empty() || thin.type() != CV_8U) throw std::invalid_argument("OrientedLineResponse needs an 8-bit grey image");
   if (orientations < 1 || length_px < 1 || flank_px < 1)
     throw std::invalid_argument("OrientedLineResponse needs orientations, length and flank of 1 or more");
-  // Each direction: the image turned so that the direction runs along the rows (on a canvas that
-  // holds it whole, the outside mirrored so the border makes no line), sums along the rows, the
-  // rows `flank_px` above and below subtracted, and turned back. In 8 and 16 bits, five times
-  // faster than in floats; the turns round to a grey level.
-  const cv::Point2f centre(0.5f * static_cast<float>(thin.cols), 0.5f * static_cast<float>(thin.rows));
-  const int side = static_cast<int>(std::ceil(std::hypot(thin.cols, thin.rows)));
-  cv::Mat best(thin.size(), CV_16S, cv::Scalar(0));
-  cv::Mat turned, along, flanks, back, line(side, side, CV_16S, cv::Scalar(0));
-  const cv::Range inner(flank_px, side - flank_px);
+  // Sums along a line as sums of the image shifted to each of the line's pixels (the nearest
+  // pixel to each step along the direction), in 16 bits on an image padded by mirroring, so the
+  // border makes no line. A Gaussian of 0.5 px first, about the smoothing a bilinear sample at a
+  // random sub-pixel place gives, so that a wire a pixel wide between two of a line's pixels
+  // still adds up. Shifts, not turns of the image: six times faster than turning it.
+  const int half = length_px / 2, reach = flank_px + 1, margin = half + reach + 1;
+  cv::Mat padded8, padded;
+  cv::copyMakeBorder(thin, padded8, margin, margin, margin, margin, cv::BORDER_REFLECT_101);
+  cv::GaussianBlur(padded8, padded8, cv::Size(3, 3), 0.5);
+  padded8.convertTo(padded, CV_16S);
+  // The sums cover the image and `reach` around it, where the flanks are read.
+  const cv::Size region(thin.cols + 2 * reach, thin.rows + 2 * reach);
+  const cv::Rect image(reach, reach, thin.cols, thin.rows);
+  cv::Mat best(thin.size(), CV_16S, cv::Scalar(0)), sums(region, CV_16S), flanks, response;
   for (int k = 0; k < orientations; ++k) {
-    cv::Mat R = cv::getRotationMatrix2D(centre, 180.0 * k / orientations, 1.0);
-    R.at<double>(0, 2) += 0.5 * side - centre.x;
-    R.at<double>(1, 2) += 0.5 * side - centre.y;
-    cv::warpAffine(thin, turned, R, cv::Size(side, side), cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
-    cv::boxFilter(turned, along, CV_16S, cv::Size(length_px, 1), cv::Point(-1, -1), false);  // sums
-    cv::add(along.rowRange(inner.start - flank_px, inner.end - flank_px),
-            along.rowRange(inner.start + flank_px, inner.end + flank_px), flanks, cv::noArray(), CV_16S);
-    cv::Mat on_line = line.rowRange(inner);
-    cv::addWeighted(along.rowRange(inner), 2.0, flanks, -1.0, 0.0, on_line, CV_16S);  // 2 x (line - flanks' mean)
-    cv::warpAffine(line, back, R, thin.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP);
-    best = cv::max(best, back);
+    const double a = M_PI * k / orientations, dx = std::cos(a), dy = std::sin(a);
+    sums.setTo(0);
+    for (int t = -half; t <= half; ++t) {
+      const int ox = static_cast<int>(std::lround(t * dx)), oy = static_cast<int>(std::lround(t * dy));
+      sums += padded(cv::Rect(margin - reach + ox, margin - reach + oy, region.width, region.height));
+    }
+    // The flanks: the same sums `flank_px` either side, across the direction.
+    const cv::Point across(static_cast<int>(std::lround(-flank_px * dy)), static_cast<int>(std::lround(flank_px * dx)));
+    cv::add(sums(image + across), sums(image - across), flanks);
+    cv::addWeighted(sums(image), 2.0, flanks, -1.0, 0.0, response);  // 2 x (line - flanks' mean)
+    best = cv::max(best, response);
   }
   cv::Mat out;
-  best.convertTo(out, CV_32F, 1.0 / (2.0 * length_px));
+  best.convertTo(out, CV_32F, 1.0 / (2.0 * (2 * half + 1)));
   return out;
 }
 
