@@ -198,5 +198,43 @@ TEST(PowerLineInput, BadImagesAreRefusedByName) {
   EXPECT_TRUE(d.Detect(cv::Mat(120, 160, CV_8UC3, cv::Scalar(90, 120, 140))).empty());
 }
 
+// The second search's line response on texture with a faint straight line of known place: on
+// the line it stands above nearly everything the texture gives off it, and 2 px beside the line
+// (in its flanks) it falls back among the texture's values, so a wire leaves no ghost parallel to it. (The detector with the second
+// search is held on the real photos by cli.uav_powerlines_truth, which it fails without it.)
+TEST(PowerLineSecondSearch, AFaintLineOverTextureStandsOutAndLeavesNoGhost) {
+  cv::RNG rng(7);
+  cv::Mat texture(240, 320, CV_8U);
+  rng.fill(texture, cv::RNG::UNIFORM, 0, 40);  // texture: any grey level from 0 to 39
+  cv::Mat thin = texture.clone();
+  // A line 30 degrees from the rows through (160, 120), 40 grey levels above the texture's mean
+  // (its own spread 11.5), one pixel wide.
+  const double a = 30.0 * M_PI / 180.0;
+  const cv::Point2d centre(160, 120), along(std::cos(a), std::sin(a)), across(-std::sin(a), std::cos(a));
+  cv::line(thin, centre - 400 * along, centre + 400 * along, cv::Scalar(60), 1, cv::LINE_8);
+  const cv::Mat response = OrientedLineResponse(thin, 24, 11, 2);
+  ASSERT_EQ(response.size(), thin.size());
+  ASSERT_EQ(response.type(), CV_32F);
+  std::vector<float> on, beside, off;
+  for (int y = 20; y < thin.rows - 20; ++y)
+    for (int x = 20; x < thin.cols - 20; ++x) {
+      const double d = std::abs((cv::Point2d(x, y) - centre).dot(across));
+      if (thin.at<uint8_t>(y, x) != texture.at<uint8_t>(y, x)) on.push_back(response.at<float>(y, x));  // drawn
+      else if (d > 1.5 && d < 2.5) beside.push_back(response.at<float>(y, x));
+      else if (d > 8) off.push_back(response.at<float>(y, x));
+    }
+  auto quantile = [](std::vector<float> v, double q) {
+    std::sort(v.begin(), v.end());
+    return v[static_cast<std::size_t>(q * (v.size() - 1))];
+  };
+  ASSERT_GT(on.size(), 100u);
+  EXPECT_GT(quantile(on, 0.1), quantile(off, 0.99));  // the line above the texture's 99th percentile
+  EXPECT_LT(quantile(beside, 0.9), quantile(on, 0.1));  // no ghost beside it: 2 px off, it stays
+  EXPECT_LT(quantile(beside, 0.5), quantile(off, 0.9));  // within the texture's own spread
+  EXPECT_THROW(OrientedLineResponse(cv::Mat(), 24, 11, 2), std::invalid_argument);
+  EXPECT_THROW(OrientedLineResponse(thin, 0, 11, 2), std::invalid_argument);
+
+}
+
 }  // namespace
 }  // namespace uav::vision
