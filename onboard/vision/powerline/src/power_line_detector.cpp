@@ -230,8 +230,8 @@ namespace {
 std::vector<cv::Vec4f> ThinStructureSegments(const cv::Mat& thin, const PowerLineParams& P, double gain = 1.0) {
   // Sobel gradients of the thin structures (Eq. 3.28-3.30): both directions for wires at any
   // angle, d/dy alone for the thesis's near-horizontal wires.
-  cv::Mat scaled;
-  thin.convertTo(scaled, CV_8U, gain);
+  cv::Mat scaled = thin;
+  if (thin.type() != CV_8U || gain != 1.0) thin.convertTo(scaled, CV_8U, gain);  // else no copy
   cv::Mat gx, gy, mag;
   cv::Sobel(scaled, gy, CV_32F, 0, 1, 3);
   if (P.mode == PowerLineParams::Mode::kHorizontal) {
