@@ -114,3 +114,41 @@ refuse "not a finite number" --scene "$out/layout.json" --to 24,0 --altitude nan
 refuse "not a finite number" --speed nan --seeds 1
 refuse "density must be" --density 0x10
 refuse "must be N,E" --scene "$out/layout.json" --to 24,0x1
+echo "scene refusals: ok"
+# --merge: a cell flown in parts scored as one. The shipped 1/25, 5 m/s cell in five files gives
+# the figures its table states (100 of 100, clearance p5 1.50 / least 0.52 m, path 1.18 x,
+# speed 0.50 x, planning CPU p99 6.0 ms per flight, 14.3 ms at worst, 270 wires at 1 m or more).
+bench=$(dirname "$0")/../../resources/benchmarks
+"$bin/uav-avoid-bench" --merge "$bench"/avoid_1-25_5mps_flatface_seeds{1-8,9-34,35-54,55-82,83-100}.json --json "$out/m.json" > "$out/m.out"
+python3 - "$out" <<'PY'
+import json, sys
+out = sys.argv[1]
+j = json.load(open(f"{out}/m.json"))
+c = j["cell"]
+assert json.load(open(f"{out}/m.out")) == c
+assert c["flights"] == 100 and c["success_rate"] == 1.0 and c["failed_seeds"] == [], c
+assert [f["seed"] for f in j["flights"]] == list(range(1, 101)) and j["speed"] == 5 and j["density"] == 0.04, j["speed"]
+for key, want, within in (("clearance_p5_m", 1.50, 0.005), ("clearance_min_m", 0.52, 0.005), ("path_over_shortest", 1.18, 0.005),
+                          ("speed_over_cruise", 0.50, 0.005), ("replan_cpu_p99_median_flight_ms", 6.0, 0.05),
+                          ("replan_cpu_p99_worst_flight_ms", 14.3, 0.05)):
+    assert abs(c[key] - want) <= within, (key, c[key])
+assert c["wires_passed"] == 270 == c["wires_passed_at_1m"] and c["replan_cpu_p99_ms"] is None, c
+print("uav-avoid-bench --merge: ok")
+PY
+# A failed flight makes the exit status 1 and is named; files of other courses, a seed twice and
+# a file that is not the bench's are refused by name.
+python3 - "$bench" "$out" <<'PY'
+import json, sys
+j = json.load(open(f"{sys.argv[1]}/avoid_1-25_5mps_flatface_seeds1-8.json"))
+j["flights"][2]["success"] = False
+json.dump(j, open(f"{sys.argv[2]}/failed.json", "w"))
+PY
+status=0
+"$bin/uav-avoid-bench" --merge "$out/failed.json" > "$out/f.out" || status=$?
+[ "$status" = 1 ] && python3 -c "import json,sys; assert json.load(open(sys.argv[1]))['failed_seeds'] == [3]" "$out/f.out"
+refuse "seed 1 is in both" --merge "$bench/avoid_1-25_5mps_flatface_seeds1-8.json" "$out/failed.json"
+refuse "another course or speed" --merge "$bench/avoid_1-25_5mps_flatface_seeds1-8.json" "$bench/avoid_1-49_5mps_seenbody_seeds1-30.json"
+refuse "is not a uav-avoid-bench" --merge "$out/layout.json"
+refuse "is not JSON" --merge "$out/broken.json"
+refuse "excludes" --merge "$out/failed.json" --density 1/25
+echo "merge refusals: ok"

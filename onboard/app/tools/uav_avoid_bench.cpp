@@ -182,7 +182,8 @@ struct FlightResult {
   bool reached = false, success = false;
   std::string why;
   double min_clearance = 1e9, clearance_p5 = 0, path_m = 0, shortest_m = 0, mean_speed = 0, time_s = 0;
-  std::vector<double> replan_ms, replan_cpu_ms;  // each plan once
+  std::vector<double> replan_ms, replan_cpu_ms;  // each plan once (empty for a flight read back with --merge)
+  double replan_cpu_p99_ms = NAN;                 // this flight's own p99 of replan_cpu_ms
   int reversals = 0, stops_over_3s = 0, obstacles_passed = 0;
   // How far the navigation's error moves in 3 s (RMS, horizontal), in N and in the odometry
   // frame the map is kept in: a wall seen 3 s ago is off by this much relative to the vehicle.
@@ -377,6 +378,7 @@ FlightResult Fly(const uav::ParameterSet& params, const Course& course, int seed
     r.wire_angles_deg.push_back(std::atan2(std::abs(ab.x() * axis.y() - ab.y() * axis.x()), std::abs(ab.dot(axis))) * 180.0 / M_PI);
   }
   r.mean_speed = r.reached && r.time_s > 0 ? r.path_m / r.time_s : 0.0;
+  r.replan_cpu_p99_ms = Percentile(r.replan_cpu_ms, 0.99);
   r.success = r.reached && r.min_clearance >= avd.body_radius_m;
   if (!r.reached) {
     if (r.why.empty()) r.why = "goal not reached in " + std::to_string(static_cast<int>(limit_s)) + " s";
@@ -434,10 +436,13 @@ void Picture(const std::string& path, const FlightResult& r, const Course& cours
 
 // The cell's figures over its flights (the targets are on these).
 nlohmann::json Cell(const std::vector<FlightResult>& results, double speed) {
-  std::vector<double> p5, mins, ratio, speeds, replans, replans_cpu, wires, across;
+  std::vector<double> p5, mins, ratio, speeds, replans, replans_cpu, flight_cpu_p99, wires, across;
+  std::vector<int> failed;
   int successes = 0, reversals = 0, passed = 0, stops = 0;
   for (const auto& r : results) {
     successes += r.success;
+    if (!r.success) failed.push_back(r.seed);
+    if (std::isfinite(r.replan_cpu_p99_ms)) flight_cpu_p99.push_back(r.replan_cpu_p99_ms);
     reversals += r.reversals, passed += r.obstacles_passed, stops += r.stops_over_3s;
     mins.push_back(r.min_clearance);
     p5.push_back(r.clearance_p5);
@@ -460,6 +465,10 @@ nlohmann::json Cell(const std::vector<FlightResult>& results, double speed) {
           {"replan_p99_ms", Percentile(replans, 0.99)},
           {"replan_cpu_p50_ms", Percentile(replans_cpu, 0.5)},
           {"replan_cpu_p99_ms", Percentile(replans_cpu, 0.99)},
+          // Per flight: the median and the worst of the flights' own p99 (what --merge can
+          // give, as the JSON files keep no single plans).
+          {"replan_cpu_p99_median_flight_ms", Percentile(flight_cpu_p99, 0.5)},
+          {"replan_cpu_p99_worst_flight_ms", flight_cpu_p99.empty() ? NAN : *std::max_element(flight_cpu_p99.begin(), flight_cpu_p99.end())},
           {"reversals_per_obstacle", passed ? double(reversals) / passed : 0.0},
           {"stops_over_3s", stops},
           {"wires_passed", wires.size()},
@@ -467,7 +476,108 @@ nlohmann::json Cell(const std::vector<FlightResult>& results, double speed) {
           {"wire_clearance_min_m", wires.empty() ? NAN : *std::min_element(wires.begin(), wires.end())},
           {"wires_across_passed", across.size()},
           {"wires_across_passed_at_1m", at_1m(across)},
-          {"wire_across_clearance_min_m", across.empty() ? NAN : *std::min_element(across.begin(), across.end())}};
+          {"wire_across_clearance_min_m", across.empty() ? NAN : *std::min_element(across.begin(), across.end())},
+          {"failed_seeds", failed}};
+}
+
+// A flight read back from an earlier run's --json file (--merge): what the cell is made of.
+// `where` names the file and the flight in errors.
+FlightResult FlightFromJson(const nlohmann::json& f, const std::string& where) {
+  if (!f.is_object()) throw std::invalid_argument(where + " is not a JSON object");
+  auto field = [&](const char* key) -> const nlohmann::json& {
+    if (!f.contains(key)) throw std::invalid_argument(where + " has no '" + key + "'");
+    return f[key];
+  };
+  auto number = [&](const char* key) {
+    const nlohmann::json& v = field(key);
+    if (v.is_null()) return double{NAN};  // the bench writes NaN as null
+    if (!v.is_number()) throw std::invalid_argument(where + ": '" + key + "' is not a number");
+    return v.get<double>();
+  };
+  auto count = [&](const char* key) {
+    const double v = number(key);
+    if (!(v >= 0 && v <= 1e6 && v == std::floor(v))) throw std::invalid_argument(where + ": '" + key + "' is not a count");
+    return static_cast<int>(v);
+  };
+  auto numbers = [&](const char* key) {
+    const nlohmann::json& v = field(key);
+    if (!v.is_array()) throw std::invalid_argument(where + ": '" + key + "' is not a list");
+    std::vector<double> out;
+    for (const auto& x : v) {
+      if (!x.is_number()) throw std::invalid_argument(where + ": '" + key + "' holds something that is not a number");
+      out.push_back(x.get<double>());
+    }
+    return out;
+  };
+  FlightResult r;
+  r.seed = count("seed");
+  if (!field("success").is_boolean()) throw std::invalid_argument(where + ": 'success' is not true or false");
+  r.success = f["success"].get<bool>();
+  r.why = f.value("why", "");
+  r.min_clearance = number("min_clearance_m");
+  r.clearance_p5 = number("clearance_p5_m");
+  r.path_m = number("path_m");
+  r.shortest_m = number("shortest_m");
+  r.mean_speed = number("mean_speed");
+  // Files from before "reached" was written: the mean speed is kept only for a flight that arrived.
+  r.reached = f.contains("reached") ? f["reached"].get<bool>() : r.mean_speed > 0;
+  r.replan_cpu_p99_ms = number("replan_cpu_p99_ms");
+  r.reversals = count("reversals");
+  r.obstacles_passed = count("obstacles_passed");
+  r.stops_over_3s = count("stops_over_3s");
+  r.wire_clearances = numbers("wire_clearances_m");
+  r.wire_angles_deg = numbers("wire_angles_deg");
+  if (r.wire_angles_deg.size() != r.wire_clearances.size())
+    throw std::invalid_argument(where + ": 'wire_angles_deg' and 'wire_clearances_m' differ in length");
+  if (r.success && !r.reached) throw std::invalid_argument(where + " succeeded without arriving (no mean speed)");
+  return r;
+}
+
+// --merge: the flights of earlier runs' --json files as one cell. The files must describe the
+// same course and speed (each setting the files both give must agree), and each seed is taken
+// once: a long run flown in parts, side by side or over several days, is scored as one.
+nlohmann::json Merge(const std::vector<std::string>& paths, std::vector<FlightResult>* results) {
+  nlohmann::json out;
+  std::string first;
+  std::map<int, std::string> seen;  // seed -> the file it came from
+  for (const std::string& path : paths) {
+    nlohmann::json j;
+    try {
+      j = nlohmann::json::parse(uav::ReadTextFile(path, "bench results"));
+    } catch (const nlohmann::json::exception& e) {
+      throw std::invalid_argument(path + " is not JSON: " + e.what());
+    }
+    if (!j.is_object() || !j.contains("flights") || !j["flights"].is_array() || !j.contains("speed"))
+      throw std::invalid_argument(path + " is not a uav-avoid-bench --json file (no 'speed' and 'flights')");
+    if (!j["speed"].is_number() || !(j["speed"].get<double>() > 0)) throw std::invalid_argument(path + ": 'speed' is not a speed");
+    if (first.empty()) {
+      first = path;
+      out = j;
+      out.erase("flights");
+      out.erase("cell");
+      out.erase("note");
+      out["flights"] = nlohmann::json::array();
+    } else {
+      for (const char* key : {"density", "scene", "goal_ne_m", "altitude_m", "speed", "rig_roll_deg", "wire_rig_roll_deg"})
+        if (j.contains(key) && out.contains(key) && j[key] != out[key])
+          throw std::invalid_argument(path + " is another course or speed than " + first + ": '" + key + "' is " + j[key].dump() +
+                                      " there, " + out[key].dump() + " here");
+      for (const char* key : {"density", "scene", "goal_ne_m", "altitude_m", "rig_roll_deg", "wire_rig_roll_deg"})
+        if (j.contains(key) && !out.contains(key)) out[key] = j[key];
+    }
+    for (std::size_t i = 0; i < j["flights"].size(); ++i) {
+      const nlohmann::json& f = j["flights"][i];
+      FlightResult r = FlightFromJson(f, path + ", flight " + std::to_string(i + 1));
+      const auto [it, inserted] = seen.emplace(r.seed, path);
+      if (!inserted) throw std::invalid_argument("seed " + std::to_string(r.seed) + " is in both " + it->second + " and " + path);
+      out["flights"].push_back(f);
+      results->push_back(std::move(r));
+    }
+  }
+  std::sort(results->begin(), results->end(), [](const FlightResult& a, const FlightResult& b) { return a.seed < b.seed; });
+  if (results->empty()) throw std::invalid_argument("the files given to --merge hold no flights");
+  out["merged_from"] = paths;
+  return out;
 }
 
 }  // namespace
@@ -502,9 +612,24 @@ int main(int argc, char** argv) {
                  "write one CSV per flight here, every 0.1 s after the goto: the true and estimated position, speed, "
                  "true clearance and the nearest object's id, the avoidance state, speed limit, path points and reason");
   cli.add_flag("--quiet", quiet, "no progress lines");
+  std::vector<std::string> merge_paths;
+  cli.add_option("--merge", merge_paths,
+                 "fly nothing: score the flights of these earlier --json files as one cell (the same course and speed, each seed "
+                 "once), printed and, with --json, written")
+      ->excludes("--density")->excludes("--scene")->excludes("--seeds")->excludes("--to")->excludes("--picture")
+      ->excludes("--trace")->excludes("--speed")->excludes("--rig-roll")->excludes("--wire-rig-roll")->excludes("--param")
+      ->excludes("--params")->excludes("--altitude");
   uav::RequireDecimalNumbers(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
+    if (!merge_paths.empty()) {
+      std::vector<FlightResult> results;
+      nlohmann::json out = Merge(merge_paths, &results);
+      out["cell"] = Cell(results, out["speed"].get<double>());
+      if (!json_path.empty()) uav::WriteFileAtomically(json_path, out.dump(2) + "\n");
+      std::printf("%s\n", out["cell"].dump(2).c_str());
+      return out["cell"]["failed_seeds"].empty() ? 0 : 1;
+    }
     Course course;
     course.altitude_m = altitude;
     course.rig_roll_deg = rig_roll;
@@ -576,13 +701,13 @@ int main(int argc, char** argv) {
                                  "t_s,n_m,e_m,alt_m,est_n_m,est_e_m,est_alt_m,speed_mps,yaw_deg,pitch_deg,roll_deg,course_deg,climb_mps,clearance_m,nearest_id,perceived_range_m,"
                                  "perceived_wire_m,avoid_state,"
                                  "speed_limit_mps,path_points,reason,path_N\n" + r.trace.str());
-      out["flights"].push_back({{"seed", seed}, {"success", r.success}, {"why", r.why}, {"min_clearance_m", r.min_clearance},
+      out["flights"].push_back({{"seed", seed}, {"success", r.success}, {"reached", r.reached}, {"why", r.why}, {"min_clearance_m", r.min_clearance},
                                 {"closest_ne_m", {r.closest_N.x(), r.closest_N.y()}}, {"closest_s", r.closest_t},
                                 {"clearance_p5_m", r.clearance_p5}, {"path_m", r.path_m}, {"shortest_m", r.shortest_m},
                                 {"mean_speed", r.mean_speed}, {"replan_p50_ms", Percentile(r.replan_ms, 0.5)},
                                 {"replan_p99_ms", Percentile(r.replan_ms, 0.99)},
                                 {"replan_cpu_p50_ms", Percentile(r.replan_cpu_ms, 0.5)},
-                                {"replan_cpu_p99_ms", Percentile(r.replan_cpu_ms, 0.99)}, {"reversals", r.reversals},
+                                {"replan_cpu_p99_ms", r.replan_cpu_p99_ms}, {"reversals", r.reversals},
                                 {"obstacles_passed", r.obstacles_passed}, {"stops_over_3s", r.stops_over_3s},
                                 {"wire_clearances_m", r.wire_clearances}, {"wire_angles_deg", r.wire_angles_deg},
                                 {"nav_error_drift_3s_N_m", r.error_drift_3s_N}, {"nav_error_drift_3s_O_m", r.error_drift_3s_O}});
