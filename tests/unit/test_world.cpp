@@ -386,6 +386,11 @@ TEST(WorldPowerLine, CatenaryHangsItsSagAndIsWhereTheRayHitsIt) {
   const auto hit = scene.Intersect(Eigen::Vector3d(under.x(), under.y(), 0), Eigen::Vector3d(0, 0, -1));
   ASSERT_TRUE(hit);
   EXPECT_NEAR(hit->p_N.z(), under.z() + 0.01, 2e-3);  // 64 straight pieces: chord error < 2 mm
+  // The clearance to it: 2 m below mid-span is 2 m less the radius; beside it, to the side.
+  const Eigen::Vector3d mid = c.PointAt(0.5);
+  EXPECT_NEAR(c.Distance(mid + Eigen::Vector3d(0, 0, 2)), 2 - 0.01, 2e-3);
+  EXPECT_NEAR(scene.Clearance(mid + Eigen::Vector3d(0, 3, 0)), 3 - 0.01, 2e-3);
+  EXPECT_EQ(c.Distance(mid), 0.0);
 }
 
 // ---- Determinism, clouds, scene files -----------------------------------------------------------

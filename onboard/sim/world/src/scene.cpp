@@ -48,7 +48,7 @@ Eigen::Vector3d Cable::PointAt(double s) const {
 }
 
 double Cable::Distance(const Eigen::Vector3d& p_N) const {
-  const std::vector<Eigen::Vector3d> pts = Sample(64);
+  const std::vector<Eigen::Vector3d>& pts = curve_N;
   double best = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i + 1 < pts.size(); ++i) {
     const Eigen::Vector3d ab = pts[i + 1] - pts[i];
@@ -563,6 +563,7 @@ int Scene::AddCable(const Eigen::Vector3d& a_N, const Eigen::Vector3d& b_N, doub
   c.sag_m = sag_m;
   c.radius_m = radius_m;
   c.catenary_a = sag_m > 0 ? CatenaryParameter(span, sag_m) : 0.0;
+  c.curve_N = c.Sample(64);
   // Rendered as a chain of straight pieces; 64 pieces put the chord within sag/1000 of the curve.
   constexpr int kPieces = 64;
   const int material = s.Material("dark");

@@ -41,11 +41,14 @@ struct Cable {
   double sag_m = 0.0;
   double radius_m = 0.0;
   double catenary_a = 0.0;   // [m] catenary parameter a of z = a cosh(s/a)
+  // The curve at the 64 points Distance measures to, a_N first: filled where the scene makes
+  // the cable, since the clearance is asked for at every control period and on whole grids.
+  std::vector<Eigen::Vector3d> curve_N;
   // Point at fraction s in [0, 1] along the span.
   Eigen::Vector3d PointAt(double s) const;
   // The curve sampled at n points (n >= 2), a_N first.
   std::vector<Eigen::Vector3d> Sample(int n) const;
-  // Distance [m] from p_N to the cable's surface (0 inside), along the curve sampled at 64 points.
+  // Distance [m] from p_N to the cable's surface (0 inside), along curve_N.
   double Distance(const Eigen::Vector3d& p_N) const;
 };
 
