@@ -26,6 +26,14 @@ assert f["replan_cpu_p50_ms"] <= f["replan_p50_ms"] + 0.5, f
 assert 0 < f["nav_error_drift_3s_O_m"] < f["nav_error_drift_3s_N_m"] < 0.5, f
 c = j["cell"]
 assert c["flights"] == 1 and c["success_rate"] == 1.0, c
+# The time lost against cruise, by cause: each part a time, together at least what the mean
+# speed says was lost (flown time minus path over cruise) and no more than the time flown.
+l = f["time_lost_s"]
+parts = ("blocked", "last_4m", "start", "seen_free_limit", "other")
+assert all(l[k] >= 0 for k in parts) and abs(sum(l[k] for k in parts) - l["total"]) < 1e-6, l
+assert f["flown_s"] - f["path_m"] / 3.0 - 0.5 <= l["total"] < f["flown_s"], (f["flown_s"], f["path_m"], l)
+assert l["last_4m"] > 0 and l["start"] > 0, l  # it accelerates after the goto and stops at the goal
+assert c["time_lost_flights"] == 1 and c["time_flown_s"] == f["flown_s"] and c["time_lost_s"] == l, c
 # Each wire passed within 3 m, with its least true clearance; the cell counts those at 1 m or more.
 w = f["wire_clearances_m"]
 assert all(0.5 <= x < 3.0 for x in w), w
@@ -133,7 +141,21 @@ for key, want, within in (("clearance_p5_m", 1.50, 0.005), ("clearance_min_m", 0
                           ("replan_cpu_p99_worst_flight_ms", 14.3, 0.05)):
     assert abs(c[key] - want) <= within, (key, c[key])
 assert c["wires_passed"] == 270 == c["wires_passed_at_1m"] and c["replan_cpu_p99_ms"] is None, c
+# Those files were written before the time lost was kept: the cell says it sums none.
+assert c["time_lost_flights"] == 0 and c["time_lost_s"]["total"] == 0, c
 print("uav-avoid-bench --merge: ok")
+PY
+# A file that keeps the time lost gives it back through --merge; a broken one is refused by name.
+"$bin/uav-avoid-bench" --merge "$out/r.json" > "$out/rm.out"
+python3 - "$out" <<'PY'
+import json, sys
+out = sys.argv[1]
+c, r = json.load(open(f"{out}/rm.out")), json.load(open(f"{out}/r.json"))["cell"]
+for k in ("time_lost_flights", "time_flown_s", "time_lost_s"):
+    assert c[k] == r[k], (k, c[k], r[k])
+j = json.load(open(f"{out}/r.json"))
+del j["flights"][0]["time_lost_s"]["start"]
+json.dump(j, open(f"{out}/lost.json", "w"))
 PY
 # A failed flight makes the exit status 1 and is named; files of other courses, a seed twice and
 # a file that is not the bench's are refused by name.
@@ -151,4 +173,5 @@ refuse "another course or speed" --merge "$bench/avoid_1-25_5mps_flatface_seeds1
 refuse "is not a uav-avoid-bench" --merge "$out/layout.json"
 refuse "is not JSON" --merge "$out/broken.json"
 refuse "excludes" --merge "$out/failed.json" --density 1/25
+refuse "'time_lost_s' has no time 'start'" --merge "$out/lost.json"
 echo "merge refusals: ok"

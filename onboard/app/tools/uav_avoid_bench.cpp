@@ -199,6 +199,20 @@ struct FlightResult {
   // (a cable along the way is seen end-on, as a line from the vanishing point, and is ranged
   // poorly by any rolled pair; the target is set for cables across the corridor).
   std::vector<double> wire_angles_deg;
+  // Where the time lost against cruise went: each 0.1 s sample's dt * (1 - horizontal speed /
+  // cruise), when slower than cruise, given to the first cause that holds. The figure explains
+  // "speed / cruise": flown time minus path / cruise is at most their sum.
+  struct TimeLost {
+    double blocked = 0;          // the avoidance state was "blocked" (stopped short, no way seen)
+    double last_4m = 0;          // within 4 m of the goal: the stop at it
+    double start = 0;            // from the goto until first at 0.9 of what it may fly
+    double seen_free_limit = 0;  // under a speed limit below cruise: the space seen free
+    double other = 0;            // the limit at cruise: turns, climbs, the controller's lag
+    double Total() const { return blocked + last_4m + start + seen_free_limit + other; }
+  };
+  TimeLost lost;
+  double flown_s = 0;              // from the goto to the end of the flight, sampled
+  bool has_time_lost = false;      // false for a flight read back from a file written before it
   std::vector<Eigen::Vector3f> occupied;  // the vehicle's map at the end, in the flight's band
   std::shared_ptr<const TrueField> truth;  // the field at the flight's altitude
   std::ostringstream trace;               // every 0.1 s after the goto: truth, estimate, avoidance
@@ -260,6 +274,8 @@ FlightResult Fly(const uav::ParameterSet& params, const Course& course, int seed
   char goto_text[64];
   std::snprintf(goto_text, sizeof goto_text, "goto %.2f %.2f %.2f", course.goal_NE.x(), course.goal_NE.y(), course.altitude_m);
   double last_sample_t = -1, still_since = -1, travel_start_t = -1;
+  bool started = false;  // reached 0.9 of what the vehicle may fly since the goto
+  r.has_time_lost = true;
   int64_t last_plan_utime = -1;
   int last_side = 0;
   std::vector<double> clearances;
@@ -288,6 +304,7 @@ FlightResult Fly(const uav::ParameterSet& params, const Course& course, int seed
       r.replan_cpu_ms.push_back(d.avoid_plan->planning_cpu_ms);
     }
     if (t - last_sample_t >= 0.1) {
+      const double dt = last_sample_t < 0 ? 0.0 : t - last_sample_t;
       last_sample_t = t;
       int nearest = uav::world::kNoObject;
       const double c = scene.Clearance(p, now * 1e-6, &nearest);
@@ -312,6 +329,18 @@ FlightResult Fly(const uav::ParameterSet& params, const Course& course, int seed
         last_side = 0;
       }
       const double v = vehicle.Truth().v_N.head<2>().norm();
+      {
+        // The time lost against cruise in this sample, and its cause.
+        const double limit = d.avoid_speed_limit > 0 ? std::min(speed, d.avoid_speed_limit) : speed;
+        if (v >= 0.9 * limit) started = true;
+        const double lost = dt * std::max(0.0, 1.0 - v / speed);
+        r.flown_s += dt;
+        if (d.avoid_state == uav::AvoidState::kBlocked) r.lost.blocked += lost;
+        else if ((course.goal_NE - p.head<2>()).norm() < 4.0) r.lost.last_4m += lost;
+        else if (!started) r.lost.start += lost;
+        else if (limit < 0.99 * speed) r.lost.seen_free_limit += lost;
+        else r.lost.other += lost;
+      }
       if (v < 0.2) {
         if (still_since < 0) still_since = t;
       } else {
@@ -435,6 +464,11 @@ void Picture(const std::string& path, const FlightResult& r, const Course& cours
 }
 
 // The cell's figures over its flights (the targets are on these).
+nlohmann::json TimeLostJson(const FlightResult::TimeLost& l) {
+  return {{"total", l.Total()}, {"blocked", l.blocked}, {"last_4m", l.last_4m}, {"start", l.start},
+          {"seen_free_limit", l.seen_free_limit}, {"other", l.other}};
+}
+
 nlohmann::json Cell(const std::vector<FlightResult>& results, double speed) {
   std::vector<double> p5, mins, ratio, speeds, replans, replans_cpu, flight_cpu_p99, wires, across;
   std::vector<int> failed;
@@ -453,6 +487,15 @@ nlohmann::json Cell(const std::vector<FlightResult>& results, double speed) {
     wires.insert(wires.end(), r.wire_clearances.begin(), r.wire_clearances.end());
     for (std::size_t i = 0; i < r.wire_clearances.size(); ++i)
       if (r.wire_angles_deg[i] >= kAcross) across.push_back(r.wire_clearances[i]);
+  }
+  FlightResult::TimeLost lost;
+  double flown = 0;
+  int with_lost = 0;
+  for (const auto& r : results) {
+    if (!r.has_time_lost) continue;
+    ++with_lost, flown += r.flown_s;
+    lost.blocked += r.lost.blocked, lost.last_4m += r.lost.last_4m, lost.start += r.lost.start;
+    lost.seen_free_limit += r.lost.seen_free_limit, lost.other += r.lost.other;
   }
   const auto at_1m = [](const std::vector<double>& c) { return std::count_if(c.begin(), c.end(), [](double x) { return x >= 1.0; }); };
   return {{"flights", results.size()},
@@ -477,7 +520,11 @@ nlohmann::json Cell(const std::vector<FlightResult>& results, double speed) {
           {"wires_across_passed", across.size()},
           {"wires_across_passed_at_1m", at_1m(across)},
           {"wire_across_clearance_min_m", across.empty() ? NAN : *std::min_element(across.begin(), across.end())},
-          {"failed_seeds", failed}};
+          {"failed_seeds", failed},
+          // Summed over the flights that carry it (files written before it was kept do not).
+          {"time_lost_flights", with_lost},
+          {"time_flown_s", flown},
+          {"time_lost_s", TimeLostJson(lost)}};
 }
 
 // A flight read back from an earlier run's --json file (--merge): what the cell is made of.
@@ -529,6 +576,19 @@ FlightResult FlightFromJson(const nlohmann::json& f, const std::string& where) {
   r.wire_angles_deg = numbers("wire_angles_deg");
   if (r.wire_angles_deg.size() != r.wire_clearances.size())
     throw std::invalid_argument(where + ": 'wire_angles_deg' and 'wire_clearances_m' differ in length");
+  if (f.contains("time_lost_s")) {
+    const nlohmann::json& l = f["time_lost_s"];
+    auto part = [&](const char* key) {
+      if (!l.is_object() || !l.contains(key) || !l[key].is_number() || !(l[key].get<double>() >= 0))
+        throw std::invalid_argument(where + ": 'time_lost_s' has no time '" + key + "'");
+      return l[key].get<double>();
+    };
+    r.lost.blocked = part("blocked"), r.lost.last_4m = part("last_4m"), r.lost.start = part("start");
+    r.lost.seen_free_limit = part("seen_free_limit"), r.lost.other = part("other");
+    r.flown_s = number("flown_s");
+    if (!(r.flown_s >= 0)) throw std::invalid_argument(where + ": 'flown_s' is not a time");
+    r.has_time_lost = true;
+  }
   if (r.success && !r.reached) throw std::invalid_argument(where + " succeeded without arriving (no mean speed)");
   return r;
 }
@@ -710,7 +770,8 @@ int main(int argc, char** argv) {
                                 {"replan_cpu_p99_ms", r.replan_cpu_p99_ms}, {"reversals", r.reversals},
                                 {"obstacles_passed", r.obstacles_passed}, {"stops_over_3s", r.stops_over_3s},
                                 {"wire_clearances_m", r.wire_clearances}, {"wire_angles_deg", r.wire_angles_deg},
-                                {"nav_error_drift_3s_N_m", r.error_drift_3s_N}, {"nav_error_drift_3s_O_m", r.error_drift_3s_O}});
+                                {"nav_error_drift_3s_N_m", r.error_drift_3s_N}, {"nav_error_drift_3s_O_m", r.error_drift_3s_O},
+                                {"flown_s", r.flown_s}, {"time_lost_s", TimeLostJson(r.lost)}});
       results.push_back(std::move(r));
       // Written after every flight: a long run stopped early keeps what it flew.
       out["cell"] = Cell(results, speed);
