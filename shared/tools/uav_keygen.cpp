@@ -6,12 +6,13 @@
 
 #include "uav/shared/signing.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 int main(int argc, char** argv) {
   CLI::App cli{"uav-keygen: a new message-signing key shared by a vehicle and its ground stations"};
   std::string path;
   cli.add_option("FILE", path, "key file to create (refuses to overwrite one)")->required();
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
     const uav::SigningKey key = uav::SigningKey::Generate(path);

@@ -29,6 +29,7 @@
 #include "uav/sim/sim_cameras.hpp"
 #include "uav/world/scene.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 extern char** environ;
 
@@ -158,7 +159,7 @@ int main(int argc, char** argv) {
   cli.add_option("--opencv-frames", opencv_frames, "frames for the side-by-side run with cv::Stitcher (0: skip)")
       ->capture_default_str();
   cli.add_option("--work", work, "scratch folder (rendered surveys, maps)")->capture_default_str();
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
     const uav::world::Scene scene =

@@ -25,7 +25,7 @@ assert abs(lsd["f1"] - 93.38) < 0.3, lsd
 assert ours["f1"] > lsd["f1"] + 5.0
 # Each photo's own figures, to find the hard ones: one entry per photo, and the two that score
 # under F1 90 (two wires a few pixels apart over forest; a faint wire over a hillside) are the
-# ones the README names.
+# ones the documentation names.
 per = t["per_image"]
 assert len(per) == 50 and len({p["image"] for p in per}) == 50, len(per)
 assert all(0 <= p["precision"] <= 1 and 0 <= p["recall"] <= 1 for p in per)

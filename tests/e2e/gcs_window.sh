@@ -3,7 +3,7 @@
 # simulated vehicle with its onboard tracker. The script takes off, ticks signals into two plots,
 # draws a survey, picks a target on the video and saves two screenshots seconds apart;
 # check_screenshot verifies they show every panel with live data and writes one picture per
-# panel (panel_*.png) for the README.
+# panel (panel_*.png) for the user guide.
 # Usage: gcs_window.sh BIN_DIR SCRIPT OUT_DIR
 set -euo pipefail
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/../integration/scaled_timeout.sh"

@@ -180,7 +180,7 @@ TEST(AvoidanceFlight, StopsShortOfATexturelessWall) {
 // 1 m of true clearance.
 // Measured 1.38 m with the map in the odometry frame (1.03, 0.73 and 1.35 m in earlier builds):
 // the planner keeps its clearance on 0.4 m cells, and up to 0.7 m of it can be lost to where
-// the wire and the vehicle fall in them (README, obstacle avoidance).
+// the wire and the vehicle fall in them (docs/modules/avoidance.md).
 // Flown twice: with one pair rolled 45 degrees for obstacles and wires, and with a level pair for
 // obstacles and a rolled one for the wires (the level pair alone sees this wire, parallel to its
 // baseline, with no disparity).

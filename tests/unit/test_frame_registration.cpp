@@ -95,7 +95,7 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 // The third detector of Table 6.1 registers the same pair within Algorithm 1's checks; its
-// accuracy over the ground is the study's finding, not a pass mark (README).
+// accuracy over the ground is the study's finding, not a pass mark (docs/modules/stitching.md).
 TEST(FrameRegistration, FastOrbRegistersTheVillage) {
   const world::CameraSetup& cam = *Village().downward_camera();
   const world::Renderer renderer(Village(), cam);

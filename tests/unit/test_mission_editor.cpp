@@ -68,7 +68,7 @@ void ExpectSameItems(const MissionEditor& a, const MissionEditor& b) {
 }
 
 TEST(MissionEditor, MixedMissionRoundTripsThroughPlanAndWpl) {
-  SurveyPlanner planner(UAV_CAMERA_DIR, kHome);
+  SurveyPlanner planner(UAV_RESOURCE_DIR "/cameras", kHome);
   MissionEditor editor;
   ASSERT_NO_FATAL_FAILURE(MixedEdit(&editor, &planner));
   std::string error;
@@ -81,7 +81,7 @@ TEST(MissionEditor, MixedMissionRoundTripsThroughPlanAndWpl) {
   EXPECT_GT(m->items.size(), 10u);
 
   // .plan: the survey comes back as the survey item, the planner gets its polygon.
-  SurveyPlanner planner2(UAV_CAMERA_DIR, kHome);
+  SurveyPlanner planner2(UAV_RESOURCE_DIR "/cameras", kHome);
   MissionEditor editor2;
   ASSERT_TRUE(editor2.Load(waypoints::ParsePlan(waypoints::FormatPlan(*m), "mixed.plan"), &planner2, &error)) << error;
   ExpectSameItems(editor, editor2);
@@ -93,7 +93,7 @@ TEST(MissionEditor, MixedMissionRoundTripsThroughPlanAndWpl) {
 
   // WPL keeps no survey: its lines come back as waypoints with the camera switched on and off,
   // and the mission built from them is the same item for item.
-  SurveyPlanner planner3(UAV_CAMERA_DIR, kHome);
+  SurveyPlanner planner3(UAV_RESOURCE_DIR "/cameras", kHome);
   MissionEditor editor3;
   ASSERT_TRUE(editor3.Load(waypoints::ParseWpl(waypoints::FormatWpl(*m), "mixed.waypoints"), &planner3, &error)) << error;
   int camera_on = 0;
@@ -105,7 +105,7 @@ TEST(MissionEditor, MixedMissionRoundTripsThroughPlanAndWpl) {
 }
 
 TEST(MissionEditor, WithoutItemsTheSurveyIsTheMissionAndLoadsBackAsTheSurvey) {
-  SurveyPlanner planner(UAV_CAMERA_DIR, kHome);
+  SurveyPlanner planner(UAV_RESOURCE_DIR "/cameras", kHome);
   MissionEditor editor;
   std::string error;
   EXPECT_FALSE(editor.MakeMission(planner, kHome, &error));  // nothing planned
@@ -122,7 +122,7 @@ TEST(MissionEditor, WithoutItemsTheSurveyIsTheMissionAndLoadsBackAsTheSurvey) {
 }
 
 TEST(MissionEditor, RefusesWhatItCannotShowAndKeepsItsItems) {
-  SurveyPlanner planner(UAV_CAMERA_DIR, kHome);
+  SurveyPlanner planner(UAV_RESOURCE_DIR "/cameras", kHome);
   MissionEditor editor;
   ASSERT_NO_FATAL_FAILURE(MixedEdit(&editor, &planner));
   std::string error;
@@ -148,7 +148,7 @@ TEST(MissionEditor, RefusesWhatItCannotShowAndKeepsItsItems) {
 }
 
 TEST(MissionEditor, GeofenceAndRallyPointsRoundTripAsQGroundControlWritesThem) {
-  SurveyPlanner planner(UAV_CAMERA_DIR, kHome);
+  SurveyPlanner planner(UAV_RESOURCE_DIR "/cameras", kHome);
   MissionEditor editor;
   editor.Insert(0, At(PlanAction::kWaypoint, planner, 20, 0, 10));
   FenceDraft keep_in;
@@ -178,7 +178,7 @@ TEST(MissionEditor, GeofenceAndRallyPointsRoundTripAsQGroundControlWritesThem) {
   EXPECT_EQ(j["rallyPoints"]["points"][0][2], 12);
   EXPECT_EQ(j["mission"]["items"].size(), 2u);  // take-off and the waypoint: the fence is apart
   // Back into an editor: the same zones and rally point; the same file again.
-  SurveyPlanner planner2(UAV_CAMERA_DIR, kHome);
+  SurveyPlanner planner2(UAV_RESOURCE_DIR "/cameras", kHome);
   MissionEditor editor2;
   ASSERT_TRUE(editor2.Load(waypoints::ParsePlan(plan, "fenced.plan"), &planner2, &error)) << error;
   ASSERT_EQ(editor2.fences.size(), 2u);

@@ -1,7 +1,7 @@
 // Target tracking (thesis 3.7) against the renderer's exact object boxes: a coloured ball and a
 // car moving slowly past a static camera, a jump, and bad selections. CamShift must hold the
 // centre within 2 px (median) and re-lock within 10 frames of a jump; KCF and CSRT run on the
-// same frames for the README's comparison.
+// same frames for the documentation's comparison.
 #include <algorithm>
 #include <chrono>
 #include <cmath>

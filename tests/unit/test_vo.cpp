@@ -84,7 +84,7 @@ TEST(StereoVoFlight, VillageRacetrackPnpDriftsUnderOnePercentAndBeatsRigid) {
     }
   }
   std::vector<double> errors;
-  // The poses as KITTI files, for uav-vo-eval's plot (the README's figure).
+  // The poses as KITTI files, for uav-vo-eval's plot (the documentation's figure).
   WriteKittiPoses(::testing::TempDir() + "vo_racetrack_truth.txt", gt);
   for (size_t m = 0; m < methods.size(); ++m) {
     WriteKittiPoses(::testing::TempDir() + "vo_racetrack_" + label(m) + ".txt", est[m]);

@@ -16,6 +16,7 @@
 #include "uav/shared/text_file.hpp"
 #include "uav/waypoints/mission_file.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 namespace wp = uav::waypoints;
 
@@ -95,7 +96,7 @@ void DrawPicture(const std::string& path, const wp::Polygon2& area, const wp::Su
 
 int main(int argc, char** argv) {
   CLI::App cli{"Plans a zig-zag survey over a polygon and writes the mission files"};
-  std::string polygon_text, polygon_file, home_text, camera_file = std::string(UAV_RESOURCE_DIR) + "/cameras/sim_downward_640x480.camera";
+  std::string polygon_text, polygon_file, home_text, camera_file = uav::ResourcePath("cameras/sim_downward_640x480.camera");
   std::string plan_out, wpl_out, captures_out, picture_out;
   wp::SurveyParams p;
   double front_pct = 75, side_pct = 60;
@@ -127,7 +128,7 @@ int main(int argc, char** argv) {
   cli.add_option("--wpl", wpl_out, "write a QGC WPL 110 file");
   cli.add_option("--captures", captures_out, "write the capture plan as CSV");
   cli.add_option("--picture", picture_out, "draw the plan as PNG");
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   if (list_camera_params) {
     std::cout << uav::DescribeSchema(uav::CameraParameterSchema());

@@ -26,6 +26,7 @@
 #include "uav/shared/channels.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 #include "uav/shared/process_memory.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
@@ -113,7 +114,7 @@ int main(int argc, char** argv) {
   cli.add_flag("--insecure", insecure, "send unsigned (only a vehicle started with --insecure obeys); shown in red")
       ->excludes(key_option);
   cli.add_option("--exit-after", exit_after, "quit after this many seconds (0: never)")->check(CLI::Range(0.0, 1e6));
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
 
   std::signal(SIGINT, OnSignal);

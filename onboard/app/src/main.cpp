@@ -25,6 +25,7 @@
 #include "uav/sim/sim_vehicle.hpp"
 #include "uav/world/scene.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 namespace {
 
@@ -53,7 +54,7 @@ struct CommandLine {
   std::string speed_text = "1";
   std::string log_dir;
   std::string home_text = "1.2966,103.7764,15";  // NUS, Singapore: where the thesis flew
-  std::string params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
+  std::string params_path = uav::ResourcePath("vehicles/x650.params");
   std::string paths_dir = uav::waypoints::kStoredPathsDir;
   double duration_s = 0.0;
   std::string scene_path;
@@ -190,7 +191,7 @@ int main(int argc, char** argv) {
   CLI::App cli{"uav-onboard: onboard flight stack (threads IMU, CTL, SVO, DLG, CMM, and the vision workers)"};
   CommandLine options;
   DeclareOptions(cli, options);
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   if (options.list_params) {
     std::cout << uav::DescribeSchema(uav::VehicleParameterSchema());

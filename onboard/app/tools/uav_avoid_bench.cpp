@@ -31,6 +31,7 @@
 #include "uav/app/sim_flight.hpp"
 #include "uav/shared/command_grammar.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/process_memory.hpp"
@@ -61,7 +62,7 @@ struct Course {
 // and, with wire_rig_roll_deg, a second pair 10 cm above it, rolled about its axis, for wires
 // alone (pwl_rig 1: a rolled baseline ranges level wires, thesis 3.6).
 nlohmann::json Rigs(const Course& c) {
-  const std::string camera = std::string(UAV_RESOURCE_DIR) + "/cameras/sim_stereo_640x480.camera";
+  const std::string camera = uav::ResourcePath("cameras/sim_stereo_640x480.camera");
   nlohmann::json stereo = nlohmann::json::array();
   stereo.push_back({{"name", "stereo"}, {"file", camera}, {"rate_hz", 15}, {"baseline_m", 0.12}, {"mount_roll_deg", c.rig_roll_deg},
                     {"preview_rate_hz", 0},
@@ -645,7 +646,7 @@ nlohmann::json Merge(const std::vector<std::string>& paths, std::vector<FlightRe
 int main(int argc, char** argv) {
   uav::KeepFreedMemory();
   CLI::App cli{"uav-avoid-bench: closed-loop obstacle avoidance over seeded obstacle fields, perception in the loop"};
-  std::string density_text, scene_path, goal_text, seeds_text, json_path, picture_dir, params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
+  std::string density_text, scene_path, goal_text, seeds_text, json_path, picture_dir, params_path = uav::ResourcePath("vehicles/x650.params");
   double speed = 3.0, rig_roll = 0.0, wire_rig_roll = 45.0, altitude = kAltitude;
   bool quiet = false;
   std::vector<std::string> overrides;
@@ -679,7 +680,7 @@ int main(int argc, char** argv) {
       ->excludes("--density")->excludes("--scene")->excludes("--seeds")->excludes("--to")->excludes("--picture")
       ->excludes("--trace")->excludes("--speed")->excludes("--rig-roll")->excludes("--wire-rig-roll")->excludes("--param")
       ->excludes("--params")->excludes("--altitude");
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
     if (!merge_paths.empty()) {

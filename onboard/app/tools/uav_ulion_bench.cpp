@@ -20,6 +20,7 @@
 #include "uav/app/tailsitter_flight.hpp"
 #include "uav/hal/tailsitter_aero.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 #include "uav/shared/process_memory.hpp"
 #include "uav/shared/text_file.hpp"
 
@@ -188,7 +189,7 @@ void Plot(const std::string& path, const std::vector<std::pair<std::string, std:
 int main(int argc, char** argv) {
   uav::KeepFreedMemory();
   CLI::App cli{"uav-ulion-bench: U-Lion's transitions over many closed-loop runs (thesis 2.6.6)"};
-  std::string params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/ulion.params", json_path, plot_path;
+  std::string params_path = uav::ResourcePath("vehicles/ulion.params"), json_path, plot_path;
   int runs = 200;
   bool verbose = false;
   std::string trace_path;
@@ -200,7 +201,7 @@ int main(int argc, char** argv) {
   cli.add_flag("--verbose", verbose, "one line per run on stderr");
   cli.add_option("--trace", trace_path, "CSV of the first run with our schedule: time, mode, altitude, airspeed, pitch, ...");
   cli.add_option("--plot", plot_path, "PNG of a calm-air transition each way, ours against PX4's schedule");
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
     const uav::ParameterSet vehicle = uav::ParameterSet::LoadFile(params_path, uav::VehicleParameterSchema());

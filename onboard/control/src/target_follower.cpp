@@ -64,7 +64,7 @@ TargetFollower::Output TargetFollower::Update(const TrackedTarget& target, const
   }
   // The point the follow distance short of the target along the line of sight. The target's
   // velocity is not fed forward: differenced from a single camera's ground points it is noisy
-  // along the range, and fed forward it made the vehicle weave (README, Follow); the position
+  // along the range, and fed forward it made the vehicle weave (docs/modules/tracking.md, Follow); the position
   // loop alone trails a walker by about a metre more than the set distance.
   const Eigen::Vector2d toward(std::cos(target.bearing_rad), std::sin(target.bearing_rad));
   const Eigen::Vector2d want_NE = target.p_N.head<2>() - p_.distance_m * toward;

@@ -13,6 +13,7 @@
 
 #include "uav/sysid/system_identification.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 namespace {
 
@@ -68,14 +69,14 @@ void WriteAtomically(const std::string& path, const std::function<bool(const std
 
 int main(int argc, char** argv) {
   CLI::App cli{"uav-sysid: identify the vehicle model from a flight log with chirps (thesis 2.4.5, 2.5)"};
-  std::string log_path, params_path = std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params";
+  std::string log_path, params_path = uav::ResourcePath("vehicles/x650.params");
   std::string plot_path, json_path;
   cli.add_option("LOG", log_path, "flight log CSV (LOG_DIR/flight_<utime>.csv)")->required();
   cli.add_option("--params", params_path, "vehicle file with the ground-measured mass, inertia and K_v (Table 2.2)")
       ->capture_default_str();
   cli.add_option("--plot", plot_path, "PNG of measured against model output (default: LOG with _sysid.png)");
   cli.add_option("--json", json_path, "also write the JSON here");
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
     const auto known = uav::sysid::KnownParams::FromParameters(uav::ParameterSet::LoadFile(params_path, uav::VehicleParameterSchema()));

@@ -16,7 +16,7 @@ PreArmReport FromMessage(const uavmsg::pre_arm_t& m) {
   for (const uavmsg::pre_arm_check_t& c : m.checks) {
     if (c.name.empty()) fail("a check without a name");
     if (!c.passed && c.reason.empty()) fail("check " + c.name + " fails without a reason");
-    r.checks.push_back({c.name, c.passed, c.reason});
+    r.checks.push_back({c.name, c.passed != 0, c.reason});
   }
   return r;
 }

@@ -159,7 +159,7 @@ bool Free(const std::vector<Footprint>& taken, const Eigen::Vector2d& c, double 
   return true;
 }
 
-// An obstacle-avoidance test field (README: obstacle avoidance): `count` obstacles in the region,
+// An obstacle-avoidance test field (docs/modules/avoidance.md): `count` obstacles in the region,
 // 45 % trees (crown 0.8-2 m), 30 % poles (radius 0.15-0.6 m, 6-12 m tall), 10 % walls (2-6 m
 // long, 0.3 m thick, 3-8 m high), 15 % boxes (1-3 m, 1-5 m high), overlapping as they fall;
 // then `wires` cables between pole tops 3-15 m apart, hung at wire_height_m. Nothing within

@@ -11,6 +11,7 @@
 #include "uav/shared/frames.hpp"
 #include "uav/world/renderer.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 namespace {
 
@@ -73,7 +74,7 @@ int main(int argc, char** argv) {
   cli.add_option("--camera", camera, "downward or stereo")->check(CLI::IsMember({"downward", "stereo"}))->capture_default_str();
   cli.add_option("--time", time_s, "simulated time (s): clouds drift, noise changes")->check(CLI::Range(0.0, 1e7));
   cli.add_option("--out", out, "output prefix")->capture_default_str();
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
     const auto pose = ParseList(pose_text, "--pose", 3, 6);

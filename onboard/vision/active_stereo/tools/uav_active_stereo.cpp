@@ -32,6 +32,7 @@
 #include "uav/vision/active_stereo.hpp"
 #include "uav/vision/stereo_calibration.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 namespace fs = std::filesystem;
 
@@ -99,7 +100,7 @@ int main(int argc, char** argv) {
   cli.add_option("--min-points", params.min_points, "fewer triangulated dots: no height")->capture_default_str();
   cli.add_option("--csv", csv_out, "CSV with one row per pair");
   cli.add_option("--overlay", overlay_dir, "folder for the left images with their dots and height drawn");
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   if (calib_path.empty() && !rectified) {
     std::fprintf(stderr, "uav-active-stereo: give --calib FILE for raw pairs or --rectified --focal PX --baseline M\n");

@@ -22,6 +22,7 @@
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/mono_depth.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 namespace {
 
@@ -63,7 +64,7 @@ int main(int argc, char** argv) {
   cli.add_option("--out", out, "CSV: frame,utime,file,row,col,state,depth_m,sigma_m,features,confidence,reason")->required();
   cli.add_option("--poses", poses_path, "poses CSV (default CAPTURE_DIR/captures.csv)");
   cli.add_option("--overlay", overlay_dir, "write every frame with its features and grid drawn here");
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
     if (poses_path.empty()) poses_path = dir + "/captures.csv";

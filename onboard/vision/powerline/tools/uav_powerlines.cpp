@@ -24,6 +24,7 @@
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/power_line_detector.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 namespace {
 
@@ -88,7 +89,7 @@ int main(int argc, char** argv) {
   cli.add_option("--mode", mode, "any: wires at any angle; horizontal: the thesis's forward-camera mode")
       ->check(CLI::IsMember({"any", "horizontal"}))
       ->capture_default_str();
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   if (out_dir.empty() && truth_dir.empty() && overlay_dir.empty()) {
     std::fprintf(stderr, "uav-powerlines: give --out DIR (write the wires), --truth DIR (score them) or --overlay DIR\n");

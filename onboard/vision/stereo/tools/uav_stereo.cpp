@@ -29,6 +29,7 @@
 #include "uav/vision/stereo_calibration.hpp"
 #include "uav/vision/stereo_obstacles.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 #include "uav/shared/image_files.hpp"
 
 namespace {
@@ -133,7 +134,7 @@ int main(int argc, char** argv) {
   cli.add_option("--obstacles", obstacles_out, "JSON obstacle cylinders, level camera frame (x fwd, y right, z down)");
   cli.add_option("--truth", truth_path, "ground-truth disparity image (0 unknown) to score against");
   cli.add_option("--truth-scale", truth_scale, "ground-truth pixel value per pixel of disparity")->capture_default_str();
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   if (calib_path.empty() && !rectified) {
     std::fprintf(stderr, "uav-stereo: give --calib FILE for a raw pair or --rectified for a rectified one\n");

@@ -13,6 +13,7 @@
 
 #include "uav/vision/stereo_calibration.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 #include "uav/shared/image_files.hpp"
 
 int main(int argc, char** argv) {
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
   cli.add_option("--square", square_m, "square size [m]")->capture_default_str();
   cli.add_option("--out", out, "calibration file (.yml, .yaml, .json)")->required();
   cli.add_option("images", images, "LEFT RIGHT pairs")->required();
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   uav::vision::ChessboardSpec board;
   board.square_m = square_m;

@@ -27,6 +27,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 #include "uav/shared/frames.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/disparity.hpp"
@@ -282,7 +283,7 @@ int main(int argc, char** argv) {
   cli.add_option("--depths", depths, "plane depths [m] for Tables 3.1-3.2")->delimiter(',')->capture_default_str();
   cli.add_option("--out", out, "write everything as JSON here");
   cli.add_option("--plot", plot, "draw the depth error against distance (Figs. 3.6-3.7) as a PNG here");
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   for (double z : depths)
     if (!(std::isfinite(z) && z >= 1.0 && z <= 50.0)) {

@@ -38,6 +38,7 @@
 #include "uav/vision/map_stitcher.hpp"
 #include "uav/vision/photo_geotag.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 namespace {
 
@@ -178,7 +179,7 @@ int main(int argc, char** argv) {
   cli.add_option("--detector", detector,
                  "gftt: good features + Lucas-Kanade (thesis); orb: FAST + ORB + brute force; sift: SIFT + FLANN")
       ->capture_default_str();
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   const auto start = std::chrono::steady_clock::now();
   const auto since_start = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };

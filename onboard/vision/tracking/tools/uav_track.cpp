@@ -27,6 +27,7 @@
 #include "uav/vision/target_tracker.hpp"
 #include "uav/vision/tracking_score.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 namespace {
 
@@ -117,7 +118,7 @@ int main(int argc, char** argv) {
   app.add_option("--truth", truth_path,
                  "ground-truth boxes, one x,y,w,h per frame (OTB's groundtruth_rect.txt): scores the run (success AUC, "
                  "precision at 20 px)");
-  uav::RequireDecimalNumbers(app);
+  uav::PrepareCommandLine(app);
   CLI11_PARSE(app, argc, argv);
 
   uav::vision::TrackerParams params;

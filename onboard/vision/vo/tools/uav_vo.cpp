@@ -22,6 +22,7 @@
 #include "uav/vision/kitti_odometry.hpp"
 #include "uav/vision/stereo_vo.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 #include "uav/shared/image_files.hpp"
 
 int main(int argc, char** argv) {
@@ -37,7 +38,7 @@ int main(int argc, char** argv) {
   cli.add_option("--max-features", params.max_features, "features kept per keyframe")->capture_default_str();
   cli.add_option("--first", first, "first frame to use")->check(CLI::NonNegativeNumber)->capture_default_str();
   cli.add_option("--frames", frames, "frames to use (0: all)")->check(CLI::NonNegativeNumber)->capture_default_str();
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   params.method = *uav::vision::ParseVoMethod(method);
   try {

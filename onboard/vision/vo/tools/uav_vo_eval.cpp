@@ -18,6 +18,7 @@
 #include "uav/shared/text_file.hpp"
 #include "uav/vision/kitti_odometry.hpp"
 #include "uav/shared/decimal.hpp"
+#include "uav/shared/program.hpp"
 
 namespace {
 
@@ -86,7 +87,7 @@ int main(int argc, char** argv) {
   cli.add_option("--lengths", lengths, "segment lengths [m]")->delimiter(',')->check(CLI::PositiveNumber)->capture_default_str();
   cli.add_option("--plot", plot_path, "PNG: both trajectories from above");
   cli.add_option("--json", json_path, "write the report as JSON too");
-  uav::RequireDecimalNumbers(cli);
+  uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
     const Poses gt = uav::vision::ReadKittiPoses(gt_path), est = uav::vision::ReadKittiPoses(est_path);

@@ -1,6 +1,7 @@
 #pragma once
-// The command-line tools' progress bar: one line on stderr, rewritten in place, so that stdout
-// stays free for the tool's report.
+// The command-line tools' progress bar on stderr, so that stdout stays free for the tool's
+// report: on a terminal one line rewritten in place; into a log (a file, a pipe) a plain line now
+// and then, never the redraws.
 #include <cstddef>
 #include <string>
 
@@ -9,9 +10,9 @@ namespace uav {
 class ProgressBar {
  public:
   // total 0: not known in advance (a video container that does not say); only the count shows.
-  explicit ProgressBar(std::size_t total) : total_(total) {}
-  // Shows `done` with an optional note (a file name, a state). Redraws at most every 1 % (every
-  // 10 items without a total) to keep terminals and logs light.
+  explicit ProgressBar(std::size_t total);
+  // Shows `done` with an optional note (a file name, a state): on a terminal at most every 1 %
+  // (every 10 items without a total), into a log every 10 % (every 100 items).
   void Update(std::size_t done, const std::string& note = "");
   // Draws the final state and ends the line.
   void Finish(std::size_t done);
@@ -19,6 +20,7 @@ class ProgressBar {
  private:
   void Draw(std::size_t done, const std::string& note);
   std::size_t total_;
+  bool terminal_;
   long last_step_ = -1;
 };
 

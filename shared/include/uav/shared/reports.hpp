@@ -7,7 +7,7 @@
 // Each report's signals (ReportSignals<T>, uav/shared/signals.hpp) are declared beside its
 // struct: the GCS's telemetry groups and the vehicle's flight-log columns follow from them.
 // Adding a report: its plain struct here in uav/shared, its LCM type and conversions in the wire
-// (README: adding a perception algorithm).
+// (docs/developer/adding.md).
 #include <cstddef>
 #include <type_traits>
 

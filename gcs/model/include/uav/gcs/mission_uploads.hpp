@@ -10,6 +10,7 @@
 #include "uav/gcs/message_log.hpp"
 #include "uav/gcs/mission_editor.hpp"
 #include "uav/gcs/survey_planner.hpp"
+#include "uav/shared/program.hpp"
 #include "uav/waypoints/mission_transfer.hpp"
 
 namespace uav::gcs {
@@ -29,7 +30,7 @@ class MissionUploads {
  public:
   // Map origin until a vehicle reports its home: the simulator's default home (NUS, Singapore).
   static constexpr GeodeticPoint kDefaultMapOrigin{1.2966, 103.7764, 15.0};
-  MissionUploads() : planner_(UAV_CAMERA_DIR, kDefaultMapOrigin) {}
+  MissionUploads() : planner_(ResourcePath("cameras"), kDefaultMapOrigin) {}
 
   // Uploads the editor's mission (the planner's survey when it has no items) to `v` (its home is
   // the mission's origin). Returns false and sets error() when there is no vehicle, no valid

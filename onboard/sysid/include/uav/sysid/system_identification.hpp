@@ -71,7 +71,7 @@ struct Identification {
 // Throws std::runtime_error when a needed column is missing.
 Identification Identify(const LogTable& log, const KnownParams& known);
 
-// The result as JSON text (units in the key names' documentation in the README).
+// The result as JSON text (units in the key names' documentation in docs/modules/flight-stack.md).
 std::string ToJson(const Identification& id);
 
 }  // namespace uav::sysid

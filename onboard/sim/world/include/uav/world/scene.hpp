@@ -3,7 +3,7 @@
 // cables, rooms and calibration boards, lit by a sun under drifting cloud shadows. Positions are
 // in the local NED frame N (metres; the ground is the plane d = 0, heights are negative d).
 // A scene is data: it is read from a JSON file (resources/scenes/*.scene.json, format in the
-// README) or built in code by tests, and it knows the exact geometry of everything it renders.
+// docs/vehicle/simulator.md) or built in code by tests, and it knows the exact geometry of everything it renders.
 #include <cstdint>
 #include <memory>
 #include <optional>

@@ -1,0 +1,29 @@
+#pragma once
+// What every program of the product answers the same way: --help (CLI11's), --version (the
+// version and the commit it was built from) and numbers in decimal only (uav/shared/decimal.hpp);
+// and where its shipped data (vehicle files, cameras, scenes) is found, in the build tree or
+// installed.
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace uav {
+
+// "0.2.0 (commit 1a2b3c4d5e6f)"; "(commit unknown)" when built outside a git checkout.
+const std::string& VersionText();
+
+// Adds --version ("NAME VERSION (commit ...)", NAME the program's file name) and makes every
+// number-taking option decimal-only (RequireDecimalNumbers). Call after the options are declared,
+// before parsing.
+void PrepareCommandLine(CLI::App& app);
+
+// The folder of the shipped data (vehicles/, cameras/, scenes/, areas/): $UAV_RESOURCE_DIR when
+// set; else, for an installed program (PREFIX/bin/NAME), PREFIX/share/uav when it exists; else
+// the source tree's resources/ this build was made from.
+std::string ResourceDir();
+// ResourceDir() + "/" + relative.
+std::string ResourcePath(const std::string& relative);
+
+}  // namespace uav
