@@ -1,7 +1,7 @@
 # Install rules and Debian packages (CPack). `cmake --install build --prefix P` lays out
 #   P/bin/uav-*                      the programs (each finds its data in P/share/uav)
 #   P/share/uav/{vehicles,cameras,scenes,areas}   vehicle files, camera files, scenes, areas
-#   P/share/doc/uav/                 README and the manual (docs/)
+#   P/share/doc/uav/                 README and the manual (docs/, with its pictures and records)
 # and, for the packages only (prefix /usr): /etc/uav (uav-onboard's configuration), the systemd
 # unit, the desktop entry and icon. `cpack --config build/CPackConfig.cmake` builds four packages:
 #   uav-common   data, documentation, uav-keygen
@@ -15,8 +15,12 @@ install(TARGETS uav-keygen RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/resources/vehicles ${PROJECT_SOURCE_DIR}/resources/cameras
                   ${PROJECT_SOURCE_DIR}/resources/scenes ${PROJECT_SOURCE_DIR}/resources/areas
         DESTINATION ${CMAKE_INSTALL_DATADIR}/uav COMPONENT common)
-install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT common)
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT common)
+# The manual as in the source tree, so that its relative links and pictures work where it is
+# installed: README.md, docs/, and the screenshots and benchmark records it links to.
+install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/uav COMPONENT common)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/uav COMPONENT common)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/resources/screenshots ${PROJECT_SOURCE_DIR}/resources/benchmarks
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/uav/resources COMPONENT common)
 
 install(TARGETS uav-gcs RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT gcs)
 install(FILES ${_pkg}/uav-gcs/uav-gcs.desktop DESTINATION ${CMAKE_INSTALL_DATADIR}/applications COMPONENT gcs)
@@ -29,9 +33,9 @@ install(FILES ${_pkg}/uav-onboard/uav-onboard.service DESTINATION lib/systemd/sy
 # writes outside its prefix. Decided when installing, by the prefix then in effect.
 install(CODE "
   if(CMAKE_INSTALL_PREFIX STREQUAL \"/usr\")
-    set(uav_etc \"\$ENV{DESTDIR}/etc/uav\")
+    set(uav_etc /etc/uav)
   else()
-    set(uav_etc \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_DATADIR}/uav/etc\")
+    set(uav_etc \"\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_DATADIR}/uav/etc\")  # file(INSTALL) adds DESTDIR
   endif()
   file(INSTALL ${_pkg}/uav-onboard/onboard.conf DESTINATION \${uav_etc})
   file(INSTALL ${PROJECT_SOURCE_DIR}/resources/vehicles/x650.params DESTINATION \${uav_etc} RENAME vehicle.params)
@@ -50,6 +54,7 @@ set(CPACK_PACKAGE_VENDOR "UAV GCS and onboard flight stack")
 set(CPACK_PACKAGE_CONTACT "UAV team <uav-team@localhost>")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "UAV ground control station and onboard flight stack")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_INSTALL_PREFIX /usr)  # with CPACK_SET_DESTDIR the staged prefix is this one
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)

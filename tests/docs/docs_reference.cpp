@@ -167,18 +167,33 @@ std::string ScriptLanguage(const fs::path& header) {
 }
 
 // A RegisterLastItem(ctx, EXPR) label as a pattern: string literals as written, every other part
-// of the expression as <its name>.
+// of the expression as <the expression> (std::to_string(n) as <n>).
 std::string LabelPattern(const std::string& expr) {
   std::string out;
-  std::regex part(R"(\s*(\"([^\"]*)\"|([^+]+))\s*(\+|$))");
-  for (auto it = std::sregex_iterator(expr.begin(), expr.end(), part); it != std::sregex_iterator(); ++it) {
-    if ((*it)[2].matched && (*it)[1].str().front() == '"') {
-      out += (*it)[2].str();
+  std::size_t depth = 0, start = 0;
+  std::vector<std::string> parts;
+  bool quoted = false;
+  for (std::size_t i = 0; i <= expr.size(); ++i) {
+    const char c = i < expr.size() ? expr[i] : '+';
+    if (c == '"') quoted = !quoted;
+    if (quoted) continue;
+    if (c == '(') ++depth;
+    if (c == ')') --depth;
+    if (c == '+' && depth == 0) {
+      parts.push_back(expr.substr(start, i - start));
+      start = i + 1;
+    }
+  }
+  const std::regex literal(R"re(^\s*(?:std::string\()?"([^"]*)"\)?\s*$)re");
+  const std::regex to_string(R"re(^\s*std::to_string\((.*)\)\s*$)re");
+  for (const std::string& part : parts) {
+    std::smatch m;
+    if (std::regex_match(part, m, literal)) {
+      out += m[1].str();
+    } else if (std::regex_match(part, m, to_string)) {
+      out += "<" + m[1].str() + ">";
     } else {
-      std::string name = (*it)[3].str();
-      name = std::regex_replace(name, std::regex(R"(std::string\(|std::to_string\(|\)|\.c_str\(|\s)"), "");
-      name = std::regex_replace(name, std::regex(R"(^.*[.>])"), "");
-      out += "<" + name + ">";
+      out += "<" + std::regex_replace(std::regex_replace(part, std::regex(R"(^\s+|\s+$)"), ""), std::regex(R"(\s+)"), " ") + ">";
     }
   }
   return out;
@@ -200,10 +215,19 @@ std::string ScriptPage(const fs::path& source_dir) {
   for (const auto& e : fs::recursive_directory_iterator(source_dir / "gcs/ui/src"))
     if (e.path().extension() == ".cpp") files.push_back(e.path());
   std::sort(files.begin(), files.end());
+  // A name passed through a helper (Field(ctx, ..., "survey:altitude", ...)) is a literal of the
+  // names' form, "panel:what"; a name that is wholly a variable (<id>) is known only there.
+  const std::regex name_literal(R"re("([a-z_]+:[a-z0-9_:]*[a-z0-9])")re");
   for (const auto& f : files) {
     const std::string text = ReadFile(f);
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), call); it != std::sregex_iterator(); ++it)
-      by_panel[f.stem().string()].insert(LabelPattern((*it)[1].str()));
+    auto& names = by_panel[f.stem().string()];
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), call); it != std::sregex_iterator(); ++it) {
+      const std::string pattern = LabelPattern((*it)[1].str());
+      if (!(pattern.front() == '<' && pattern.back() == '>' && pattern.find('<', 1) == std::string::npos)) names.insert(pattern);
+    }
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), name_literal); it != std::sregex_iterator(); ++it)
+      names.insert((*it)[1].str());
+    if (names.empty()) by_panel.erase(f.stem().string());
   }
   if (by_panel.empty()) throw std::runtime_error("no RegisterLastItem calls under " + (source_dir / "gcs/ui/src").string());
   out << "| panel source | widget names |\n|---|---|\n";

@@ -38,7 +38,9 @@ for f in usr/bin/uav-gcs usr/bin/uav-onboard usr/bin/uav-keygen usr/bin/uav-demo
          usr/lib/systemd/system/uav-onboard.service etc/uav/onboard.conf etc/uav/vehicle.params; do
   [ -e "$r/$f" ] || fail "/$f is not in the packages"
 done
-[ -e "$r/usr/share/doc/uav/reference/parameters.md" ] || fail "the manual is not in uav-common"
+[ -e "$r/usr/share/doc/uav/docs/reference/parameters.md" ] || fail "the manual is not in uav-common"
+# The installed manual's relative links and pictures resolve where it is installed.
+python3 "$(dirname "$0")/../docs/check_links.py" "$r/usr/share/doc/uav" > "$work/links.txt" || { cat "$work/links.txt"; fail "the installed manual has broken links"; }
 # The onboard package's maintainer scripts and conffiles.
 mkdir -p "$work/control"; dpkg-deb -e "$work"/debs/uav-onboard_*.deb "$work/control"
 grep -qx /etc/uav/onboard.conf "$work/control/conffiles" || fail "onboard.conf is not a conffile"
@@ -65,6 +67,9 @@ for exe in "$r"/usr/bin/uav-*; do
 done
 echo "install_and_run: $n programs answer --version and --help ($(uav-gcs --version))"
 
+# Their data is ROOT's, not the source tree's: the defaults they show are under ROOT.
+uav-onboard --help | grep -qF -- "$r/usr/share/uav/vehicles/x650.params" || fail "uav-onboard's default vehicle file is not ROOT's"
+uav-survey --help | grep -qF -- "$r/usr/share/uav/cameras/sim_downward_640x480.camera" || fail "uav-survey's default camera is not ROOT's"
 uav-keygen "$work/key" >/dev/null
 # uav-onboard's default vehicle file is the packaged one; the configuration's vehicle file flies too.
 uav-onboard --sim --insecure --lcm-url memq:// --speed max --duration 3 > onboard_default.txt 2>&1 \

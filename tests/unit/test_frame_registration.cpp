@@ -144,7 +144,7 @@ TEST_P(FeaturesFoundOnce, ServeEveryPartner) {
   ASSERT_TRUE(once.ok) << once.failure;
   ASSERT_TRUE(again.ok) << again.failure;
   // The same up to RANSAC's and FLANN's random draws: the image corners land within 0.5 px.
-  for (const Eigen::Vector3d q : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(a.cols - 1, 0, 1),
+  for (const Eigen::Vector3d& q : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(a.cols - 1, 0, 1),
                                   Eigen::Vector3d(0, a.rows - 1, 1), Eigen::Vector3d(a.cols - 1, a.rows - 1, 1)}) {
     const Eigen::Vector3d x = once.H_prev_cur * q, y = again.H_prev_cur * q;
     EXPECT_LT((x.hnormalized() - y.hnormalized()).norm(), 0.5);

@@ -51,7 +51,9 @@ TEST_P(ImageRegion, MatchesTheWholeDecodeCut) {
     // The same decoder: identical, but that a cropped decode upsamples the chroma from its own
     // blocks, and a few pixels a row (measured: at most 4 of 304, never 3 grey levels) differ.
     EXPECT_LE(worst, 3.0) << region;
-    if (wanted.area() >= 100) EXPECT_GT(cv::countNonZero(diff.reshape(1) == 0), 0.97 * diff.total() * 3) << region;
+    if (wanted.area() >= 100) {
+      EXPECT_GT(cv::countNonZero(diff.reshape(1) == 0), 0.97 * diff.total() * 3) << region;
+    }
   }
   cv::Point origin;
   EXPECT_TRUE(DecodeRegion(file, cv::Rect(700, 0, 10, 10), &origin).empty()) << "a region off the image";

@@ -101,7 +101,9 @@ TEST(MissionTransfer, AHopelessLinkFailsCleanly) {
   int accepted = 0, failed = 0;
   for (unsigned seed = 1; seed <= 20; ++seed) {
     const Outcome o = Upload(m, 0.3, 0.3, seed);
-    if (o.stored) EXPECT_EQ(MissionDigest(*o.stored), MissionDigest(m));
+    if (o.stored) {
+      EXPECT_EQ(MissionDigest(*o.stored), MissionDigest(m));
+    }
     if (o.state == MissionUploader::State::kAccepted) {
       ++accepted;
       EXPECT_TRUE(o.stored);

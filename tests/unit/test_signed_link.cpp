@@ -88,7 +88,9 @@ TEST_P(SignedCommandsThroughRelay, EachRunsOnceAndNoRecordedMessageRunsAgain) {
   }
   ASSERT_EQ(acked.size(), texts.size()) << "not every command was answered";
   for (size_t i = 1; i <= texts.size(); ++i) EXPECT_EQ(executed[static_cast<int64_t>(i)], 1) << texts[i - 1];
-  if (link.duplicate > 0 || link.max_delay_s > 0.5) EXPECT_GT(verdicts[SignatureVerdict::kReplay], 0);
+  if (link.duplicate > 0 || link.max_delay_s > 0.5) {
+    EXPECT_GT(verdicts[SignatureVerdict::kReplay], 0);
+  }
   // An attacker plays the whole recording again, in order and reversed, a minute later.
   const double later = 180;
   int accepted_again = 0;

@@ -144,7 +144,8 @@ TEST(TailSitterModel, EveryEffectorMovesItsOwnAxis) {
   cruise.thrust_n = 3;
   for (const TailSitterState* base : {&hover, &cruise}) {
     const Eigen::Vector3d m0 = model.Forces(*base, Eigen::Vector3d::Zero()).torque_B;
-    auto moment = [&](auto set) {
+    // Returns the vector, not Eigen's expression: that would refer to the temporary forces.
+    auto moment = [&](auto set) -> Eigen::Vector3d {
       TailSitterState s = *base;
       set(s);
       return model.Forces(s, Eigen::Vector3d::Zero()).torque_B - m0;

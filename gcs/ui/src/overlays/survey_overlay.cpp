@@ -46,7 +46,7 @@ void DrawSurveyOnMap(GcsModel& model, const MapCanvas& m) {
   for (std::size_t i = 0; i < poly.size(); ++i) {
     const ImVec2 s = m.ToScreen(poly[i].x(), poly[i].y());
     m.dl->AddCircleFilled(s, 5.0f, kPolygon);
-    char label[8];
+    char label[24];
     std::snprintf(label, sizeof label, "%zu", i);
     m.dl->AddText(ImVec2(s.x + 6, s.y - 14), kPolygon, label);
   }

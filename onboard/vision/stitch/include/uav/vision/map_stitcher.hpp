@@ -68,7 +68,7 @@ struct StitchInput {
   // registration's scale, which JPEG decodes several times faster than the whole image). Files
   // are decoded as stored, without turning them by their EXIF orientation: the intrinsics and
   // the pose describe the sensor's pixel grid.
-  std::vector<uint8_t> encoded;
+  std::vector<uint8_t> encoded = {};
 };
 
 // A frame made ready to be added (MapStitcher::Prepare): decoded, undistorted, in grey at the
