@@ -38,7 +38,8 @@ case "$mode" in
 esac
 shift $(( $# < 2 ? $# : 2 ))
 echo "sanitize.sh: $mode (-fsanitize=$flags) in $dir"
-cmake -S "$src" -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DUAV_SANITIZE=$flags > /dev/null
+if [ -f "$dir/CMakeCache.txt" ] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$dir/CMakeCache.txt"; then rm -rf "$dir"; fi
+cmake -S "$src" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DUAV_SANITIZE=$flags > /dev/null
 start=$(date +%s)
 cmake --build "$dir" -j"$jobs" --target "${targets[@]}" > "$dir/build.log" 2>&1 || { tail -40 "$dir/build.log"; exit 1; }
 echo "sanitize.sh: built in $(( $(date +%s) - start )) s"
