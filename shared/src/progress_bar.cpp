@@ -24,12 +24,13 @@ void ProgressBar::Finish(std::size_t done) {
   if (terminal_) {
     Draw(done, "");
     std::fprintf(stderr, "\n");
-  } else {
+  } else if (!(last_drawn_ == done && done == total_)) {
     Draw(done, "done");
   }
 }
 
 void ProgressBar::Draw(std::size_t done, const std::string& note) {
+  last_drawn_ = done;
   const char* start = terminal_ ? "\r" : "";
   const char* end = terminal_ ? "" : "\n";
   if (total_ == 0) {

@@ -14,7 +14,7 @@ class ProgressBar {
   // Shows `done` with an optional note (a file name, a state): on a terminal at most every 1 %
   // (every 10 items without a total), into a log every 10 % (every 100 items).
   void Update(std::size_t done, const std::string& note = "");
-  // Draws the final state and ends the line.
+  // Draws the final state and ends the line (into a log: unless the last line already said it).
   void Finish(std::size_t done);
 
  private:
@@ -22,6 +22,7 @@ class ProgressBar {
   std::size_t total_;
   bool terminal_;
   long last_step_ = -1;
+  std::size_t last_drawn_ = static_cast<std::size_t>(-1);
 };
 
 }  // namespace uav
