@@ -37,6 +37,15 @@ void PrepareCommandLine(CLI::App& app) {
   RequireDecimalNumbers(app);
 }
 
+void CheckOutputFile(const std::string& path, const std::string& option) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw std::invalid_argument(option + ": " + path + " is a folder, not a file");
+  const fs::path folder = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  if (!fs::is_directory(folder, ec)) throw std::invalid_argument(option + ": no folder " + folder.string() + " for " + path);
+  if (access(folder.c_str(), W_OK) != 0) throw std::invalid_argument(option + ": cannot write into " + folder.string());
+}
+
 std::string ResourceDir() {
   if (const char* env = std::getenv("UAV_RESOURCE_DIR"); env && *env) return env;
   const auto exe = ExecutablePath();

@@ -100,7 +100,7 @@ refuse() {  # refuse EXPECTED_TEXT ARGS...
   local expected=$1
   shift
   if "$bin/uav-avoid-bench" --quiet "$@" > /dev/null 2> "$out/err"; then echo "accepted: $*"; exit 1; fi
-  grep -q "$expected" "$out/err" || { echo "wrong reason for $*:"; cat "$out/err"; exit 1; }
+  grep -qF -- "$expected" "$out/err" || { echo "wrong reason for $*:"; cat "$out/err"; exit 1; }
 }
 refuse "density must be in" --density 0
 refuse "seeds must be A-B" --seeds 5-2
@@ -109,6 +109,10 @@ refuse "wire-rig-roll" --wire-rig-roll -91 --seeds 1
 refuse "no_such_parameter" --param no_such_parameter=1 --seeds 1
 touch "$out/file"
 refuse "pictures" --seeds 1 --picture "$out/file/pictures"
+# An output that cannot be written is refused before the flights (100 of them would take an hour).
+start=$(date +%s)
+refuse "--json: no folder $out/missing" --density 1/49 --speed 3 --seeds 1-100 --json "$out/missing/r.json"
+[ $(( $(date +%s) - start )) -lt 20 ] || { echo "the missing --json folder was said only after the flights"; exit 1; }
 echo "refusals: ok"
 refuse "within the body radius" --scene "$out/layout.json" --to 12,0
 refuse "not both" --scene "$out/layout.json" --to 24,0 --density 1/49

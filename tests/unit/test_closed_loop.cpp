@@ -2,6 +2,7 @@
 // and the simulated quadrotor, commands injected where the CMM thread would put them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 
@@ -38,7 +39,7 @@ class ClosedLoop : public ::testing::Test {
       : params_(params),
         vehicle_(params_, kHome, 0),
         missions_(waypoints::kStoredPathsDir, kHome, params_.Get("ctl_speed_max_xy")),
-        imu_(vehicle_, board_, nav::InsParams::FromParameters(params_), kHome),
+        imu_(vehicle_, board_, nav::InsParams::FromParameters(params_), kHome, control::LandDetectorParams::FromParameters(params_)),
         ctl_(control::TaskParams::FromParameters(params_),
              control::ControllerParams::FromParameters(params_),
              control::FailsafeParams::FromParameters(params_), kPeriod * 1e-6, board_, &missions_,
@@ -236,6 +237,74 @@ TEST_F(ClosedLoop, EmergencyStopStopsTheMotorsInFlightAndIsRefusedOnTheGround) {
     failed |= r.command_seq == goto_seq && r.result == control::AckResult::kFailed &&
               r.reason.find("emergency stop") != std::string::npos;
   EXPECT_TRUE(failed);
+}
+
+// An emergency stop in the air is a crash, never a landing: "landed" stays false through the
+// fall; the vehicle says CRASH with its cause; `arm` is refused naming the crash; the INS, which
+// ran on a tumbling IMU, is not fed zero velocity while it falls and aligns anew once the vehicle
+// stands upright and still; then it arms and flies as before.
+TEST_F(ClosedLoop, AnEmergencyStopInTheAirIsACrashUntilItStandsAndAlignsAgain) {
+  ASSERT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  ASSERT_EQ(Fly("takeoff 8", 40).result, control::AckResult::kCompleted);
+  std::vector<std::string> said;
+  bool landed_while_high = false;
+  double worst_estimate_error = 0.0;
+  on_step_ = [&] {
+    for (const StatusText& st : board_.status.TakeAll()) said.push_back(st.text);
+    const BlackboardData d = board_.Snapshot();
+    landed_while_high |= -TruthPosition().z() > 0.3 && !d.airborne && d.ground_state == control::GroundState::kOnGround;
+    worst_estimate_error = std::max(worst_estimate_error, (d.estimate.p_N - TruthPosition()).norm());
+  };
+  ASSERT_EQ(FlyOnce("emergency_stop", 0.1).result, control::AckResult::kCompleted);
+  until_ = [&] { return TruthPosition().z() > -0.01; };
+  FlyOnce("", 4.0);
+  until_ = nullptr;
+  ASSERT_GT(TruthPosition().z(), -0.01) << "not on the ground after 4 s";
+  // Just down: arming is refused, naming the crash.
+  const CommandAck crashed = FlyOnce("arm", 0.02);
+  EXPECT_EQ(crashed.result, control::AckResult::kRejected);
+  EXPECT_NE(crashed.reason.find("crash: crashed (fell with its motors stopped (impact of"), std::string::npos) << crashed.reason;
+  EXPECT_FALSE(landed_while_high) << "reported on the ground while falling";
+  auto said_any = [&](const std::string& what) {
+    return std::any_of(said.begin(), said.end(), [&](const std::string& t) { return t.find(what) != std::string::npos; });
+  };
+  EXPECT_TRUE(said_any("falling: the motors stopped in the air"));
+  EXPECT_TRUE(said_any("CRASH: fell with its motors stopped (impact of"));
+  // Lying still (the simulator's legs stand it level), the crash is over and the INS aligns anew;
+  // right then `arm` is refused while the new alignment converges, naming the check.
+  until_ = [&] { return said_any("crash over: upright and still"); };
+  FlyOnce("", 2.0);
+  until_ = nullptr;
+  ASSERT_TRUE(said_any("crash over: upright and still")) << ::testing::PrintToString(said);
+  EXPECT_EQ(board_.Snapshot().ground_state, control::GroundState::kOnGround);
+  // Aligned anew: level, and where the GPS puts it (it fell with no zero-velocity updates).
+  const hal::VehicleEstimate aligned = board_.Snapshot().estimate;
+  EXPECT_LT(std::max(std::abs(aligned.euler.phi), std::abs(aligned.euler.theta)), 3 * M_PI / 180);
+  EXPECT_LT((aligned.p_N - TruthPosition()).norm(), NavBoundH() + 0.5) << "worst estimate error in the fall "
+                                                                      << worst_estimate_error << " m";
+  // The estimate converged on the ground (the magnetometer's heading within a step or two), it
+  // arms and flies as before.
+  on_step_ = nullptr;
+  pre_arm_refusals_.clear();
+  ASSERT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted) << ::testing::PrintToString(pre_arm_refusals_);
+  ASSERT_EQ(Fly("takeoff 5", 40).result, control::AckResult::kCompleted);
+  EXPECT_NEAR(-TruthPosition().z(), 5.0, 0.6);
+  ASSERT_EQ(Fly("land", 60).result, control::AckResult::kCompleted);
+  EXPECT_FALSE(board_.Snapshot().armed);
+}
+
+// Armed on the ground and left there: the vehicle disarms itself after task_disarm_preflight.
+TEST_F(ClosedLoop, ArmedAndLeftOnTheGroundItDisarmsItself) {
+  ASSERT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
+  std::vector<std::string> said;
+  on_step_ = [&] {
+    for (const StatusText& st : board_.status.TakeAll()) said.push_back(st.text);
+  };
+  until_ = [&] { return !board_.Snapshot().armed; };
+  FlyOnce("", 12.0);
+  EXPECT_FALSE(board_.Snapshot().armed);
+  EXPECT_NEAR(elapsed_s_, params_.Get("task_disarm_preflight"), 0.1);
+  EXPECT_NE(std::find(said.begin(), said.end(), "disarmed: armed on the ground for 10 s without a takeoff"), said.end());
 }
 
 TEST_F(ClosedLoop, ArmTakeoffGotoLandReachesEachTarget) {

@@ -32,7 +32,7 @@ TEST(PreArm, AReadyVehiclePassesEveryCheck) {
   const PreArmParams p = PreArmParams::FromParameters(
       ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/x650.params", VehicleParameterSchema()));
   const auto checks = EvaluatePreArm(Ready(), p);
-  ASSERT_EQ(checks.size(), 5u);
+  ASSERT_EQ(checks.size(), 8u);
   for (const PreArmCheck& c : checks) EXPECT_TRUE(c.passed) << c.name << ": " << c.reason;
 }
 
@@ -54,6 +54,10 @@ TEST(PreArm, EachCheckFailsWithItsReason) {
       {"sensors", [](PreArmInputs& in) { in.sensors_finite = false; }, "not finite"},
       {"battery", [](PreArmInputs& in) { in.battery_remaining = 0.2; }, "20 % remaining, at or below the return threshold 25 %"},
       {"geofence", [](PreArmInputs& in) { in.p_N = {400, 400, 0}; }, "566 m from home, outside the 500 m geofence"},
+      {"attitude", [](PreArmInputs& in) { in.rest_tilt_rad = 75 * M_PI / 180; }, "tilted 75 deg from upright, at most 20"},
+      {"motion", [](PreArmInputs& in) { in.at_rest = false; }, "the vehicle is moving"},
+      {"crash", [](PreArmInputs& in) { in.crash = "fell with its motors stopped (impact of 9.1 g)"; },
+       "crashed (fell with its motors stopped (impact of 9.1 g)): stand it upright and still"},
   };
   for (const Case& c : cases) {
     PreArmInputs in = Ready();

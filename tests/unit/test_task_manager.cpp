@@ -171,6 +171,79 @@ TEST_F(TaskManagerTest, LandCompletesAfterStillOnGroundAndDisarms) {
   EXPECT_LT(t_, 0.77);
 }
 
+// Armed on the ground without a takeoff: disarmed after task_disarm_preflight (10 s), saying so
+// once; a takeoff before then keeps it armed. PX4's COM_DISARM_PRFLT.
+TEST_F(TaskManagerTest, ArmedOnTheGroundWithoutATakeoffDisarmsAfterTenSeconds) {
+  Send("arm");
+  std::string note;
+  for (int i = 0; i < 495; ++i) {
+    Step();
+    if (!out_.note.empty()) note = out_.note;
+  }
+  EXPECT_TRUE(out_.armed) << "disarmed before 10 s";
+  for (int i = 0; i < 10 && note.empty(); ++i) {
+    Step();
+    note = out_.note;
+  }
+  EXPECT_FALSE(out_.armed);
+  EXPECT_EQ(note, "disarmed: armed on the ground for 10 s without a takeoff");
+  Step();
+  EXPECT_TRUE(out_.note.empty()) << "said once";
+  // Armed again, a takeoff within the time: it flies on.
+  Send("arm");
+  for (int i = 0; i < 100; ++i) Step();
+  Send("takeoff 5");
+  for (int i = 0; i < 1000; ++i) Step();
+  EXPECT_TRUE(out_.armed);
+  EXPECT_TRUE(out_.airborne);
+}
+
+// task_disarm_land: the rotors idle after the touchdown that long, then stop, saying so.
+TEST_F(TaskManagerTest, ALandingDisarmsAfterTheLandDelay) {
+  TaskParams p = tm_.params();
+  p.disarm_land = 2.0;
+  tm_.SetParams(p);
+  Send("arm");
+  Send("takeoff 5");
+  est_.p_N.z() = -5;
+  Step();
+  Send("land");
+  est_.p_N.z() = -0.05;
+  est_.v_N.z() = 0.0;
+  for (int i = 0; i < 40; ++i) Step();  // touchdown after 0.5 s still
+  EXPECT_FALSE(out_.airborne);
+  EXPECT_TRUE(out_.armed) << "idling after the touchdown";
+  std::string note;
+  for (int i = 0; i < 100 && out_.armed; ++i) {
+    Step();
+    note = out_.note;
+  }
+  EXPECT_FALSE(out_.armed);
+  EXPECT_EQ(note, "disarmed 2 s after the landing");
+}
+
+// A crash stops the motors: the task being flown fails with the crash's cause.
+TEST_F(TaskManagerTest, ACrashStopsTheMotorsAndFailsTheTask) {
+  Send("arm");
+  Send("takeoff 10");
+  est_.p_N.z() = -10;
+  Step();
+  Send("goto 20 0 10");
+  Step();
+  std::vector<CommandAck> r;
+  tm_.OnCrash("tipped 75 deg (limit 60) in flight", &r);
+  ASSERT_FALSE(r.empty());
+  EXPECT_EQ(r.back().result, AckResult::kFailed);
+  EXPECT_EQ(r.back().reason, "crashed: tipped 75 deg (limit 60) in flight");
+  Step();
+  EXPECT_FALSE(out_.armed);
+  EXPECT_FALSE(out_.airborne);
+  EXPECT_EQ(out_.task, Task::kIdle);
+  r.clear();
+  tm_.OnCrash("again", &r);  // the motors are off already: nothing more
+  EXPECT_TRUE(r.empty());
+}
+
 // A hold required while landing (the cameras lose the ground near it) does not stop the landing;
 // the same hold during a goto stops the goto with the reason.
 TEST_F(TaskManagerTest, AHoldFailsafeStopsAGotoButNotALanding) {

@@ -45,7 +45,12 @@ void GcsModel::OnHeartbeat(const std::string& vehicle_id, int64_t seq, const Hea
 
 void GcsModel::OnState(const std::string& vehicle_id, int64_t seq, const VehicleState& state, double now) {
   VehicleModel& v = Vehicle(vehicle_id);
+  const std::optional<VehicleState> previous = v.state;
   gcs::OnState(v, seq, state, now);
+  const auto& table = v.reports.Get<ParameterTable>().newest;
+  const StateLimits limits = StateLimits::From(table ? &*table : nullptr, state.vehicle_type);
+  for (const auto& [text, severity] : v.state_alarms.Update(AbsurdState(previous ? &*previous : nullptr, state, limits)))
+    log_.Add(now, vehicle_id, text, severity);
   if (vehicle_id == selected_ && v.home) missions_.planner().SetOrigin(*v.home);
 }
 

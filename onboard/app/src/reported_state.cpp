@@ -26,7 +26,8 @@ VehicleState ReportedState(const BlackboardData& d, const GeodeticPoint& home, A
   s.mission_item = d.mission_item;
   s.capturing = d.capture_interval_s.has_value() || d.capture_distance_m.has_value();
   s.armed = d.armed;
-  s.landed = !d.airborne;
+  // On the ground at rest: not flying, not falling, not lying crashed (land_detector.hpp).
+  s.landed = !d.airborne && d.ground_state == control::GroundState::kOnGround;
   s.battery_voltage_v = d.sample.battery_voltage_v;
   s.battery_remaining = d.sample.battery_remaining;
   s.obstacle_range_m = d.obstacle_range_m;

@@ -8,7 +8,7 @@ namespace uav::app {
 SimFlight::SimFlight(const ParameterSet& params, const Options& o)
     : options_(o),
       vehicle_(sim::MakeSimulatedVehicle(params, o.home, o.start_utime)),
-      imu_(*vehicle_, board_, nav::InsParams::FromParameters(params), o.home),
+      imu_(*vehicle_, board_, nav::InsParams::FromParameters(params), o.home, control::LandDetectorParams::FromParameters(params)),
       ctl_(control::TaskParams::FromParameters(params), control::ControllerParams::FromParameters(params),
            control::FailsafeParams::FromParameters(params), kPeriodUs * 1e-6, board_, o.missions,
            avoid::AvoidanceParams::FromParameters(params), control::PreArmParams::FromParameters(params)),

@@ -23,8 +23,37 @@ void ImuWorker::Tick(int64_t utime) {
     vision_position_utime_ = vo->utime;
     ins_.QueueVisualPosition(vo->utime, vo->p_N, vo->sigma_m, vo->segment);
   }
-  // Standing on the ground (not yet taken off, or landed) is a measurement too.
-  ins_.Update(s, !before.airborne);
+  // Ground contact: flying, on the ground, falling with the motors stopped, crashed. Its limits
+  // (fs_crash_*, prearm_max_tilt) follow the parameters when they change over the link.
+  if (before.params && before.params_version != params_version_) {
+    params_version_ = before.params_version;
+    land_.SetParams(control::LandDetectorParams::FromParameters(*before.params));
+  }
+  control::LandDetectorInputs contact;
+  contact.t = utime * 1e-6;
+  contact.f_B = s.accel_B;
+  contact.w_B = s.gyro_B;
+  contact.R_NB = before.estimate.q_NB.toRotationMatrix();
+  contact.motors_on = before.armed && before.airborne;
+  const control::GroundState was = land_.state();
+  const control::GroundState ground = land_.Update(contact);
+  if (ground == control::GroundState::kFalling && was != ground)
+    board_.PushStatus(Severity::kError, "falling: the motors stopped in the air");
+  if (ground == control::GroundState::kCrashed && was != ground)
+    board_.PushStatus(Severity::kError, "CRASH: " + land_.crash_reason());
+  // The crash is over once it stands upright and still: the INS, which ran on a tumbling IMU,
+  // aligns anew as at power-up (level and heading from gravity and the field, position from GPS).
+  if (ground == control::GroundState::kCrashed && land_.upright_at_rest()) {
+    ins_.Realign();
+    land_.Recover();
+    board_.PushStatus(Severity::kWarning, "crash over: upright and still; navigation aligns anew");
+  }
+  // Standing on the ground (not yet taken off, or landed) is a measurement too; falling or
+  // tumbling after the motors stopped in the air is not.
+  const bool tumbling = land_.state() == control::GroundState::kFalling ||
+                        (land_.state() == control::GroundState::kCrashed && !land_.at_rest()) ||
+                        (land_.state() == control::GroundState::kFlying && !contact.motors_on);
+  ins_.Update(s, !before.airborne && !tumbling);
   const hal::VehicleEstimate e = ins_.estimate();
   // The 9-state VO+IMU filter (thesis 5.7): the IMU's acceleration in N drives it at 50 Hz, each
   // VO position corrects it; a new odometry segment starts it again where the INS is.
@@ -47,6 +76,10 @@ void ImuWorker::Tick(int64_t utime) {
   board_.Update([&](BlackboardData& d) {
     d.sample = s;
     d.estimate = e;
+    d.ground_state = land_.state();
+    d.at_rest = land_.at_rest();
+    d.rest_tilt_rad = land_.rest_tilt_rad();
+    d.crash_reason = land_.crash_reason();
     d.position_source = ins_.position_source();
     if (vo_filter_.initialized()) d.vo_track_N = vo_filter_.p_N();
   });
@@ -164,6 +197,9 @@ void ControlWorker::CheckPreArm(const BlackboardData& d, int64_t utime) {
   in.sensor_age_s = (utime - d.sample.utime) * 1e-6;
   in.sensors_finite = d.sample.gyro_B.allFinite() && d.sample.accel_B.allFinite();
   in.battery_remaining = d.sample.battery_remaining;
+  in.at_rest = d.at_rest;
+  in.rest_tilt_rad = d.rest_tilt_rad;
+  in.crash = d.ground_state == control::GroundState::kCrashed ? d.crash_reason : "";
   PreArmReport report;
   report.utime = utime;
   report.checks = control::EvaluatePreArm(in, pre_arm_params_);
@@ -217,6 +253,8 @@ void ControlWorker::Tick(int64_t utime) {
   const control::FailsafeAction required = failsafes_.Update(fin, &events);
   for (const auto& e : events) board_.PushStatus(e.rfind("failsafe", 0) == 0 || e.rfind("RC", 0) == 0 ? Severity::kWarning : Severity::kInfo, e);
   tasks_.EnforceFailsafe(required, failsafes_.reason(), d.estimate, t, &reports, failsafes_.perception_lost());
+  // A crash stops the motors (ArduPilot's crash check disarms; PX4's failure detector terminates).
+  if (d.ground_state == control::GroundState::kCrashed) tasks_.OnCrash(d.crash_reason, &reports);
   tasks_.ObserveTarget(d.target);
   tasks_.ObserveSticks(d.sticks);
   CheckPreArm(d, utime);
@@ -227,6 +265,7 @@ void ControlWorker::Tick(int64_t utime) {
   if (parameters_ && (last_parameters_report_ < 0 || utime - last_parameters_report_ >= 5'000'000)) PublishParameters(utime);
   const control::TaskManager::Output out = tasks_.Update(d.estimate, t, &reports);
   if (out.reset_controller) controller_.Reset();
+  if (!out.note.empty()) board_.PushStatus(Severity::kInfo, out.note);
   if (tasks_.sticks_holding() != last_sticks_said_) {
     last_sticks_said_ = tasks_.sticks_holding();
     if (out.task == control::Task::kSticks)

@@ -738,7 +738,8 @@ int main(int argc, char** argv) {
     params = params.With("avd_enable", 1).With("ctl_speed_max_xy", speed);
     if (wire_rig_roll != 0.0) course.wire_rig_roll_deg = wire_rig_roll, params = params.With("pwl_rig", 1);
     for (const auto& o : overrides) params = params.WithAssignment(o);
-    // The picture folder is made up front: a bad one is said before the first flight, not after.
+    // Every output is checked up front: a bad one is said before the first flight, not after.
+    if (!json_path.empty()) uav::CheckOutputFile(json_path, "--json");
     if (!picture_dir.empty()) std::filesystem::create_directories(picture_dir);
     if (!trace_dir.empty()) std::filesystem::create_directories(trace_dir);
     nlohmann::json out = {{"density", course.density}, {"scene", scene_path}, {"goal_ne_m", {course.goal_NE.x(), course.goal_NE.y()}},

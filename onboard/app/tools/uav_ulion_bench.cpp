@@ -204,6 +204,9 @@ int main(int argc, char** argv) {
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
+    // Outputs checked before the runs, not after them.
+    if (!json_path.empty()) uav::CheckOutputFile(json_path, "--json");
+    if (!plot_path.empty()) uav::CheckOutputFile(plot_path, "--plot");
     const uav::ParameterSet vehicle = uav::ParameterSet::LoadFile(params_path, uav::VehicleParameterSchema());
     if (vehicle.Get("vehicle_type") != 1) throw std::runtime_error(params_path + ": vehicle_type is not 1 (a tail-sitter)");
     nlohmann::json report;

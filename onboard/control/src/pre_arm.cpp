@@ -7,8 +7,11 @@
 namespace uav::control {
 
 PreArmParams PreArmParams::FromParameters(const ParameterSet& p) {
-  return {static_cast<int>(p.Get("prearm_min_sats")), p.Get("prearm_max_att_sigma") * M_PI / 180.0, p.Get("prearm_max_sensor_age"),
-          p.Get("fs_battery_return"), p.Get("fs_fence_radius"), p.Get("fs_fence_alt"), p.Get("vo_enable") != 0.0};
+  PreArmParams out{static_cast<int>(p.Get("prearm_min_sats")), p.Get("prearm_max_att_sigma") * M_PI / 180.0,
+                   p.Get("prearm_max_sensor_age"), p.Get("fs_battery_return"), p.Get("fs_fence_radius"), p.Get("fs_fence_alt")};
+  out.max_tilt_rad = p.Get("prearm_max_tilt") * M_PI / 180.0;
+  out.visual_odometry = p.Get("vo_enable") != 0.0;
+  return out;
 }
 
 namespace {
@@ -66,10 +69,30 @@ PreArmCheck CheckGeofence(const PreArmInputs& in, const PreArmParams& p) {
   return {"geofence", true, Format("inside, %.0f m of %.0f m", d, p.fence_radius_m)};
 }
 
+// Standing upright (PX4 and ArduPilot refuse to arm a tilted vehicle: it would flip on its rotors).
+PreArmCheck CheckAttitude(const PreArmInputs& in, const PreArmParams& p) {
+  if (!(in.rest_tilt_rad <= p.max_tilt_rad))
+    return {"attitude", false, Format("tilted %.0f deg from upright, at most %.0f", in.rest_tilt_rad * 180 / M_PI, p.max_tilt_rad * 180 / M_PI)};
+  return {"attitude", true, Format("upright, tilted %.0f deg", in.rest_tilt_rad * 180 / M_PI)};
+}
+
+PreArmCheck CheckMotion(const PreArmInputs& in, const PreArmParams&) {
+  if (!in.at_rest) return {"motion", false, "the vehicle is moving (the IMU is not still)"};
+  return {"motion", true, "still"};
+}
+
+// A crash is over once the vehicle stands upright and still and its estimator has aligned anew;
+// until then the estimate may be anything (it ran on a tumbling IMU).
+PreArmCheck CheckCrash(const PreArmInputs& in, const PreArmParams&) {
+  if (!in.crash.empty()) return {"crash", false, "crashed (" + in.crash + "): stand it upright and still"};
+  return {"crash", true, "no crash"};
+}
+
 }  // namespace
 
 std::vector<PreArmCheck> EvaluatePreArm(const PreArmInputs& in, const PreArmParams& p) {
-  return {CheckGps(in, p), CheckIns(in, p), CheckSensors(in, p), CheckBattery(in, p), CheckGeofence(in, p)};
+  return {CheckGps(in, p),      CheckIns(in, p),      CheckSensors(in, p), CheckBattery(in, p),
+          CheckGeofence(in, p), CheckAttitude(in, p), CheckMotion(in, p),  CheckCrash(in, p)};
 }
 
 }  // namespace uav::control

@@ -15,6 +15,8 @@ TaskParams TaskParams::FromParameters(const ParameterSet& p) {
           FollowParams::FromParameters(p)};
   t.stick_yaw_rate = p.Get("task_stick_yaw_rate") * M_PI / 180.0;
   t.stick_timeout = p.Get("task_stick_timeout");
+  t.disarm_preflight = p.Get("task_disarm_preflight");
+  t.disarm_land = p.Get("task_disarm_land");
   return t;
 }
 
@@ -108,6 +110,8 @@ void TaskManager::BeginPath(Task task, std::vector<waypoints::MissionStep> steps
     if (first == steps.end() || first->kind != waypoints::MissionStep::Kind::kTakeoff)
       return reject("not flying and the path does not start with a take-off: take off first");
     airborne_ = true;
+    armed_on_ground_since_ = -1.0;
+    touchdown_t_ = -1.0;
     reset_pending_ = true;
   }
   // Steps outside the geofence are refused before anything moves.
@@ -199,6 +203,27 @@ void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstim
   reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kAccepted, 0, ""});
 }
 
+void TaskManager::Disarm() {
+  armed_ = false;
+  armed_on_ground_since_ = -1.0;
+  touchdown_t_ = -1.0;
+}
+
+void TaskManager::StopMotors(const std::string& reason, std::vector<CommandAck>* reports) {
+  if (active_report_) Finish(AckResult::kFailed, reason, reports);
+  Disarm();
+  airborne_ = false;
+  enforced_ = FailsafeAction::kNone;
+  task_ = Task::kIdle;
+  carried_capture_.reset();
+  setpoint_.descent_rate.reset();
+}
+
+void TaskManager::OnCrash(const std::string& reason, std::vector<CommandAck>* reports) {
+  if (!armed_ && !airborne_) return;
+  StopMotors("crashed: " + reason, reports);
+}
+
 void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, double t,
                          std::vector<CommandAck>* reports) {
   auto reject = [&](const std::string& why) {
@@ -218,13 +243,7 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
   // failsafe, not the RC switch) but a vehicle whose motors are already off.
   if (c.id == CommandId::kEmergencyStop) {
     if (!armed_) return reject("already disarmed: the motors are off");
-    if (active_report_) Finish(AckResult::kFailed, "motors stopped by the operator (emergency stop)", reports);
-    armed_ = false;
-    airborne_ = false;
-    enforced_ = FailsafeAction::kNone;
-    task_ = Task::kIdle;
-    carried_capture_.reset();
-    setpoint_.descent_rate.reset();
+    StopMotors("motors stopped by the operator (emergency stop)", reports);
     return instant();
   }
   // Failsafes first: nothing less strict than what they require is accepted.
@@ -246,12 +265,13 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       if (armed_) return reject("already armed");
       if (!pre_arm_failing_.empty()) return reject("pre-arm checks failed: " + pre_arm_failing_);
       armed_ = true;
+      armed_on_ground_since_ = t;
       reset_pending_ = true;
       return instant();
     case CommandId::kDisarm:
       if (!armed_) return reject("already disarmed");
       if (airborne_) return reject("vehicle is flying: land first");
-      armed_ = false;
+      Disarm();
       return instant();
     case CommandId::kTakeoff: {
       if (!armed_) return reject("not armed: arm first");
@@ -262,6 +282,8 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       setpoint_.yaw = est.euler.psi;
       if (!airborne_) reset_pending_ = true;
       airborne_ = true;
+      armed_on_ground_since_ = -1.0;
+      touchdown_t_ = -1.0;
       return Begin(Task::kTakeoff, req, est, t, reports);
     }
     case CommandId::kSticks:
@@ -438,6 +460,20 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
       Finish(AckResult::kFailed, "no progress along the path; holding position", reports);
     }
   }
+  // Armed on the ground with nothing to do: disarm (PX4's COM_DISARM_PRFLT and COM_DISARM_LAND).
+  if (armed_ && !airborne_) {
+    char buf[96];
+    if (touchdown_t_ >= 0.0 && t - touchdown_t_ >= p_.disarm_land) {
+      std::snprintf(buf, sizeof buf, "disarmed %.0f s after the landing", p_.disarm_land);
+      Disarm();
+      note_ = buf;
+    } else if (touchdown_t_ < 0.0 && armed_on_ground_since_ >= 0.0 && p_.disarm_preflight > 0.0 &&
+               t - armed_on_ground_since_ >= p_.disarm_preflight) {
+      std::snprintf(buf, sizeof buf, "disarmed: armed on the ground for %.0f s without a takeoff", p_.disarm_preflight);
+      Disarm();
+      note_ = buf;
+    }
+  }
   if (task_ == Task::kFollow) UpdateFollow(est, t, reports);
   if (task_ == Task::kSticks) UpdateSticks(est, t, dt);
   else sticks_holding_.clear();
@@ -489,10 +525,11 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
       else if (still_since_ < 0.0) still_since_ = t;
       const double needed = at_ground ? p_.landed_time : 4.0 * p_.landed_time;
       if (still_since_ >= 0.0 && t - still_since_ >= needed) {
-        // Touchdown: stop the rotors (PX4 auto-disarm) and report.
+        // Touchdown: the rotors idle for disarm_land, then stop (PX4's auto-disarm); report.
         airborne_ = false;
         enforced_ = FailsafeAction::kNone;
-        armed_ = false;
+        if (p_.disarm_land > 0.0) touchdown_t_ = t;
+        else Disarm();
         carried_capture_.reset();
         task_ = Task::kIdle;
         setpoint_.descent_rate.reset();
@@ -542,6 +579,8 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
   }
   o.reset_controller = reset_pending_ || !airborne_;
   reset_pending_ = false;
+  o.note = std::move(note_);
+  note_.clear();
   return o;
 }
 

@@ -19,6 +19,11 @@ const std::string& VersionText();
 // before parsing.
 void PrepareCommandLine(CLI::App& app);
 
+// Before long work: a file the program will write at the end can be written there. Throws
+// std::invalid_argument naming the option and the path ("--json: no folder /x/y for
+// /x/y/out.json") when its folder is missing or not writable, or the path is a folder.
+void CheckOutputFile(const std::string& path, const std::string& option);
+
 // The folder of the shipped data (vehicles/, cameras/, scenes/, areas/): $UAV_RESOURCE_DIR when
 // set; else, for an installed program (PREFIX/bin/NAME), PREFIX/share/uav when it exists; else
 // the source tree's resources/ this build was made from.

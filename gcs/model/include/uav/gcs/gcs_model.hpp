@@ -6,6 +6,7 @@
 #include <map>
 #include <string>
 
+#include "uav/gcs/state_alarms.hpp"
 #include "uav/gcs/commands.hpp"
 #include "uav/gcs/basemap.hpp"
 #include "uav/gcs/maps_downloads.hpp"
@@ -23,6 +24,7 @@ namespace uav::gcs {
 // One vehicle as the GCS knows it: each concern's per-vehicle part.
 struct VehicleModel : VehicleTelemetry, VehicleVideo, VehicleMaps, VehicleMission, VehiclePowerLines, VehicleObstacles {
   std::string id;
+  StateAlarms state_alarms;  // an absurd state said once
   // The depth-from-motion grid drawn over `feed` (the live video or a frozen frame): fresh, and
   // computed on that feed's camera.
   const DepthGrid* DepthGridOver(const VideoFeed& feed, double now, const ObstacleReportParams& p) const {

@@ -13,6 +13,7 @@
 
 #include "uav/avoid/avoidance.hpp"
 #include "uav/hal/navigation_estimate.hpp"
+#include "uav/control/land_detector.hpp"
 #include "uav/control/mixer.hpp"
 #include "uav/control/tailsitter_controller.hpp"
 #include "uav/control/task_manager.hpp"
@@ -64,6 +65,12 @@ struct BlackboardData {
   // IMU thread
   hal::SensorSample sample;
   hal::VehicleEstimate estimate;
+  // The land detector (control/land_detector.hpp): on the ground, flying, falling or crashed;
+  // still for its rest time; the measured gravity's tilt from upright [rad]; why it crashed.
+  control::GroundState ground_state = control::GroundState::kOnGround;
+  bool at_rest = true;
+  double rest_tilt_rad = 0.0;
+  std::string crash_reason;
   // CTL thread
   control::ServoCommand servo;
   std::optional<TailSitterStatus> tailsitter;  // U-Lion only

@@ -25,8 +25,8 @@ namespace uav::app {
 class ImuWorker {
  public:
   ImuWorker(hal::VehicleBackend& backend, Blackboard& board, const nav::InsParams& ins_params,
-            const GeodeticPoint& home)
-      : backend_(backend), board_(board), ins_(ins_params, home) {}
+            const GeodeticPoint& home, const control::LandDetectorParams& land = {})
+      : backend_(backend), board_(board), ins_(ins_params, home), land_(land) {}
   void Tick(int64_t utime);
   const nav::Ins& ins() const { return ins_; }
 
@@ -34,6 +34,10 @@ class ImuWorker {
   hal::VehicleBackend& backend_;
   Blackboard& board_;
   nav::Ins ins_;
+  // Ground contact and crashes: the INS's zero-velocity updates hold only while it is truly at
+  // rest, and after a crash it aligns anew once the vehicle stands upright and still.
+  control::LandDetector land_;
+  int64_t params_version_ = -1;  // the parameters the land detector last took
   int64_t vision_height_utime_ = 0;  // the last vision height handed to the INS
   int64_t vision_position_utime_ = 0;  // the last VO position handed to the filters
   int vision_segment_ = -1;            // the VO+IMU filter's odometry segment

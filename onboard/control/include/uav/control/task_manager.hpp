@@ -42,6 +42,8 @@ struct TaskParams {
   FollowParams follow;
   double stick_yaw_rate = 0.785;    // [rad/s] sticks: yaw rate at full deflection
   double stick_timeout = 0.5;       // [s] sticks silent this long: hold
+  double disarm_preflight = 10.0;   // [s] armed on the ground this long without a takeoff: disarm (0: never)
+  double disarm_land = 0.0;         // [s] after a touchdown the rotors idle this long, then disarm
   static TaskParams FromParameters(const ParameterSet& p);
 };
 
@@ -97,6 +99,7 @@ class TaskManager {
     ServoChannel chirp_channel = ServoChannel::kNone;  // system identification: add chirp_value
     double chirp_value = 0.0;                          // to this servo channel (Eq. 2.14)
     bool sim_gps_enabled = true;  // simulator fault "gps 0|1": the simulated receiver has a fix
+    std::string note;  // said once to the operator: why the vehicle disarmed on its own
   };
   // Carries out what the failsafes require (call before Update each step): an action stricter
   // than the one being flown takes over at once (an active command fails with the reason);
@@ -106,6 +109,11 @@ class TaskManager {
   void EnforceFailsafe(FailsafeAction required, const std::string& reason, const VehicleEstimate& est,
                        double t, std::vector<CommandAck>* reports, bool return_at_altitude = false);
   FailsafeAction enforced() const { return enforced_; }
+
+  // The vehicle has crashed (land_detector.hpp): the motors stop, the task fails saying why, and
+  // it stays disarmed (arming waits for the crash to be over: a pre-arm check). Nothing when the
+  // motors are already off.
+  void OnCrash(const std::string& reason, std::vector<CommandAck>* reports);
 
   // The operator's newest sticks, stamped with the vehicle clock when they arrived (call before
   // Update each step): the `sticks` task flies them.
@@ -136,6 +144,10 @@ class TaskManager {
 
  private:
   void Finish(AckResult result, const std::string& reason, std::vector<CommandAck>* reports);
+  // Motors off at once, wherever the vehicle is (an emergency stop, a crash): the active task
+  // fails with `reason`.
+  void StopMotors(const std::string& reason, std::vector<CommandAck>* reports);
+  void Disarm();
   void Begin(Task task, const CommandRequest& req, const VehicleEstimate& est, double t,
              std::vector<CommandAck>* reports);
   double Progress(const VehicleEstimate& est) const;
@@ -164,6 +176,9 @@ class TaskManager {
   MissionRunner::Output path_;             // its last output
   double last_t_ = 0.0;
   bool armed_ = false;
+  double armed_on_ground_since_ = -1.0;  // [s] armed and not yet taken off (auto-disarm)
+  double touchdown_t_ = -1.0;            // [s] landed, rotors idling until disarm_land
+  std::string note_;                     // Output::note, said once
   std::string pre_arm_failing_;
   std::optional<Eigen::Vector3d> stand_in_N_;  // see ObserveStandIn
   std::string stand_in_why_;

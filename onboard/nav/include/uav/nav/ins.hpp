@@ -68,6 +68,14 @@ class Ins {
   // odometry's chain, or an INS that has become too sure of itself), the odometry is tied again
   // where the INS is: the INS never flies on the IMU alone while the odometry still sees.
   void QueueVisualPosition(int64_t utime, const Eigen::Vector3d& p_N, double sigma_m, int segment);
+  // Aligns anew on the next complete sample, as at power-up (level and heading from gravity and
+  // the field, position from the GPS fix, height zero, the biases and covariance reset): after a
+  // crash the filter ran on a tumbling IMU and its estimate may be anything. The vehicle must
+  // stand still (the land detector says when).
+  void Realign() {
+    health_.aligned = false;
+    visual_anchor_.reset();
+  }
   // Where the position comes from (telemetry shows it): GPS fixes, visual odometry while GPS is
   // lost, or the IMU alone (dead reckoning, which drifts within seconds).
   PositionSource position_source() const { return position_source_; }
