@@ -20,9 +20,8 @@ export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$supp/tsan.supp"
 case "$mode" in
-  asan) flags=address,undefined dir=${2:-$src/build-asan} opt=1 ;;
-  asan-unit) flags=address,undefined dir=${2:-$src/build-asan} opt=0 ;;
-  tsan) flags=thread dir=${2:-$src/build-tsan} opt=1 ;;
+  asan | asan-unit) flags=address,undefined dir=${2:-$src/build-asan} ;;
+  tsan) flags=thread dir=${2:-$src/build-tsan} ;;
   *) echo "sanitize.sh: unknown mode '$mode' (asan, asan-unit or tsan)"; exit 2 ;;
 esac
 case "$mode" in
@@ -40,7 +39,7 @@ esac
 shift $(( $# < 2 ? $# : 2 ))
 echo "sanitize.sh: $mode (-fsanitize=$flags) in $dir"
 if [ -f "$dir/CMakeCache.txt" ] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$dir/CMakeCache.txt"; then rm -rf "$dir"; fi
-cmake -S "$src" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DUAV_SANITIZE=$flags -DUAV_SANITIZE_OPT=$opt > /dev/null
+cmake -S "$src" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DUAV_SANITIZE=$flags > /dev/null
 start=$(date +%s)
 cmake --build "$dir" -j"$jobs" --target "${targets[@]}" > "$dir/build.log" 2>&1 || { tail -40 "$dir/build.log"; exit 1; }
 echo "sanitize.sh: built in $(( $(date +%s) - start )) s"

@@ -32,9 +32,16 @@ class LandDetectorTest : public ::testing::Test {
 };
 
 TEST_F(LandDetectorTest, StandingStillIsOnTheGroundAtRestAndUpright) {
+  // Powered on standing: at rest from the first sample.
   EXPECT_EQ(Run(0.2, Standing(), false), GroundState::kOnGround);
-  EXPECT_FALSE(d_.at_rest());  // not yet still for its rest time
-  Run(0.5, Standing(), false);
+  EXPECT_TRUE(d_.at_rest());
+  EXPECT_NEAR(d_.rest_tilt_rad(), 0.0, 1e-9);
+  // Moved (carried), then put down: at rest once still for its rest time.
+  Run(0.1, Standing(), false, Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.5, 0, 0));
+  EXPECT_FALSE(d_.at_rest());
+  Run(0.2, Standing(), false);
+  EXPECT_FALSE(d_.at_rest());
+  Run(0.4, Standing(), false);
   EXPECT_TRUE(d_.at_rest());
   EXPECT_NEAR(d_.rest_tilt_rad(), 0.0, 1e-9);
   EXPECT_TRUE(d_.upright_at_rest());
@@ -50,6 +57,10 @@ TEST_F(LandDetectorTest, ALandingIsOnTheGroundNotACrash) {
   EXPECT_EQ(Run(0.6, Standing(), true), GroundState::kFlying);  // still armed, rotors idling
   EXPECT_EQ(Run(0.6, Standing(), false), GroundState::kOnGround);
   EXPECT_TRUE(d_.crash_reason().empty());
+  // Stopped at a landing's touchdown: on the ground at once, whatever the IMU reads then.
+  LandDetector landing;
+  for (int i = 0; i < 100; ++i) landing.Update({i * kDt, Standing(), Eigen::Vector3d(0.3, 0, 0), Eigen::Matrix3d::Identity(), true, true});
+  EXPECT_EQ(landing.Update({2.0, Standing(), Eigen::Vector3d(0.3, 0, 0), Eigen::Matrix3d::Identity(), false, false}), GroundState::kOnGround);
 }
 
 TEST_F(LandDetectorTest, MotorsStoppedInTheAirFallAndCrash) {

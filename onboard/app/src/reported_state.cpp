@@ -27,7 +27,8 @@ VehicleState ReportedState(const BlackboardData& d, const GeodeticPoint& home, A
   s.capturing = d.capture_interval_s.has_value() || d.capture_distance_m.has_value();
   s.armed = d.armed;
   // On the ground at rest: not flying, not falling, not lying crashed (land_detector.hpp).
-  s.landed = !d.airborne && d.ground_state == control::GroundState::kOnGround;
+  s.landed = !d.airborne && (d.ground_state == control::GroundState::kOnGround ||
+                             (d.ground_state == control::GroundState::kFlying && d.touched_down));
   s.battery_voltage_v = d.sample.battery_voltage_v;
   s.battery_remaining = d.sample.battery_remaining;
   s.obstacle_range_m = d.obstacle_range_m;

@@ -35,6 +35,7 @@ void ImuWorker::Tick(int64_t utime) {
   contact.w_B = s.gyro_B;
   contact.R_NB = before.estimate.q_NB.toRotationMatrix();
   contact.motors_on = before.armed && before.airborne;
+  contact.landing = before.task == control::Task::kLand || before.touched_down;
   const control::GroundState was = land_.state();
   const control::GroundState ground = land_.Update(contact);
   if (ground == control::GroundState::kFalling && was != ground)
@@ -310,6 +311,7 @@ void ControlWorker::Tick(int64_t utime) {
     b.tailsitter = tailsitter;
     b.armed = out.armed;
     b.airborne = out.airborne;
+    b.touched_down = out.touched_down;
     b.task = out.task;
     b.failsafe = required;
     b.mission_item = out.mission_item;

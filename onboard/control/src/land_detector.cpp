@@ -54,6 +54,7 @@ void LandDetector::Recover() {
 GroundState LandDetector::Update(const LandDetectorInputs& in) {
   if (!in.f_B.allFinite() || !in.w_B.allFinite() || !in.R_NB.allFinite()) return state_;
   last_t_ = in.t;
+  if (first_t_ < 0.0) first_t_ = in.t;
   const double f = in.f_B.norm();
   const bool still = in.w_B.norm() < p_.rest_rate && std::abs(f - p_.gravity) < p_.rest_accel;
   if (!still) rest_since_ = -1.0;
@@ -70,7 +71,10 @@ GroundState LandDetector::Update(const LandDetectorInputs& in) {
         // Stopped in the air (the accelerometer reads free fall once the rotors have spun
         // down), or down (a landing's end: it comes to rest).
         if (motors_off_t_ < 0.0) motors_off_t_ = in.t;
-        if (f < p_.free_fall_accel) {
+        if (landing_) {  // the task manager stopped them at the touchdown it detected
+          state_ = GroundState::kOnGround;
+          motors_off_t_ = -1.0;
+        } else if (f < p_.free_fall_accel) {
           state_ = GroundState::kFalling;
           peak_accel_ = 0.0;
           motors_off_t_ = -1.0;
@@ -81,6 +85,7 @@ GroundState LandDetector::Update(const LandDetectorInputs& in) {
         break;
       }
       motors_off_t_ = -1.0;
+      landing_ = in.landing;
       if (f > p_.crash_accel) {
         Crash(Format("impact of %.1f g in flight", f / p_.gravity));
         break;

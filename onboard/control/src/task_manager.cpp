@@ -112,6 +112,7 @@ void TaskManager::BeginPath(Task task, std::vector<waypoints::MissionStep> steps
     airborne_ = true;
     armed_on_ground_since_ = -1.0;
     touchdown_t_ = -1.0;
+    touched_down_ = false;
     reset_pending_ = true;
   }
   // Steps outside the geofence are refused before anything moves.
@@ -284,6 +285,7 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       airborne_ = true;
       armed_on_ground_since_ = -1.0;
       touchdown_t_ = -1.0;
+      touched_down_ = false;
       return Begin(Task::kTakeoff, req, est, t, reports);
     }
     case CommandId::kSticks:
@@ -528,6 +530,7 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
         // Touchdown: the rotors idle for disarm_land, then stop (PX4's auto-disarm); report.
         airborne_ = false;
         enforced_ = FailsafeAction::kNone;
+        touched_down_ = true;
         if (p_.disarm_land > 0.0) touchdown_t_ = t;
         else Disarm();
         carried_capture_.reset();
@@ -579,6 +582,7 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
   }
   o.reset_controller = reset_pending_ || !airborne_;
   reset_pending_ = false;
+  o.touched_down = touched_down_ && !airborne_;
   o.note = std::move(note_);
   note_.clear();
   return o;

@@ -76,6 +76,7 @@ struct BlackboardData {
   std::optional<TailSitterStatus> tailsitter;  // U-Lion only
   bool armed = false;
   bool airborne = false;
+  bool touched_down = false;  // on the ground after a landing's touchdown (TaskManager::Output)
   control::Task task = control::Task::kIdle;
   int mission_item = -1;
   control::FailsafeAction failsafe = control::FailsafeAction::kNone;

@@ -47,6 +47,7 @@ struct LandDetectorInputs {
   Eigen::Vector3d w_B = Eigen::Vector3d::Zero();      // [rad/s] the IMU's body rates
   Eigen::Matrix3d R_NB = Eigen::Matrix3d::Identity();  // the estimated attitude
   bool motors_on = false;                             // armed and flying (rotors above idle)
+  bool landing = false;  // a landing is being flown: motors that stop now stop at its touchdown
 };
 
 class LandDetector {
@@ -59,8 +60,11 @@ class LandDetector {
   // Why it crashed ("impact of 8.4 g", "tipped 75 deg for 0.5 s in flight", "fell from the air
   // with its motors stopped"), "" unless crashed.
   const std::string& crash_reason() const { return crash_reason_; }
-  // Still (body rates and specific force at rest) for rest_time_s.
-  bool at_rest() const { return rest_since_ >= 0.0 && last_t_ - rest_since_ >= p_.rest_time_s; }
+  // Still (body rates and specific force at rest) for rest_time_s, or ever since the first sample
+  // (a vehicle powered on standing needs no wait; one that was moved does).
+  bool at_rest() const {
+    return rest_since_ >= 0.0 && (rest_since_ == first_t_ || last_t_ - rest_since_ >= p_.rest_time_s);
+  }
   // The angle between the up axis and the measured gravity's direction [rad] (meaningful at rest).
   double rest_tilt_rad() const { return rest_tilt_; }
   // Standing upright (tilted at most upright_tilt_rad) and still.
@@ -75,9 +79,11 @@ class LandDetector {
   GroundState state_ = GroundState::kOnGround;
   std::string crash_reason_;
   double last_t_ = 0.0;
+  double first_t_ = -1.0;  // the first sample's time
   double rest_since_ = -1.0;
   double tipped_since_ = -1.0;
-  double motors_off_t_ = -1.0;  // when the motors stopped, while it is not yet known where
+  double motors_off_t_ = -1.0;
+  bool landing_ = false;  // a landing was flown while the motors last ran  // when the motors stopped, while it is not yet known where
   double rest_tilt_ = 0.0;
   double peak_accel_ = 0.0;  // while falling
 };

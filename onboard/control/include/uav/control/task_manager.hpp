@@ -100,6 +100,7 @@ class TaskManager {
     double chirp_value = 0.0;                          // to this servo channel (Eq. 2.14)
     bool sim_gps_enabled = true;  // simulator fault "gps 0|1": the simulated receiver has a fix
     std::string note;  // said once to the operator: why the vehicle disarmed on its own
+    bool touched_down = false;  // on the ground after a landing's touchdown, until the next takeoff
   };
   // Carries out what the failsafes require (call before Update each step): an action stricter
   // than the one being flown takes over at once (an active command fails with the reason);
@@ -178,6 +179,7 @@ class TaskManager {
   bool armed_ = false;
   double armed_on_ground_since_ = -1.0;  // [s] armed and not yet taken off (auto-disarm)
   double touchdown_t_ = -1.0;            // [s] landed, rotors idling until disarm_land
+  bool touched_down_ = false;            // Output::touched_down
   std::string note_;                     // Output::note, said once
   std::string pre_arm_failing_;
   std::optional<Eigen::Vector3d> stand_in_N_;  // see ObserveStandIn
