@@ -42,7 +42,7 @@ std::string Suggestion(const ParameterSchema& schema, const std::string& name) {
   return best ? " (did you mean '" + best->name + "'?)" : "";
 }
 
-Parameter FromSpec(const ParameterSpec& s, double value) { return {value, s.unit, s.min, s.max, s.description}; }
+Parameter FromSpec(const ParameterSpec& s, double value) { return {value, s.unit, s.min, s.max, s.description, ""}; }
 
 }  // namespace
 
@@ -53,7 +53,18 @@ const ParameterSpec* ParameterSchema::Find(const std::string& name) const {
 }
 
 ParameterSet ParameterSet::LoadFile(const std::string& path, const ParameterSchema& schema) {
-  return Parse(ReadTextFile(path, schema.kind + " parameter file"), path, schema);
+  const std::string text = ReadTextFile(path, schema.kind + " parameter file");
+  ParameterSet set = Parse(text, path, schema);
+  // A file of no settings is a mistake (a truncated copy, the wrong file), not a wish for the
+  // defaults: flying on them without a word is what nobody asked.
+  std::istringstream lines(text);
+  std::string line, name;
+  bool any = false;
+  while (!any && std::getline(lines, line)) any = static_cast<bool>(std::istringstream(line.substr(0, line.find('#'))) >> name);
+  if (!any)
+    throw std::runtime_error(path + ": the " + schema.kind + " parameter file sets nothing (it is empty or all comments); "
+                             "give the parameters it should set, or the shipped file to fly on its values");
+  return set;
 }
 
 ParameterSet ParameterSet::Defaults(const ParameterSchema& schema) { return Parse("", "defaults", schema); }
@@ -105,7 +116,7 @@ double ParameterSet::Get(const std::string& name) const {
   return it->second.value;
 }
 
-ParameterSet ParameterSet::With(const std::string& name, double value) const {
+ParameterSet ParameterSet::With(const std::string& name, double value, const std::string& origin) const {
   const ParameterSpec* spec = schema_ ? schema_->Find(name) : nullptr;
   if (!spec)
     throw std::invalid_argument("parameter '" + name + "' does not exist in " + source_ +
@@ -118,7 +129,20 @@ ParameterSet ParameterSet::With(const std::string& name, double value) const {
   }
   ParameterSet copy = *this;
   copy.params_[name] = FromSpec(*spec, value);
+  copy.params_[name].origin = origin;
   return copy;
+}
+
+std::string ParameterSet::SourceName() const {
+  const auto slash = source_.find_last_of('/');
+  return slash == std::string::npos ? source_ : source_.substr(slash + 1);
+}
+
+std::string ParameterSet::Describe(const std::string& name) const {
+  const auto it = params_.find(name);
+  if (it == params_.end()) return name + " (missing from " + SourceName() + ")";
+  return name + " " + FormatParameterValue(it->second.value) + " (" +
+         (it->second.origin.empty() ? SourceName() : it->second.origin) + ")";
 }
 
 ParameterSet ParameterSet::WithAssignment(const std::string& assignment) const {
@@ -128,7 +152,7 @@ ParameterSet ParameterSet::WithAssignment(const std::string& assignment) const {
   if (eq == std::string::npos || eq == 0 || !value)
     throw std::invalid_argument("parameter override must be NAME=VALUE with a finite decimal number, got '" +
                                 assignment + "'");
-  return With(assignment.substr(0, eq), *value);
+  return With(assignment.substr(0, eq), *value, "--param " + assignment);
 }
 
 std::string FormatParameterValue(double v) {

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
 #include <system_error>
 
 #include "uav/shared/decimal.hpp"
@@ -37,13 +38,27 @@ void PrepareCommandLine(CLI::App& app) {
   RequireDecimalNumbers(app);
 }
 
-void CheckOutputFile(const std::string& path, const std::string& option) {
+namespace {
+// "" when `path` can be written, else why not.
+std::string OutputFileProblem(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::is_directory(path, ec)) throw std::invalid_argument(option + ": " + path + " is a folder, not a file");
+  if (fs::is_directory(path, ec)) return path + " is a folder, not a file";
   const fs::path folder = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
-  if (!fs::is_directory(folder, ec)) throw std::invalid_argument(option + ": no folder " + folder.string() + " for " + path);
-  if (access(folder.c_str(), W_OK) != 0) throw std::invalid_argument(option + ": cannot write into " + folder.string());
+  if (!fs::is_directory(folder, ec)) return "no folder " + folder.string() + " for " + path;
+  if (access(folder.c_str(), W_OK) != 0) return "cannot write into " + folder.string();
+  return "";
+}
+}  // namespace
+
+void CheckOutputFile(const std::string& path, const std::string& option) {
+  if (const std::string why = OutputFileProblem(path); !why.empty()) throw std::invalid_argument(option + ": " + why);
+}
+
+CLI::Option* OutputFile(CLI::Option* option, const std::string& suffix) {
+  option->check(CLI::Validator([suffix](std::string& value) { return OutputFileProblem(value + suffix); },
+                               "FILE", "writable"));
+  return option;
 }
 
 std::string ResourceDir() {

@@ -211,6 +211,8 @@ std::string ScriptPage(const fs::path& source_dir) {
          "id). `tick SIGNAL` clicks `tick:GROUP.SIGNAL`; `select ID` clicks `vehicle:ID`.\n\n";
   std::map<std::string, std::set<std::string>> by_panel;
   const std::regex call(R"re(RegisterLastItem\(ctx,\s*((?:[^;()]|\([^;()]*\))+)\);)re");
+  // The number fields register themselves (number_field.hpp): NumberField(ctx, NAME, ...).
+  const std::regex number_field(R"re(NumberField\(ctx,\s*((?:[^;(),]|\([^;()]*\))+),)re");
   std::vector<fs::path> files;
   for (const auto& e : fs::recursive_directory_iterator(source_dir / "gcs/ui/src"))
     if (e.path().extension() == ".cpp") files.push_back(e.path());
@@ -221,10 +223,11 @@ std::string ScriptPage(const fs::path& source_dir) {
   for (const auto& f : files) {
     const std::string text = ReadFile(f);
     auto& names = by_panel[f.stem().string()];
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), call); it != std::sregex_iterator(); ++it) {
-      const std::string pattern = LabelPattern((*it)[1].str());
-      if (!(pattern.front() == '<' && pattern.back() == '>' && pattern.find('<', 1) == std::string::npos)) names.insert(pattern);
-    }
+    for (const std::regex* r : {&call, &number_field})
+      for (auto it = std::sregex_iterator(text.begin(), text.end(), *r); it != std::sregex_iterator(); ++it) {
+        const std::string pattern = LabelPattern((*it)[1].str());
+        if (!(pattern.front() == '<' && pattern.back() == '>' && pattern.find('<', 1) == std::string::npos)) names.insert(pattern);
+      }
     for (auto it = std::sregex_iterator(text.begin(), text.end(), name_literal); it != std::sregex_iterator(); ++it)
       names.insert((*it)[1].str());
     if (names.empty()) by_panel.erase(f.stem().string());

@@ -9,7 +9,7 @@ set -euo pipefail
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/../integration/scaled_timeout.sh"
 bin=$1 script=$2 out=$3
 mkdir -p "$out"
-rm -f "$out"/gcs_*.png "$out/layout.ini"
+rm -f "$out"/gcs_*.png "$out/layout.ini" "$out/layout_1080.ini"
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
 key="$out/uav.key"
 rm -f "$key" "$key.last"
@@ -26,4 +26,9 @@ LIBGL_ALWAYS_SOFTWARE=1 scaled_timeout 180 xvfb-run -a -s "-screen 0 1600x900x24
 for panel in Plot Map Video "Vehicle state" "Live map"; do
   grep -q "^\[Window\]\[$panel\]" "$out/layout.ini" || { echo "FAIL: layout.ini lacks $panel"; exit 1; }
 done
-"$bin/check_screenshot" "$out/gcs_1.png" "$out/gcs_2.png" "$out"
+"$bin/check_screenshot" "$out/gcs_1.png" "$out/gcs_2.png" "$out" "$out/gcs_3.png"
+# The same layout on a 1920 x 1080 display (a fresh layout file: the default table again).
+LIBGL_ALWAYS_SOFTWARE=1 scaled_timeout 120 xvfb-run -a -s "-screen 0 1920x1080x24" \
+  "$bin/uav-gcs" --name e2e1080 --lcm-url "$url" --key "$key" --layout "$out/layout_1080.ini" --size 1920x1080 \
+  --script "$(dirname "$script")/window_1080.gcs"
+"$bin/check_screenshot" --layout "$out/gcs_1080.png"

@@ -38,7 +38,8 @@ class ClosedLoop : public ::testing::Test {
   explicit ClosedLoop(const ParameterSet& params)
       : params_(params),
         vehicle_(params_, kHome, 0),
-        missions_(waypoints::kStoredPathsDir, kHome, params_.Get("ctl_speed_max_xy")),
+        missions_(waypoints::kStoredPathsDir, kHome,
+                  waypoints::VehicleLimits::Of([this](const std::string& n) { return params_.Get(n); })),
         imu_(vehicle_, board_, nav::InsParams::FromParameters(params_), kHome, control::LandDetectorParams::FromParameters(params_)),
         ctl_(control::TaskParams::FromParameters(params_),
              control::ControllerParams::FromParameters(params_),
@@ -543,9 +544,10 @@ TEST_F(ClosedLoop, MixedMissionHoldsLoitersTakesOnePhotoSurveysAndLandsAtItsPoin
               elapsed_s_, at_wp, at_loiter, camera_on, survey_camera_on, legs_s);
 }
 
-// The geofence uploaded with a mission: a goto into its exclusion zone is refused with the
-// reason; a mission leg across the zone breaches it, and the return (fs_fence_action 2) goes to
-// the rally point and lands there.
+// The geofence uploaded with a mission: a mission whose leg crosses its exclusion zone is refused
+// at upload, naming the item and the zone; a goto into the zone is refused with the reason; a
+// goto whose straight path crosses it (only its target is checked, as PX4) breaches it, and the
+// return (fs_fence_action 2) goes to the rally point and lands there.
 TEST_F(ClosedLoop, UploadedExclusionZoneRefusesGotoAndABreachReturnsToTheRallyPoint) {
   const LocalNedFrame frame(kHome);
   waypoints::Mission m;
@@ -566,23 +568,26 @@ TEST_F(ClosedLoop, UploadedExclusionZoneRefusesGotoAndABreachReturnsToTheRallyPo
     item(waypoints::mav_cmd::kNavFencePolygonVertexExclusion, waypoints::mav_frame::kGlobalRelativeAlt, {4, 0, 0, 0},
          Eigen::Vector3d(v.x(), v.y(), 0));
   item(waypoints::mav_cmd::kNavRallyPoint, waypoints::mav_frame::kGlobalRelativeAlt, {0, 0, 0, 0}, Eigen::Vector3d(-10, 10, -8));
+  EXPECT_EQ(missions_.AcceptUpload(m), "item 1 (NAV_WAYPOINT): the leg from home crosses keep-out polygon 1");
+  const GeodeticPoint around = frame.ToGeodetic(Eigen::Vector3d(40, -30, 0));  // the leg passes west of the zone
+  m.items[1].latitude_deg = around.latitude_deg, m.items[1].longitude_deg = around.longitude_deg;
   ASSERT_EQ(missions_.AcceptUpload(m), "");
 
   EXPECT_EQ(Fly("arm", 1).result, control::AckResult::kCompleted);
   EXPECT_EQ(Fly("takeoff 8", 40).result, control::AckResult::kCompleted);
   const auto refused = Fly("goto 20 0 8", 1);
   EXPECT_EQ(refused.result, control::AckResult::kRejected);
-  EXPECT_NE(refused.reason.find("inside exclusion zone 1"), std::string::npos) << refused.reason;
+  EXPECT_NE(refused.reason.find("inside keep-out polygon 1"), std::string::npos) << refused.reason;
   EXPECT_EQ(Fly("goto 0 0 8", 30).result, control::AckResult::kCompleted);
-  // The mission's leg crosses the zone: the fence stops it and the vehicle returns to the rally point.
+  // The goto's path crosses the zone: the fence stops it and the vehicle returns to the rally point.
   double deepest = 0;  // [m] into the zone
   on_step_ = [&] {
     const Eigen::Vector3d p = board_.Snapshot().estimate.p_N;
     if (std::abs(p.y()) < 5) deepest = std::max(deepest, p.x() - 15);
   };
-  const auto mission = Fly("mission", 60);
-  EXPECT_EQ(mission.result, control::AckResult::kFailed);
-  EXPECT_NE(mission.reason.find("inside exclusion zone 1"), std::string::npos) << mission.reason;
+  const auto crossing = Fly("goto 40 0 8", 60);
+  EXPECT_EQ(crossing.result, control::AckResult::kFailed);
+  EXPECT_NE(crossing.reason.find("inside keep-out polygon 1"), std::string::npos) << crossing.reason;
   until_ = [&] { return !board_.Snapshot().armed; };
   Fly("", 120);
   on_step_ = nullptr;

@@ -165,6 +165,25 @@ TEST(FailsafeParams, InconsistentThresholdsAreRefused) {
   EXPECT_THROW(FailsafeParams::FromParameters(ParameterSet::Parse(swapped + "fs_fence_action 2\n", "t", uav::VehicleParameterSchema())), std::invalid_argument);
 }
 
+// The refusal names what to change: the override (not the untouched vehicle file), and the file
+// by its name only (a refusal reaches the GCS; the vehicle's directories are nobody's business).
+TEST(FailsafeParams, ARefusedOverrideNamesTheOverride) {
+  const ParameterSet file = ParameterSet::Parse("fs_battery_return 0.25\n", "/home/pilot/vehicles/quad.params",
+                                                uav::VehicleParameterSchema());
+  try {
+    FailsafeParams::FromParameters(file.WithAssignment("fs_battery_land=0.3"));
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "fs_battery_land 0.3 (--param fs_battery_land=0.3) must be below fs_battery_return 0.25 (quad.params)");
+  }
+  try {
+    FailsafeParams::FromParameters(file.With("fs_battery_land", 0.3));
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "fs_battery_land 0.3 (as asked) must be below fs_battery_return 0.25 (quad.params)");
+  }
+}
+
 TEST(CheckSetpoint, NonFiniteAndOutOfEnvelopeAreRejectedOnBothSidesOfEachLimit) {
   const FailsafeParams p = FailsafeParams::FromParameters(Params());
   Setpoint sp;

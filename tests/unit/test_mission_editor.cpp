@@ -191,14 +191,14 @@ TEST(MissionEditor, GeofenceAndRallyPointsRoundTripAsQGroundControlWritesThem) {
   // The vehicle's view: the waypoint is allowed, the circle is not, the rally point is there.
   const auto fence = waypoints::CompileGeofence(*m, LocalNedFrame(kHome));
   EXPECT_EQ(fence.Breach({20, 0}), "");
-  EXPECT_EQ(fence.Breach({30, 32}), "inside exclusion zone 2");
-  EXPECT_EQ(fence.Breach({100, 0}), "outside every inclusion zone");
+  EXPECT_EQ(fence.Breach({30, 32}), "inside keep-out circle 1");
+  EXPECT_EQ(fence.Breach({100, 0}), "outside every keep-in zone");
   ASSERT_NE(fence.NearestRally({0, 0}), nullptr);
   EXPECT_NEAR(fence.NearestRally({0, 0})->x(), -20, 1e-6);
   // A polygon of two vertices cannot be uploaded, and says which zone.
   editor.fences[1].vertices.resize(2);
   EXPECT_FALSE(editor.MakeMission(planner, kHome, &error));
-  EXPECT_NE(error.find("fence zone 2: a polygon needs at least 3 vertices"), std::string::npos) << error;
+  EXPECT_NE(error.find("keep-in polygon 1: a polygon needs at least 3 vertices"), std::string::npos) << error;
 }
 
 }  // namespace

@@ -17,6 +17,12 @@ namespace {
 
 const GeodeticPoint kHome{1.2966, 103.7764, 15.0};
 
+VehicleLimits SpeedLimit(double v) {
+  VehicleLimits l;
+  l.max_speed_m_s = v;
+  return l;
+}
+
 Mission SurveyMission(bool by_distance) {
   SurveyParams p;
   p.camera = {4.8, 3.6, 3.6, 640, 480, true};
@@ -248,7 +254,7 @@ TEST(StoredPaths, ShippedPathsLoadAndCompile) {
   for (int n : {1, 2}) {
     const Mission m = LoadStoredPath(kStoredPathsDir, n);
     LocalNedFrame frame(kHome);
-    const auto steps = CompileMission(m, frame, 3.0);
+    const auto steps = CompileMission(m, frame, SpeedLimit(3.0));
     EXPECT_GE(steps.size(), 4u) << "track " << n;
   }
   EXPECT_THROW(LoadStoredPath(kStoredPathsDir, 99), MissionFileError);
@@ -257,16 +263,16 @@ TEST(StoredPaths, ShippedPathsLoadAndCompile) {
 TEST(CompileMission, RejectsWhatTheVehicleCannotFly) {
   Mission m = SurveyMission(false);
   LocalNedFrame frame(kHome);
-  EXPECT_NO_THROW(CompileMission(m, frame, 3.0));
+  EXPECT_NO_THROW(CompileMission(m, frame, SpeedLimit(3.0)));
   try {
-    CompileMission(m, frame, 2.0);
+    CompileMission(m, frame, SpeedLimit(2.0));
     ADD_FAILURE();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("above this vehicle's limit of 2 m/s"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("above the vehicle's 2.0 m/s (ctl_speed_max_xy)"), std::string::npos) << e.what();
   }
   m.items[2].command = 183;  // DO_SET_SERVO
   try {
-    CompileMission(m, frame, 3.0);
+    CompileMission(m, frame, SpeedLimit(3.0));
     ADD_FAILURE();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("item 2 (command 183): this vehicle cannot fly it"), std::string::npos) << e.what();
@@ -329,7 +335,7 @@ TEST(MissionFile, MixedMissionRoundTripsThroughPlanAndWpl) {
 TEST(CompileMission, HoldsLoitersAndTakesOnePhoto) {
   const Mission m = MixedMission();
   LocalNedFrame frame(kHome);
-  const auto steps = CompileMission(m, frame, 3.0);
+  const auto steps = CompileMission(m, frame, SpeedLimit(3.0));
   using Kind = MissionStep::Kind;
   auto of_item = [&](std::size_t item) {
     std::vector<MissionStep> r;
@@ -359,7 +365,7 @@ TEST(CompileMission, HoldsLoitersAndTakesOnePhoto) {
   Mission bad = m;
   bad.items[1].param[0] = -1;
   try {
-    CompileMission(bad, frame, 3.0);
+    CompileMission(bad, frame, SpeedLimit(3.0));
     ADD_FAILURE();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("item 1 (NAV_WAYPOINT): param1 (hold time)"), std::string::npos) << e.what();
@@ -369,7 +375,7 @@ TEST(CompileMission, HoldsLoitersAndTakesOnePhoto) {
 TEST(ResumeSteps, StartsAtTheInterruptedStepOrItsCaptureLegWithTheSettingsInForce) {
   const Mission m = SurveyMission(false);
   LocalNedFrame frame(kHome);
-  const auto steps = CompileMission(m, frame, 3.0);
+  const auto steps = CompileMission(m, frame, SpeedLimit(3.0));
   using Kind = MissionStep::Kind;
   // The end point of the third capture leg: the camera is on while the vehicle flies to it.
   std::vector<std::size_t> starts;

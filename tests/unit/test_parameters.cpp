@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <fstream>
+
 #include <filesystem>
 
 #include "uav/shared/parameter_table.hpp"
@@ -99,6 +102,22 @@ TEST(Parameters, OverridesAreCheckedAgainstTheDeclaredLimitsOnBothSides) {
   EXPECT_NE(error("wind=nan").find("NAME=VALUE"), std::string::npos);
   EXPECT_NE(error("wind=0x5").find("NAME=VALUE"), std::string::npos);
   EXPECT_NE(error("wind").find("NAME=VALUE"), std::string::npos);
+}
+
+TEST(Parameters, AFileThatSetsNothingIsRefusedNamingIt) {
+  const std::string path = testing::TempDir() + "uav_empty_vehicle.params";
+  for (const char* text : {"", "# only a comment\n\n"}) {
+    {
+      std::ofstream(path) << text;
+    }
+    try {
+      ParameterSet::LoadFile(path, VehicleParameterSchema());
+      ADD_FAILURE() << "accepted '" << text << "'";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(path + ": the vehicle parameter file sets nothing"), std::string::npos) << e.what();
+    }
+  }
+  std::remove(path.c_str());
 }
 
 TEST(Parameters, ShippedVehicleFilesLoadAndSetEveryDeclaredParameter) {

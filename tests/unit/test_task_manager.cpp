@@ -323,6 +323,41 @@ TEST_F(TaskManagerTest, UnreachableTargetFailsAndHolds) {
   EXPECT_EQ(tm_.task(), Task::kHover);
 }
 
+// A goto slowed far below its speed limit (avoidance on a slow stereo pair: 0.25 m/s where 3 m/s
+// was counted on) is not given up while it gets nearer: 50 m take 200 s, past the 80 s its
+// deadline first gave; stopped short of it, it fails task_stall_time (60 s) after its last metre.
+TEST_F(TaskManagerTest, AGotoIsNotGivenUpWhileItMakesProgress) {
+  Send("arm");
+  est_.p_N.z() = -5;
+  Step();
+  // Airborne: a take-off completed at 5 m.
+  Send("takeoff 5");
+  for (int i = 0; i < 50; ++i) Step(0.1);
+  std::vector<CommandAck> failed;
+  Send("goto 50 0 5");
+  const double start = t_;
+  while (t_ - start < 200.0 && est_.p_N.x() < 49.9) {
+    est_.p_N.x() += 0.25 * 0.1;
+    est_.v_N.x() = 0.25;
+    for (auto& x : Step(0.1))
+      if (x.result == AckResult::kFailed) failed.push_back(x);
+  }
+  EXPECT_TRUE(failed.empty()) << failed.front().reason;
+  est_.v_N.setZero();
+  // Stuck 10 m short of the next goal: given up after task_stall_time.
+  Send("goto 0 0 5");
+  for (int i = 0; i < 400; ++i) {
+    if (i < 400 && est_.p_N.x() > 10) est_.p_N.x() -= 0.25 * 0.1;  // 40 m flown, then stuck
+    for (auto& x : Step(0.1))
+      if (x.result == AckResult::kFailed) failed.push_back(x);
+  }
+  while (failed.empty() && t_ < start + 1000)
+    for (auto& x : Step(0.1))
+      if (x.result == AckResult::kFailed) failed.push_back(x);
+  ASSERT_EQ(failed.size(), 1u);
+  EXPECT_NE(failed[0].reason.find("not reached in time"), std::string::npos);
+}
+
 // A failsafe landing after a completed takeoff: its progress and touchdown are reported under
 // its own vehicle-numbered row, never under the takeoff (which had closed at 100 %).
 TEST_F(TaskManagerTest, AFailsafeLandingReportsAsItselfNotAsTheLastCommand) {

@@ -138,7 +138,9 @@ TEST(ULionOnboard, TakesOffTransitionsFliesToAPointOnTheWingLoitersAndLands) {
 // ts_land_approach_alt (20 m) and transitions back there to land.
 TEST(ULionOnboard, FliesAMissionOnTheWingAndLandsAtHome) {
   const ParameterSet params = ULion();
-  MissionStore missions(std::string(UAV_RESOURCE_DIR) + "/../waypoints/paths", Pilot::Home(), 12.0);
+  waypoints::VehicleLimits limits;
+  limits.max_speed_m_s = 12.0;
+  MissionStore missions(std::string(UAV_RESOURCE_DIR) + "/../waypoints/paths", Pilot::Home(), limits);
   const LocalNedFrame frame(Pilot::Home());
   waypoints::Mission m;
   m.home = Pilot::Home();

@@ -498,6 +498,14 @@ TEST(WorldScene, BadScenesAreRejectedNamingTheEntry) {
                 .find("$.cameras.downward.file"), std::string::npos);
   EXPECT_NE(ParseError(R"({"objects": [{"type": "power_line", "poles_ne": [[0, 0], [3, 0]], "pole_height_m": 8,
       "sag_m": 2}]})").find("sag_m"), std::string::npos);
+  // A field nobody reads is refused (a misspelling, a field of another kind of object), and a
+  // number too large for a double is named with the file, not as a bare JSON error.
+  EXPECT_NE(ParseError(R"({"objects": [{"type": "box", "center_ned": [0, 0, -1], "size": [1, 1, 1], "colour": "red"}]})")
+                .find("bad.scene.json: $.objects[0]: unknown field 'colour' (fields here: "), std::string::npos)
+      << ParseError(R"({"objects": [{"type": "box", "center_ned": [0, 0, -1], "size": [1, 1, 1], "colour": "red"}]})");
+  EXPECT_NE(ParseError(R"({"seed": 1, "wind": 3})").find("$: unknown field 'wind'"), std::string::npos);
+  EXPECT_NE(ParseError(R"({"seed": 1, "objects": [{"type": "box", "center_ned": [0, 0, 1e999], "size": [1, 1, 1]}]})")
+                .find("bad.scene.json: not a valid scene: "), std::string::npos);
 }
 
 // A scene copied to another folder: its relative camera file is looked for beside it, then in

@@ -5,6 +5,40 @@
 
 namespace uav::waypoints {
 
+std::string ZoneName(bool inclusion, bool circle, int number) {
+  return std::string(inclusion ? "keep-in " : "keep-out ") + (circle ? "circle " : "polygon ") + std::to_string(number);
+}
+
+std::string FenceItemOwner(const Mission& m, std::size_t i) {
+  if (i >= m.items.size()) return "";
+  int counts[2][2] = {{0, 0}, {0, 0}}, rally = 0;  // [inclusion][circle]
+  for (std::size_t k = 0; k <= i;) {
+    const MissionItem& it = m.items[k];
+    if (IsRallyItem(it.command)) {
+      ++rally;
+      if (k == i) return "rally point " + std::to_string(rally);
+      ++k;
+      continue;
+    }
+    if (!IsFenceItem(it.command)) {
+      if (k == i) return "";
+      ++k;
+      continue;
+    }
+    const bool inclusion = it.command == mav_cmd::kNavFencePolygonVertexInclusion ||
+                           it.command == mav_cmd::kNavFenceCircleInclusion;
+    const bool circle = it.command == mav_cmd::kNavFenceCircleInclusion || it.command == mav_cmd::kNavFenceCircleExclusion;
+    // A polygon is a run of param1 vertices (1 when the count is unusable: the error names it).
+    std::size_t run = 1;
+    if (!circle && std::isfinite(it.param[0]) && it.param[0] >= 1 && it.param[0] <= kMaxPolygonVertices)
+      run = static_cast<std::size_t>(it.param[0]);
+    const int number = ++counts[inclusion][circle];
+    if (i < k + run) return ZoneName(inclusion, circle, number);
+    k += run;
+  }
+  return "";
+}
+
 bool FenceZone::Contains(const Eigen::Vector2d& p_N) const {
   if (polygon_N.empty()) return (p_N - centre_N).norm() <= radius_m;
   return waypoints::Contains(polygon_N, p_N);
@@ -18,10 +52,10 @@ std::string Geofence::Breach(const Eigen::Vector2d& p_N) const {
       any_inclusion = true;
       inside_inclusion |= z.Contains(p_N);
     } else if (z.Contains(p_N)) {
-      return "inside exclusion zone " + std::to_string(i + 1);
+      return "inside " + z.name;
     }
   }
-  if (any_inclusion && !inside_inclusion) return "outside every inclusion zone";
+  if (any_inclusion && !inside_inclusion) return "outside every keep-in zone";
   return "";
 }
 
@@ -34,9 +68,7 @@ const Eigen::Vector3d* Geofence::NearestRally(const Eigen::Vector2d& p_N) const 
 
 Geofence CompileGeofence(const Mission& m, const LocalNedFrame& home) {
   Geofence f;
-  auto name = [&](std::size_t i) {
-    return "item " + std::to_string(i) + " (" + CommandName(m.items[i].command) + ")";
-  };
+  auto name = [&](std::size_t i) { return ItemLabel(m, i); };
   auto at = [&](const MissionItem& it) {
     return Eigen::Vector2d(home.ToNed({it.latitude_deg, it.longitude_deg, home.home().altitude_m}).head<2>());
   };
@@ -54,6 +86,7 @@ Geofence CompileGeofence(const Mission& m, const LocalNedFrame& home) {
     if (it.command == mav_cmd::kNavFenceCircleInclusion || it.command == mav_cmd::kNavFenceCircleExclusion) {
       if (!(std::isfinite(it.param[0]) && it.param[0] > 0))
         throw std::invalid_argument(name(i) + ": param1 (radius) must be a positive number of metres");
+      z.name = FenceItemOwner(m, i);
       z.centre_N = at(it);
       z.radius_m = it.param[0];
       f.zones.push_back(z);
@@ -78,6 +111,7 @@ Geofence CompileGeofence(const Mission& m, const LocalNedFrame& home) {
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(name(i) + ": fence polygon: " + e.what());
     }
+    z.name = FenceItemOwner(m, i);
     f.zones.push_back(z);
     i += n - 1;
   }

@@ -21,16 +21,6 @@ bool HasPosition(const MissionItem& it) {
 // for half a second: exactly one frame is due in that time.
 constexpr double kPhotoInterval_s = 1.0, kPhotoHold_s = 0.5;
 
-std::string ItemName(std::size_t i, const MissionItem& it) {
-  std::ostringstream s;
-  s << "item " << i << " (";
-  const char* name = CommandName(it.command);
-  if (*name) s << name;
-  else s << "command " << it.command;
-  s << ")";
-  return s.str();
-}
-
 [[noreturn]] void Fail(const std::string& where, const std::string& what) {
   throw std::invalid_argument(where + ": " + what);
 }
@@ -116,7 +106,7 @@ void ValidateMission(const Mission& m) {
   if (m.items.size() > kMaxMissionItems)
     Fail("mission", "has " + std::to_string(m.items.size()) + " items, more than " +
                         std::to_string(kMaxMissionItems));
-  for (std::size_t i = 0; i < m.items.size(); ++i) ValidateMissionItem(m.items[i], m.home, ItemName(i, m.items[i]));
+  for (std::size_t i = 0; i < m.items.size(); ++i) ValidateMissionItem(m.items[i], m.home, ItemLabel(m, i));
   try {
     CompileGeofence(m, LocalNedFrame(m.home));
   } catch (const std::invalid_argument& e) {
@@ -185,12 +175,11 @@ Mission MissionFromSurvey(const std::vector<GeodeticPoint>& area, const Geodetic
   return m;
 }
 
-std::vector<MissionStep> CompileMission(const Mission& m, const LocalNedFrame& home, double max_speed_m_s) {
+std::vector<MissionStep> CompileMission(const Mission& m, const LocalNedFrame& home, const VehicleLimits& limits) {
   ValidateMission(m);
+  if (const auto problems = CheckMission(m, limits); !problems.empty())
+    throw std::invalid_argument(DescribeProblems(problems));
   std::vector<MissionStep> steps;
-  if (m.cruise_speed_m_s > max_speed_m_s)
-    Fail("cruise speed", Num(m.cruise_speed_m_s) + " m/s is above this vehicle's limit of " +
-                             Num(max_speed_m_s) + " m/s");
   steps.push_back({MissionStep::Kind::kSetSpeed});
   steps.back().value = m.cruise_speed_m_s;
   const double home_alt = home.home().altitude_m;
@@ -216,8 +205,6 @@ std::vector<MissionStep> CompileMission(const Mission& m, const LocalNedFrame& h
       case mav_cmd::kNavWaypoint:
         s.p_N = position();
         s.yaw_rad = std::isnan(it.param[3]) ? std::nan("") : it.param[3] * M_PI / 180.0;
-        if (s.p_N.head<2>().norm() > 20000.0)
-          Fail(ItemName(i, it), "is " + Num(s.p_N.head<2>().norm() / 1000.0) + " km from home (limit 20 km)");
         steps.push_back(s);
         if (it.param[0] > 0) hold(it.param[0]);
         continue;
@@ -225,8 +212,6 @@ std::vector<MissionStep> CompileMission(const Mission& m, const LocalNedFrame& h
         if (!here) {
           s.p_N = position();
           s.yaw_rad = std::nan("");
-          if (s.p_N.head<2>().norm() > 20000.0)
-            Fail(ItemName(i, it), "is " + Num(s.p_N.head<2>().norm() / 1000.0) + " km from home (limit 20 km)");
           steps.push_back(s);
         }
         hold(std::isnan(it.param[0]) ? 0.0 : it.param[0]);
@@ -234,7 +219,7 @@ std::vector<MissionStep> CompileMission(const Mission& m, const LocalNedFrame& h
       case mav_cmd::kNavTakeoff:
         s.kind = MissionStep::Kind::kTakeoff;
         s.altitude_m = it.frame == mav_frame::kGlobal ? it.altitude_m - m.home.altitude_m : it.altitude_m;
-        if (s.altitude_m < 1.0) Fail(ItemName(i, it), "take-off altitude " + Num(s.altitude_m) + " m is below 1 m");
+        if (s.altitude_m < 1.0) Fail(ItemLabel(m, i), "take-off altitude " + Num(s.altitude_m) + " m is below 1 m");
         break;
       case mav_cmd::kNavLand:  // latitude/longitude 0 is "here" (MAVLink convention)
         s.kind = MissionStep::Kind::kLand;
@@ -246,9 +231,6 @@ std::vector<MissionStep> CompileMission(const Mission& m, const LocalNedFrame& h
       case mav_cmd::kDoChangeSpeed:
         s.kind = MissionStep::Kind::kSetSpeed;
         s.value = it.param[1];
-        if (s.value > max_speed_m_s)
-          Fail(ItemName(i, it), "speed " + Num(s.value) + " m/s is above this vehicle's limit of " +
-                                    Num(max_speed_m_s) + " m/s");
         break;
       case mav_cmd::kDoSetCamTriggDist:
         s.kind = it.param[0] > 0 ? MissionStep::Kind::kCaptureStart : MissionStep::Kind::kCaptureStop;
@@ -263,14 +245,14 @@ std::vector<MissionStep> CompileMission(const Mission& m, const LocalNedFrame& h
           s.kind = MissionStep::Kind::kCaptureStop;
           break;
         }
-        if (!(it.param[1] > 0)) Fail(ItemName(i, it), "param2 (interval) must be positive to capture (or param3 = 1 for one photo)");
+        if (!(it.param[1] > 0)) Fail(ItemLabel(m, i), "param2 (interval) must be positive to capture (or param3 = 1 for one photo)");
         s.value = it.param[1];
         break;
       case mav_cmd::kImageStopCapture:
         s.kind = MissionStep::Kind::kCaptureStop;
         break;
       default:
-        Fail(ItemName(i, it), "this vehicle cannot fly it (supported: NAV_WAYPOINT, NAV_LOITER_TIME, NAV_TAKEOFF, "
+        Fail(ItemLabel(m, i), "this vehicle cannot fly it (supported: NAV_WAYPOINT, NAV_LOITER_TIME, NAV_TAKEOFF, "
                               "NAV_LAND, NAV_RETURN_TO_LAUNCH, DO_CHANGE_SPEED, DO_SET_CAM_TRIGG_DIST, "
                               "IMAGE_START_CAPTURE, IMAGE_STOP_CAPTURE)");
     }

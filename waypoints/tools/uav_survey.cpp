@@ -124,10 +124,10 @@ int main(int argc, char** argv) {
   cli.add_option("--rate", p.capture_rate_hz, "capture rate [Hz]")->capture_default_str();
   cli.add_option("--trigger-distance", p.trigger_distance_m, "capture every N m instead of by rate");
   cli.add_flag("--crosshatch", p.crosshatch, "second pass at +90 degrees");
-  cli.add_option("--plan", plan_out, "write a QGroundControl .plan");
-  cli.add_option("--wpl", wpl_out, "write a QGC WPL 110 file");
-  cli.add_option("--captures", captures_out, "write the capture plan as CSV");
-  cli.add_option("--picture", picture_out, "draw the plan as PNG");
+  uav::OutputFile(cli.add_option("--plan", plan_out, "write a QGroundControl .plan"));
+  uav::OutputFile(cli.add_option("--wpl", wpl_out, "write a QGC WPL 110 file"));
+  uav::OutputFile(cli.add_option("--captures", captures_out, "write the capture plan as CSV"));
+  uav::OutputFile(cli.add_option("--picture", picture_out, "draw the plan as PNG"));
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   if (list_camera_params) {

@@ -91,6 +91,16 @@ int main(int argc, char** argv) {
   cli.add_flag("--no-speech", no_speech, "do not speak warnings and failsafes (spoken with espeak-ng when installed)");
   cli.add_option("--vehicle", vehicle, "vehicle to show first (default: the first one heard)");
   cli.add_option("--layout", layout, "window layout file, kept between runs")->capture_default_str();
+  std::string size_text = "1600x900";
+  cli.add_option("--size", size_text, "window size WIDTHxHEIGHT [px] (the default layout fits 1600x900 and up)")
+      ->check([](const std::string& v) {
+        int w = 0, h = 0;
+        char x = 0, extra = 0;
+        return std::sscanf(v.c_str(), "%d%c%d%c", &w, &x, &h, &extra) == 3 && x == 'x' && w >= 640 && h >= 480 && w <= 8192 && h <= 8192
+                   ? std::string()
+                   : "must be WIDTHxHEIGHT, 640x480 to 8192x8192, e.g. 1920x1080";
+      })
+      ->capture_default_str();
   std::string basemap;
   cli.add_option("--basemap", basemap, "a GeoTIFF to draw under the map (e.g. the last survey's map)");
   cli.add_option("--download-dir", download_dir,
@@ -182,17 +192,20 @@ int main(int argc, char** argv) {
       ctx.replay = panel_control.get();
       if (runner) runner->SetReplay(script_control.get());  // runs after the frame's panels
     }
+    int width = 1600, height = 900;
+    std::sscanf(size_text.c_str(), "%dx%d", &width, &height);  // checked when parsed
     std::unique_ptr<uav::gcs::Platform> platform =
-        headless ? uav::gcs::MakeNullPlatform(1600, 900)
-                 : uav::gcs::MakeGlfwPlatform(1600, 900, "uav-gcs", layout);
+        headless ? uav::gcs::MakeNullPlatform(width, height)
+                 : uav::gcs::MakeGlfwPlatform(width, height, "uav-gcs", layout);
     if (!download_dir.empty()) ctx.state.download_dir = download_dir;
     if (!basemap.empty()) ctx.state.basemap_file = basemap;
     // Spoken alerts (as QGroundControl's): live only, never in a replay or headless.
     uav::gcs::Speaker speaker;
     uav::gcs::SpokenAlerts alerts;
-    ctx.state.speak_alerts = !no_speech && !replaying && !headless;
     if (replaying || headless) ctx.state.speech_unavailable = replaying ? "a replay is not spoken" : "headless";
     else if (!speaker.available()) ctx.state.speech_unavailable = "espeak-ng is not installed (Debian: apt-get install espeak-ng)";
+    // The box shows what happens: unticked when nothing can be spoken.
+    ctx.state.speak_alerts = !no_speech && ctx.state.speech_unavailable.empty();
     uav::gcs::Platform* p = platform.get();
     uav::gcs::ImGuiScriptDriver driver(
         ctx, p->has_display() ? uav::gcs::ImGuiScriptDriver::ScreenshotFn(

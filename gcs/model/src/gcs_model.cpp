@@ -161,7 +161,27 @@ bool GcsModel::ExportMission(const std::string& path, double now) { return missi
 
 bool GcsModel::ImportMission(const std::string& path, double now) {
   const VehicleModel* v = selected();
-  return missions_.ImportMission(path, v ? v->home : std::nullopt, now, log_);
+  return missions_.ImportMission(path, v ? v->home : std::nullopt, MissionLimits(), now, log_);
+}
+
+int GcsModel::FlownMissionRow() const {
+  const VehicleModel* v = selected();
+  if (!v || !v->mission || !v->state || v->state->mission_item < 0) return -1;
+  EditorCheck made;
+  made.mission = missions_.editor().MakeMission(missions_.planner(), missions_.planner().origin(), &made.error, &made.origins);
+  if (!made.mission || made.mission->items != v->mission->items) return -1;
+  return made.RowOf(v->state->mission_item);
+}
+
+waypoints::VehicleLimits GcsModel::MissionLimits(bool* from_vehicle) const {
+  const VehicleModel* v = selected();
+  const auto* table = v ? &v->reports.Get<ParameterTable>() : nullptr;
+  const bool known = table && table->newest;
+  if (from_vehicle) *from_vehicle = known;
+  return waypoints::VehicleLimits::Of([&](const std::string& name) {
+    const ParameterEntry* e = known ? table->newest->Find(name) : nullptr;
+    return e ? e->value : NAN;
+  });
 }
 
 bool GcsModel::FitSurveyToVehicle(double now) {
@@ -264,7 +284,7 @@ void GcsModel::Tick(double now) {
       } else if (contents) {
         try {
           missions_.LoadMission(waypoints::ParsePlan(*contents, id + ":" + p->offer.name), id + ":" + p->offer.name,
-                                v.home, now, log_);
+                                v.home, MissionLimits(), now, log_);
         } catch (const std::exception& e) {
           log_.Add(now, id, e.what(), Severity::kWarning);
         }

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "uav/gcs/survey_planner.hpp"
+#include "uav/waypoints/geofence.hpp"
 
 namespace uav::gcs {
 
@@ -59,6 +60,14 @@ void MissionEditor::Clear() {
   tool = MapTool::kWaypoint;
 }
 
+std::string MissionEditor::ZoneLabel(std::size_t z) const {
+  if (z >= fences.size()) return "";
+  int number = 0;
+  for (std::size_t k = 0; k <= z; ++k)
+    if (fences[k].inclusion == fences[z].inclusion && fences[k].circle == fences[z].circle) ++number;
+  return waypoints::ZoneName(fences[z].inclusion, fences[z].circle, number);
+}
+
 void MissionEditor::AddFenceVertex(const GeodeticPoint& g) {
   if (fence_selected < 0 || fence_selected >= static_cast<int>(fences.size())) return;
   FenceDraft& f = fences[static_cast<std::size_t>(fence_selected)];
@@ -93,13 +102,37 @@ int MissionEditor::ItemNear(const SurveyPlanner& planner, const Eigen::Vector2d&
   return best;
 }
 
+int EditorCheck::RowOf(int item) const {
+  if (item < 0 || static_cast<std::size_t>(item) >= origins.size()) return -1;
+  const ItemOrigin& o = origins[static_cast<std::size_t>(item)];
+  return o.kind == ItemOrigin::Kind::kRow ? static_cast<int>(o.index) : -1;
+}
+
+EditorCheck MissionEditor::Check(const SurveyPlanner& planner, const GeodeticPoint& home,
+                                 const waypoints::VehicleLimits& limits) const {
+  EditorCheck c;
+  c.mission = MakeMission(planner, home, &c.error, &c.origins);
+  c.row_problems.assign(items_.size(), "");
+  if (!c.mission) return c;
+  c.problems = waypoints::CheckMission(*c.mission, limits);
+  for (const waypoints::MissionProblem& p : c.problems) {
+    const int row = c.RowOf(p.item == waypoints::MissionProblem::kCruise ? -1 : static_cast<int>(p.item));
+    if (row >= 0 && c.row_problems[static_cast<std::size_t>(row)].empty())
+      c.row_problems[static_cast<std::size_t>(row)] = p.text;
+  }
+  return c;
+}
+
 std::optional<Mission> MissionEditor::MakeMission(const SurveyPlanner& planner, const GeodeticPoint& home,
-                                                  std::string* error) const {
+                                                  std::string* error, std::vector<ItemOrigin>* origins) const {
   Mission m;
+  std::vector<ItemOrigin> from;  // per item of m
+  ItemOrigin now{ItemOrigin::Kind::kTakeoff, 0};
   if (items_.empty()) {
     const auto survey = planner.MakeMission(error);
     if (!survey) return std::nullopt;
     m = *survey;
+    from.assign(m.items.size(), now);
   } else {
     m.home = home;
     m.cruise_speed_m_s = cruise_speed_m_s;
@@ -110,6 +143,7 @@ std::optional<Mission> MissionEditor::MakeMission(const SurveyPlanner& planner, 
     it.command = command, it.frame = frame, it.param = param;
     it.latitude_deg = lat, it.longitude_deg = lon, it.altitude_m = alt;
     m.items.push_back(it);
+    from.push_back(now);
   };
   auto speed = [&](double v) {
     if (v > 0) add(mav_cmd::kDoChangeSpeed, mav_frame::kMission, {1, v, -1, 0}, 0, 0, 0);
@@ -119,6 +153,7 @@ std::optional<Mission> MissionEditor::MakeMission(const SurveyPlanner& planner, 
         takeoff_alt_m);
   for (std::size_t i = 0; i < items_.size(); ++i) {
     const PlanItem& p = items_[i];
+    now = {ItemOrigin::Kind::kRow, i};
     const std::string where = "item " + std::to_string(i + 1) + " (" + Name(p.action) + ")";
     if (p.action != PlanAction::kSurvey) speed(p.speed_m_s);
     switch (p.action) {
@@ -156,6 +191,7 @@ std::optional<Mission> MissionEditor::MakeMission(const SurveyPlanner& planner, 
         const auto first = survey->items.begin() + static_cast<std::ptrdiff_t>(def.first_item);
         def.first_item = m.items.size();
         m.items.insert(m.items.end(), first, first + static_cast<std::ptrdiff_t>(def.item_count));
+        from.resize(m.items.size(), now);
         m.surveys.push_back(def);
         break;
       }
@@ -166,7 +202,8 @@ std::optional<Mission> MissionEditor::MakeMission(const SurveyPlanner& planner, 
     for (std::size_t z = 0; z < fences.size(); ++z) {
       const FenceDraft& f = fences[z];
       if (f.circle != (pass == 1)) continue;
-      const std::string where = "fence zone " + std::to_string(z + 1);
+      now = {ItemOrigin::Kind::kFence, z};
+      const std::string where = ZoneLabel(z);
       if (f.circle) {
         if (f.vertices.empty()) {
           *error = where + ": the circle has no centre (click the map)";
@@ -185,14 +222,18 @@ std::optional<Mission> MissionEditor::MakeMission(const SurveyPlanner& planner, 
             mav_frame::kGlobalRelativeAlt, {static_cast<double>(f.vertices.size()), 0, 0, 0}, v.latitude_deg,
             v.longitude_deg, 0);
     }
-  for (const GeodeticPoint& r : rally)
+  for (std::size_t k = 0; k < rally.size(); ++k) {
+    const GeodeticPoint& r = rally[k];
+    now = {ItemOrigin::Kind::kRally, k};
     add(mav_cmd::kNavRallyPoint, mav_frame::kGlobalRelativeAlt, {0, 0, 0, 0}, r.latitude_deg, r.longitude_deg, r.altitude_m);
+  }
   try {
     waypoints::ValidateMission(m);
   } catch (const std::exception& e) {
     *error = e.what();
     return std::nullopt;
   }
+  if (origins) *origins = std::move(from);
   return m;
 }
 

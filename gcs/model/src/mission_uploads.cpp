@@ -70,8 +70,8 @@ bool MissionUploads::ExportMission(const std::string& path, double now, MessageL
   return true;
 }
 
-bool MissionUploads::ImportMission(const std::string& path, const std::optional<GeodeticPoint>& home, double now,
-                                   MessageLog& log) {
+bool MissionUploads::ImportMission(const std::string& path, const std::optional<GeodeticPoint>& home,
+                                   const waypoints::VehicleLimits& limits, double now, MessageLog& log) {
   waypoints::Mission m;
   try {
     m = waypoints::ReadMissionFile(path);
@@ -79,11 +79,12 @@ bool MissionUploads::ImportMission(const std::string& path, const std::optional<
     log.Add(now, "", e.what(), Severity::kWarning);
     return false;
   }
-  return LoadMission(m, path, home, now, log);
+  return LoadMission(m, path, home, limits, now, log);
 }
 
 bool MissionUploads::LoadMission(const waypoints::Mission& m, const std::string& origin,
-                                 const std::optional<GeodeticPoint>& home, double now, MessageLog& log) {
+                                 const std::optional<GeodeticPoint>& home, const waypoints::VehicleLimits& limits,
+                                 double now, MessageLog& log) {
   std::string error;
   if (!editor_.Load(m, &planner_, &error)) {
     log.Add(now, "", origin + ": " + error, Severity::kWarning);
@@ -94,6 +95,14 @@ bool MissionUploads::LoadMission(const waypoints::Mission& m, const std::string&
   log.Add(now, "", "loaded " + (n ? std::to_string(n) + "-item mission" : std::string("survey")) + " (" +
                        std::to_string(m.items.size()) + " mission items) from " + origin,
           Severity::kInfo);
+  // Checked as the vehicle will check it: loaded all the same, so the operator can fix it here.
+  const auto problems = waypoints::CheckMission(m, limits);
+  constexpr std::size_t kShown = 5;
+  for (std::size_t k = 0; k < problems.size() && k < kShown; ++k)
+    log.Add(now, "", origin + ": " + problems[k].text + " (the vehicle would refuse it)", Severity::kWarning);
+  if (problems.size() > kShown)
+    log.Add(now, "", origin + ": and " + std::to_string(problems.size() - kShown) + " more problems (see the Mission panel)",
+            Severity::kWarning);
   return true;
 }
 

@@ -1,6 +1,8 @@
 // Script conditions: the value of each name a script may test, and the clauses that test them.
 #include "script_conditions.hpp"
 
+#include "uav/shared/decimal.hpp"
+
 #include <cmath>
 #include <set>
 #include <cstdlib>
@@ -72,6 +74,11 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
   if (key == "ack.command") return *str = last && last->last_ack ? last->last_ack->command : "", true;
   if (name == "error") return *str = m.commands().error(), true;
   if (name == "survey.problem") return *str = m.missions().planner().problem(), true;
+  if (name == "plan.problem") {  // the first thing the vehicle would refuse, as it will say it
+    const auto& mi = m.missions();
+    const EditorCheck c = mi.editor().Check(mi.planner(), mi.planner().origin(), m.MissionLimits());
+    return *str = !c.mission ? c.error : c.problems.empty() ? "" : c.problems.front().text, true;
+  }
   if (name == "upload") {
     using State = waypoints::MissionUploader::State;
     if (!v || !v->upload) return *str = "none", true;
@@ -110,6 +117,20 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
   if (name == "plan.items") return *num = static_cast<double>(m.missions().editor().items().size()), true;
   if (name == "plan.fences") return *num = static_cast<double>(m.missions().editor().fences.size()), true;
   if (name == "plan.rally") return *num = static_cast<double>(m.missions().editor().rally.size()), true;
+  if (name == "plan.problems") {
+    const auto& mi = m.missions();
+    return *num = static_cast<double>(mi.editor().Check(mi.planner(), mi.planner().origin(), m.MissionLimits()).problems.size()), true;
+  }
+  if (name == "plan.flown") return *num = m.FlownMissionRow() + 1.0, true;  // 1-based, 0: none
+  // Row N's altitude, speed, hold time (plan.alt.3).
+  for (const char* field : {"plan.alt.", "plan.speed.", "plan.hold."})
+    if (name.rfind(field, 0) == 0) {
+      const auto row = ParseDecimal(name.substr(std::string(field).size()));
+      const auto& items = m.missions().editor().items();
+      if (!row || *row < 1 || *row > static_cast<double>(items.size())) return false;
+      const PlanItem& it = items[static_cast<std::size_t>(*row) - 1];
+      return *num = field[5] == 'a' ? it.altitude_m : field[5] == 's' ? it.speed_m_s : it.hold_s, true;
+    }
   if (name == "plan.selected") return *num = m.missions().editor().selected + 1.0, true;  // 1-based, 0: none
   if (name == "survey.vertices") return *num = static_cast<double>(m.missions().planner().polygon().size()), true;
   if (name == "survey.images") return *num = m.missions().planner().plan() ? static_cast<double>(m.missions().planner().plan()->captures.size()) : 0.0, true;

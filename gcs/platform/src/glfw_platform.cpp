@@ -38,6 +38,8 @@ class GlfwPlatform : public Platform {
     ImGuiIO& io = ImGui::GetIO();
     io.IniFilename = ini_path_.empty() ? nullptr : ini_path_.c_str();
     ImGui::StyleColorsDark();
+    // Opaque panels: a window over another never shows both at once.
+    ImGui::GetStyle().Colors[ImGuiCol_WindowBg].w = 1.0f;
     ImGui_ImplGlfw_InitForOpenGL(window_, true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
   }

@@ -82,10 +82,8 @@ void DrawHorizon(ImDrawList* dl, const VehicleState& s, const Eigen::Vector2d& c
 void DrawAttitudePanel(GcsModel& model, UiContext& ctx) {
   UiState& st = ctx.state;
   if (!st.show_attitude) return;
-  const ImVec2 d = ImGui::GetIO().DisplaySize;
   // Over the plots' right half: the map and the command bar stay in view.
-  ImGui::SetNextWindowPos(ImVec2(0.40f * d.x, 0.06f * d.y), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(0.22f * d.x, 0.40f * d.y), ImGuiCond_FirstUseEver);
+  PlaceWindow("Attitude");
   if (!ImGui::Begin("Attitude", &st.show_attitude)) {
     ImGui::End();
     return;

@@ -1,5 +1,7 @@
 #include "uav/gcs/gcs_ui.hpp"
 
+#include "uav/gcs/layout.hpp"
+
 #include <imgui.h>
 #include <imgui_internal.h>
 
@@ -38,44 +40,52 @@ void EndDisabledBecause(UiContext& ctx) {
   ctx.disabled_because.clear();
 }
 
-namespace {
-// Default layout for a first run; afterwards imgui.ini keeps what the operator arranged.
-void Place(float x, float y, float w, float h) {
+void PlaceWindow(const char* window, bool always) {
+  const WindowPlace* p = FindWindowPlace(window);
+  if (!p) return;
   const ImVec2 d = ImGui::GetIO().DisplaySize;
-  ImGui::SetNextWindowPos(ImVec2(x * d.x, y * d.y), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(w * d.x, h * d.y), ImGuiCond_FirstUseEver);
+  const ImGuiCond when = always ? ImGuiCond_Always : ImGuiCond_FirstUseEver;
+  ImGui::SetNextWindowPos(ImVec2(p->x0 * d.x, p->y0 * d.y), when);
+  ImGui::SetNextWindowSize(ImVec2((p->x1 - p->x0) * d.x, (p->y1 - p->y0) * d.y), when);
 }
-}  // namespace
 
 void DrawGcs(GcsModel& model, UiContext& ctx) {
   ctx.widgets.clear();
   ctx.map.valid = false;
+  // The default layout (layout.hpp) for a first run; afterwards the layout file keeps what the
+  // operator arranged. The panels placed here open with it; the on-demand windows place
+  // themselves when opened.
+  PlaceWindow("Status", true);
   DrawStatusBarPanel(model, ctx);
-  Place(0.0f, 0.04f, 0.22f, 0.18f);
+  PlaceWindow("Vehicles");
   DrawVehiclesPanel(model, ctx);
-  Place(0.0f, 0.22f, 0.22f, 0.42f);
+  PlaceWindow("Vehicle state");
   DrawStateListPanel(model, ctx);
-  Place(0.0f, 0.64f, 0.22f, 0.36f);
+  PlaceWindow("Video");
   DrawVideoPanel(model, ctx);
-  Place(0.22f, 0.04f, 0.40f, 0.51f);
+  PlaceWindow("Plot");
   DrawPlotPanel(model, ctx);
-  Place(0.22f, 0.55f, 0.40f, 0.22f);
+  PlaceWindow("Command");
   DrawCommandBarPanel(model, ctx);
-  Place(0.22f, 0.77f, 0.26f, 0.23f);
+  PlaceWindow("Messages");
   DrawMessagesPanel(model, ctx);
-  Place(0.48f, 0.77f, 0.14f, 0.23f);
+  PlaceWindow("Obstacles");
   DrawObstacleViewPanel(model, ctx);
-  Place(0.62f, 0.04f, 0.38f, 0.46f);
+  PlaceWindow("Map");
   DrawMapPanel(model, ctx);
-  Place(0.62f, 0.50f, 0.38f, 0.32f);
+  PlaceWindow("Survey");
   DrawSurveyPanel(model, ctx);
-  Place(0.62f, 0.82f, 0.38f, 0.18f);
+  PlaceWindow("Live map");
   DrawLiveMapPanel(model, ctx);
-  Place(0.0f, 0.10f, 0.22f, 0.12f);  // over the Vehicles panel's empty lower half: the replay's
-  if (ctx.replay) DrawReplayPanel(model, ctx);  // controls, or live, the pre-arm checklist
-  else DrawPreArmPanel(model, ctx);
-  Place(0.0f, 0.50f, 0.22f, 0.14f);  // over the state list's lower rows
+  PlaceWindow("Sensing");
   DrawSensingPanel(model, ctx);
+  if (ctx.replay) {  // the replay's controls in the pre-arm checklist's place
+    PlaceWindow("Replay");
+    DrawReplayPanel(model, ctx);
+  } else {
+    PlaceWindow("Pre-arm");
+    DrawPreArmPanel(model, ctx);
+  }
   DrawParametersPanel(model, ctx);  // a window of its own, opened from the status bar
   DrawMissionPanel(model, ctx);     // a window of its own, while the map edits the mission
   DrawSticksPanel(model, ctx);      // a window of its own, opened from the status bar

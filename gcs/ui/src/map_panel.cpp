@@ -75,6 +75,7 @@ void HandleMapInput(GcsModel& model, UiContext& ctx, const MapCanvas& m, bool ho
       } else {
         st.map_center_n += io.MouseDelta.y / st.map_px_per_m;
         st.map_center_e -= io.MouseDelta.x / st.map_px_per_m;
+        st.map_follow = false;
       }
     }
   }
@@ -204,6 +205,14 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
       st.map_center_n = v->state->p_N.x(), st.map_center_e = v->state->p_N.y();
   }
   RegisterLastItem(ctx, "map:centre");
+  ImGui::SameLine();
+  // Keeps the selected vehicle in the middle (a fast tail-sitter leaves any fixed view); a drag
+  // to pan lets go.
+  ImGui::Checkbox("Follow", &st.map_follow);
+  RegisterLastItem(ctx, "map:follow");
+  if (st.map_follow)
+    if (const VehicleModel* v = model.selected(); v && v->state)
+      st.map_center_n = v->state->p_N.x(), st.map_center_e = v->state->p_N.y();
   ImGui::SameLine();
   ImGui::SetNextItemWidth(220);
   ImGui::InputText("##basemap", &st.basemap_file);

@@ -11,6 +11,10 @@ void DrawMessagesPanel(GcsModel& model, UiContext& ctx) {
   ImGui::Checkbox("speak warnings", &ctx.state.speak_alerts);
   RegisterLastItem(ctx, "messages:speak");
   EndDisabledBecause(ctx);
+  if (!ctx.state.speech_unavailable.empty()) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("off: %s", ctx.state.speech_unavailable.c_str());
+  }
   ImGui::BeginChild("log");
   // Whole texts, wrapped at the panel's edge: "failsafe land: ... (landing where it is)" must
   // never end at "(landing".

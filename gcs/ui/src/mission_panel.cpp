@@ -1,7 +1,7 @@
 // The mission editor's item list (QGroundControl's Plan view, beside the map): the take-off
 // altitude and cruise speed, each item's action, altitude, speed and hold time, buttons that add
-// the items without a point of their own, the geofence zones and rally points, upload, and
-// download of the vehicle's mission. Opened by the Map panel's "Edit mission";
+// the items without a point of their own, the geofence zones and rally points, upload,
+// download of the vehicle's mission, and its file. Opened by the Map panel's "Edit mission";
 // the map adds, drags and deletes the items with a point.
 #include <algorithm>
 #include <cmath>
@@ -12,30 +12,59 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "number_field.hpp"
 #include "uav/gcs/gcs_ui.hpp"
 
 namespace uav::gcs {
 namespace {
 
-// A number field (its label drawn apart, so the registered rectangle is the field); width -1
-// fills the table cell.
-void NumberCell(UiContext& ctx, const std::string& id, double* value, double min, double max, const char* format,
-                float width = -1) {
-  ImGui::SetNextItemWidth(width);
-  double shown = *value;
-  if (ImGui::InputDouble(("##" + id).c_str(), &shown, 0, 0, format) && std::isfinite(shown))
-    *value = std::clamp(shown, min, max);
-  RegisterLastItem(ctx, id);
+constexpr PlanAction kChoosable[] = {PlanAction::kWaypoint, PlanAction::kLoiter, PlanAction::kLand};
+const ImVec4 kProblem(1.0f, 0.45f, 0.35f, 1.0f);
+constexpr ImU32 kFlownRow = IM_COL32(40, 110, 60, 200);
+
+// What the fields allow: the vehicle's own limits (its parameters), within the mission format's.
+struct FieldLimits {
+  double alt_max_m, speed_max_m_s, range_m;
+  explicit FieldLimits(const waypoints::VehicleLimits& v)
+      : alt_max_m(std::min(v.ceiling_m, waypoints::kMaxSurveyAltitude_m)), speed_max_m_s(v.max_speed_m_s), range_m(v.range_m) {}
+};
+
+// A position typed as north/east of home [m] or as latitude/longitude [deg].
+void PositionCells(GcsModel& model, UiContext& ctx, PlanItem& it, const std::string& n, const FieldLimits& lim) {
+  const SurveyPlanner& planner = model.missions().planner();
+  if (ctx.state.mission_latlon) {
+    ImGui::TableNextColumn();
+    NumberField(ctx, "mission:lat:" + n, &it.latitude_deg, -90, 90, "%.7f", "deg");
+    ImGui::TableNextColumn();
+    NumberField(ctx, "mission:lon:" + n, &it.longitude_deg, -180, 180, "%.7f", "deg");
+    return;
+  }
+  Eigen::Vector2d ne = planner.ToMap({it.latitude_deg, it.longitude_deg, 0});
+  ImGui::TableNextColumn();
+  bool moved = NumberField(ctx, "mission:north:" + n, &ne.x(), -lim.range_m, lim.range_m, "%.1f", "m");
+  ImGui::TableNextColumn();
+  moved |= NumberField(ctx, "mission:east:" + n, &ne.y(), -lim.range_m, lim.range_m, "%.1f", "m");
+  if (moved) {
+    const GeodeticPoint g = planner.FromMap(ne);
+    it.latitude_deg = g.latitude_deg, it.longitude_deg = g.longitude_deg;
+  }
 }
 
-constexpr PlanAction kChoosable[] = {PlanAction::kWaypoint, PlanAction::kLoiter, PlanAction::kLand};
-
-void DrawRow(MissionEditor& editor, UiContext& ctx, std::size_t i, bool* erase) {
+void DrawRow(GcsModel& model, UiContext& ctx, std::size_t i, const FieldLimits& lim, const std::string& problem,
+             bool flown, bool* erase) {
+  MissionEditor& editor = model.missions().editor();
   PlanItem& it = editor.item(i);
   const std::string n = std::to_string(i + 1);
   ImGui::TableNextRow();
+  if (flown) ImGui::TableSetBgColor(ImGuiTableBgTarget_RowBg0, kFlownRow);
   ImGui::TableNextColumn();
-  if (ImGui::Selectable(n.c_str(), editor.selected == static_cast<int>(i))) editor.selected = static_cast<int>(i);
+  if (!problem.empty()) ImGui::PushStyleColor(ImGuiCol_Text, kProblem);
+  const std::string mark = (flown ? "> " : "") + n + (problem.empty() ? "" : " !");
+  if (ImGui::Selectable(mark.c_str(), editor.selected == static_cast<int>(i))) editor.selected = static_cast<int>(i);
+  if (!problem.empty()) {
+    ImGui::PopStyleColor();
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", problem.c_str());
+  }
   RegisterLastItem(ctx, "mission:select:" + n);
   ImGui::TableNextColumn();
   if (it.HasPosition()) {
@@ -47,25 +76,37 @@ void DrawRow(MissionEditor& editor, UiContext& ctx, std::size_t i, bool* erase) 
       ImGui::EndCombo();
     }
     RegisterLastItem(ctx, "mission:action:" + n);
+    PositionCells(model, ctx, it, n, lim);
   } else {
     ImGui::TextUnformatted(Name(it.action));
+    ImGui::TableNextColumn();
+    ImGui::TableNextColumn();
   }
   ImGui::TableNextColumn();
   if (it.action == PlanAction::kWaypoint || it.action == PlanAction::kLoiter)
-    NumberCell(ctx, "mission:alt:" + n, &it.altitude_m, 1.0, 120.0, "%.1f");
+    NumberField(ctx, "mission:alt:" + n, &it.altitude_m, 1.0, lim.alt_max_m, "%.1f", "m");
   ImGui::TableNextColumn();
-  if (it.action != PlanAction::kCameraStop) NumberCell(ctx, "mission:speed:" + n, &it.speed_m_s, 0.0, 15.0, "%.1f");
+  if (it.action != PlanAction::kCameraStop)
+    NumberField(ctx, "mission:speed:" + n, &it.speed_m_s, 0.0, lim.speed_max_m_s, "%.1f", "m/s");
   ImGui::TableNextColumn();
   if (it.action == PlanAction::kWaypoint || it.action == PlanAction::kLoiter)
-    NumberCell(ctx, "mission:hold:" + n, &it.hold_s, 0.0, 3600.0, "%.0f");
+    NumberField(ctx, "mission:hold:" + n, &it.hold_s, 0.0, 3600.0, "%.0f", "s");
   ImGui::TableNextColumn();
   if (ImGui::SmallButton(("x##mission:delete:" + n).c_str())) *erase = true;
   RegisterLastItem(ctx, "mission:delete:" + n);
 }
 
+// The refusals of the fields drawn so far (each says what was typed and the limits).
+void DrawRefusals(const UiContext& ctx) {
+  ImGui::PushTextWrapPos(0.0f);
+  for (const auto& [id, why] : ctx.state.number_refused)
+    if (id.rfind("mission:", 0) == 0) ImGui::TextColored(kProblem, "%s: %s", id.substr(8).c_str(), why.c_str());
+  ImGui::PopTextWrapPos();
+}
+
 // The geofence zones and rally points: what a map click adds, a row per zone (keep in or out,
 // a circle's radius, delete) and per rally point (its altitude, delete).
-void DrawFenceSection(MissionEditor& editor, UiContext& ctx) {
+void DrawFenceSection(MissionEditor& editor, UiContext& ctx, const FieldLimits& lim) {
   ImGui::Separator();
   ImGui::TextUnformatted("Geofence and rally points");
   ImGui::TextUnformatted("map click adds:");
@@ -110,8 +151,8 @@ void DrawFenceSection(MissionEditor& editor, UiContext& ctx) {
     const std::string n = std::to_string(z + 1);
     ImGui::PushID(static_cast<int>(z));
     char label[96];
-    std::snprintf(label, sizeof label, "%s %s %s: %zu %s", f.inclusion ? "keep in" : "keep out",
-                  f.circle ? "circle" : "polygon", n.c_str(), f.vertices.size(), f.circle ? "centre" : "vertices");
+    std::snprintf(label, sizeof label, "%s: %zu %s", editor.ZoneLabel(z).c_str(), f.vertices.size(),
+                  f.circle ? "centre" : "vertices");
     if (ImGui::Selectable(label, editor.fence_selected == static_cast<int>(z), 0, ImVec2(260, 0))) {
       editor.fence_selected = static_cast<int>(z);
       editor.tool = MapTool::kFenceVertex;
@@ -119,7 +160,7 @@ void DrawFenceSection(MissionEditor& editor, UiContext& ctx) {
     RegisterLastItem(ctx, "mission:fence:" + n);
     if (f.circle) {
       ImGui::SameLine();
-      NumberCell(ctx, "mission:radius:" + n, &f.radius_m, 1.0, 10000.0, "%.0f", 70);
+      NumberField(ctx, "mission:radius:" + n, &f.radius_m, 1.0, 10000.0, "%.0f", "m", 70);
     }
     ImGui::SameLine();
     if (ImGui::SmallButton("x")) erase_zone = z;
@@ -132,7 +173,7 @@ void DrawFenceSection(MissionEditor& editor, UiContext& ctx) {
     ImGui::AlignTextToFramePadding();
     ImGui::Text("rally %s, alt [m]", n.c_str());
     ImGui::SameLine();
-    NumberCell(ctx, "mission:rally_alt:" + n, &editor.rally[k].altitude_m, 1.0, 120.0, "%.1f", 70);
+    NumberField(ctx, "mission:rally_alt:" + n, &editor.rally[k].altitude_m, 1.0, lim.alt_max_m, "%.1f", "m", 70);
     ImGui::SameLine();
     if (ImGui::SmallButton("x")) erase_rally = k;
     RegisterLastItem(ctx, "mission:rally_delete:" + n);
@@ -150,23 +191,27 @@ void DrawFenceSection(MissionEditor& editor, UiContext& ctx) {
 void DrawMissionPanel(GcsModel& model, UiContext& ctx) {
   UiState& st = ctx.state;
   if (!st.map_edit_mission) return;
-  const ImVec2 d = ImGui::GetIO().DisplaySize;
-  // Over the plots, beside the map it edits, leaving the survey panel in view.
-  ImGui::SetNextWindowPos(ImVec2(0.22f * d.x, 0.04f * d.y), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(0.40f * d.x, 0.51f * d.y), ImGuiCond_FirstUseEver);
+  // Under the map it edits, over the survey panel (whose files it has).
+  PlaceWindow("Mission");
   if (!ImGui::Begin("Mission", &st.map_edit_mission)) {
     ImGui::End();
     return;
   }
   MissionEditor& editor = model.missions().editor();
+  bool limits_from_vehicle = false;
+  const waypoints::VehicleLimits vehicle = model.MissionLimits(&limits_from_vehicle);
+  const FieldLimits lim(vehicle);
   ImGui::AlignTextToFramePadding();
   ImGui::TextUnformatted("take-off [m]");
   ImGui::SameLine();
-  NumberCell(ctx, "mission:takeoff", &editor.takeoff_alt_m, 1.0, 120.0, "%.1f", 70);
+  NumberField(ctx, "mission:takeoff", &editor.takeoff_alt_m, 1.0, lim.alt_max_m, "%.1f", "m", 70);
   ImGui::SameLine();
   ImGui::TextUnformatted("cruise [m/s]");
   ImGui::SameLine();
-  NumberCell(ctx, "mission:cruise", &editor.cruise_speed_m_s, 0.5, 15.0, "%.1f", 70);
+  NumberField(ctx, "mission:cruise", &editor.cruise_speed_m_s, 0.5, lim.speed_max_m_s, "%.1f", "m/s", 70);
+  ImGui::SameLine();
+  ImGui::TextDisabled("limits: %.0f m up, %.1f m/s, %.0f m out (%s)", lim.alt_max_m, lim.speed_max_m_s, lim.range_m,
+                      limits_from_vehicle ? "the vehicle's parameters" : "defaults: no parameters from a vehicle yet");
   // Items without a point of their own go after the selected item (or at the end).
   const std::size_t at = editor.selected >= 0 ? static_cast<std::size_t>(editor.selected) + 1 : editor.items().size();
   for (PlanAction a : {PlanAction::kPhoto, PlanAction::kSurvey, PlanAction::kReturn}) {
@@ -181,45 +226,77 @@ void DrawMissionPanel(GcsModel& model, UiContext& ctx) {
   }
   if (ImGui::Button("Clear")) editor.Clear();
   RegisterLastItem(ctx, "mission:clear");
+  ImGui::SameLine();
+  ImGui::Checkbox("lat/lon", &st.mission_latlon);
+  RegisterLastItem(ctx, "mission:latlon");
   ImGui::TextDisabled(editor.items().empty() ? "click the map to add waypoints; with no items the survey is the mission"
                                              : "speed 0: unchanged   hold: seconds at the point");
+  // Checked as the vehicle will check it; the item the selected vehicle flies is highlighted when
+  // it holds this mission.
+  const EditorCheck check = editor.Check(model.missions().planner(), model.missions().planner().origin(), vehicle);
+  const VehicleModel* v = model.selected();
+  const int flown_row = model.FlownMissionRow();
   const ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY | ImGuiTableFlags_BordersInnerV;
   std::optional<std::size_t> erase;
-  const float fence_rows = 3.0f + static_cast<float>(editor.fences.size() + editor.rally.size());
-  if (ImGui::BeginTable("mission_items", 6, flags, ImVec2(0, -ImGui::GetFrameHeightWithSpacing() * (2 + fence_rows)))) {
+  const float fence_rows = 5.0f + static_cast<float>(editor.fences.size() + editor.rally.size() +
+                                                      std::min<std::size_t>(check.problems.size(), 3) +
+                                                      st.number_refused.size());
+  if (ImGui::BeginTable("mission_items", 8, flags, ImVec2(0, -ImGui::GetFrameHeightWithSpacing() * (2 + fence_rows)))) {
     ImGui::TableSetupScrollFreeze(0, 1);
-    ImGui::TableSetupColumn("#", ImGuiTableColumnFlags_WidthFixed, 24);
-    ImGui::TableSetupColumn("action", ImGuiTableColumnFlags_WidthStretch, 1.4f);
-    ImGui::TableSetupColumn("alt [m]", ImGuiTableColumnFlags_WidthStretch, 1.0f);
-    ImGui::TableSetupColumn("speed [m/s]", ImGuiTableColumnFlags_WidthStretch, 1.0f);
-    ImGui::TableSetupColumn("hold [s]", ImGuiTableColumnFlags_WidthStretch, 1.0f);
+    ImGui::TableSetupColumn("#", ImGuiTableColumnFlags_WidthFixed, 40);
+    ImGui::TableSetupColumn("action", ImGuiTableColumnFlags_WidthStretch, 1.3f);
+    ImGui::TableSetupColumn(st.mission_latlon ? "lat [deg]" : "N [m]", ImGuiTableColumnFlags_WidthStretch, st.mission_latlon ? 1.6f : 1.0f);
+    ImGui::TableSetupColumn(st.mission_latlon ? "lon [deg]" : "E [m]", ImGuiTableColumnFlags_WidthStretch, st.mission_latlon ? 1.6f : 1.0f);
+    ImGui::TableSetupColumn("alt [m]", ImGuiTableColumnFlags_WidthStretch, 0.9f);
+    ImGui::TableSetupColumn("speed [m/s]", ImGuiTableColumnFlags_WidthStretch, 0.9f);
+    ImGui::TableSetupColumn("hold [s]", ImGuiTableColumnFlags_WidthStretch, 0.8f);
     ImGui::TableSetupColumn("", ImGuiTableColumnFlags_WidthFixed, 20);
     ImGui::TableHeadersRow();
     for (std::size_t i = 0; i < editor.items().size(); ++i) {
       bool e = false;
       ImGui::PushID(static_cast<int>(i));
-      DrawRow(editor, ctx, i, &e);
+      DrawRow(model, ctx, i, lim, i < check.row_problems.size() ? check.row_problems[i] : "", static_cast<int>(i) == flown_row, &e);
       ImGui::PopID();
       if (e) erase = i;
     }
     ImGui::EndTable();
   }
   if (erase) editor.Delete(*erase);
-  DrawFenceSection(editor, ctx);
-  std::string error;
-  const auto mission = editor.MakeMission(model.missions().planner(), model.missions().planner().origin(), &error);
-  if (mission) ImGui::Text("%zu mission items", mission->items.size());
-  else ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", error.c_str());
+  DrawRefusals(ctx);
+  DrawFenceSection(editor, ctx, lim);
+  // What the vehicle would refuse, as it will say it; whole, wrapped at the window's edge.
+  ImGui::PushTextWrapPos(0.0f);
+  for (std::size_t k = 0; k < check.problems.size() && k < 3; ++k)
+    ImGui::TextColored(kProblem, "%s", check.problems[k].text.c_str());
+  if (check.problems.size() > 3) ImGui::TextColored(kProblem, "and %zu more", check.problems.size() - 3);
+  if (!check.mission) ImGui::TextColored(kProblem, "%s", check.error.c_str());
+  ImGui::PopTextWrapPos();
+  if (check.mission) ImGui::Text("%zu mission items", check.mission->items.size());
+  else ImGui::TextDisabled("not uploadable");
   ImGui::SameLine();
-  BeginDisabledBecause(ctx, !mission || !model.selected(), !mission ? error : "no vehicle selected");
+  // Disabled (greyed, never hidden) with the reason.
+  BeginDisabledBecause(ctx, !check.mission || !v, !check.mission ? check.error : "no vehicle selected");
   if (ImGui::Button("Upload to vehicle")) model.UploadMission(ctx.now);
   RegisterLastItem(ctx, "mission:upload");
   EndDisabledBecause(ctx);
   ImGui::SameLine();
-  BeginDisabledBecause(ctx, !model.selected(), "no vehicle selected");
+  BeginDisabledBecause(ctx, !v, "no vehicle selected");
   if (ImGui::Button("Download from vehicle")) model.DownloadMission(ctx.now);
   RegisterLastItem(ctx, "mission:download");
   EndDisabledBecause(ctx);
+  // The mission's file (the survey panel's, which this window covers).
+  ImGui::AlignTextToFramePadding();
+  ImGui::TextUnformatted("file (.plan, .waypoints)");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(220);
+  ImGui::InputText("##mission:file", &st.survey_file);
+  RegisterLastItem(ctx, "mission:file");
+  ImGui::SameLine();
+  if (ImGui::Button("Export")) model.ExportMission(st.survey_file, ctx.now);
+  RegisterLastItem(ctx, "mission:export");
+  ImGui::SameLine();
+  if (ImGui::Button("Import")) model.ImportMission(st.survey_file, ctx.now);
+  RegisterLastItem(ctx, "mission:import");
   ImGui::End();
 }
 

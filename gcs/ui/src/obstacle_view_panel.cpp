@@ -133,9 +133,11 @@ void DrawObstacleViewPanel(GcsModel& model, UiContext& ctx) {
     ImGui::Text("%zu obstacles, nearest %s, range gate %.1f m (depth error limit)", obstacles->obstacles.size(), nearest,
                 obstacles->range_gate_m);
   }
-  if (avoid)
+  if (avoid) {
     ImGui::Text("avoidance map: %zu occupied cells around, %lld nodes; path %.1f m, %.1f m of it seen free", avoid->occupied_N.size(),
                 static_cast<long long>(avoid->map_cells), avoid->PathLength(), avoid->seen_free_m);
+    ImGui::Dummy(DrawAvoidanceLegend(dl, ImGui::GetCursorScreenPos()));
+  }
   ImGui::End();
 }
 

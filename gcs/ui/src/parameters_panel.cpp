@@ -93,10 +93,8 @@ void DrawRow(GcsModel& model, UiContext& ctx, const ParameterEntry& e, bool arme
 void DrawParametersPanel(GcsModel& model, UiContext& ctx) {
   UiState& st = ctx.state;
   if (!st.show_parameters) return;
-  const ImVec2 d = ImGui::GetIO().DisplaySize;
   // Over the plots, leaving the command bar, the map and the messages in view.
-  ImGui::SetNextWindowPos(ImVec2(0.22f * d.x, 0.04f * d.y), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(0.40f * d.x, 0.51f * d.y), ImGuiCond_FirstUseEver);
+  PlaceWindow("Parameters");
   if (!ImGui::Begin("Parameters", &st.show_parameters)) {
     ImGui::End();
     return;

@@ -1,8 +1,9 @@
-// One line across the top: whether this GCS signs what it sends (red when not), every vehicle's
-// link quality (heartbeat age, message rate, messages lost to sequence gaps) and signing state
-// (red when it executes unsigned messages, with the count it refused), then the selected vehicle's
-// flight mode, task, battery, ground speed, heading, GPS fix and satellites, distance to home,
-// failsafe, a power-line warning, stereo obstacles and obstacle avoidance's state.
+// Two lines across the top (they fit 1600 px). The first: whether this GCS signs what it sends
+// (red when not), every vehicle's link quality (heartbeat age, message rate, messages lost to
+// sequence gaps) and signing state (red when it executes unsigned messages, with the count it
+// refused), the selected vehicle's task, arming, flight mode, altitude and battery. The second:
+// its ground speed, heading, GPS fix and satellites, distance to home, failsafe, a power-line
+// warning, stereo obstacles and obstacle avoidance's state.
 #include <algorithm>
 #include <cmath>
 #include <cctype>
@@ -60,9 +61,9 @@ void DrawVehicleLink(const GcsModel& model, UiContext& ctx, const std::string& i
 
 // Ground speed, heading, the GPS fix (amber without a 3-D fix) and the distance to home.
 void DrawGlance(const VehicleState& s) {
-  ImGui::SameLine();
+  // The second line starts here.
   const double heading_deg = std::fmod(std::round(s.heading() * 180.0 / M_PI), 360.0);  // 359.7 reads 000
-  ImGui::Text("| GS %.1f m/s | HDG %03.0f |", s.ground_speed(), heading_deg);
+  ImGui::Text("GS %.1f m/s | HDG %03.0f |", s.ground_speed(), heading_deg);
   ImGui::SameLine();
   const char* fix = s.gps_fix >= 3 ? "3D" : s.gps_fix == 2 ? "2D" : "no fix";
   if (s.gps_fix >= 3) ImGui::Text("GPS %s %d sats", fix, s.gps_satellites);
@@ -118,9 +119,6 @@ void DrawPerceptionWarnings(UiContext& ctx, const VehicleModel* v) {
 }  // namespace
 
 void DrawStatusBarPanel(GcsModel& model, UiContext& ctx) {
-  const ImVec2 d = ImGui::GetIO().DisplaySize;
-  ImGui::SetNextWindowPos(ImVec2(0, 0));
-  ImGui::SetNextWindowSize(ImVec2(d.x, 0.04f * d.y));
   ImGui::Begin("Status", nullptr,
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
   const ImVec4 red(1, 0.3f, 0.3f, 1);

@@ -47,9 +47,7 @@ void Axis(UiContext& ctx, const char* label, const char* id, double* v) {
 void DrawSticksPanel(GcsModel& model, UiContext& ctx) {
   UiState& st = ctx.state;
   if (!st.show_sticks) return;
-  const ImVec2 d = ImGui::GetIO().DisplaySize;
-  ImGui::SetNextWindowPos(ImVec2(0.22f * d.x, 0.30f * d.y), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(0.34f * d.x, 0.42f * d.y), ImGuiCond_FirstUseEver);
+  PlaceWindow("Sticks");
   if (!ImGui::Begin("Sticks", &st.show_sticks)) {
     ImGui::End();
     return;

@@ -96,6 +96,24 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
     ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", model.video().error().c_str());
   }
 
+  // Each overlay can be hidden (a grid over plain ground must not hide the picture).
+  UiState::VideoOverlays& show = st.video_overlays;
+  const struct {
+    bool* on;
+    const char* label;
+    const char* id;
+  } overlays[] = {{&show.track, "box", "video:overlay:track"},
+                  {&show.wires, "wires", "video:overlay:wires"},
+                  {&show.depth, "depth", "video:overlay:depth"},
+                  {&show.dots, "dots", "video:overlay:dots"},
+                  {&show.obstacles, "obstacles", "video:overlay:obstacles"}};
+  for (const auto& o : overlays) {
+    ImGui::Checkbox(o.label, o.on);
+    RegisterLastItem(ctx, o.id);
+    ImGui::SameLine();
+  }
+  ImGui::NewLine();
+
   const int64_t shown = frozen ? -feed.frames - 1 : feed.frames;  // a frozen frame is its own texture
   if (ctx.update_texture && (st.video_frames_shown != shown || st.video_vehicle != v->id)) {
     st.video_texture = ctx.update_texture(0, feed.rgba.data(), feed.width, feed.height);
@@ -151,11 +169,11 @@ void DrawVideoPanel(GcsModel& model, UiContext& ctx) {
   }
   // What the vehicle reports over the picture (overlays/).
   const ImageCanvas canvas{dl, p0, size};
-  if (!frozen) DrawTrackOnImage(*v, feed, canvas, ctx.now);
-  DrawPowerLinesOnImage(model, *v, feed, canvas, ctx.now);
-  DrawDepthGridOnImage(model, *v, feed, canvas, ctx.now);
-  DrawActiveStereoOnImage(model, *v, feed, canvas, ctx.now);
-  DrawObstaclesOnImage(model, *v, feed, canvas, ctx.now);
+  if (!frozen && show.track) DrawTrackOnImage(*v, feed, canvas, ctx.now);
+  if (show.wires) DrawPowerLinesOnImage(model, *v, feed, canvas, ctx.now);
+  if (show.depth) DrawDepthGridOnImage(model, *v, feed, canvas, ctx.now);
+  if (show.dots) DrawActiveStereoOnImage(model, *v, feed, canvas, ctx.now);
+  if (show.obstacles) DrawObstaclesOnImage(model, *v, feed, canvas, ctx.now);
   ImGui::Text("%s %dx%d (from %dx%d), %.0f fps, frame %lld%s", feed.camera.c_str(), feed.width, feed.height,
               feed.source_width, feed.source_height, v->video.Rate(ctx.now), static_cast<long long>(feed.frames),
               feed.rejected ? ", some frames rejected" : "");

@@ -139,13 +139,18 @@ int Fly(const CommandLine& o) {
   const int64_t start = uav::WallTimeMicros();
   std::unique_ptr<uav::world::Scene> scene;
   if (!o.scene_path.empty()) scene = std::make_unique<uav::world::Scene>(uav::world::Scene::LoadFile(o.scene_path));
-  // A mission may ask for up to the vehicle's speed: a tail-sitter's on its wing is its cruise.
   const bool tail_sitter = params.Get("vehicle_type") == static_cast<double>(uav::VehicleType::kTailSitter);
-  uav::app::MissionStore missions(o.paths_dir, home,
-                                  tail_sitter ? std::max(params.Get("ctl_speed_max_xy"), params.Get("ts_cruise_speed"))
-                                              : params.Get("ctl_speed_max_xy"));
+  auto limits_of = [](const uav::ParameterSet& p) {
+    return uav::waypoints::VehicleLimits::Of([&p](const std::string& name) { return p.Get(name); });
+  };
+  uav::app::MissionStore missions(o.paths_dir, home, limits_of(params));
   uav::app::SimFlight flight(params, {home, start, speed, o.duration_s, scene.get(), o.log_dir, &missions});
   uav::app::Blackboard& board = flight.board();
+  // Uploads are checked against the parameters as they are now (a lowered fs_fence_alt counts).
+  missions.SetLimitsSource([&board, &params, limits_of] {
+    const auto live = board.Snapshot().params;
+    return limits_of(live ? *live : params);
+  });
   flight.control().ServeParameters(params);
   std::unique_ptr<uav::app::FlightLog> log;
   if (!o.log_dir.empty()) log = std::make_unique<uav::app::FlightLog>(o.log_dir, start, vehicle_params.attitude_mode, home);

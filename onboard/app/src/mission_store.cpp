@@ -5,14 +5,33 @@
 
 namespace uav::app {
 
-MissionStore::MissionStore(std::string paths_dir, const GeodeticPoint& home, double max_speed_m_s)
-    : paths_dir_(std::move(paths_dir)), frame_(home), max_speed_m_s_(max_speed_m_s) {}
+MissionStore::MissionStore(std::string paths_dir, const GeodeticPoint& home, const waypoints::VehicleLimits& limits)
+    : paths_dir_(std::move(paths_dir)), frame_(home), limits_(limits) {}
+
+void MissionStore::SetLimitsSource(std::function<waypoints::VehicleLimits()> source) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  limits_source_ = std::move(source);
+}
+
+waypoints::VehicleLimits MissionStore::Limits() {
+  std::function<waypoints::VehicleLimits()> source;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!limits_source_) return limits_;
+    source = limits_source_;
+  }
+  return source();
+}
 
 std::optional<std::vector<waypoints::MissionStep>> MissionStore::StoredPath(int n, std::string* error) {
   try {
-    return waypoints::CompileMission(waypoints::LoadStoredPath(paths_dir_, n), frame_, max_speed_m_s_);
+    return waypoints::CompileMission(waypoints::LoadStoredPath(paths_dir_, n), frame_, Limits());
   } catch (const std::exception& e) {
-    *error = "path " + std::to_string(n) + ": " + e.what();
+    // The refusal goes to the GCS: the file by its name, not where it lies on the vehicle.
+    std::string why = e.what();
+    for (std::size_t at; !paths_dir_.empty() && (at = why.find(paths_dir_ + "/")) != std::string::npos;)
+      why.erase(at, paths_dir_.size() + 1);
+    *error = "path " + std::to_string(n) + ": " + why;
     return std::nullopt;
   }
 }
@@ -35,7 +54,7 @@ waypoints::Geofence MissionStore::UploadedGeofence() {
 
 std::string MissionStore::AcceptUpload(const waypoints::Mission& m) {
   try {
-    auto steps = waypoints::CompileMission(m, frame_, max_speed_m_s_);
+    auto steps = waypoints::CompileMission(m, frame_, Limits());
     auto fence = waypoints::CompileGeofence(m, frame_);
     std::lock_guard<std::mutex> lock(mutex_);
     uploaded_ = std::move(steps);

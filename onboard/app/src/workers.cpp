@@ -160,25 +160,23 @@ control::Setpoint ControlWorker::Avoid(const control::TaskManager::Output& out, 
     b.avoid_reason = a.reason;
     b.avoid_speed_limit = a.state == avoid::AvoidState::kOff ? -1.0 : a.speed_limit;
   });
-  // The operator hears of each change of state once (a new goal's first plan is not news).
-  std::string said;
-  if (a.state != avoid::AvoidState::kOff && a.state != avoid::AvoidState::kClear) {
-    said = std::string(Name(a.state));
-    std::replace(said.begin(), said.end(), '_', ' ');
-    if (!a.reason.empty()) said += ": " + a.reason;
+  // The operator hears of each change of state once; a state that flaps (a slow sensor between
+  // "avoiding" and "no data") is said once it settles, with how long it flapped. A new goal's
+  // first plan is not news, nor is a clear way that follows nothing said.
+  std::string state;
+  if (a.state != avoid::AvoidState::kOff && !(a.state == avoid::AvoidState::kNoData && a.reason.rfind("no plan", 0) == 0)) {
+    state = std::string(Name(a.state));
+    std::replace(state.begin(), state.end(), '_', ' ');
+    if (a.state == avoid::AvoidState::kClear) state = avoid_news_.said().empty() ? "" : "way clear";
   }
-  const bool news = a.changed && !(a.state == avoid::AvoidState::kNoData && a.reason.rfind("no plan", 0) == 0);
-  if (news && said != last_avoid_said_) {
-    if (!said.empty()) {
-      const bool warn = a.state == avoid::AvoidState::kBlocked || a.state == avoid::AvoidState::kNoPath ||
-                        a.state == avoid::AvoidState::kNoData;
-      board_.PushStatus(warn ? Severity::kWarning : Severity::kInfo, "obstacle avoidance: " + said);
-      tasks_.ReportProgressNote(said, reports);
-    } else if (!last_avoid_said_.empty() && a.state == avoid::AvoidState::kClear) {
-      board_.PushStatus(Severity::kInfo, "obstacle avoidance: way clear");
-      tasks_.ReportProgressNote("way clear", reports);
-    }
-    last_avoid_said_ = said;
+  if (const auto said = avoid_news_.Update(state, utime * 1e-6)) {
+    const bool warn = a.state == avoid::AvoidState::kBlocked || a.state == avoid::AvoidState::kNoPath ||
+                      a.state == avoid::AvoidState::kNoData;
+    const std::string text = *said == state && !a.reason.empty() && a.state != avoid::AvoidState::kClear
+                                 ? *said + ": " + a.reason
+                                 : *said;
+    board_.PushStatus(warn ? Severity::kWarning : Severity::kInfo, "obstacle avoidance: " + text);
+    tasks_.ReportProgressNote(text, reports);
   }
   return a.setpoint;
 }

@@ -666,7 +666,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(-90.0, 90.0));
   cli.add_option("--params", params_path, "vehicle file (avd_enable is set to 1)");
   cli.add_option("--param", overrides, "NAME=VALUE override (repeatable)");
-  cli.add_option("--json", json_path, "write the per-flight and per-cell results here");
+  uav::OutputFile(cli.add_option("--json", json_path, "write the per-flight and per-cell results here"));
   cli.add_option("--picture", picture_dir, "write one picture per flight (field, true obstacles, flown track) here");
   std::string trace_dir;
   cli.add_option("--trace", trace_dir,
@@ -738,8 +738,6 @@ int main(int argc, char** argv) {
     params = params.With("avd_enable", 1).With("ctl_speed_max_xy", speed);
     if (wire_rig_roll != 0.0) course.wire_rig_roll_deg = wire_rig_roll, params = params.With("pwl_rig", 1);
     for (const auto& o : overrides) params = params.WithAssignment(o);
-    // Every output is checked up front: a bad one is said before the first flight, not after.
-    if (!json_path.empty()) uav::CheckOutputFile(json_path, "--json");
     if (!picture_dir.empty()) std::filesystem::create_directories(picture_dir);
     if (!trace_dir.empty()) std::filesystem::create_directories(trace_dir);
     nlohmann::json out = {{"density", course.density}, {"scene", scene_path}, {"goal_ne_m", {course.goal_NE.x(), course.goal_NE.y()}},

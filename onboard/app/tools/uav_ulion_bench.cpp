@@ -197,16 +197,14 @@ int main(int argc, char** argv) {
   cli.add_option("--params", params_path, "tail-sitter vehicle file")->capture_default_str();
   cli.add_option("--runs", runs, "Monte-Carlo runs per schedule")->check(CLI::Range(1, 100000))->capture_default_str();
   cli.add_option("--seed", seed, "first run's seed (run i uses seed + i)")->capture_default_str();
-  cli.add_option("--json", json_path, "also write the report here");
+  uav::OutputFile(cli.add_option("--json", json_path, "also write the report here"));
   cli.add_flag("--verbose", verbose, "one line per run on stderr");
   cli.add_option("--trace", trace_path, "CSV of the first run with our schedule: time, mode, altitude, airspeed, pitch, ...");
-  cli.add_option("--plot", plot_path, "PNG of a calm-air transition each way, ours against PX4's schedule");
+  uav::OutputFile(cli.add_option("--plot", plot_path, "PNG of a calm-air transition each way, ours against PX4's schedule"));
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
     // Outputs checked before the runs, not after them.
-    if (!json_path.empty()) uav::CheckOutputFile(json_path, "--json");
-    if (!plot_path.empty()) uav::CheckOutputFile(plot_path, "--plot");
     const uav::ParameterSet vehicle = uav::ParameterSet::LoadFile(params_path, uav::VehicleParameterSchema());
     if (vehicle.Get("vehicle_type") != 1) throw std::runtime_error(params_path + ": vehicle_type is not 1 (a tail-sitter)");
     nlohmann::json report;

@@ -127,6 +127,21 @@ double SafetyLayer::FaceTravel(const Eigen::Vector3d& direction_N, const hal::Ve
   return *yaw_ref_;
 }
 
+void SafetyLayer::ObservePerception(int64_t perception_utime) {
+  if (perception_utime <= last_perception_utime_) return;
+  // A gap of seconds (a camera that stopped, then came back) is not the sensor's rate.
+  const double interval = (perception_utime - last_perception_utime_) * 1e-6;
+  if (last_perception_utime_ > 0 && interval < 5.0) {
+    periods_s_[next_period_] = interval;
+    next_period_ = (next_period_ + 1) % kPeriods;
+  }
+  last_perception_utime_ = perception_utime;
+}
+
+double SafetyLayer::PerceptionPeriod() const { return *std::max_element(periods_s_, periods_s_ + kPeriods); }
+
+double SafetyLayer::StaleAfter() const { return std::max(p_.stale_s, 2.0 * PerceptionPeriod()); }
+
 SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, const std::optional<Eigen::Vector3d>& goal_N,
                                        const hal::VehicleEstimate& est, const AvoidancePlan* plan, int64_t utime, double dt,
                                        bool map_only) {
@@ -144,8 +159,10 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
     blocked_ = false;
     return finish(AvoidState::kOff);
   }
+  if (plan && plan->perception_utime > 0) ObservePerception(plan->perception_utime);
   const double perception_age = plan && plan->perception_utime > 0 ? (utime - plan->perception_utime) * 1e-6 : 1e9;
   const double plan_age = plan ? (utime - plan->utime) * 1e-6 : 1e9;
+  const double stale_s = StaleAfter();
   char buf[200];
   if (map_only && (!plan || !plan->map_only)) {
     // The map alone from now on: what was planned with the perception counts no more.
@@ -153,14 +170,14 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
     out.setpoint = Hold(task_setpoint, est);
     return finish(AvoidState::kNoData);
   }
-  if (perception_age > p_.stale_s && !map_only) {
+  if (perception_age > stale_s && !map_only) {
     if (perception_age > 1e8) std::snprintf(buf, sizeof buf, "no obstacle perception yet: holding");
-    else std::snprintf(buf, sizeof buf, "obstacle perception %.1f s old (limit %.1f s): holding", perception_age, p_.stale_s);
+    else std::snprintf(buf, sizeof buf, "obstacle perception %.1f s old (limit %.1f s): holding", perception_age, stale_s);
     out.reason = buf;
     out.setpoint = Hold(task_setpoint, est);
     return finish(AvoidState::kNoData);
   }
-  if (plan_age > p_.stale_s || (plan->goal_N - *goal_N).norm() > 2.0) {
+  if (plan_age > stale_s || (plan->goal_N - *goal_N).norm() > 2.0) {
     std::snprintf(buf, sizeof buf, "no plan to the goal for %.1f s: holding", std::min(plan_age, 99.0));
     // A new goal waits one replanning period for its first plan; only then is it said.
     out.reason = buf;
@@ -177,7 +194,8 @@ SafetyLayer::Output SafetyLayer::Apply(const control::Setpoint& task_setpoint, c
   const double d = std::max(0.0, plan->seen_free_m - s_now);
   // On the map alone the space seen free is what there is: the plan's age stands for the
   // perception's.
-  const double a = p_.brake_accel, t = (map_only ? plan_age : perception_age) + p_.reaction_s;
+  const double a = p_.brake_accel,
+               t = (map_only ? plan_age : std::max(perception_age, PerceptionPeriod())) + p_.reaction_s;
   const double arrival_m = p_.clearance();
   const bool arriving = (*goal_N - est.p_N).norm() <= arrival_m;
   // Within the clearance of its goal the vehicle's own body and margin already cover the rest of

@@ -21,13 +21,13 @@ FailsafeParams FailsafeParams::FromParameters(const ParameterSet& ps) {
                    FailsafeAction::kHold};
   const double action = ps.Get("fs_fence_action");
   if (action != 1.0 && action != 2.0 && action != 3.0)
-    throw std::invalid_argument(ps.source() + ": fs_fence_action must be 1 (hold), 2 (return) or 3 (land)");
+    throw std::invalid_argument(ps.Describe("fs_fence_action") + " must be 1 (hold), 2 (return) or 3 (land)");
   p.fence_action = action == 1.0 ? FailsafeAction::kHold : action == 2.0 ? FailsafeAction::kReturn : FailsafeAction::kLand;
   p.nav_land_s = ps.Get("fs_nav_land_s");
   if (p.link_return_s <= p.link_hold_s)
-    throw std::invalid_argument(ps.source() + ": fs_link_return_time must be longer than fs_link_hold_time");
+    throw std::invalid_argument(ps.Describe("fs_link_return_time") + " must be longer than " + ps.Describe("fs_link_hold_time"));
   if (p.battery_land >= p.battery_return)
-    throw std::invalid_argument(ps.source() + ": fs_battery_land must be below fs_battery_return");
+    throw std::invalid_argument(ps.Describe("fs_battery_land") + " must be below " + ps.Describe("fs_battery_return"));
   return p;
 }
 

@@ -20,6 +20,13 @@ TaskParams TaskParams::FromParameters(const ParameterSet& p) {
   return t;
 }
 
+std::string TaskManager::AboveCeiling(const char* what, double altitude_m) const {
+  char why[160];
+  std::snprintf(why, sizeof why, "%s %.1f m is above the vehicle's %.0f m ceiling (fs_fence_alt)", what, altitude_m,
+                p_.fence_alt);
+  return why;
+}
+
 std::string TaskManager::OutsideFence(const Eigen::Vector3d& p_N) const {
   char why[96];
   if (p_N.head<2>().norm() > p_.fence_radius) {
@@ -201,6 +208,7 @@ void TaskManager::Begin(Task task, const CommandRequest& req, const VehicleEstim
   const double dist_z = std::abs(setpoint_.p_N.z() - est.p_N.z());
   const double need = dist_xy / p_.speed_max_xy + dist_z / std::min(p_.speed_max_up, p_.land_speed);
   deadline_ = t + 3.0 * need + 30.0;
+  closest_to_goal_ = (setpoint_.p_N - est.p_N).norm();
   reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kAccepted, 0, ""});
 }
 
@@ -259,7 +267,8 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
   if (c.id == CommandId::kGoto)
     if (const std::string why = OutsideFence(Eigen::Vector3d(c.args[0], c.args[1], -c.args[2])); !why.empty())
       return reject("target is outside the geofence: " + why);
-  if (c.id == CommandId::kTakeoff && c.args[0] > p_.fence_alt) return reject("altitude is above the geofence");
+  if (c.id == CommandId::kTakeoff && c.args[0] > p_.fence_alt)
+    return reject(AboveCeiling("take-off altitude", c.args[0]));
   if (airborne_ && c.id != CommandId::kArm && c.id != CommandId::kDisarm) enforced_ = level;
   switch (c.id) {
     case CommandId::kArm:
@@ -366,7 +375,7 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       if (!airborne_) return reject("not flying: take off first");
       if (!target_.locked) return reject("no target locked: select one in the video first");
       if (!target_.on_ground) return reject("the target is not on the ground (its ray does not meet it): pitch the camera down");
-      if (p_.follow.height_m > p_.fence_alt) return reject("flw_height is above the geofence");
+      if (p_.follow.height_m > p_.fence_alt) return reject(AboveCeiling("flw_height", p_.follow.height_m));
       follower_ = std::make_unique<TargetFollower>(p_.follow, est);
       follow_state_ = TargetFollower::State::kFollowing;
       const TargetFollower::Output first = follower_->Update(target_, est, t);
@@ -507,6 +516,13 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
   }
   const bool long_task = task_ == Task::kTakeoff || task_ == Task::kGoto || task_ == Task::kLand;
   if (long_task) {
+    // Never given up while it gets nearer: a vehicle slowed by its sensors (avoidance on a slow
+    // stereo pair) has task_stall_time from its last metre of progress, as a path task has.
+    const double to_go = (setpoint_.p_N - est.p_N).norm();
+    if (to_go < closest_to_goal_ - kProgressStep_m) {
+      closest_to_goal_ = to_go;
+      deadline_ = std::max(deadline_, t + p_.stall_time);
+    }
     const int percent = static_cast<int>(std::floor(100.0 * Progress(est) + 1e-9));
     if (t - last_progress_t_ >= 0.5 && percent != last_percent_ && percent < 100) {
       last_percent_ = percent;

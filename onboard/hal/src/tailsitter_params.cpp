@@ -110,7 +110,7 @@ TailSitterParams TailSitterParams::FromParameters(const ParameterSet& s) {
   try {
     p.Validate();
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(s.source() + ": " + e.what());
+    throw std::invalid_argument(s.SourceName() + ": " + e.what());
   }
   return p;
 }

@@ -74,8 +74,8 @@ int main(int argc, char** argv) {
   cli.add_option("LOG", log_path, "flight log CSV (LOG_DIR/flight_<utime>.csv)")->required();
   cli.add_option("--params", params_path, "vehicle file with the ground-measured mass, inertia and K_v (Table 2.2)")
       ->capture_default_str();
-  cli.add_option("--plot", plot_path, "PNG of measured against model output (default: LOG with _sysid.png)");
-  cli.add_option("--json", json_path, "also write the JSON here");
+  uav::OutputFile(cli.add_option("--plot", plot_path, "PNG of measured against model output (default: LOG with _sysid.png)"));
+  uav::OutputFile(cli.add_option("--json", json_path, "also write the JSON here"));
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {

@@ -24,6 +24,32 @@ ImU32 AvoidanceHeightColour(double up_m, int alpha) {
   return IM_COL32(static_cast<int>(40 + 215 * r), static_cast<int>(40 + 215 * g), static_cast<int>(40 + 215 * b), alpha);
 }
 
+ImVec2 DrawAvoidanceLegend(ImDrawList* dl, ImVec2 at) {
+  const ImU32 text = IM_COL32(220, 220, 220, 255), box = IM_COL32(20, 24, 30, 220);
+  const float line = ImGui::GetTextLineHeight() + 2, ramp_w = 90;
+  const ImVec2 size(ramp_w + 150, 4 * line + 6);
+  dl->AddRectFilled(at, ImVec2(at.x + size.x, at.y + size.y), box, 3.0f);
+  float y = at.y + 3;
+  // The height ramp of the occupied cells.
+  for (int k = 0; k < 30; ++k) {
+    const float x = at.x + 4 + ramp_w * k / 30.0f;
+    dl->AddRectFilled(ImVec2(x, y + 2), ImVec2(x + ramp_w / 30.0f + 1, y + line - 2),
+                      AvoidanceHeightColour(kGroundUpM + 11.5 * k / 29.0, 255));
+  }
+  dl->AddText(ImVec2(at.x + 8 + ramp_w, y), text, "occupied, 0.5-12 m up");
+  y += line;
+  dl->AddLine(ImVec2(at.x + 4, y + line / 2), ImVec2(at.x + 4 + ramp_w, y + line / 2), IM_COL32(120, 220, 255, 220), 1.5f);
+  dl->AddText(ImVec2(at.x + 8 + ramp_w, y), text, "planned path");
+  y += line;
+  dl->AddLine(ImVec2(at.x + 4, y + line / 2), ImVec2(at.x + 4 + ramp_w, y + line / 2), IM_COL32(60, 255, 120, 255), 3.5f);
+  dl->AddText(ImVec2(at.x + 8 + ramp_w, y), text, "committed: seen free");
+  y += line;
+  const ImVec2 g(at.x + 4 + ramp_w / 2, y + line / 2);
+  dl->AddCircle(g, 5, IM_COL32(120, 220, 255, 220), 16, 2.0f);
+  dl->AddText(ImVec2(at.x + 8 + ramp_w, y), text, "goal (red: no path)");
+  return size;
+}
+
 const AvoidanceReport* FreshAvoidance(const VehicleModel& v, double now) {
   return v.reports.Fresh<AvoidanceReport>(now, kStaleAfterS);
 }
@@ -56,6 +82,9 @@ void DrawAvoidanceOnMap(const VehicleModel& v, const MapCanvas& m, double now) {
   m.dl->AddCircle(g, 6, goal_colour, 16, 2.0f);
   m.dl->AddLine(ImVec2(g.x - 4, g.y - 4), ImVec2(g.x + 4, g.y + 4), goal_colour, 2.0f);
   m.dl->AddLine(ImVec2(g.x - 4, g.y + 4), ImVec2(g.x + 4, g.y - 4), goal_colour, 2.0f);
+  // What the colours mean, in the map's lower left corner.
+  const ImVec2 corner(m.dl->GetClipRectMin().x + 6, m.dl->GetClipRectMax().y - 4 * (ImGui::GetTextLineHeight() + 2) - 12);
+  DrawAvoidanceLegend(m.dl, corner);
 }
 
 }  // namespace uav::gcs

@@ -13,6 +13,7 @@ namespace {
 constexpr ImU32 kLeg = IM_COL32(255, 200, 60, 230);
 constexpr ImU32 kItem = IM_COL32(255, 200, 60, 255);
 constexpr ImU32 kSelected = IM_COL32(255, 120, 40, 255);
+constexpr ImU32 kFlown = IM_COL32(90, 240, 120, 255);
 constexpr ImU32 kInclusion = IM_COL32(80, 230, 120, 255);
 constexpr ImU32 kExclusion = IM_COL32(240, 70, 70, 255);
 constexpr ImU32 kRally = IM_COL32(200, 120, 255, 255);
@@ -35,9 +36,7 @@ void DrawFenceOnMap(const MissionEditor& editor, const SurveyPlanner& planner, c
       m.dl->AddPolyline(pts.data(), static_cast<int>(pts.size()), colour, pts.size() >= 3 ? ImDrawFlags_Closed : 0, width);
       for (const ImVec2& q : pts) m.dl->AddCircleFilled(q, 3.5f, colour);
     }
-    char label[32];
-    std::snprintf(label, sizeof label, "%s %zu", f.inclusion ? "keep in" : "keep out", z + 1);
-    if (!pts.empty()) m.dl->AddText(ImVec2(pts[0].x + 6, pts[0].y + 4), colour, label);
+    if (!pts.empty()) m.dl->AddText(ImVec2(pts[0].x + 6, pts[0].y + 4), colour, editor.ZoneLabel(z).c_str());
   }
   for (const GeodeticPoint& r : editor.rally) {
     const Eigen::Vector2d p = planner.ToMap(r);
@@ -53,6 +52,7 @@ void DrawMissionPlanOnMap(GcsModel& model, const MapCanvas& m) {
   const MissionEditor& editor = model.missions().editor();
   const SurveyPlanner& planner = model.missions().planner();
   DrawFenceOnMap(editor, planner, m);
+  const int flown = model.FlownMissionRow();  // ringed green: the item being flown
   Eigen::Vector2d at = Eigen::Vector2d::Zero();  // the take-off: over home
   float note_dy = 0;                             // items without a point stack their names
   for (std::size_t i = 0; i < editor.items().size(); ++i) {
@@ -67,6 +67,7 @@ void DrawMissionPlanOnMap(GcsModel& model, const MapCanvas& m) {
       const bool selected = static_cast<int>(i) == editor.selected;
       if (selected) m.dl->AddCircleFilled(s, 9.0f, kSelected);
       m.dl->AddCircle(s, 9.0f, kItem, 0, 2.0f);
+      if (static_cast<int>(i) == flown) m.dl->AddCircle(s, 14.0f, kFlown, 0, 3.0f);
       std::snprintf(label, sizeof label, "%zu", i + 1);
       m.dl->AddText(ImVec2(s.x - 4, s.y - 7), selected ? IM_COL32(0, 0, 0, 255) : kItem, label);
       if (it.action != PlanAction::kWaypoint || it.hold_s > 0) {
@@ -79,8 +80,8 @@ void DrawMissionPlanOnMap(GcsModel& model, const MapCanvas& m) {
         at = Eigen::Vector2d::Zero();
       }
       const ImVec2 s = m.ToScreen(at.x(), at.y());
-      std::snprintf(label, sizeof label, "%zu %s", i + 1, Name(it.action));
-      m.dl->AddText(ImVec2(s.x + 11, s.y + 6 + note_dy), kItem, label);
+      std::snprintf(label, sizeof label, "%s%zu %s", static_cast<int>(i) == flown ? "> " : "", i + 1, Name(it.action));
+      m.dl->AddText(ImVec2(s.x + 11, s.y + 6 + note_dy), static_cast<int>(i) == flown ? kFlown : kItem, label);
       note_dy += 13;
       if (it.action == PlanAction::kSurvey && planner.plan() && !planner.plan()->waypoints.empty()) {
         // The survey's path is drawn by the survey overlay; the mission goes on from its end.

@@ -45,7 +45,10 @@ void DrawObstaclesOnImage(const GcsModel& model, const VehicleModel& v, const Vi
 // Obstacle avoidance (thesis 7.2): the vehicle's map, its path and the committed part of it.
 const AvoidanceReport* FreshAvoidance(const VehicleModel& v, double now);  // nullptr: none or stale
 ImU32 AvoidanceHeightColour(double up_m, int alpha);
-void DrawAvoidanceOnMap(const VehicleModel& v, const MapCanvas& m, double now);
+void DrawAvoidanceOnMap(const VehicleModel& v, const MapCanvas& m, double now);  // with its legend
+// The avoidance map's legend (cell heights, path, committed part, goal) with its top left at `at`;
+// returns its size.
+ImVec2 DrawAvoidanceLegend(ImDrawList* dl, ImVec2 at);
 // Depth from motion (thesis 3.4).
 void DrawDepthGridOnImage(const GcsModel& model, const VehicleModel& v, const VideoFeed& feed, const ImageCanvas& c,
                           double now);

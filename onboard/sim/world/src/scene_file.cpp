@@ -2,6 +2,8 @@
 // cameras and the seed. Every error names the file and the JSON path of the bad entry.
 #include <filesystem>
 #include <cmath>
+#include <map>
+#include <set>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -26,10 +28,34 @@ class Reader {
   [[noreturn]] void Fail(const std::string& path, const std::string& what) const {
     throw SceneFileError(source_ + ": " + path + ": " + what);
   }
+  // Whether object j has `key`; remembered, so a field nobody asked for is known to be unknown.
+  bool Has(const json& j, const char* key) const {
+    asked_[&j].insert(key);
+    return j.is_object() && j.contains(key);
+  }
   const json& Field(const json& j, const std::string& path, const char* key) const {
     if (!j.is_object()) Fail(path, "must be an object");
-    if (!j.contains(key)) Fail(path, std::string("missing '") + key + "'");
+    if (!Has(j, key)) Fail(path, std::string("missing '") + key + "'");
     return j.at(key);
+  }
+  // Refuses a field no part of the reader asked for: a misspelt "colour" or a field of another
+  // kind of object would otherwise be ignored without a word.
+  void RefuseUnknownFields(const json& j, const std::string& path) const {
+    if (j.is_array()) {
+      for (std::size_t i = 0; i < j.size(); ++i) RefuseUnknownFields(j[i], path + "[" + std::to_string(i) + "]");
+      return;
+    }
+    if (!j.is_object()) return;
+    const auto asked = asked_.find(&j);
+    if (asked == asked_.end()) return;  // read whole elsewhere (a wrapper copy), or not an object of ours
+    for (const auto& [key, value] : j.items()) {
+      if (!asked->second.count(key)) {
+        std::string known;
+        for (const std::string& k : asked->second) known += (known.empty() ? "" : ", ") + k;
+        Fail(path, "unknown field '" + key + "' (fields here: " + known + ")");
+      }
+      RefuseUnknownFields(value, path + "." + key);
+    }
   }
   double Number(const json& j, const std::string& path, const char* key, double lo, double hi) const {
     const json& v = Field(j, path, key);
@@ -40,7 +66,7 @@ class Reader {
     return x;
   }
   double Number(const json& j, const std::string& path, const char* key, double lo, double hi, double fallback) const {
-    return j.contains(key) ? Number(j, path, key, lo, hi) : fallback;
+    return Has(j, key) ? Number(j, path, key, lo, hi) : fallback;
   }
   int Integer(const json& j, const std::string& path, const char* key, int lo, int hi) const {
     const json& v = Field(j, path, key);
@@ -50,10 +76,10 @@ class Reader {
     return static_cast<int>(x);
   }
   int Integer(const json& j, const std::string& path, const char* key, int lo, int hi, int fallback) const {
-    return j.contains(key) ? Integer(j, path, key, lo, hi) : fallback;
+    return Has(j, key) ? Integer(j, path, key, lo, hi) : fallback;
   }
   bool Bool(const json& j, const std::string& path, const char* key, bool fallback) const {
-    if (!j.contains(key)) return fallback;
+    if (!Has(j, key)) return fallback;
     if (!j.at(key).is_boolean()) Fail(path + "." + key, "must be true or false");
     return j.at(key).get<bool>();
   }
@@ -63,11 +89,11 @@ class Reader {
     return v.get<std::string>();
   }
   std::string String(const json& j, const std::string& path, const char* key, const std::string& fallback) const {
-    return j.contains(key) ? String(j, path, key) : fallback;
+    return Has(j, key) ? String(j, path, key) : fallback;
   }
   std::string Material(const json& j, const std::string& path, const char* key, const std::string& fallback) const {
     const std::string m = String(j, path, key, fallback);
-    if (m.empty() && !j.contains(key)) return m;  // optional, absent
+    if (m.empty() && !Has(j, key)) return m;  // optional, absent
     for (const auto& n : MaterialNames())
       if (n == m) return m;
     Fail(path + "." + key, "unknown material '" + m + "'");
@@ -101,7 +127,7 @@ class Reader {
   }
   std::vector<std::string> Materials(const json& j, const std::string& path, const char* key,
                                      const std::vector<std::string>& fallback) const {
-    if (!j.contains(key)) return fallback;
+    if (!Has(j, key)) return fallback;
     const json& v = j.at(key);
     if (!v.is_array() || v.empty()) Fail(path + "." + key, "must be a non-empty array of material names");
     std::vector<std::string> out;
@@ -119,6 +145,7 @@ class Reader {
 
  private:
   std::string source_;
+  mutable std::map<const json*, std::set<std::string>> asked_;
 };
 
 constexpr double kBig = 1e5;  // [m] coordinates of anything in a scene
@@ -166,9 +193,9 @@ bool Free(const std::vector<Footprint>& taken, const Eigen::Vector2d& c, double 
 // clear_radius_m of home or of the keep_clear_ne point (the far end: where the flight goes).
 void GenerateObstacleField(const Reader& rd, const json& j, const std::string& p, int count, const std::vector<double>& region,
                            double clear, Draw& draw, Scene& scene) {
-  const Eigen::Vector2d keep = j.contains("keep_clear_ne") ? rd.Vec2(j, p, "keep_clear_ne", -kBig, kBig) : Eigen::Vector2d::Zero();
+  const Eigen::Vector2d keep = rd.Has(j, "keep_clear_ne") ? rd.Vec2(j, p, "keep_clear_ne", -kBig, kBig) : Eigen::Vector2d::Zero();
   const int wires = rd.Integer(j, p, "wires", 0, 10000, 0);
-  const Eigen::Vector2d wire_h = j.contains("wire_height_m") ? rd.Range(j, p, "wire_height_m", 0.5, 100) : Eigen::Vector2d(3, 8);
+  const Eigen::Vector2d wire_h = rd.Has(j, "wire_height_m") ? rd.Range(j, p, "wire_height_m", 0.5, 100) : Eigen::Vector2d(3, 8);
   auto clear_of_ends = [&](const Eigen::Vector2d& c, double r) { return c.norm() > clear + r && (c - keep).norm() > clear + r; };
   std::vector<Eigen::Vector3d> pole_tops;
   for (int placed = 0, attempt = 0; placed < count && attempt < 100 * count + 100; ++attempt) {
@@ -256,6 +283,8 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
     root = json::parse(text);
   } catch (const json::parse_error& e) {
     throw SceneFileError(source + ": not valid JSON: " + e.what());
+  } catch (const json::exception& e) {  // a number too large for a double (1e999), ...
+    throw SceneFileError(source + ": not a valid scene: " + e.what());
   }
   const Reader rd(source);
   if (!root.is_object()) rd.Fail("$", "must be an object");
@@ -266,7 +295,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
 
   try {
     scene.SetSky(rd.Bool(root, "$", "sky", true));
-    if (root.contains("sun")) {
+    if (rd.Has(root, "sun")) {
       const json& j = root["sun"];
       const double az = rd.Number(j, "$.sun", "azimuth_deg", -360, 360) * M_PI / 180;
       const double el = rd.Number(j, "$.sun", "elevation_deg", 5, 90) * M_PI / 180;
@@ -275,7 +304,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
       sun.ambient = rd.Number(j, "$.sun", "ambient", 0, 1, sun.ambient);
       scene.SetSun(sun);
     }
-    if (root.contains("ground")) {
+    if (rd.Has(root, "ground")) {
       const json& j = root["ground"];
       const std::string p = "$.ground";
       GroundSpec g;
@@ -298,7 +327,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
       }
       if (g.enabled) scene.SetGround(g);
     }
-    if (root.contains("clouds")) {
+    if (rd.Has(root, "clouds")) {
       const json& j = root["clouds"];
       const std::string p = "$.clouds";
       CloudShadows c;
@@ -306,12 +335,12 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
       c.coverage = rd.Number(j, p, "coverage", 0, 1);
       c.darkness = rd.Number(j, p, "darkness", 0, 1, c.darkness);
       c.scale_m = rd.Number(j, p, "scale_m", 1, 10000, c.scale_m);
-      if (j.contains("velocity_ne_mps")) c.velocity_NE = rd.Vec2(j, p, "velocity_ne_mps", -100, 100);
+      if (rd.Has(j, "velocity_ne_mps")) c.velocity_NE = rd.Vec2(j, p, "velocity_ne_mps", -100, 100);
       scene.SetClouds(c);
     }
 
     std::vector<Footprint> taken;
-    if (root.contains("objects")) {
+    if (rd.Has(root, "objects")) {
       const json& list = root["objects"];
       if (!list.is_array()) rd.Fail("$.objects", "must be an array");
       for (size_t i = 0; i < list.size(); ++i) {
@@ -370,7 +399,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
           const double sag = rd.Number(j, p, "sag_m", 0, 50);
           const double cr = rd.Number(j, p, "cable_radius_m", 0.001, 0.2, 0.01);
           std::vector<double> offsets = {0.0};
-          if (j.contains("wire_offsets_m")) {
+          if (rd.Has(j, "wire_offsets_m")) {
             const json& o = j["wire_offsets_m"];
             if (!o.is_array() || o.empty()) rd.Fail(p + ".wire_offsets_m", "must be a non-empty array of numbers");
             offsets.clear();
@@ -407,7 +436,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
         } else {
           rd.Fail(p + ".type", "unknown object type '" + type + "'");
         }
-        if (j.contains("path")) {
+        if (rd.Has(j, "path")) {
           const json& path = j["path"];
           const std::string pp = p + ".path";
           if (id < 0) rd.Fail(pp, "only boxes, cylinders, spheres and people can move");
@@ -430,7 +459,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
       }
     }
 
-    if (root.contains("generate")) {
+    if (rd.Has(root, "generate")) {
       const json& list = root["generate"];
       if (!list.is_array()) rd.Fail("$.generate", "must be an array");
       for (size_t i = 0; i < list.size(); ++i) {
@@ -483,33 +512,33 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
       }
     }
 
-    if (root.contains("cameras")) {
+    if (rd.Has(root, "cameras")) {
       const json& cams = root["cameras"];
       if (!cams.is_object()) rd.Fail("$.cameras", "must be an object");
-      if (cams.contains("downward")) {
+      if (rd.Has(cams, "downward")) {
         const json& j = cams["downward"];
         const std::string p = "$.cameras.downward";
         CameraSetup c = ReadCamera(rd, j, p, dir, "downward", "sim_downward_640x480.camera", 5.0, 5.0);
-        const Eigen::Vector3d mount = j.contains("mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0, 0, 0.1);
+        const Eigen::Vector3d mount = rd.Has(j, "mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0, 0, 0.1);
         const double yaw = rd.Number(j, p, "mount_yaw_deg", -360, 360, 0) * M_PI / 180;
         c.T_BC = Eigen::Isometry3d::Identity();
         c.T_BC.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * RotationBCDownward();
         c.T_BC.translation() = mount;
         scene.SetDownwardCamera(c);
       }
-      if (cams.contains("gimbal")) {
+      if (rd.Has(cams, "gimbal")) {
         const json& j = cams["gimbal"];
         const std::string p = "$.cameras.gimbal";
         CameraSetup c = ReadCamera(rd, j, p, dir, "gimbal", "sim_downward_640x480.camera", 10.0, 5.0);
         c.T_BC = Eigen::Isometry3d::Identity();
         c.T_BC.linear() = RotationBCForward();
-        c.T_BC.translation() = j.contains("mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0.1, 0, 0.15);
+        c.T_BC.translation() = rd.Has(j, "mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0.1, 0, 0.15);
         scene.SetGimbalCamera(c);
       }
       // "stereo" is one rig (named "stereo") or a list of rigs, each with its own "name" and mount
       // (a forward pair for obstacles and odometry, a downward pair with the dot projector...).
       const json none = json::array();
-      const json& rigs = cams.contains("stereo") ? cams["stereo"] : none;
+      const json& rigs = rd.Has(cams, "stereo") ? cams["stereo"] : none;
       const bool listed = rigs.is_array();
       if (listed && rigs.size() > 8) rd.Fail("$.cameras.stereo", "at most 8 stereo rigs");
       for (size_t k = 0; k < (listed ? rigs.size() : 1); ++k) {
@@ -520,7 +549,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
         if (name.empty() || name.size() > 32) rd.Fail(p + ".name", "must be 1-32 characters");
         const CameraSetup c = ReadCamera(rd, j, p, dir, name, "sim_stereo_640x480.camera", 10.0,
                                            scene.downward_camera() || k > 0 ? 0.0 : 5.0);
-        const Eigen::Vector3d mount = j.contains("mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0.15, 0, 0);
+        const Eigen::Vector3d mount = rd.Has(j, "mount_xyz_m") ? rd.Vec3(j, p, "mount_xyz_m", -5, 5) : Eigen::Vector3d(0.15, 0, 0);
         // Mount angles: the optical axis pitched up from the body x axis (-90: facing down), and
         // the pair rolled about it (a rolled baseline ranges the level wires a level one cannot:
         // a wire parallel to the baseline has no disparity to measure).
@@ -531,7 +560,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
                            RotationBCForward() * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix();
         T_B_rig.translation() = mount;
         LaserEmitter laser;
-        if (j.contains("laser")) {
+        if (rd.Has(j, "laser")) {
           const json& l = j["laser"];
           const std::string lp = p + ".laser";
           laser.enabled = rd.Bool(l, lp, "enabled", true);
@@ -553,6 +582,7 @@ Scene Scene::Parse(const std::string& text, const std::string& source) {
   } catch (const std::exception& e) {
     throw SceneFileError(source + ": " + e.what());
   }
+  rd.RefuseUnknownFields(root, "$");
   return scene;
 }
 

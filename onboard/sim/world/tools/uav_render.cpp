@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
   cli.add_option("--pose", pose_text, "vehicle pose N,E,D[,yaw[,pitch[,roll]]] (m, deg)")->capture_default_str();
   cli.add_option("--camera", camera, "downward or stereo")->check(CLI::IsMember({"downward", "stereo"}))->capture_default_str();
   cli.add_option("--time", time_s, "simulated time (s): clouds drift, noise changes")->check(CLI::Range(0.0, 1e7));
-  cli.add_option("--out", out, "output prefix")->capture_default_str();
+  uav::OutputFile(cli.add_option("--out", out, "output prefix"), "_left.png")->capture_default_str();
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {

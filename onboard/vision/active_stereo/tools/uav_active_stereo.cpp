@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
   cli.add_option("--threshold", params.threshold_dn, "a dot is this much brighter than the image median [DN]")
       ->capture_default_str();
   cli.add_option("--min-points", params.min_points, "fewer triangulated dots: no height")->capture_default_str();
-  cli.add_option("--csv", csv_out, "CSV with one row per pair");
+  uav::OutputFile(cli.add_option("--csv", csv_out, "CSV with one row per pair"));
   cli.add_option("--overlay", overlay_dir, "folder for the left images with their dots and height drawn");
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);

@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
   CLI::App cli{"uav-monodepth: depth from motion (thesis 3.4) on a capture folder, as a 4x3 grid per frame"};
   std::string dir, out, poses_path, overlay_dir;
   cli.add_option("CAPTURE_DIR", dir, "folder of captures (images, captures.csv, session.json)")->required();
-  cli.add_option("--out", out, "CSV: frame,utime,file,row,col,state,depth_m,sigma_m,features,confidence,reason")->required();
+  uav::OutputFile(cli.add_option("--out", out, "CSV: frame,utime,file,row,col,state,depth_m,sigma_m,features,confidence,reason"))->required();
   cli.add_option("--poses", poses_path, "poses CSV (default CAPTURE_DIR/captures.csv)");
   cli.add_option("--overlay", overlay_dir, "write every frame with its features and grid drawn here");
   uav::PrepareCommandLine(cli);

@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> images;
   cli.add_option("--board", board_text, "inner corners, COLSxROWS")->capture_default_str();
   cli.add_option("--square", square_m, "square size [m]")->capture_default_str();
-  cli.add_option("--out", out, "calibration file (.yml, .yaml, .json)")->required();
+  uav::OutputFile(cli.add_option("--out", out, "calibration file (.yml, .yaml, .json)"))->required();
   cli.add_option("images", images, "LEFT RIGHT pairs")->required();
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);

@@ -281,8 +281,8 @@ int main(int argc, char** argv) {
   std::vector<double> depths{2.0, 3.0, 4.0};
   cli.add_option("--material", material, "texture of the planes (a scene material name)")->capture_default_str();
   cli.add_option("--depths", depths, "plane depths [m] for Tables 3.1-3.2")->delimiter(',')->capture_default_str();
-  cli.add_option("--out", out, "write everything as JSON here");
-  cli.add_option("--plot", plot, "draw the depth error against distance (Figs. 3.6-3.7) as a PNG here");
+  uav::OutputFile(cli.add_option("--out", out, "write everything as JSON here"));
+  uav::OutputFile(cli.add_option("--plot", plot, "draw the depth error against distance (Figs. 3.6-3.7) as a PNG here"));
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   for (double z : depths)

@@ -168,14 +168,14 @@ int main(int argc, char** argv) {
   std::string dir, out, poses_path, camera_path, report_path, detector = "gftt";
   cli.add_option("IMAGES_DIR", dir, "a capture folder (IMG_*.jpg, captures.csv, session.json) or any folder of photos")
       ->required();
-  cli.add_option("--out", out, "output prefix: writes OUT.tif, OUT.png (+ .pgw, .prj) and OUT.kml")->required();
+  uav::OutputFile(cli.add_option("--out", out, "output prefix: writes OUT.tif, OUT.png (+ .pgw, .prj) and OUT.kml"), ".tif")->required();
   cli.add_option("--poses", poses_path, "poses CSV in captures.csv's format (default IMAGES_DIR/captures.csv)");
   cli.add_option("--camera", camera_path, "camera file (resources/cameras/*.camera) overriding the intrinsics");
   std::optional<double> ground_altitude_m;
   cli.add_option("--ground-altitude", ground_altitude_m,
                  "geotagged photos: the ground's altitude [m] in the photos' GPS altitude reference (default: from the "
                  "first photo's XMP RelativeAltitude)");
-  cli.add_option("--report", report_path, "write a JSON report here");
+  uav::OutputFile(cli.add_option("--report", report_path, "write a JSON report here"));
   cli.add_option("--detector", detector,
                  "gftt: good features + Lucas-Kanade (thesis); orb: FAST + ORB + brute force; sift: SIFT + FLANN")
       ->capture_default_str();

@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "camshift", "dcf", "kcf", "csrt"}));
   app.add_option("--window", window, "CamShift search window: adaptive or static")->capture_default_str()->check(CLI::IsMember({"adaptive", "static"}));
-  app.add_option("--out", out_path, "CSV of boxes, one row per frame");
+  uav::OutputFile(app.add_option("--out", out_path, "CSV of boxes, one row per frame"));
   app.add_option("--overlay", overlay_dir, "folder for frames with the box drawn");
   std::string truth_path;
   double fps = 0.0;

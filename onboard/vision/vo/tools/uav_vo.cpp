@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
   uav::vision::VoParams params;
   int first = 0, frames = 0;
   cli.add_option("sequence", dir, "folder with image_0/, image_1/, calib.txt [, times.txt]")->required();
-  cli.add_option("--out", out, "KITTI pose file to write")->required();
+  uav::OutputFile(cli.add_option("--out", out, "KITTI pose file to write"))->required();
   cli.add_option("--method", method, "motion estimate: pnp (P3P), epnp or rigid (3D-3D, Eq. 5.1-5.8)")
       ->check(CLI::IsMember({"pnp", "epnp", "rigid"}))
       ->capture_default_str();

@@ -85,8 +85,8 @@ int main(int argc, char** argv) {
   cli.add_option("ground_truth", gt_path, "KITTI pose file of the ground truth")->required();
   cli.add_option("estimate", est_path, "KITTI pose file to score (one line per ground-truth line)")->required();
   cli.add_option("--lengths", lengths, "segment lengths [m]")->delimiter(',')->check(CLI::PositiveNumber)->capture_default_str();
-  cli.add_option("--plot", plot_path, "PNG: both trajectories from above");
-  cli.add_option("--json", json_path, "write the report as JSON too");
+  uav::OutputFile(cli.add_option("--plot", plot_path, "PNG: both trajectories from above"));
+  uav::OutputFile(cli.add_option("--json", json_path, "write the report as JSON too"));
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {

@@ -46,6 +46,7 @@ struct Parameter {
   double min;
   double max;
   std::string description;
+  std::string origin;  // where a value set after loading came from ("--param x=1"); "": the source
 };
 
 class ParameterSet {
@@ -65,9 +66,17 @@ class ParameterSet {
   // A copy with one declared parameter changed (an override from the command line or a test).
   // Throws std::invalid_argument naming the parameter when it is undeclared, not finite or
   // outside its limits.
-  ParameterSet With(const std::string& name, double value) const;
+  // `origin` says where the value came from, for messages (Describe).
+  ParameterSet With(const std::string& name, double value, const std::string& origin = "as asked") const;
   // Applies "name=value" (the --param option). Same errors as With, plus malformed text.
   ParameterSet WithAssignment(const std::string& assignment) const;
+  // A parameter's value and where it came from, for a refusal that names what to change:
+  // "fs_battery_land 0.3 (--param fs_battery_land=0.3)", "fs_battery_return 0.25 (default.params)".
+  // Names a file by its name only, never its directory: a refusal that reaches a GCS names
+  // nothing on the vehicle's disk.
+  std::string Describe(const std::string& name) const;
+  // The source without its directory: "default.params", "defaults".
+  std::string SourceName() const;
   const std::map<std::string, Parameter>& all() const { return params_; }
   const ParameterSchema* schema() const { return schema_; }
   const std::string& source() const { return source_; }

@@ -7,6 +7,7 @@
 
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace uav {
@@ -23,6 +24,10 @@ void PrepareCommandLine(CLI::App& app);
 // std::invalid_argument naming the option and the path ("--json: no folder /x/y for
 // /x/y/out.json") when its folder is missing or not writable, or the path is a folder.
 void CheckOutputFile(const std::string& path, const std::string& option);
+// The same check when the command line is parsed, for an option naming a file the program
+// writes (or, with `suffix`, a prefix: OUT + ".tif"): a bad path is refused before any work.
+// Returns `option`: OutputFile(cli.add_option("--json", path, "..."));
+CLI::Option* OutputFile(CLI::Option* option, const std::string& suffix = "");
 
 // The folder of the shipped data (vehicles/, cameras/, scenes/, areas/): $UAV_RESOURCE_DIR when
 // set; else, for an installed program (PREFIX/bin/NAME), PREFIX/share/uav when it exists; else

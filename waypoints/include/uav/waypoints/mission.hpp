@@ -4,8 +4,10 @@
 // program the vehicle compiles them into.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -102,11 +104,43 @@ struct MissionStep {
   std::size_t item = 0;  // index of the mission item it came from, for progress reports
 };
 
+// What a vehicle's parameters allow a mission, checked where it is made (the editor, an import)
+// and where it arrives (the vehicle refuses it at upload), as PX4 checks GF_MAX_HOR_DIST,
+// GF_MAX_VER_DIST and the geofence before it accepts a mission.
+struct VehicleLimits {
+  double max_speed_m_s = 3.0;  // ctl_speed_max_xy; a tail-sitter: its wing-borne cruise if higher
+  double ceiling_m = 120.0;    // fs_fence_alt: altitude above home
+  double range_m = 500.0;      // fs_fence_radius: horizontal distance from home
+  // From a vehicle's parameters by name; `value` returns NaN for one it lacks (its schema default
+  // is taken then).
+  static VehicleLimits Of(const std::function<double(const std::string&)>& value);
+};
+
+// One thing the vehicle would refuse. `item` indexes Mission::items (kCruise: the cruise speed);
+// `text` names the item as the editor does and gives both numbers ("item 4 (NAV_WAYPOINT): 130 m
+// above home, above the vehicle's 100 m ceiling (fs_fence_alt)").
+struct MissionProblem {
+  static constexpr std::size_t kCruise = static_cast<std::size_t>(-1);
+  std::size_t item = kCruise;
+  std::string text;
+};
+
+// Every problem of a validated mission against `limits`, in item order: a speed above the
+// vehicle's; a point (waypoint, loiter, take-off, land, rally) above the ceiling, beyond the range
+// or breaching the mission's own geofence (inside a keep-out zone, outside every keep-in zone); a
+// straight leg between points that crosses a keep-out zone or leaves the keep-in zones.
+std::vector<MissionProblem> CheckMission(const Mission& m, const VehicleLimits& limits);
+// The problems as one refusal: the first, and how many more.
+std::string DescribeProblems(const std::vector<MissionProblem>& problems);
+
+// "item 4 (NAV_WAYPOINT)"; a fence or rally item by the zone or point it belongs to, as the
+// mission editor shows it ("keep-out polygon 1 (item 9)", "rally point 2 (item 14)").
+std::string ItemLabel(const Mission& m, std::size_t i);
+
 // Compiles a validated mission into steps in the NED frame at `home`. Throws
-// std::invalid_argument naming the first item the vehicle cannot fly (an unsupported command, a
-// speed above max_speed_m_s).
-std::vector<MissionStep> CompileMission(const Mission& m, const LocalNedFrame& home,
-                                        double max_speed_m_s);
+// std::invalid_argument naming the first item the vehicle cannot fly (an unsupported command, or
+// the first CheckMission problem).
+std::vector<MissionStep> CompileMission(const Mission& m, const LocalNedFrame& home, const VehicleLimits& limits);
 
 // Camera state before steps[i]: interval s (> 0), -distance m (< 0), or nullopt (off).
 std::optional<double> CaptureBefore(const std::vector<MissionStep>& steps, std::size_t i);

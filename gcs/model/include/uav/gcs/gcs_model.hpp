@@ -80,6 +80,12 @@ class GcsModel {
   // the spot (radius 0) and keeps the planned speed up to ctl_speed_max_xy. False (logged) without
   // a parameter table from the vehicle.
   bool FitSurveyToVehicle(double now);
+  // What the selected vehicle allows a mission (its speed, ceiling and range) from its parameter
+  // table; the vehicle schema's defaults until a table has come (*from_vehicle false then).
+  waypoints::VehicleLimits MissionLimits(bool* from_vehicle = nullptr) const;
+  // The mission editor's row the selected vehicle is flying now; -1 when none, or when the
+  // vehicle holds another mission than the editor's.
+  int FlownMissionRow() const;
   bool StartDownload(const std::string& dir, double now);
   // Fetches the mission the selected vehicle holds (the newest it offers, mission_N.plan) and
   // loads it into the mission editor when it has arrived, verified. False (logged) when there is

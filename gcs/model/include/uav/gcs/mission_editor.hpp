@@ -39,6 +39,26 @@ struct FenceDraft {
   double radius_m = 20;                 // [m] a circle's
 };
 
+// What a mission item is in the editor: the take-off (or the cruise speed), row `index` of
+// items(), fence zone `index` of fences, rally point `index` of rally.
+struct ItemOrigin {
+  enum class Kind { kTakeoff, kRow, kFence, kRally };
+  Kind kind = Kind::kTakeoff;
+  std::size_t index = 0;
+};
+
+// The editor's mission checked as the vehicle will check it (waypoints::CheckMission against the
+// vehicle's limits), each problem placed on what the editor shows.
+struct EditorCheck {
+  std::optional<waypoints::Mission> mission;  // nullopt: it cannot be built; `error` says why
+  std::string error;
+  std::vector<ItemOrigin> origins;  // per mission item
+  std::vector<waypoints::MissionProblem> problems;
+  std::vector<std::string> row_problems;  // per row of items(): the first problem, "" none
+  // The row that mission item `item` came from, -1 when it is not a row's (the take-off, a zone).
+  int RowOf(int item) const;
+};
+
 // What a click on the map adds while the mission is edited.
 enum class MapTool { kWaypoint, kFenceVertex, kRallyPoint };
 
@@ -62,6 +82,8 @@ class MissionEditor {
   int fence_selected = -1;
   MapTool tool = MapTool::kWaypoint;
   void AddFenceVertex(const GeodeticPoint& g);  // to fences[fence_selected]
+  // Zone z as the vehicle names it ("keep-out polygon 1": the first keep-out polygon).
+  std::string ZoneLabel(std::size_t z) const;
   // Deletes the fence vertex or rally point within radius_m of `ne`; false when there is none.
   bool DeleteFenceNear(const SurveyPlanner& planner, const Eigen::Vector2d& ne, double radius_m);
 
@@ -76,7 +98,9 @@ class MissionEditor {
   // and *error naming the item when it cannot be built (a survey item without a flyable survey,
   // a fence polygon of fewer than 3 vertices or crossing itself).
   std::optional<waypoints::Mission> MakeMission(const SurveyPlanner& planner, const GeodeticPoint& home,
-                                                std::string* error) const;
+                                                std::string* error, std::vector<ItemOrigin>* origins = nullptr) const;
+  // The mission made and checked against `limits`: what the editor warns of while editing.
+  EditorCheck Check(const SurveyPlanner& planner, const GeodeticPoint& home, const waypoints::VehicleLimits& limits) const;
   // Loads a mission into items (a survey into `planner`). All or nothing: false and *error
   // naming the item when it holds what this editor cannot show (an unsupported command, a
   // second survey, a take-off after the first item); nothing changes then.

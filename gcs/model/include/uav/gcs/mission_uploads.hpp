@@ -43,13 +43,16 @@ class MissionUploads {
   void Tick(VehicleMission& v, const std::string& vehicle_id, double now, MessageLog& log);
   std::vector<OutgoingMissionChunk> TakeOutgoing() { return std::exchange(outgoing_, {}); }
   // The editor's file actions (.plan, or WPL by extension); the outcome is logged. Import keeps
-  // the map on `home` if given, and changes nothing when the file cannot be loaded.
+  // the map on `home` if given, and changes nothing when the file cannot be loaded. What the
+  // vehicle would refuse (waypoints::CheckMission against `limits`) is logged as warnings; the
+  // mission is loaded all the same, for the operator to fix.
   bool ExportMission(const std::string& path, double now, MessageLog& log);
-  bool ImportMission(const std::string& path, const std::optional<GeodeticPoint>& home, double now, MessageLog& log);
+  bool ImportMission(const std::string& path, const std::optional<GeodeticPoint>& home,
+                     const waypoints::VehicleLimits& limits, double now, MessageLog& log);
 
-  // Loads a mission (downloaded from a vehicle) into the editor; logged like an import.
+  // Loads a mission (downloaded from a vehicle) into the editor; logged and checked like an import.
   bool LoadMission(const waypoints::Mission& m, const std::string& origin, const std::optional<GeodeticPoint>& home,
-                   double now, MessageLog& log);
+                   const waypoints::VehicleLimits& limits, double now, MessageLog& log);
   MissionEditor& editor() { return editor_; }
   const MissionEditor& editor() const { return editor_; }
   SurveyPlanner& planner() { return planner_; }

@@ -32,6 +32,7 @@
 // command; vehicle.ack ... for what the vehicle did on its own, a failsafe) tries error task
 // armed vehicles selected plots link sent gave_up log survey.vertices survey.images
 // survey.lines survey.altitude survey.ok survey.problem upload upload.reason mission.items
+// plan.items plan.selected plan.flown plan.problems plan.problem plan.alt.N plan.speed.N plan.hold.N
 // video.frames video.rejected video.frozen basemap.width livemap.tiles livemap.received download.offered
 // download.saved plot_panels plot.window plot.held plotN.signals plotN.right track.sent track.x
 // track.y track.w track.h track.method track.state track.cx track.cy track.error; in a replay

@@ -6,6 +6,9 @@ namespace uav::gcs {
 
 // Draws every panel for one frame (between ImGui::NewFrame and ImGui::Render).
 void DrawGcs(GcsModel& model, UiContext& ctx);
+// Places the next window where the default layout (layout.hpp) puts `window`: on its first use,
+// or `always`.
+void PlaceWindow(const char* window, bool always = false);
 
 // The panels, one file each.
 void DrawVehiclesPanel(GcsModel& model, UiContext& ctx);

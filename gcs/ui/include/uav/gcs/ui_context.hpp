@@ -38,6 +38,7 @@ struct UiState {
   double map_px_per_m = 3.0;
   bool map_edit_survey = false;  // clicks edit the survey polygon (off: a click only pans)
   bool map_edit_mission = false; // clicks edit the mission's items (never both at once)
+  bool map_follow = false;       // the map keeps the selected vehicle in its centre
   int map_pressed_item = -1;     // the mission item under the pointer when the button went down
   double map_goto_n = 0.0, map_goto_e = 0.0;  // [m] where a right click offered to go
   int map_pressed_vertex = -1;   // vertex under the pointer when the button went down
@@ -69,6 +70,11 @@ struct UiState {
   std::array<float, 2> video_press{0, 0};
   bool video_dragging = false;
   std::string video_vehicle;
+  // What is drawn over the video (each can be hidden): the tracker's box, power lines, the depth
+  // grid, the active-stereo dots, stereo obstacles.
+  struct VideoOverlays {
+    bool track = true, wires = true, depth = true, dots = true, obstacles = true;
+  } video_overlays;
   int64_t video_frames_shown = -1;
   void* video_texture = nullptr;
   // Parameters panel: open, its search, the values being typed (by name) and the file.
@@ -81,6 +87,11 @@ struct UiState {
   std::map<std::string, std::string> params_edits;
   std::string params_file = "vehicle.params";
   int params_format = 0;  // 0 our vehicle file, 1 QGroundControl's .params
+  // Number fields (number_field.hpp), by widget id: the text being typed, and why the last value
+  // typed was refused (shown until a good value is typed).
+  std::map<std::string, std::string> number_edits;
+  std::map<std::string, std::string> number_refused;
+  bool mission_latlon = false;  // the mission list shows positions as latitude/longitude (else north/east of home)
   float replay_seek = -1.0f;  // the seek slider while it is being dragged [s]; < 0: follows the replay
   std::string replay_speed_text;   // the speed being typed
   std::string replay_speed_error;  // why the typed speed was refused

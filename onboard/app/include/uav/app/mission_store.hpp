@@ -2,6 +2,7 @@
 // Where the task manager gets "track N" and "mission" from: stored path files, and the last
 // mission the GCS uploaded (checked and compiled when it arrives, so "mission" never finds a
 // mission it cannot fly). Thread-safe: CMM stores uploads, CTL reads them.
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -15,8 +16,10 @@ namespace uav::app {
 
 class MissionStore : public control::MissionSource {
  public:
-  // Missions are compiled in the NED frame at `home` with the vehicle's speed limit.
-  MissionStore(std::string paths_dir, const GeodeticPoint& home, double max_speed_m_s);
+  // Missions are compiled in the NED frame at `home` and checked against the vehicle's limits
+  // (its speed, ceiling, range): `limits` until SetLimitsSource gives the live ones.
+  MissionStore(std::string paths_dir, const GeodeticPoint& home, const waypoints::VehicleLimits& limits);
+  void SetLimitsSource(std::function<waypoints::VehicleLimits()> source);
 
   std::optional<std::vector<waypoints::MissionStep>> StoredPath(int n, std::string* error) override;
   std::optional<std::vector<waypoints::MissionStep>> UploadedMission(std::string* error) override;
@@ -24,7 +27,7 @@ class MissionStore : public control::MissionSource {
   waypoints::Geofence UploadedGeofence() override;
 
   // Checks and compiles an uploaded mission; on success it replaces the stored one and ""
-  // is returned, else the reason (and the stored mission is unchanged).
+  // is returned, else the reason naming the item (and the stored mission is unchanged).
   std::string AcceptUpload(const waypoints::Mission& m);
 
   const GeodeticPoint& home() const { return frame_.home(); }
@@ -32,8 +35,10 @@ class MissionStore : public control::MissionSource {
  private:
   std::string paths_dir_;
   LocalNedFrame frame_;
-  double max_speed_m_s_;
+  waypoints::VehicleLimits Limits();
   std::mutex mutex_;
+  waypoints::VehicleLimits limits_;
+  std::function<waypoints::VehicleLimits()> limits_source_;
   std::optional<std::vector<waypoints::MissionStep>> uploaded_;
   int64_t upload_count_ = 0;
   waypoints::Geofence geofence_;

@@ -18,6 +18,7 @@
 #include "uav/nav/ins.hpp"
 #include "uav/nav/position_history.hpp"
 #include "uav/nav/vo_imu_filter.hpp"
+#include "uav/shared/state_news.hpp"
 
 namespace uav::app {
 
@@ -109,7 +110,9 @@ class ControlWorker {
   control::FailsafeParams failsafe_params_;
   control::FailsafeMonitor failsafes_;
   avoid::SafetyLayer safety_;
-  std::string last_avoid_said_;
+  // The avoidance state as the operator hears it: a state flapping faster than this is said once it settles.
+  static constexpr double kAvoidNewsSettle_s = 2.0;
+  StateNews avoid_news_{kAvoidNewsSettle_s};
   std::string last_sticks_said_;
   control::Setpoint last_valid_setpoint_;
   std::string last_setpoint_error_;

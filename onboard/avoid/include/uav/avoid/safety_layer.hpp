@@ -8,10 +8,13 @@
 //   a turn is counted from the way the vehicle travels now to each leg ahead);
 // - limits the speed so that the vehicle can always stop, after its reaction time, within the
 //   space seen free along its way: v = -a t + sqrt((a t)^2 + 2 a d), the stopping distance
-//   v t + v^2 / (2 a) solved for v (a = avd_brake_accel, t = the perception's age plus
-//   avd_reaction, d = the seen-free length left);
-// - brakes and holds when the perception or the plan is older than avd_stale (and says why), or
-//   when the planner finds no path;
+//   v t + v^2 / (2 a) solved for v (a = avd_brake_accel, t = avd_reaction plus the perception's
+//   age or, when longer, its period: a slow sensor's next look is that far away, and the speed
+//   stays steady between its frames; d = the seen-free length left);
+// - brakes and holds when the perception or the plan is late: older than avd_stale, or than
+//   twice its own period when that is longer (a stereo pair at 1-2 Hz on a loaded computer is
+//   slow, not lost: the vehicle flies as fast as it can stop on it, and arrives), and says why;
+//   and when the planner finds no path;
 // - with the perception lost for good (a failed camera: the failsafe's return), flies on the map
 //   alone: only plans made through space seen free, the plan's age in place of the perception's;
 // - turns the vehicle to face the way it flies, so that the forward cameras see it, and moves
@@ -54,6 +57,13 @@ class SafetyLayer {
  private:
   control::Setpoint Hold(const control::Setpoint& task_setpoint, const hal::VehicleEstimate& est);
   double FaceTravel(const Eigen::Vector3d& direction_N, const hal::VehicleEstimate& est, double dt);
+  // The time between the perception's frames, from the plans' perception times: the longest of
+  // the last kPeriods intervals (a rate that varies counts at its slowest); 0 until known.
+  void ObservePerception(int64_t perception_utime);
+  double PerceptionPeriod() const;
+  // How old the perception or the plan may be before the vehicle holds: avd_stale, or twice
+  // the perception's period when that is longer.
+  double StaleAfter() const;
 
   AvoidanceParams p_;
   AvoidState state_ = AvoidState::kOff;
@@ -61,6 +71,10 @@ class SafetyLayer {
   std::optional<double> yaw_ref_;          // the rate-limited heading toward travel
   double yaw_rate_ = 0.0;                  // [rad/s] its rate this step (fed forward)
   bool blocked_ = false;
+  static constexpr int kPeriods = 5;
+  int64_t last_perception_utime_ = 0;
+  double periods_s_[kPeriods] = {0, 0, 0, 0, 0};
+  int next_period_ = 0;
 };
 
 }  // namespace uav::avoid

@@ -160,6 +160,7 @@ class TaskManager {
   // Why p_N is outside the geofence (the circle and ceiling of the vehicle file, the uploaded
   // zones), or "" when it is inside.
   std::string OutsideFence(const Eigen::Vector3d& p_N) const;
+  std::string AboveCeiling(const char* what, double altitude_m) const;  // "take-off altitude 130.0 m is above ..."
   // Ends the active command because `by` replaces it: a follow ends as the operator meant it to
   // (completed), anything else as replaced.
   void Supersede(const std::string& by, std::vector<CommandAck>* reports);
@@ -207,6 +208,8 @@ class TaskManager {
   Eigen::Vector3d start_p_N_ = Eigen::Vector3d::Zero();
   double start_t_ = 0.0;
   double deadline_ = 0.0;
+  double closest_to_goal_ = 0;  // [m] a goto's or take-off's nearest approach so far
+  static constexpr double kProgressStep_m = 1.0;  // nearer by this is progress (extends the deadline)
   double last_progress_t_ = -1e9;
   int last_percent_ = -1;
   double still_since_ = -1.0;
