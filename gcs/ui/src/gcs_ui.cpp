@@ -47,6 +47,7 @@ void PlaceWindow(const char* window, bool always) {
   const ImGuiCond when = always ? ImGuiCond_Always : ImGuiCond_FirstUseEver;
   ImGui::SetNextWindowPos(ImVec2(p->x0 * d.x, p->y0 * d.y), when);
   ImGui::SetNextWindowSize(ImVec2((p->x1 - p->x0) * d.x, (p->y1 - p->y0) * d.y), when);
+  ImGui::SetNextWindowBgAlpha(1.0f);  // opaque: a window over another never shows both
 }
 
 void DrawGcs(GcsModel& model, UiContext& ctx) {

@@ -36,8 +36,8 @@ const std::vector<WindowPlace>& DefaultLayout() {
       // at hand in it); the others over the plots.
       {"Mission", kRight, 0.46f, 1.0f, 1.0f, 560, 450, true},
       {"Parameters", kLeft, kTop, kRight, 0.40f, 560, 300, true},
-      {"Sticks", kLeft, kTop, 0.42f, 0.40f, 300, 300, true},
-      {"Attitude", 0.42f, kTop, kRight, 0.34f, 240, 240, true},
+      {"Sticks", kLeft, kTop, 0.45f, 0.40f, 360, 300, true},
+      {"Attitude", 0.45f, kTop, kRight, 0.34f, 240, 240, true},
   };
   return kTable;
 }

@@ -121,7 +121,11 @@ void DrawLiveMapPanel(GcsModel& model, UiContext& ctx) {
   if (!model.maps().error().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", model.maps().error().c_str());
   const std::vector<FileOffer> offers = v->files.offers();
   DrawTiles(*v, ctx, (offers.size() + 2) * ImGui::GetFrameHeightWithSpacing());
-  if (offers.empty()) ImGui::TextDisabled("no file offered yet: the vehicle offers its map after a survey, its flight log at each landing, its mission on each upload");
+  if (offers.empty()) {
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextDisabled("no file offered yet: the vehicle offers its map after a survey, its flight log at each landing, its mission on each upload");
+    ImGui::PopTextWrapPos();
+  }
   for (const FileOffer& o : offers) {
     const auto p = v->files.progress(o.transfer_id);
     const float fraction = o.chunks ? static_cast<float>(p->received) / o.chunks : 1.0f;

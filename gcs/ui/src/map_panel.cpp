@@ -213,7 +213,7 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
   if (st.map_follow)
     if (const VehicleModel* v = model.selected(); v && v->state)
       st.map_center_n = v->state->p_N.x(), st.map_center_e = v->state->p_N.y();
-  ImGui::SameLine();
+  // The basemap on a line of its own: the panel is narrower than both rows together.
   ImGui::SetNextItemWidth(220);
   ImGui::InputText("##basemap", &st.basemap_file);
   RegisterLastItem(ctx, "map:basemap");

@@ -56,7 +56,6 @@ void DrawSticksPanel(GcsModel& model, UiContext& ctx) {
   bool on = sticks.enabled();
   if (ImGui::Checkbox("Sticks on (20 Hz to the selected vehicle)", &on)) sticks.SetEnabled(on);
   RegisterLastItem(ctx, "sticks:on");
-  ImGui::SameLine();
   const VehicleModel* v = model.selected();
   const bool flying_sticks = v && v->task == Task::kSticks;
   BeginDisabledBecause(ctx, !v || flying_sticks, !v ? "no vehicle selected" : "the vehicle already flies by the sticks");
