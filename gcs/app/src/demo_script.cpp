@@ -10,6 +10,7 @@ wait_until vehicles >= 1 and link == up timeout 30
 wait_until video.frames > 3 timeout 30
 tick alt
 echo planning a 40 x 60 m survey of the village at 25 m on the map
+map_zoom 0 0 -2
 click map:edit
 map_click 5 -30
 map_click 5 30

@@ -213,8 +213,9 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
   if (st.map_follow)
     if (const VehicleModel* v = model.selected(); v && v->state)
       st.map_center_n = v->state->p_N.x(), st.map_center_e = v->state->p_N.y();
-  // The basemap on a line of its own: the panel is narrower than both rows together.
-  ImGui::SetNextItemWidth(220);
+  // The basemap and the mouse's hints on a line of their own: the panel is narrower than both
+  // rows together, and every line above the map takes from its height.
+  ImGui::SetNextItemWidth(150);
   ImGui::InputText("##basemap", &st.basemap_file);
   RegisterLastItem(ctx, "map:basemap");
   ImGui::SameLine();
@@ -225,9 +226,15 @@ void DrawMapPanel(GcsModel& model, UiContext& ctx) {
     if (ImGui::Button("Clear basemap")) model.ClearBasemap();
     RegisterLastItem(ctx, "map:clear_basemap");
   }
-  ImGui::TextDisabled(st.map_edit_survey    ? "wheel: zoom  drag: pan  click: add vertex  drag vertex: move  right click: delete"
-                      : st.map_edit_mission ? "wheel: zoom  drag: pan  click: add (the Mission window's tool)  drag item: move  right click: delete"
-                                            : "wheel: zoom  drag: pan  right click: go there (confirmed)");
+  ImGui::SameLine();
+  ImGui::TextDisabled(st.map_edit_survey    ? "click: add vertex, drag: move, right: delete"
+                      : st.map_edit_mission ? "click: add, drag: move, right: delete"
+                                            : "right click: go there");
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("wheel: zoom about the pointer; drag on empty ground: pan%s",
+                      st.map_edit_survey    ? "; click: add a vertex; drag a vertex: move it; right click: delete it"
+                      : st.map_edit_mission ? "; click: add what the Mission window's tool says; drag an item: move it; right click: delete it"
+                                            : "; right click: go there (confirmed in the command bar)");
 
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImVec2 size = ImGui::GetContentRegionAvail();

@@ -96,14 +96,6 @@ void DrawRow(GcsModel& model, UiContext& ctx, std::size_t i, const FieldLimits& 
   RegisterLastItem(ctx, "mission:delete:" + n);
 }
 
-// The refusals of the fields drawn so far (each says what was typed and the limits).
-void DrawRefusals(const UiContext& ctx) {
-  ImGui::PushTextWrapPos(0.0f);
-  for (const auto& [id, why] : ctx.state.number_refused)
-    if (id.rfind("mission:", 0) == 0) ImGui::TextColored(kProblem, "%s: %s", id.substr(8).c_str(), why.c_str());
-  ImGui::PopTextWrapPos();
-}
-
 // The geofence zones and rally points: what a map click adds, a row per zone (keep in or out,
 // a circle's radius, delete) and per rally point (its altitude, delete).
 void DrawFenceSection(MissionEditor& editor, UiContext& ctx, const FieldLimits& lim) {
@@ -262,7 +254,7 @@ void DrawMissionPanel(GcsModel& model, UiContext& ctx) {
     ImGui::EndTable();
   }
   if (erase) editor.Delete(*erase);
-  DrawRefusals(ctx);
+  DrawNumberFieldRefusals(ctx, "mission:");
   DrawFenceSection(editor, ctx, lim);
   // What the vehicle would refuse, as it will say it; whole, wrapped at the window's edge.
   ImGui::PushTextWrapPos(0.0f);

@@ -27,6 +27,13 @@ const std::string& NumberFieldRefusal(const UiContext& ctx, const std::string& i
   return it == ctx.state.number_refused.end() ? kNone : it->second;
 }
 
+void DrawNumberFieldRefusals(const UiContext& ctx, const std::string& prefix) {
+  ImGui::PushTextWrapPos(0.0f);
+  for (const auto& [id, why] : ctx.state.number_refused)
+    if (id.rfind(prefix, 0) == 0) ImGui::TextColored(kRefusedText, "%s: %s", id.substr(prefix.size()).c_str(), why.c_str());
+  ImGui::PopTextWrapPos();
+}
+
 bool NumberField(UiContext& ctx, const std::string& id, double* value, double min, double max, const char* format,
                  const char* unit, float width) {
   UiState& st = ctx.state;

@@ -15,5 +15,8 @@ bool NumberField(UiContext& ctx, const std::string& id, double* value, double mi
 
 // The refusal shown under a field ("" none), for panels that lay it out themselves.
 const std::string& NumberFieldRefusal(const UiContext& ctx, const std::string& id);
+// Every refusal of the fields whose ids start with `prefix` ("mission:"), one wrapped red line
+// each: "alt:3: 1e9 is outside [1.0, 120.0] m; it stays 15.0 m".
+void DrawNumberFieldRefusals(const UiContext& ctx, const std::string& prefix);
 
 }  // namespace uav::gcs

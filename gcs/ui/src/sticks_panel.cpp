@@ -8,6 +8,7 @@
 
 #include <imgui.h>
 
+#include "number_field.hpp"
 #include "uav/gcs/gcs_ui.hpp"
 
 namespace uav::gcs {
@@ -34,12 +35,12 @@ bool Pad(UiContext& ctx, const char* id, double* x, double* y, float side) {
   return held;
 }
 
-// A numeric axis (for scripts and precise input), clamped to [-1, 1].
+// A numeric axis (for scripts and precise input) in [-1, 1]; a value outside is refused, not
+// clamped (number_field.hpp).
 void Axis(UiContext& ctx, const char* label, const char* id, double* v) {
-  ImGui::SetNextItemWidth(80);
-  double shown = *v;
-  if (ImGui::InputDouble(label, &shown, 0, 0, "%.2f") && std::isfinite(shown)) *v = std::clamp(shown, -1.0, 1.0);
-  RegisterLastItem(ctx, id);
+  NumberField(ctx, id, v, -1.0, 1.0, "%.2f", "of full deflection", 60);
+  ImGui::SameLine();
+  ImGui::TextUnformatted(label);
 }
 
 }  // namespace
@@ -72,6 +73,7 @@ void DrawSticksPanel(GcsModel& model, UiContext& ctx) {
   Axis(ctx, "up", "sticks:up", &vs.up);
   ImGui::SameLine();
   Axis(ctx, "yaw", "sticks:yaw", &vs.yaw);
+  DrawNumberFieldRefusals(ctx, "sticks:");
   bool latch = st.sticks_deadman_latched;
   if (ImGui::Checkbox("deadman held", &latch)) st.sticks_deadman_latched = latch;
   RegisterLastItem(ctx, "sticks:deadman");

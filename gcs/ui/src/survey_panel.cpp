@@ -8,6 +8,7 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "number_field.hpp"
 #include "uav/gcs/gcs_ui.hpp"
 
 namespace uav::gcs {
@@ -21,10 +22,9 @@ bool Field(UiContext& ctx, SurveyPlanner& planner, const char* label, const char
   ImGui::AlignTextToFramePadding();
   ImGui::TextUnformatted(label);
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(70);
-  const bool changed = ImGui::InputDouble((std::string("##") + id).c_str(), &shown, 0, 0, format);
-  RegisterLastItem(ctx, id);
-  if (changed && std::isfinite(shown)) {
+  // Any decimal is taken (the planner names a value it cannot plan with); "inf" or "nan" is refused.
+  const bool changed = NumberField(ctx, id, &shown, -1e6, 1e6, format, "", 70);
+  if (changed) {
     *value = shown / scale;
     planner.ParamsChanged();
   }
@@ -97,6 +97,7 @@ void DrawSurveyPanel(GcsModel& model, UiContext& ctx) {
                 plan->covered_area_m2);
   }
   if (!planner.problem().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", planner.problem().c_str());
+  DrawNumberFieldRefusals(ctx, "survey:");
 
   ImGui::BeginDisabled(!planner.problem().empty() || !model.selected());
   if (ImGui::Button("Upload to vehicle")) model.UploadMission(ctx.now);
