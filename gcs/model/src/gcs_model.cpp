@@ -164,13 +164,18 @@ bool GcsModel::ImportMission(const std::string& path, double now) {
   return missions_.ImportMission(path, v ? v->home : std::nullopt, MissionLimits(), now, log_);
 }
 
-int GcsModel::FlownMissionRow() const {
-  const VehicleModel* v = selected();
+int FlownRow(const VehicleModel* v, const EditorCheck& made) {
   if (!v || !v->mission || !v->state || v->state->mission_item < 0) return -1;
-  EditorCheck made;
-  made.mission = missions_.editor().MakeMission(missions_.planner(), missions_.planner().origin(), &made.error, &made.origins);
   if (!made.mission || made.mission->items != v->mission->items) return -1;
   return made.RowOf(v->state->mission_item);
+}
+
+int GcsModel::FlownMissionRow() const {
+  const VehicleModel* v = selected();
+  if (!v || !v->mission || !v->state || v->state->mission_item < 0) return -1;  // nothing to make
+  EditorCheck made;
+  made.mission = missions_.editor().MakeMission(missions_.planner(), missions_.planner().origin(), &made.error, &made.origins);
+  return FlownRow(v, made);
 }
 
 waypoints::VehicleLimits GcsModel::MissionLimits(bool* from_vehicle) const {

@@ -227,7 +227,7 @@ void DrawMissionPanel(GcsModel& model, UiContext& ctx) {
   // it holds this mission.
   const EditorCheck check = editor.Check(model.missions().planner(), model.missions().planner().origin(), vehicle);
   const VehicleModel* v = model.selected();
-  const int flown_row = model.FlownMissionRow();
+  const int flown_row = FlownRow(v, check);
   const ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY | ImGuiTableFlags_BordersInnerV;
   std::optional<std::size_t> erase;
   const float fence_rows = 5.0f + static_cast<float>(editor.fences.size() + editor.rally.size() +
@@ -277,18 +277,7 @@ void DrawMissionPanel(GcsModel& model, UiContext& ctx) {
   RegisterLastItem(ctx, "mission:download");
   EndDisabledBecause(ctx);
   // The mission's file (the survey panel's, which this window covers).
-  ImGui::AlignTextToFramePadding();
-  ImGui::TextUnformatted("file (.plan, .waypoints)");
-  ImGui::SameLine();
-  ImGui::SetNextItemWidth(220);
-  ImGui::InputText("##mission:file", &st.survey_file);
-  RegisterLastItem(ctx, "mission:file");
-  ImGui::SameLine();
-  if (ImGui::Button("Export")) model.ExportMission(st.survey_file, ctx.now);
-  RegisterLastItem(ctx, "mission:export");
-  ImGui::SameLine();
-  if (ImGui::Button("Import")) model.ImportMission(st.survey_file, ctx.now);
-  RegisterLastItem(ctx, "mission:import");
+  DrawMissionFileRow(model, ctx, "mission:file", "mission:export", "mission:import");
   ImGui::End();
 }
 

@@ -121,18 +121,24 @@ void DrawSurveyPanel(GcsModel& model, UiContext& ctx) {
   }
   if (!model.missions().error().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", model.missions().error().c_str());
 
+  DrawMissionFileRow(model, ctx, "survey:file", "survey:export", "survey:import");
+  ImGui::End();
+}
+
+void DrawMissionFileRow(GcsModel& model, UiContext& ctx, const char* file_id, const char* export_id,
+                        const char* import_id) {
   ImGui::AlignTextToFramePadding();
   ImGui::TextUnformatted("file (.plan, .waypoints)");
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(260);
-  ImGui::InputText("##survey:file", &ctx.state.survey_file);
-  RegisterLastItem(ctx, "survey:file");
+  ImGui::SetNextItemWidth(220);
+  ImGui::InputText((std::string("##") + file_id).c_str(), &ctx.state.survey_file);
+  RegisterLastItem(ctx, file_id);
+  ImGui::SameLine();
   if (ImGui::Button("Export")) model.ExportMission(ctx.state.survey_file, ctx.now);
-  RegisterLastItem(ctx, "survey:export");
+  RegisterLastItem(ctx, export_id);
   ImGui::SameLine();
   if (ImGui::Button("Import")) model.ImportMission(ctx.state.survey_file, ctx.now);
-  RegisterLastItem(ctx, "survey:import");
-  ImGui::End();
+  RegisterLastItem(ctx, import_id);
 }
 
 }  // namespace uav::gcs

@@ -38,6 +38,10 @@ struct VehicleModel : VehicleTelemetry, VehicleVideo, VehicleMaps, VehicleMissio
   }
 };
 
+// The editor's row that `v` is flying, given the editor's mission as made (`made`); -1 when none,
+// or when `v` holds another mission.
+int FlownRow(const VehicleModel* v, const EditorCheck& made);
+
 class GcsModel {
  public:
   GcsModel(std::string gcs_name, int64_t first_command_seq) : commands_(std::move(gcs_name), first_command_seq) {}
@@ -85,7 +89,7 @@ class GcsModel {
   waypoints::VehicleLimits MissionLimits(bool* from_vehicle = nullptr) const;
   // The mission editor's row the selected vehicle is flying now; -1 when none, or when the
   // vehicle holds another mission than the editor's.
-  int FlownMissionRow() const;
+  int FlownMissionRow() const;  // FlownRow(selected(), the editor's mission)
   bool StartDownload(const std::string& dir, double now);
   // Fetches the mission the selected vehicle holds (the newest it offers, mission_N.plan) and
   // loads it into the mission editor when it has arrived, verified. False (logged) when there is

@@ -41,6 +41,9 @@ HorizonLine AttitudeHorizon(double roll_rad, double pitch_rad, const Eigen::Vect
 // Live map panels).
 void SyncLiveMapTextures(const VehicleModel& v, UiContext& ctx);
 void DrawVideoPanel(GcsModel& model, UiContext& ctx);
+// The mission's file row (survey panel and mission window): the path, Export and Import.
+void DrawMissionFileRow(GcsModel& model, UiContext& ctx, const char* file_id, const char* export_id,
+                        const char* import_id);
 void DrawReplayPanel(GcsModel& model, UiContext& ctx);
 
 }  // namespace uav::gcs
