@@ -7,6 +7,8 @@
 #include "uav/shared/text_file.hpp"
 
 #include <algorithm>
+#include <filesystem>
+#include <set>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -77,6 +79,8 @@ ParameterSet ParameterSet::Parse(const std::string& text, const std::string& sou
   std::istringstream lines(text);
   std::string line;
   int line_no = 0;
+  bool any_setting = false;
+  std::set<std::string> set_here;  // a file sets each name once; an included one's values it may change
   while (std::getline(lines, line)) {
     ++line_no;
     const std::string where = source_name + ":" + std::to_string(line_no) + ": ";
@@ -87,6 +91,28 @@ ParameterSet ParameterSet::Parse(const std::string& text, const std::string& sou
     if (!(fields >> value_s) || (fields >> extra))
       throw std::runtime_error(where + "expected 'name value', got '" + line +
                                "' (units and limits are declared by the program, not the file)");
+    if (name == "include") {
+      // A variant lists only what differs from its base: "include x650.params" first, then the
+      // differences. The base is found beside this file; includes nest (a cycle is refused).
+      if (any_setting || !set.params_.empty())
+        throw std::runtime_error(where + "include must come first, before any setting, and only once");
+      static thread_local int depth = 0;
+      if (depth >= 8) throw std::runtime_error(where + "include nested more than 8 deep (a file that includes itself?)");
+      const std::string base = (std::filesystem::path(source_name).parent_path() / value_s).string();
+      ++depth;
+      try {
+        set.params_ = LoadFile(base, schema).params_;
+      } catch (...) {
+        --depth;
+        throw;
+      }
+      --depth;
+      const std::string base_name = std::filesystem::path(value_s).filename().string();
+      for (auto& [n, p] : set.params_)
+        if (p.origin.empty()) p.origin = base_name;
+      continue;
+    }
+    any_setting = true;
     const ParameterSpec* spec = schema.Find(name);
     if (!spec)
       throw std::runtime_error(where + "'" + name + "' is not a " + schema.kind + " parameter" +
@@ -97,8 +123,8 @@ ParameterSet ParameterSet::Parse(const std::string& text, const std::string& sou
     if (*value < spec->min || *value > spec->max)
       throw std::runtime_error(where + name + " = " + value_s + " is outside [" + Format(spec->min) + ", " +
                                Format(spec->max) + "] " + spec->unit);
-    if (!set.params_.emplace(name, FromSpec(*spec, *value)).second)
-      throw std::runtime_error(where + name + " is set twice");
+    if (!set_here.insert(name).second) throw std::runtime_error(where + name + " is set twice");
+    set.params_.insert_or_assign(name, FromSpec(*spec, *value));
   }
   for (const auto& s : schema.specs) {
     if (set.params_.count(s.name)) continue;

@@ -82,7 +82,6 @@ const std::vector<Signal<VehicleState>>& VehicleStateSignals() {
       {{"avoid", "avoid_state", "1", "", F::kAvoidState}, [](const S& s) { return double(static_cast<int>(s.avoid_state)); }},
       {{"avoid_speed", "avoid_speed_limit_m_s", "m/s", "N", F::kSpeed}, [](const S& s) { return s.avoid_speed_limit_m_s; }},
       {{"replan_ms", "replan_ms", "ms", "", F::kMilliseconds}, [](const S& s) { return s.replan_ms; }},
-      {{"clearance_m", "sim_clearance_m", "m", "truth", F::kMetres}, [](const S& s) { return s.sim_clearance_m; }},
       // U-Lion (thesis 2.6): the airframe, the tail-sitter's mode and its air data.
       {{"vehicle", "vehicle_type", "1", "", F::kVehicleType}, [](const S& s) { return double(static_cast<int>(s.vehicle_type)); }},
       {{"vtol_mode", "vtol_mode", "1", "", F::kVtolMode}, [](const S& s) { return double(static_cast<int>(s.vtol_mode)); }},

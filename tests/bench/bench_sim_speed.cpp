@@ -10,8 +10,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include "uav/app/lockstep_scheduler.hpp"
-#include "uav/app/workers.hpp"
+#include "uav/runtime/lockstep_scheduler.hpp"
+#include "uav/runtime/workers.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/process_memory.hpp"
 #include "uav/sim/sim_vehicle.hpp"
@@ -28,17 +28,17 @@ int main(int argc, char** argv) {
   std::vector<double> wall;
   for (int r = 0; r < repeats; ++r) {
     uav::sim::SimVehicle vehicle(params, {1.2966, 103.7764, 15.0}, 0);
-    uav::app::Blackboard board;
-    uav::app::ImuWorker imu(vehicle, board, uav::nav::InsParams::FromParameters(params), {1.2966, 103.7764, 15.0});
-    uav::app::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
+    uav::runtime::Blackboard board;
+    uav::runtime::ImuWorker imu(vehicle, board, uav::nav::InsParams::FromParameters(params), {1.2966, 103.7764, 15.0});
+    uav::runtime::ControlWorker ctl(uav::control::TaskParams::FromParameters(params),
                                 uav::control::ControllerParams::FromParameters(params),
                                 uav::control::FailsafeParams::FromParameters(params), 0.02, board);
-    uav::app::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"),
+    uav::runtime::ServoWorker svo(vehicle, board, params.Get("rotor_input_idle"),
                               uav::hal::VehicleParams::FromParameters(params).attitude_mode);
     const char* plan[] = {"arm", "takeoff 10", "goto 30 0 10", "goto 30 30 10", "goto 0 30 10", "goto 0 0 10"};
     int next = 0;
     int64_t seq = 0;
-    uav::app::LockstepScheduler s({0, 2000, 0.0, static_cast<int64_t>(sim_s * 1e6)});
+    uav::runtime::LockstepScheduler s({0, 2000, 0.0, static_cast<int64_t>(sim_s * 1e6)});
     s.AddWorker("IMU", 0, 20000, [&](int64_t t) { imu.Tick(t); });
     s.AddWorker("CTL", 1, 20000, [&](int64_t t) { ctl.Tick(t); });
     s.AddWorker("SVO", 2, 20000, [&](int64_t t) {

@@ -24,7 +24,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/stitching.hpp>
 
-#include "uav/app/camera_worker.hpp"
+#include "uav/runtime/camera_worker.hpp"
 #include "uav/shared/progress_bar.hpp"
 #include "uav/sim/sim_cameras.hpp"
 #include "uav/world/scene.hpp"
@@ -81,15 +81,15 @@ void FlySurvey(const uav::world::Scene& scene, int frames, int line_frames, cons
   k.height = 540;
   k.cx = (k.width - 1) / 2.0;
   k.cy = (k.height - 1) / 2.0;
-  uav::app::Blackboard board;
-  board.Update([](uav::app::BlackboardData& d) { d.capture_interval_s = 0.2; });
-  uav::app::CameraWorker::Options options;
+  uav::runtime::Blackboard board;
+  board.Update([](uav::runtime::BlackboardData& d) { d.capture_interval_s = 0.2; });
+  uav::runtime::CameraWorker::Options options;
   options.capture_dir = dir;
   options.home.latitude_deg = 52.2383;
   options.home.longitude_deg = 4.5234;
   Eigen::Isometry3d T_NB = Eigen::Isometry3d::Identity();
   uav::sim::SimCamera camera(scene, setup, [&](int64_t) { return T_NB; });
-  uav::app::CameraWorker worker(camera, board, options);
+  uav::runtime::CameraWorker worker(camera, board, options);
   const int turn_frames = 8;  // 24 m across at 3 m per frame
   Eigen::Vector2d p(-0.5 * line_frames, -120);
   double direction = 1;
@@ -99,7 +99,7 @@ void FlySurvey(const uav::world::Scene& scene, int frames, int line_frames, cons
     const int in_cycle = i % (line_frames + turn_frames);
     T_NB.linear() = uav::RotationNBFromEuler({0, 0, direction > 0 ? 0.0 : M_PI});
     T_NB.translation() = Eigen::Vector3d(p.x(), p.y(), -40);
-    board.Update([&](uav::app::BlackboardData& d) {
+    board.Update([&](uav::runtime::BlackboardData& d) {
       d.estimate.p_N = T_NB.translation();
       d.estimate.euler = uav::EulerFromRotationNB(T_NB.linear());
     });

@@ -6,7 +6,7 @@
 
 #include "fuzz_input.hpp"
 #include "uav/wire/messages.hpp"
-#include "uav/app/command_intake.hpp"
+#include "uav/runtime/command_intake.hpp"
 #include "uav/wire/bus.hpp"
 #include "uav/shared/file_transfer.hpp"
 #include "uav/wire/signed_message.hpp"
@@ -44,7 +44,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       uavmsg::command_t m;
       if (!uav::DecodeDatagram(p, n, &m)) return 0;
       Admit(m, m.source);
-      uav::app::CommandIntake intake("UAV1");
+      uav::runtime::CommandIntake intake("UAV1");
       (void)intake.Receive(m.header.vehicle_id, m.source, m.command_seq, m.text);
       break;
     }

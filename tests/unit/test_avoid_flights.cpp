@@ -14,12 +14,14 @@
 
 #include <gtest/gtest.h>
 
-#include "uav/app/sim_flight.hpp"
+#include "uav/simflight/sim_flight.hpp"
 #include "uav/shared/command_grammar.hpp"
 #include "uav/world/scene.hpp"
 
-namespace uav::app {
+namespace uav::runtime {
 namespace {
+
+using simflight::SimFlight;
 
 constexpr double kAltitude = 4.0;  // [m] the flights'
 
@@ -226,7 +228,7 @@ TEST(AvoidanceFlight, ACameraThatFailsMidFlightBrakesHoldsAndReturnsOnTheMap) {
   const Flown f = FlyTo(scene, {40, 0, kAltitude}, 120, [&](double, SimFlight& flight) {
     const Eigen::Vector3d p = flight.vehicle().Truth().p_N;
     if (!failed && p.x() > 18.0) {
-      flight.sensing()->SetStereoFailed(0, true);
+      flight.rig()->SetStereoFailed(0, true);
       failed = true;
       failed_at_north = p.x();
     }
@@ -242,6 +244,69 @@ TEST(AvoidanceFlight, ACameraThatFailsMidFlightBrakesHoldsAndReturnsOnTheMap) {
   EXPECT_LT(f.end_N.head<2>().norm(), 2.0) << "landed at home";
   EXPECT_LT(f.max_north, failed_at_north + 6.0) << "stopped soon after the failure";
   EXPECT_GE(f.min_clearance, 0.5);
+}
+
+// Parameters as data: every parameter that may change in flight (its schema row says so) is
+// changed over the link, one after another, on a vehicle whose obstacle pair sees a pole; after
+// each, every reader has taken it (the IMU thread's land detector, every vision worker, the
+// avoidance planner; the control thread is the writer), and obs_margin reaches both the
+// obstacle worker (the clearance the GCS draws) and the planner (the clearance it keeps).
+TEST(LiveParameters, EveryInFlightChangeReachesEveryReader) {
+  const world::Scene scene = SceneWith(R"([
+    {"type": "cylinder", "kind": "pole", "base_ned": [6, 0, 0], "radius_m": 0.3, "height_m": 8, "material": "concrete"}])");
+  const ParameterSet params = AvoidanceParameters(false);
+  std::vector<std::pair<std::string, double>> changes;
+  for (const ParameterSpec& spec : VehicleParameterSchema().specs) {
+    if (spec.apply != ParamApply::kInFlight) continue;
+    const double v = params.Get(spec.name);
+    const bool integral = v == std::floor(v) && spec.min == std::floor(spec.min) && spec.max == std::floor(spec.max);
+    // A step toward the middle of its range: valid on its own, and small enough to keep the
+    // cross-checks (a land threshold under the return one) true.
+    const double mid = (spec.min + spec.max) / 2;
+    double changed = integral ? v + (mid > v ? 1 : -1) : v + 0.05 * (mid - v);
+    if (spec.name == "obs_margin") changed = 1.25;
+    if (changed != v) changes.emplace_back(spec.name, changed);
+  }
+  ASSERT_GT(changes.size(), 50u);
+  SimFlight flight(params, {{1.2966, 103.7764, 15}, 0, 0.0, 0.2 * static_cast<double>(changes.size() + 2), &scene, "", nullptr});
+  flight.control().ServeParameters(params);
+  Blackboard& board = flight.board();
+  int64_t seq = 0;
+  std::size_t next = 0;
+  std::vector<std::string> missed, refused;
+  std::map<int64_t, std::string> sent;  // seq -> name
+  double obstacle_margin_reported = -1;
+  flight.Run([&](int64_t utime) {
+    for (const CommandAck& a : board.task_reports.TakeAll())
+      if (a.result == CommandResult::kRejected) refused.push_back(sent[a.command_seq] + ": " + a.reason);
+    if (auto o = board.reports.Take<Obstacles>(); o && !o->obstacles.empty())
+      obstacle_margin_reported = o->obstacles[0].safety_radius_m - o->obstacles[0].radius_m;
+    if (utime % 200'000 != 0) return;
+    // The last change, 0.2 s on: every reader has its version.
+    const int64_t version = board.Snapshot().params_version;
+    if (next > 0) {
+      const std::string& name = changes[next - 1].first;
+      if (flight.imu().params_version() != version) missed.push_back(name + " (IMU)");
+      for (const auto& [worker, v] : flight.sensing()->ParameterVersions())
+        if (v != version) missed.push_back(name + " (" + worker + " has " + std::to_string(v) + " of " + std::to_string(version) + ")");
+    }
+    if (next < changes.size()) {
+      char text[128];
+      std::snprintf(text, sizeof text, "param %s %.6g", changes[next].first.c_str(), changes[next].second);
+      const ParseResult cmd = ParseCommand(text);
+      ASSERT_TRUE(cmd.ok()) << text << ": " << cmd.error;
+      sent[++seq] = changes[next].first;
+      board.commands.Push({"test", seq, *cmd.command});
+      ++next;
+    }
+  });
+  EXPECT_EQ(next, changes.size());
+  EXPECT_TRUE(refused.empty()) << ::testing::PrintToString(refused);
+  EXPECT_TRUE(missed.empty()) << ::testing::PrintToString(missed);
+  EXPECT_EQ(board.Snapshot().params_version, static_cast<int64_t>(changes.size()));
+  EXPECT_DOUBLE_EQ(flight.sensing()->ObstacleMargin(), 1.25);
+  EXPECT_DOUBLE_EQ(flight.sensing()->PlannerMargin(), 1.25);
+  EXPECT_NEAR(obstacle_margin_reported, 1.25, 1e-9) << "the obstacles the GCS draws carry the new margin";
 }
 
 // Seeded obstacle fields (the scene generator obstacle_field, as uav-avoid-bench flies them, 60 m
@@ -279,4 +344,4 @@ INSTANTIATE_TEST_SUITE_P(Densities, AvoidanceField,
                          [](const auto& info) { return "per_m2_1_in_" + std::to_string(std::lround(1.0 / info.param.first)); });
 
 }  // namespace
-}  // namespace uav::app
+}  // namespace uav::runtime

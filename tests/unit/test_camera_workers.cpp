@@ -10,13 +10,13 @@
 #include <opencv2/core/utility.hpp>
 
 #include "uav/sim/sim_cameras.hpp"
-#include "uav/app/active_stereo_worker.hpp"
-#include "uav/app/camera_worker.hpp"
-#include "uav/app/stereo_worker.hpp"
-#include "uav/app/track_worker.hpp"
+#include "uav/runtime/active_stereo_worker.hpp"
+#include "uav/runtime/camera_worker.hpp"
+#include "uav/runtime/stereo_worker.hpp"
+#include "uav/runtime/track_worker.hpp"
 #include "uav/world/renderer.hpp"
 
-namespace uav::app {
+namespace uav::runtime {
 namespace {
 
 #if defined(__SANITIZE_THREAD__)
@@ -468,4 +468,4 @@ TEST(TrackWorker, TracksThePickedTargetCentresItAndPlacesItOnTheGround) {
 }
 
 }  // namespace
-}  // namespace uav::app
+}  // namespace uav::runtime

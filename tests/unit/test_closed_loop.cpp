@@ -9,14 +9,14 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "uav/app/camera_worker.hpp"
-#include "uav/app/lockstep_scheduler.hpp"
-#include "uav/app/mono_depth_worker.hpp"
-#include "uav/app/track_worker.hpp"
-#include "uav/app/vo_worker.hpp"
-#include "uav/app/flight_log.hpp"
-#include "uav/app/mission_store.hpp"
-#include "uav/app/workers.hpp"
+#include "uav/runtime/camera_worker.hpp"
+#include "uav/runtime/lockstep_scheduler.hpp"
+#include "uav/runtime/mono_depth_worker.hpp"
+#include "uav/runtime/track_worker.hpp"
+#include "uav/runtime/vo_worker.hpp"
+#include "uav/runtime/flight_log.hpp"
+#include "uav/runtime/mission_store.hpp"
+#include "uav/runtime/workers.hpp"
 #include "uav/shared/manual_control.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/text_file.hpp"
@@ -26,7 +26,7 @@
 #include "uav/sysid/system_identification.hpp"
 #include "uav/waypoints/stored_paths.hpp"
 
-namespace uav::app {
+namespace uav::runtime {
 namespace {
 
 class ClosedLoop : public ::testing::Test {
@@ -1512,4 +1512,4 @@ INSTANTIATE_TEST_SUITE_P(Methods, VoRectangle,
                          [](const auto& info) { return std::string(info.param.method); });
 
 }  // namespace
-}  // namespace uav::app
+}  // namespace uav::runtime

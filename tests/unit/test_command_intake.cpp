@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
-#include "uav/app/command_intake.hpp"
+#include "uav/runtime/command_intake.hpp"
 
-namespace uav::app {
+namespace uav::runtime {
 namespace {
 
 TEST(CommandIntake, ValidCommandBecomesARequest) {
@@ -50,4 +50,4 @@ TEST(CommandIntake, MemoryIsBounded) {
 }
 
 }  // namespace
-}  // namespace uav::app
+}  // namespace uav::runtime

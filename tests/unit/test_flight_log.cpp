@@ -5,9 +5,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "uav/app/flight_log.hpp"
+#include "uav/runtime/flight_log.hpp"
 
-namespace uav::app {
+namespace uav::runtime {
 namespace {
 
 TEST(FlightLog, HeaderNamesTable23SignalsAndRowsMatchIt) {
@@ -108,4 +108,4 @@ TEST(FlightLog, UnwritableDirectoryNamesThePath) {
 }
 
 }  // namespace
-}  // namespace uav::app
+}  // namespace uav::runtime

@@ -8,9 +8,9 @@
 #include <utility>
 #include <vector>
 
-#include "uav/app/lockstep_scheduler.hpp"
+#include "uav/runtime/lockstep_scheduler.hpp"
 
-namespace uav::app {
+namespace uav::runtime {
 namespace {
 
 TEST(LockstepScheduler, StagesRunInOrderAtTheirPeriods) {
@@ -184,4 +184,4 @@ TEST(LockstepScheduler, AStalledWorkerIsReportedAndTheClockCarriesOn) {
 }
 
 }  // namespace
-}  // namespace uav::app
+}  // namespace uav::runtime

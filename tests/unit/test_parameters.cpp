@@ -17,7 +17,7 @@ const ParameterSchema& TestSchema() {
       {"mass", "kg", 1.37, 0.1, 50, "total mass"},
       {"wind", "m/s", 0, 0, 20, "steady wind"},
       {"focal", "mm", std::nullopt, 0.1, 1000, "lens focal length"},
-      {"cx", "px", std::nullopt, 0, 20000, "principal point", true},
+      {"cx", "px", std::nullopt, 0, 20000, "principal point", ParamApply::kAtStart, true},
   }};
   return kSchema;
 }
@@ -136,9 +136,49 @@ TEST(Parameters, ShippedVehicleFilesLoadAndSetEveryDeclaredParameter) {
   EXPECT_DOUBLE_EQ(heavy.Get("attitude_mode"), 2);
 }
 
+// A variant lists only what differs: "include BASE" first, found beside the file; the variant's
+// own values win and are named as its own; a value set twice in one file, an include after a
+// setting, a missing base and an include cycle are refused, named.
+TEST(Parameters, AVariantIncludesItsBaseAndListsOnlyWhatDiffers) {
+  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "uav_include";
+  std::filesystem::create_directories(dir / "variants");
+  std::ofstream(dir / "base.params") << "mass 2.0\nwind 3\nfocal 8\n";
+  std::ofstream(dir / "variants" / "windy.params") << "# a windier day\ninclude ../base.params\nwind 9  # gusty\n";
+  const auto windy = ParameterSet::LoadFile((dir / "variants" / "windy.params").string(), TestSchema());
+  EXPECT_DOUBLE_EQ(windy.Get("mass"), 2.0);
+  EXPECT_DOUBLE_EQ(windy.Get("wind"), 9.0);
+  EXPECT_EQ(windy.Describe("mass"), "mass 2 (base.params)");
+  EXPECT_EQ(windy.Describe("wind"), "wind 9 (windy.params)");
+  auto refused = [&](const std::string& text) {
+    std::ofstream(dir / "bad.params") << text;
+    try {
+      ParameterSet::LoadFile((dir / "bad.params").string(), TestSchema());
+      return std::string("accepted");
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_NE(refused("include base.params\nwind 1\nwind 2\n").find("bad.params:3: wind is set twice"), std::string::npos);
+  EXPECT_NE(refused("wind 1\ninclude base.params\n").find("bad.params:2: include must come first"), std::string::npos);
+  EXPECT_NE(refused("include nowhere.params\n").find("nowhere.params"), std::string::npos);
+  EXPECT_NE(refused("include bad.params\n").find("nested more than 8 deep"), std::string::npos);
+  // The shipped variants are their base and a few lines.
+  const std::string vehicles = std::string(UAV_RESOURCE_DIR) + "/vehicles/";
+  const auto x650 = ParameterSet::LoadFile(vehicles + "x650.params", VehicleParameterSchema());
+  for (const char* variant : {"x650_heavy_gyro.params", "x650_whole_suite.params"}) {
+    const auto v = ParameterSet::LoadFile(vehicles + variant, VehicleParameterSchema());
+    int differ = 0;
+    for (const auto& [name, param] : v.all()) differ += param.value != x650.Get(name);
+    EXPECT_GT(differ, 0) << variant;
+    EXPECT_LE(differ, 8) << variant;
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Parameters, ShippedCameraFilesLoad) {
   int n = 0;
   for (const auto& e : std::filesystem::directory_iterator(std::string(UAV_RESOURCE_DIR) + "/cameras")) {
+    if (e.path().extension() != ".camera") continue;  // OpenCV calibrations beside them (rig files)
     const auto p = ParameterSet::LoadFile(e.path().string(), CameraParameterSchema());
     EXPECT_GT(p.Get("focal_length_mm"), 0) << e.path();
     ++n;

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "uav/wire/messages.hpp"
-#include "uav/app/command_intake.hpp"
+#include "uav/runtime/command_intake.hpp"
 #include "uav/wire/signed_message.hpp"
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
@@ -33,7 +33,7 @@ TEST_P(SignedCommandsThroughRelay, EachRunsOnceAndNoRecordedMessageRunsAgain) {
   auto wall_us = [&](double t) { return kStartUs + static_cast<int64_t>(t * 1e6); };
   MessageSigner gcs(key, 0);
   SignatureVerifier vehicle(key, "UAV1", SigningTimestamp(kStartUs));
-  app::CommandIntake intake("UAV1");
+  runtime::CommandIntake intake("UAV1");
   LossyLink<uavmsg::command_t> up(link.loss, link.duplicate, link.max_delay_s, 7);
   LossyLink<int64_t> down(link.loss, link.duplicate, link.max_delay_s, 8);  // acknowledged command_seq
   LossyLink<uavmsg::heartbeat_t> heartbeats(link.loss, link.duplicate, link.max_delay_s, 9);

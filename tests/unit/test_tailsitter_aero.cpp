@@ -9,9 +9,9 @@
 
 #include <gtest/gtest.h>
 
-#include "uav/hal/tailsitter_aero.hpp"
+#include "uav/airframe/tailsitter_aero.hpp"
 
-namespace uav::hal {
+namespace uav::airframe {
 namespace {
 
 constexpr double kRho = 1.225;   // [kg/m^3] sea level
@@ -162,4 +162,4 @@ TEST(TailSitterAero, AnInconsistentWingIsRefusedNamingTheEntry) {
 }
 
 }  // namespace
-}  // namespace uav::hal
+}  // namespace uav::airframe

@@ -11,11 +11,13 @@
 
 #include <gtest/gtest.h>
 
-#include "uav/app/tailsitter_flight.hpp"
+#include "uav/simflight/tailsitter_flight.hpp"
 #include "uav/waypoints/survey.hpp"
 
-namespace uav::app {
+namespace uav::runtime {
 namespace {
+
+using simflight::TailSitterFlight;
 
 using control::TailSitterMode;
 
@@ -345,4 +347,4 @@ TEST(TailSitterFlight, HoldsAHoverInFiveMetresOfWindWithEightMetreGusts) {
 }
 
 }  // namespace
-}  // namespace uav::app
+}  // namespace uav::runtime

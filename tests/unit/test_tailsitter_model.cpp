@@ -101,12 +101,12 @@ Eigen::Vector3d LevelFlightResidual(const TailSitterModel& model, double speed, 
 TEST(TailSitterModel, TrimsInLevelFlightNearTheWingModelsTrim) {
   const TailSitterParams p = ULion();
   const TailSitterModel model(p);
-  hal::PowerModel power;
+  airframe::PowerModel power;
   power.mass_kg = p.mass_kg;
   power.disk_area_m2 = M_PI / 4 * p.rotor_diameter_m * p.rotor_diameter_m;
   power.parasite_drag_area_m2 = p.fuselage_axial_m2;
   for (double speed : {10.0, 14.0}) {
-    const hal::CruiseTrim wing_only = hal::TrimCruise(model.wing(), power, speed, p.air_density);
+    const airframe::CruiseTrim wing_only = airframe::TrimCruise(model.wing(), power, speed, p.air_density);
     ASSERT_TRUE(wing_only.found);
     // The whole airframe's trim (wing, tail, fin, canards, fuselage, propwash) by Newton's method.
     Eigen::Vector3d x(wing_only.alpha_rad, 0.0, wing_only.thrust_n);
@@ -185,7 +185,7 @@ TEST(TailSitterModel, TheSlidingBatteryMovesTheCgFiveToSixCentimetres) {
   EXPECT_LE(shift, 0.06);
   // The battery's belt is slow: it takes travel / speed to move, as the servo model limits it.
   TailSitterState t;
-  hal::TailSitterInputs in;
+  airframe::TailSitterInputs in;
   in.battery = 1;
   t.p_N.z() = -100;
   for (int i = 0; i < 100; ++i) model.Step(t, in, Eigen::Vector3d::Zero(), 0.01);

@@ -15,14 +15,14 @@
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
-#include "uav/app/camera_worker.hpp"
+#include "uav/runtime/camera_worker.hpp"
 #include "uav/shared/frames.hpp"
 #include "uav/shared/text_file.hpp"
 #include "uav/sim/sim_cameras.hpp"
 #include "uav/world/renderer.hpp"
 #include "uav/world/scene.hpp"
 
-namespace uav::app {
+namespace uav::runtime {
 namespace {
 
 std::string Slurp(const std::string& path) { return ReadTextFile(path, "output"); }
@@ -140,4 +140,4 @@ TEST(UavMonodepth, RefusesAFolderWithoutASessionByName) {
 }
 
 }  // namespace
-}  // namespace uav::app
+}  // namespace uav::runtime

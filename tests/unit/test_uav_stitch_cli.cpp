@@ -16,11 +16,11 @@
 #include "geotagged_jpeg.hpp"
 #include "uav/sim/sim_cameras.hpp"
 #include "uav/world/scene.hpp"
-#include "uav/app/camera_worker.hpp"
+#include "uav/runtime/camera_worker.hpp"
 #include "uav/shared/frames.hpp"
 #include "uav/shared/geodesy.hpp"
 
-namespace uav::app {
+namespace uav::runtime {
 namespace {
 
 std::string Slurp(const std::string& path) {
@@ -202,4 +202,4 @@ TEST(UavStitch, RefusesAFolderWithoutCaptures) {
 }
 
 }  // namespace
-}  // namespace uav::app
+}  // namespace uav::runtime

@@ -13,12 +13,14 @@
 
 #include <gtest/gtest.h>
 
-#include "uav/app/mission_store.hpp"
-#include "uav/app/sim_flight.hpp"
+#include "uav/runtime/mission_store.hpp"
+#include "uav/simflight/sim_flight.hpp"
 #include "uav/shared/command_grammar.hpp"
 
-namespace uav::app {
+namespace uav::runtime {
 namespace {
+
+using simflight::SimFlight;
 
 ParameterSet ULion() {
   return ParameterSet::LoadFile(std::string(UAV_RESOURCE_DIR) + "/vehicles/ulion.params", VehicleParameterSchema());
@@ -298,4 +300,4 @@ TEST(ULionOnboard, TransitionsAreRefusedWithTheReason) {
 }
 
 }  // namespace
-}  // namespace uav::app
+}  // namespace uav::runtime

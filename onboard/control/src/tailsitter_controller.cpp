@@ -84,7 +84,7 @@ double TailSitterController::TurnRadius() const {
 TailSitterControlParams TailSitterControlParams::FromParameters(const ParameterSet& p) {
   TailSitterControlParams c;
   static_cast<PositionLoopParams&>(c) = PositionLoopParams::FromParameters(p);
-  c.vehicle = hal::TailSitterParams::FromParameters(p);
+  c.vehicle = airframe::TailSitterParams::FromParameters(p);
   c.att_gain = p.Get("ts_att_gain");
   c.rate_gain = p.Get("ts_rate_gain");
   c.att_int = p.Get("ts_att_int");
@@ -105,11 +105,11 @@ TailSitterControlParams TailSitterControlParams::FromParameters(const ParameterS
 TailSitterController::TailSitterController(const TailSitterControlParams& params)
     : p_(params), wing_(params.vehicle.wing, params.vehicle.wing_coefficients) {
   const auto& v = p_.vehicle;
-  hal::PowerModel power;
+  airframe::PowerModel power;
   power.mass_kg = v.mass_kg;
   power.disk_area_m2 = kPi / 4 * v.rotor_diameter_m * v.rotor_diameter_m;
   power.parasite_drag_area_m2 = v.fuselage_axial_m2;
-  const hal::CruiseTrim trim = hal::TrimCruise(wing_, power, p_.cruise_speed, v.air_density);
+  const airframe::CruiseTrim trim = airframe::TrimCruise(wing_, power, p_.cruise_speed, v.air_density);
   if (!trim.found || trim.alpha_rad > wing_.MaxLiftAlphaRad())
     throw std::invalid_argument("ts_cruise_speed " + std::to_string(p_.cruise_speed) +
                                 " m/s: the wing cannot carry the weight below its stall angle (stall speed " +
@@ -190,7 +190,7 @@ double TailSitterController::transition_progress() const {
 Eigen::Vector3d TailSitterController::PropwashLift_B(double thrust_n) const {
   const auto& v = p_.vehicle;
   const double disk = kPi / 4 * v.rotor_diameter_m * v.rotor_diameter_m;
-  const double wash = hal::SlipstreamSpeed(std::max(0.0, thrust_n), disk, v.air_density);
+  const double wash = airframe::SlipstreamSpeed(std::max(0.0, thrust_n), disk, v.air_density);
   const double washed_area = std::min(v.SlipstreamDiameter(), v.wing.span_m) * v.wing.chord_m;
   return Eigen::Vector3d(0, 0, -0.5 * v.air_density * wash * wash * washed_area * wing_.At(0.0).lift);
 }
@@ -233,7 +233,7 @@ double TailSitterController::AltitudeThrust(const hal::VehicleEstimate& est, dou
   return std::max(0.0, (vertical - lift) / std::max(0.2, std::sin(pitch)));
 }
 
-hal::TailSitterInputs TailSitterController::Attitude(const hal::VehicleEstimate& est, const Eigen::Matrix3d& R_d,
+airframe::TailSitterInputs TailSitterController::Attitude(const hal::VehicleEstimate& est, const Eigen::Matrix3d& R_d,
                                                      const Eigen::Vector3d& w_d_B, double thrust_n, double airspeed,
                                                      double dt, double boost_limit_n) {
   const auto& v = p_.vehicle;
@@ -259,7 +259,7 @@ hal::TailSitterInputs TailSitterController::Attitude(const hal::VehicleEstimate&
     double aileron, canard, rotor, elevator, gimbal;
   };
   const auto effectiveness = [&](double thrust) {
-    const double wash = hal::SlipstreamSpeed(std::max(0.0, thrust), disk, rho, V) - V;
+    const double wash = airframe::SlipstreamSpeed(std::max(0.0, thrust), disk, rho, V) - V;
     const double q_wash = 0.5 * rho * (V + wash) * (V + wash);
     Effectiveness k;
     k.aileron = 2 * tau_d * wing_.LiftSlopePerRad() * v.wing.chord_m *
@@ -286,7 +286,7 @@ hal::TailSitterInputs TailSitterController::Attitude(const hal::VehicleEstimate&
   // Least-norm share per axis: u_i = k_i M / sum k^2.
   const double sx = k.aileron * k.aileron + k.canard * k.canard + k.rotor * k.rotor;
   const double sy = k.gimbal * k.gimbal + k.elevator * k.elevator;
-  hal::TailSitterInputs u;
+  airframe::TailSitterInputs u;
   u.aileron = std::clamp(k.aileron * moment.x() / sx, -1.0, 1.0);
   u.canard = std::clamp(k.canard * moment.x() / sx, -1.0, 1.0);
   u.rotor_torque = std::clamp(k.rotor * moment.x() / sx, -1.0, 1.0);
@@ -298,7 +298,7 @@ hal::TailSitterInputs TailSitterController::Attitude(const hal::VehicleEstimate&
   return u;
 }
 
-hal::TailSitterInputs TailSitterController::Update(const hal::VehicleEstimate& est, double airspeed,
+airframe::TailSitterInputs TailSitterController::Update(const hal::VehicleEstimate& est, double airspeed,
                                                    const TailSitterSetpoint& sp, double dt) {
   const auto& v = p_.vehicle;
   const Eigen::Matrix3d R = est.q_NB.toRotationMatrix();
@@ -307,7 +307,7 @@ hal::TailSitterInputs TailSitterController::Update(const hal::VehicleEstimate& e
   // A new hover setpoint releases the hold a back transition or an abort took.
   if (hold_set_ && (sp.p_N - hold_released_by_).norm() > 1e-6 && mode_ == TailSitterMode::kHover) hold_set_ = false;
   if (!hold_set_) hold_released_by_ = sp.p_N;
-  hal::TailSitterInputs u;
+  airframe::TailSitterInputs u;
   switch (mode_) {
     case TailSitterMode::kHover: {
       const Eigen::Vector3d target = hold_set_ ? hold_N_ : sp.p_N;

@@ -243,11 +243,6 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
     reports->push_back({req.source, req.seq, req.command.Name(), AckResult::kCompleted, 100, ""});
   };
   const Command& c = req.command;
-  // A simulator fault changes the world, not what the vehicle does: no failsafe refuses it.
-  if (c.id == CommandId::kGps) {
-    sim_gps_enabled_ = c.args[0] != 0;
-    return instant();
-  }
   // Emergency stop: the motors off at once, wherever the vehicle is. Nothing refuses it (not a
   // failsafe, not the RC switch) but a vehicle whose motors are already off.
   if (c.id == CommandId::kEmergencyStop) {
@@ -382,7 +377,7 @@ void TaskManager::Submit(const CommandRequest& req, const VehicleEstimate& est, 
       setpoint_ = first.setpoint;
       return Begin(Task::kFollow, req, est, t, reports);
     }
-    case CommandId::kGps:
+    case CommandId::kGps:  // a simulator fault: the control thread hands it to the simulator
     case CommandId::kEmergencyStop:
     case CommandId::kParam:  // the control thread sets parameters before commands reach here
       return;
@@ -495,7 +490,6 @@ TaskManager::Output TaskManager::Update(const VehicleEstimate& est, double t,
         est.altitude() < p_.land_slow_alt ? p_.land_speed / 3.0 : p_.land_speed;
   }
   Output o;
-  o.sim_gps_enabled = sim_gps_enabled_;
   if (chirp_.channel != ServoChannel::kNone) {
     const double elapsed = t - chirp_start_t_;
     if (task_ != Task::kHover || !airborne_) {

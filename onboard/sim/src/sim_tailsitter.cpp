@@ -8,7 +8,7 @@
 namespace uav::sim {
 
 SimTailSitter::SimTailSitter(const ParameterSet& params, const GeodeticPoint& home, int64_t start_utime)
-    : model_(hal::TailSitterParams::FromParameters(params)),
+    : model_(airframe::TailSitterParams::FromParameters(params)),
       battery_capacity_ah_(params.Get("battery_capacity")),
       voltage_full_(params.Get("battery_voltage_full")),
       voltage_empty_(params.Get("battery_voltage_empty")),
@@ -34,7 +34,7 @@ void SimTailSitter::Step(int64_t dt_us) {
   const double T = state_.thrust_n;
   double electric_w = 0.0;
   if (T > 0.0) {
-    const double v_i = hal::InducedVelocity(T, power_.disk_area_m2, model_.params().air_density, u);
+    const double v_i = airframe::InducedVelocity(T, power_.disk_area_m2, model_.params().air_density, u);
     electric_w = (T * v_i / power_.figure_of_merit + T * u / power_.propulsive_efficiency) / power_.electrical_efficiency;
   }
   battery_used_ah_ += electric_w / (0.5 * (voltage_full_ + voltage_empty_)) * dt / 3600.0;
@@ -71,7 +71,7 @@ hal::SensorSample SimTailSitter::ReadSensors() {
 
 void SimTailSitter::WriteOutputs(const hal::OutputChannels& channels) {
   std::lock_guard<std::mutex> lock(mutex_);
-  inputs_ = hal::FromChannels(channels);
+  inputs_ = airframe::FromChannels(channels);
 }
 
 BodyTruth SimTailSitter::Truth() const {

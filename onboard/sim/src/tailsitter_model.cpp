@@ -12,8 +12,8 @@ constexpr double kPi = 3.14159265358979323846;
 
 // A symmetric section of small aspect ratio (tail, fin, canards): NACA 0009-like, stalls later
 // than the wing (Hoerner, Fluid-Dynamic Lift, low aspect ratio), a flat plate broadside.
-hal::WingCoefficients SymmetricSection() {
-  hal::WingCoefficients c;
+airframe::WingCoefficients SymmetricSection() {
+  airframe::WingCoefficients c;
   c.section_lift_slope_per_rad = 2 * kPi * 0.9;
   c.zero_lift_alpha_rad = 0.0;
   c.stall_alpha_rad = 0.26;
@@ -23,7 +23,7 @@ hal::WingCoefficients SymmetricSection() {
   return c;
 }
 
-hal::WingGeometry Rectangle(double area, double span) { return {area, span, area / span}; }
+airframe::WingGeometry Rectangle(double area, double span) { return {area, span, area / span}; }
 
 // First-order servo with a rate limit: the derivative toward `cmd`.
 double Servo(double cmd, double x, double tau, double rate) { return std::clamp((cmd - x) / tau, -rate, rate); }
@@ -55,7 +55,7 @@ TailSitterAirData TailSitterModel::AirData(const TailSitterState& s, const Eigen
   a.airspeed_mps = a.air_B.norm();
   a.alpha_rad = std::atan2(a.air_B.z(), a.air_B.x());
   const double axial = std::max(0.0, a.air_B.x());
-  a.slipstream_mps = s.thrust_n > 0 ? hal::SlipstreamSpeed(s.thrust_n, kPi / 4 * p_.rotor_diameter_m * p_.rotor_diameter_m,
+  a.slipstream_mps = s.thrust_n > 0 ? airframe::SlipstreamSpeed(s.thrust_n, kPi / 4 * p_.rotor_diameter_m * p_.rotor_diameter_m,
                                                       p_.air_density, axial) - axial
                                     : 0.0;
   return a;

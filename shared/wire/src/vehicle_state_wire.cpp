@@ -88,7 +88,6 @@ VehicleState FromMessage(const uavmsg::vehicle_state_t& m) {
   s.avoid_state = need(AvoidStateFromWire(m.avoid_state), "avoid_state", m.avoid_state);
   s.avoid_speed_limit_m_s = m.avoid_speed_limit_m_s;
   s.replan_ms = m.replan_ms;
-  s.sim_clearance_m = m.sim_clearance_m;
   s.vehicle_type = need(VehicleTypeFromWire(m.vehicle_type), "vehicle_type", m.vehicle_type);
   s.vtol_mode = need(VtolModeFromWire(m.vtol_mode), "vtol_mode", m.vtol_mode);
   s.transition_progress = m.transition_progress;
@@ -136,7 +135,6 @@ void ToMessage(const VehicleState& s, uavmsg::vehicle_state_t* m) {
   m->avoid_state = static_cast<int8_t>(s.avoid_state);
   m->avoid_speed_limit_m_s = static_cast<float>(s.avoid_speed_limit_m_s);
   m->replan_ms = static_cast<float>(s.replan_ms);
-  m->sim_clearance_m = static_cast<float>(s.sim_clearance_m);
   m->vehicle_type = static_cast<int8_t>(s.vehicle_type);
   m->vtol_mode = static_cast<int8_t>(s.vtol_mode);
   m->transition_progress = static_cast<float>(s.transition_progress);

@@ -137,6 +137,12 @@ StereoObstacleDetector::StereoObstacleDetector(StereoObstacleDetector&&) noexcep
 
 const RectifiedGeometry& StereoObstacleDetector::geometry() const { return impl_->geometry; }
 const ObstacleParams& StereoObstacleDetector::params() const { return impl_->params; }
+void StereoObstacleDetector::SetSafetyMargin(double margin_m) {
+  ObstacleParams p = impl_->params;
+  p.safety_margin_m = margin_m;
+  p.Validate();
+  impl_->params = p;
+}
 const StereoErrorModel& StereoObstacleDetector::error_model() const { return impl_->model; }
 double StereoObstacleDetector::GateDepth() const { return impl_->gate_depth_m; }
 

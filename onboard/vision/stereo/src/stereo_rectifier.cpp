@@ -1,5 +1,6 @@
 #include "uav/vision/stereo_rectifier.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -67,6 +68,7 @@ struct StereoRectifier::Impl {
   RectifiedGeometry geometry;
   cv::Mat map_lx, map_ly, map_rx, map_ry;
   cv::Mat K1, D1, R1, P1, K2, D2, R2, P2;
+  bool already_rectified = false;  // the images pass as they are (no maps)
 };
 
 StereoRectifier::StereoRectifier(const StereoRig& rig) : impl_(std::make_unique<Impl>()) {
@@ -78,6 +80,24 @@ StereoRectifier::StereoRectifier(const StereoRig& rig) : impl_(std::make_unique<
   const double baseline = rig.T_LR.translation().norm();
   Require(baseline > 0.01 && baseline < 10.0, "baseline must be 0.01..10 m, got " + std::to_string(baseline));
   const cv::Size size(rig.left.width, rig.left.height);
+  // A pair already rectified (KITTI, EuRoC's rectified products, a calibrated camera's own
+  // output): the same pinhole both sides, no distortion, the right camera straight along x.
+  // Its images are used as they are: resampling them would only blur them.
+  const auto undistorted = [](const CameraIntrinsics& k) {
+    return std::all_of(k.distortion.begin(), k.distortion.end(), [](double d) { return d == 0.0; });
+  };
+  const Eigen::Vector3d t = rig.T_LR.translation();
+  if (undistorted(rig.left) && undistorted(rig.right) && rig.left.fx == rig.left.fy && rig.left.fx == rig.right.fx &&
+      rig.left.fy == rig.right.fy && rig.left.cx == rig.right.cx && rig.left.cy == rig.right.cy &&
+      rig.T_LR.linear().isIdentity(1e-12) && std::abs(t.y()) < 1e-9 * baseline && std::abs(t.z()) < 1e-9 * baseline && t.x() > 0) {
+    Impl& m = *impl_;
+    m.already_rectified = true;
+    m.K1 = m.P1 = m.K2 = m.P2 = CameraMatrix(rig.left);
+    m.D1 = m.D2 = Distortion(rig.left);
+    m.R1 = m.R2 = cv::Mat::eye(3, 3, CV_64F);
+    m.geometry = RectifiedGeometry::OfRectifiedPair(size.width, size.height, rig.left.fx, t.x(), rig.left.cx, rig.left.cy);
+    return;
+  }
   // OpenCV's convention: p_R = R p_L + T.
   const Eigen::Isometry3d T_RL = rig.T_LR.inverse();
   cv::Mat R, T;
@@ -134,6 +154,11 @@ void StereoRectifier::CheckPair(const cv::Mat& left, const cv::Mat& right) const
 void StereoRectifier::Rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat* left_rect, cv::Mat* right_rect) const {
   CheckPair(left, right);
   const Impl& m = *impl_;
+  if (m.already_rectified) {
+    *left_rect = left;
+    *right_rect = right;
+    return;
+  }
   cv::remap(left, *left_rect, m.map_lx, m.map_ly, cv::INTER_LINEAR);
   cv::remap(right, *right_rect, m.map_rx, m.map_ry, cv::INTER_LINEAR);
 }

@@ -1,6 +1,8 @@
 #pragma once
 // Parameters are data (PX4 style). The program declares each parameter once, with its unit,
-// limits, default and description (a ParameterSchema); a file sets values only:
+// limits, default, description and when a change may apply (a ParameterSchema); a file sets
+// values only, and a variant may start from a base and list what differs:
+//   include x650.params   # first, found beside this file
 //   name  value   # comment
 // Limits are the program's, never the file's: a file cannot widen them.
 #include <cstdint>
@@ -26,8 +28,8 @@ struct ParameterSpec {
   double min;
   double max;
   std::string description;
+  ParamApply apply = ParamApply::kAtStart;  // when a change over the link may take effect
   bool optional = false;  // without a default: may be left out (ParameterSet::Has says)
-  ParamApply apply = ParamApply::kAtStart;
 };
 
 struct ParameterSchema {

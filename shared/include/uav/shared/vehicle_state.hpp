@@ -51,7 +51,6 @@ struct VehicleState {
   AvoidState avoid_state = AvoidState::kOff;        // obstacle avoidance's safety layer
   double avoid_speed_limit_m_s = -1.0;              // [m/s] what the space seen free allows; < 0 off
   double replan_ms = -1.0;                          // [ms] the avoidance planner's last plan; < 0 none
-  double sim_clearance_m = -1.0;                    // [m] simulator's true clearance; < 0 none (hardware)
   VehicleType vehicle_type = VehicleType::kQuadrotor;
   VtolMode vtol_mode = VtolMode::kHover;            // a tail-sitter's; a quadrotor always hovers
   double transition_progress = 1.0;                 // [0..1] 1 when not transitioning

@@ -28,7 +28,7 @@
 
 #include "uav/control/position_loop_params.hpp"
 #include "uav/hal/navigation_estimate.hpp"
-#include "uav/hal/tailsitter_params.hpp"
+#include "uav/airframe/tailsitter_params.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/vehicle_enums.hpp"
 
@@ -42,7 +42,7 @@ using TailSitterMode = uav::VtolMode;
 enum class TransitionSchedule : int8_t { kLiftLimited = 0, kPx4Ramp = 1 };
 
 struct TailSitterControlParams : PositionLoopParams {
-  hal::TailSitterParams vehicle;  // the model the controller inverts
+  airframe::TailSitterParams vehicle;  // the model the controller inverts
   double att_gain, rate_gain, att_int, tilt_max;
   double cruise_speed, trans_airspeed, trans_pitch_rate, back_pitch_rate, trans_timeout, trans_alt_loss;
   double trans_min_alt, bank_max;
@@ -83,7 +83,7 @@ class TailSitterController {
   // mode it leaves, below ts_trans_min_alt, already transitioning).
   std::string StartTransition(bool to_wing, const hal::VehicleEstimate& est);
   // One control step of dt [s]. `airspeed_mps` is the pitot's reading along x_B.
-  hal::TailSitterInputs Update(const hal::VehicleEstimate& est, double airspeed_mps, const TailSitterSetpoint& sp,
+  airframe::TailSitterInputs Update(const hal::VehicleEstimate& est, double airspeed_mps, const TailSitterSetpoint& sp,
                                double dt);
 
   TailSitterMode mode() const { return mode_; }
@@ -109,7 +109,7 @@ class TailSitterController {
   double AvailableThrust(double airspeed_mps) const;
 
  private:
-  hal::TailSitterInputs Attitude(const hal::VehicleEstimate& est, const Eigen::Matrix3d& R_d, const Eigen::Vector3d& w_d_B,
+  airframe::TailSitterInputs Attitude(const hal::VehicleEstimate& est, const Eigen::Matrix3d& R_d, const Eigen::Vector3d& w_d_B,
                                  double thrust_n, double airspeed, double dt, double boost_limit_n);
   // Thrust [N] that holds the altitude reference with the wing's expected lift taken off.
   double AltitudeThrust(const hal::VehicleEstimate& est, double airspeed, double pitch, double h_ref, double dt);
@@ -122,7 +122,7 @@ class TailSitterController {
   void Enter(TailSitterMode m, const hal::VehicleEstimate& est);
 
   TailSitterControlParams p_;
-  hal::WingAerodynamics wing_;
+  airframe::WingAerodynamics wing_;
   double cruise_alpha_ = 0.0, cruise_thrust_ = 0.0;  // level-flight trim at cruise speed
   double stall_speed_ = 0.0;                         // on the wing alone, level [m/s]
   TailSitterMode mode_ = TailSitterMode::kHover;

@@ -98,7 +98,6 @@ class TaskManager {
     std::optional<double> capture_distance_m;   // ... or by distance
     ServoChannel chirp_channel = ServoChannel::kNone;  // system identification: add chirp_value
     double chirp_value = 0.0;                          // to this servo channel (Eq. 2.14)
-    bool sim_gps_enabled = true;  // simulator fault "gps 0|1": the simulated receiver has a fix
     std::string note;  // said once to the operator: why the vehicle disarmed on its own
     bool touched_down = false;  // on the ground after a landing's touchdown, until the next takeoff
   };
@@ -221,7 +220,6 @@ class TaskManager {
   TrackedTarget target_;
   std::unique_ptr<TargetFollower> follower_;  // while following
   TargetFollower::State follow_state_ = TargetFollower::State::kFollowing;
-  bool sim_gps_enabled_ = true;
   std::optional<ManualSticks> sticks_;
   std::string sticks_holding_;
   // Mission resume: the step of the uploaded mission (upload number resume_upload_) being flown

@@ -1,8 +1,9 @@
 #pragma once
 // What the vision threads see of the cameras: a mono camera and a stereo pair, each with its
-// calibration and mount, giving an image on request at the vehicle clock's time. The simulator
-// renders behind this interface (sim/sim_cameras.hpp), as the vehicle model sits behind
-// VehicleBackend; hardware drivers come later behind the same one. Included only by the camera
+// calibration and mount, giving an image on request at the vehicle clock's time. Three back-ends
+// sit behind it: the simulator's renderer (sim/sim_cameras.hpp), recordings
+// (runtime/recorded_sensors.hpp) and live devices (runtime/live_camera.hpp). A camera with no
+// usable image gives an empty one and says why in problem(). Included only by the camera
 // workers, so OpenCV stays out of the widely included headers.
 #include <cmath>
 #include <cstdint>
@@ -34,8 +35,11 @@ class Camera {
  public:
   virtual ~Camera() = default;
   virtual const CameraInfo& info() const = 0;
-  // The image exposed at `utime`.
+  // The image exposed at `utime` (empty when the camera has none: see problem()).
   virtual CameraFrame Capture(int64_t utime) = 0;
+  // Why the camera gives no usable image now ("" while it does): a device that stopped or
+  // stalled, a recording that ended, a frame that could not be read. Thread-safe.
+  virtual std::string problem() const { return ""; }
 };
 
 // A camera on a two-axis stabilised gimbal: the gimbal holds it level in roll and sets its pitch;
@@ -82,7 +86,10 @@ class StereoCamera {
   virtual const CameraInfo& right() const = 0;
   // Pose of the right camera in the left camera's frame (what a stereo matcher needs).
   Eigen::Isometry3d T_LR() const { return left().T_BC.inverse() * right().T_BC; }
+  // Empty images when the pair has none (see problem()).
   virtual StereoImages Capture(int64_t utime, Emitter emitter) = 0;
+  // As Camera::problem().
+  virtual std::string problem() const { return ""; }
 };
 
 }  // namespace uav::hal

@@ -56,7 +56,7 @@ inline Eigen::Vector3d SonarBeam_B(double mount_pitch_rad) {
 // The servo board's output channels, each in -1..1 (-1 also: a channel not wired). The quadrotor
 // uses the first four: the rotors M_1..M_4 directly, or the gyro's aileron, elevator, throttle and
 // rudder inputs (VehicleParams::attitude_mode; thesis 2.5, Fig. 2.21). U-Lion uses all eight
-// (hal::ToChannels in tailsitter_params.hpp).
+// (airframe::ToChannels in tailsitter_params.hpp).
 constexpr int kOutputChannels = 8;
 using OutputChannels = std::array<double, kOutputChannels>;
 inline OutputChannels UnwiredChannels() {

@@ -1,12 +1,12 @@
 #pragma once
 // U-Lion simulated behind the VehicleBackend interface: the tail-sitter model
-// (tailsitter_model.hpp) driven by the servo board's eight channels (hal::FromChannels), wind
+// (tailsitter_model.hpp) driven by the servo board's eight channels (airframe::FromChannels), wind
 // and gusts, a battery drained by the rotor's power (momentum theory), the INS box's sensors and
 // a pitot tube along x_B. Stands upright on its tail at home, the belly toward north.
 // Thread-safe: the sim driver steps it while the IMU and SVO threads read and write it.
 #include <mutex>
 
-#include "uav/hal/tailsitter_aero.hpp"
+#include "uav/airframe/tailsitter_aero.hpp"
 #include "uav/sim/sim_sensors.hpp"
 #include "uav/sim/simulated_vehicle.hpp"
 #include "uav/sim/tailsitter_model.hpp"
@@ -34,7 +34,7 @@ class SimTailSitter : public SimulatedVehicle {
  private:
   mutable std::mutex mutex_;
   TailSitterModel model_;
-  hal::PowerModel power_;
+  airframe::PowerModel power_;
   double battery_capacity_ah_, voltage_full_, voltage_empty_;
   SimSensors sensors_;
   WindModel wind_;

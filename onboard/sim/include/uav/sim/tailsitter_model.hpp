@@ -17,14 +17,14 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "uav/hal/tailsitter_params.hpp"
+#include "uav/airframe/tailsitter_params.hpp"
 
 namespace uav::sim {
 
-using hal::AeroCoefficients;
-using hal::TailSitterInputs;
-using hal::TailSitterParams;
-using hal::WingAerodynamics;
+using airframe::AeroCoefficients;
+using airframe::TailSitterInputs;
+using airframe::TailSitterParams;
+using airframe::WingAerodynamics;
 
 struct TailSitterState {
   Eigen::Vector3d p_N = Eigen::Vector3d::Zero();  // centre of gravity [m]

@@ -76,6 +76,9 @@ class StereoObstacleDetector {
 
   const RectifiedGeometry& geometry() const;
   const ObstacleParams& params() const;
+  // The margin kept beyond each obstacle's radius (obs_margin, changed in flight). Throws
+  // std::invalid_argument for a negative or non-finite margin. Not while Process runs.
+  void SetSafetyMargin(double margin_m);
   // The error model at matching resolution and the range gate it gives.
   const StereoErrorModel& error_model() const;
   double GateDepth() const;
