@@ -6,7 +6,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <sstream>
 #include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -79,13 +84,59 @@ inline CameraIntrinsics SmallIntrinsics() {
   return k;
 }
 
-// EuRoC's nanosecond timestamps at 20 Hz.
-inline int64_t EurocTime(int i) { return 1403636579763555584LL + i * 50'000'000LL; }
+// EuRoC's nanosecond timestamps, at KITTI's 10 Hz (the drive at its own speed).
+inline int64_t EurocTime(int i) { return 1403636579763555584LL + i * 100'000'000LL; }
+
+// KITTI's left camera poses as the body's in N (the camera looks along the body's x, the body
+// starts at the origin, level, heading north), and the time of frame i (10 Hz).
+inline std::vector<Eigen::Isometry3d> KittiBodyPoses_N() {
+  std::vector<Eigen::Isometry3d> T;
+  std::ifstream in(KittiDir() + "/poses.txt");
+  Eigen::Isometry3d T_BC = Eigen::Isometry3d::Identity();
+  T_BC.linear() << 0, 0, 1, 1, 0, 0, 0, 1, 0;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream l(line);
+    Eigen::Matrix<double, 3, 4> P;
+    for (int i = 0; i < 12; ++i) l >> P(i / 4, i % 4);
+    Eigen::Isometry3d T_C0C = Eigen::Isometry3d::Identity();
+    T_C0C.linear() = P.leftCols<3>();
+    T_C0C.translation() = P.col(3);
+    T.push_back(T_BC * T_C0C * T_BC.inverse());
+  }
+  return T;
+}
+
+// What an IMU on that body measures at 200 Hz (EuRoC's imu0/data.csv, ns) when frame i is at
+// EurocTime(i): the rate of the rotation between the truth's frames and the specific force of
+// the velocity's change between them (a_N minus gravity, in B), each held over its 0.1 s.
+inline void WriteKittiImu(const std::string& path, int frames) {
+  const std::vector<Eigen::Isometry3d> T = KittiBodyPoses_N();
+  std::ofstream csv(path);
+  csv.precision(12);
+  csv << "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y,w_RS_S_z,a_RS_S_x [m s^-2],a_RS_S_y,a_RS_S_z\n";
+  const double dt = 0.1;
+  for (int i = 0; i + 1 < frames; ++i) {
+    const Eigen::AngleAxisd d(T[i].linear().transpose() * T[i + 1].linear());
+    const Eigen::Vector3d w_B = d.axis() * d.angle() / dt;
+    const Eigen::Vector3d v0 = i > 0 ? Eigen::Vector3d((T[i].translation() - T[i - 1].translation()) / dt)
+                                     : Eigen::Vector3d((T[1].translation() - T[0].translation()) / dt);
+    const Eigen::Vector3d v1 = (T[i + 1].translation() - T[i].translation()) / dt;
+    const Eigen::Vector3d f_N = (v1 - v0) / dt - Eigen::Vector3d(0, 0, 9.80665);
+    for (int k = 0; k < 20; ++k) {
+      // The attitude within the step, for the specific force in B.
+      const Eigen::Matrix3d R = T[i].linear() * Eigen::AngleAxisd(d.angle() * k / 20.0, d.axis()).toRotationMatrix();
+      const Eigen::Vector3d f_B = R.transpose() * f_N;
+      csv << EurocTime(i) + k * 5'000'000LL << "," << w_B.x() << "," << w_B.y() << "," << w_B.z() << "," << f_B.x() << ","
+          << f_B.y() << "," << f_B.z() << "\n";
+    }
+  }
+}
 
 // A EuRoC/ASL folder (dir/mav0) of the first `frames` KITTI pairs: cam0/ cam1/ with data.csv and
 // sensor.yaml (the given resolution), and a ground truth that moves 0.1 m a frame along the
-// z-up world's y. Returns the mav0 path.
-inline std::string MakeEuroc(const std::string& dir, int frames, int width = 1226, int height = 370) {
+// z-up world's y (with `imu`: KITTI's own truth, and the IMU it implies in imu0/). Returns the
+// mav0 path.
+inline std::string MakeEuroc(const std::string& dir, int frames, int width = 1226, int height = 370, bool imu = false) {
   namespace fs = std::filesystem;
   const std::string mav0 = dir + "/mav0";
   const char* sides[] = {"/image_0/", "/image_1/"};
@@ -102,14 +153,29 @@ inline std::string MakeEuroc(const std::string& dir, int frames, int width = 122
     std::ofstream yaml(cam + "/sensor.yaml");
     yaml << "sensor_type: camera\ncomment: made from KITTI frames\nT_BS:\n  cols: 4\n  rows: 4\n  data: [0, 0, 1, 0.1,\n"
          << "         1, 0, 0, " << (c == 0 ? 0.0 : 0.537) << ",\n         0, 1, 0, 0,\n         0, 0, 0, 1]\n"
-         << "rate_hz: 20\nresolution: [" << width << ", " << height << "]\ncamera_model: pinhole\n"
+         << "rate_hz: 10\nresolution: [" << width << ", " << height << "]\ncamera_model: pinhole\n"
          << "intrinsics: [707.0912, 707.0912, 601.8873, 183.1104] #fu, fv, cu, cv\n"
          << "distortion_model: radial-tangential\ndistortion_coefficients: [0.0, 0.0, 0.0, 0.0]\n";
   }
   fs::create_directories(mav0 + "/state_groundtruth_estimate0");
   std::ofstream gt(mav0 + "/state_groundtruth_estimate0/data.csv");
+  gt.precision(12);
   gt << "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z []\n";
-  for (int i = 0; i < frames; ++i) gt << EurocTime(i) << ",4.0," << 2.0 + 0.1 * i << ",1.0,1,0,0,0\n";
+  if (!imu) {
+    for (int i = 0; i < frames; ++i) gt << EurocTime(i) << ",4.0," << 2.0 + 0.1 * i << ",1.0,1,0,0,0\n";
+    return mav0;
+  }
+  // The world R is z-up: a half turn about x from N.
+  const std::vector<Eigen::Isometry3d> T = KittiBodyPoses_N();
+  const Eigen::Matrix3d D = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  for (int i = 0; i < frames; ++i) {
+    const Eigen::Vector3d p = D * T[i].translation();
+    const Eigen::Quaterniond q(D * T[i].linear());
+    gt << EurocTime(i) << "," << p.x() << "," << p.y() << "," << p.z() << "," << q.w() << "," << q.x() << "," << q.y() << ","
+       << q.z() << "\n";
+  }
+  fs::create_directories(mav0 + "/imu0");
+  WriteKittiImu(mav0 + "/imu0/data.csv", frames);
   return mav0;
 }
 

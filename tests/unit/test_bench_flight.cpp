@@ -175,6 +175,42 @@ TEST(BenchFlightTest, TheOdometryWorkerOnARecordingGivesUavVosTrajectory) {
   EXPECT_NEAR(v.state->p_N.x(), truth.back().translation().z(), 1.0);
 }
 
+// A camera and IMU rig (EuRoC's layout, made of the real KITTI frames with the IMU their truth
+// implies): the bench takes its attitude from the IMU (levelled by gravity, the gyro integrated)
+// and its position from the odometry, which the IMU's attitude aids as in flight.
+TEST(BenchFlightTest, WithARecordedImuTheAttitudeIsTheImusAndThePositionTheOdometrys) {
+  TempDir dir("bench_imu");
+  MakeEuroc(dir.path(), 51, 1226, 370, /*imu=*/true);
+  const auto rig = RigFile::Parse(R"({"cameras": {"front": {"type": "euroc", "path": ")" + dir.path() +
+                                      R"("}}, "workers": {"odometry": "front"}, "pose": "imu"})",
+                                  "", "euroc.rig.json", kStart);
+  ASSERT_EQ(rig->pose_source(), RigFile::PoseSource::kImuOdometry);
+  EXPECT_THAT(rig->Describe(), HasSubstr("IMU (1000 samples)"));
+  BenchWithGcs b(*rig);
+  double worst_attitude_deg = 0;
+  int compared = 0;
+  b.each_period = [&](int64_t t) {
+    const BlackboardData d = b.bench.board().Snapshot();
+    if (d.estimate.utime == 0) return;  // levelling
+    const double err = Eigen::Quaterniond(rig->TruthAt(t).linear()).angularDistance(d.estimate.q_NB) * 180 / M_PI;
+    worst_attitude_deg = std::max(worst_attitude_deg, err);
+    ++compared;
+  };
+  b.bench.Run();
+  EXPECT_GT(compared, 200);  // 5 s at 50 Hz, less the 0.5 s of levelling
+  EXPECT_LT(worst_attitude_deg, 1.0) << "the IMU's attitude against the truth";
+  const gcs::VehicleModel& v = b.vehicle();
+  ASSERT_TRUE(v.state);
+  const auto& vo = v.reports.Get<VisualOdometryReport>().newest;
+  ASSERT_TRUE(vo);
+  EXPECT_TRUE(vo->healthy) << vo->reason;
+  // The odometry's position at the end of the 60 m drive: within 2 % of the distance.
+  const Eigen::Vector3d truth = rig->TruthAt(kStart + 5'000'000).translation();
+  std::printf("IMU attitude worst %.2f deg; the odometry's end %.2f m from the truth's after %.1f m\n", worst_attitude_deg,
+              (v.state->p_N - truth).norm(), truth.norm());
+  EXPECT_LT((v.state->p_N - truth).norm(), 0.02 * truth.norm()) << v.state->p_N.transpose() << " vs " << truth.transpose();
+}
+
 TEST(BenchFlightTest, ATargetPickedOnRecordedRealVideoIsTrackedOnboard) {
   // OTB's "jogging" as a recorded gimbal camera: the operator drags the first runner's box.
   TempDir dir("bench_track");

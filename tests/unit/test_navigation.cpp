@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <deque>
 
+#include "uav/nav/imu_attitude.hpp"
 #include "uav/nav/ins.hpp"
 #include "uav/shared/frames.hpp"
 #include "uav/shared/parameters.hpp"
@@ -129,6 +130,51 @@ TEST(WindModel, SteadyWindTurbulenceAndDraftsHaveTheirFigures) {
 }
 
 // A vehicle powered on the ground: the INS levels itself, finds the gyro bias and the heading.
+// Attitude from an IMU alone (the bench's recorded IMU): levelled by gravity at the start, the
+// gyro integrated exactly, its bias found by gravity's feedback, and a tilt it is started with
+// pulled out.
+double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) { return a.angularDistance(b); }
+
+TEST(ImuAttitudeTest, LevelsOnGravityAndIntegratesTheGyroExactly) {
+  nav::ImuAttitude att;
+  // Standing tilted: roll 10 degrees, pitch -5 degrees, at rest for the levelling.
+  const Eigen::Matrix3d R0 = RotationNBFromEuler({0.1745, -0.0873, 0.0});
+  const Eigen::Vector3d g_up_N(0, 0, -9.80665);
+  int64_t t = 0;
+  for (; t <= 500'000; t += 5'000) ASSERT_TRUE(att.Update(t, Eigen::Vector3d::Zero(), R0.transpose() * g_up_N));
+  ASSERT_TRUE(att.aligned());
+  EXPECT_LT(AngleBetween(att.q_NB(), Eigen::Quaterniond(R0)), 1e-9);
+  // A constant 0.5 rad/s turn about the body's z for 2 s: the attitude follows it to the micro-radian.
+  Eigen::Quaterniond truth(R0);
+  const Eigen::Vector3d w_B(0, 0, 0.5);
+  t = 500'000;  // the last sample's
+  for (int k = 0; k < 400; ++k) {
+    t += 5'000;
+    truth = truth * Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * 0.005, Eigen::Vector3d::UnitZ()));
+    att.Update(t, w_B, truth.conjugate() * g_up_N);
+  }
+  EXPECT_LT(AngleBetween(att.q_NB(), truth), 1e-6);
+  EXPECT_FALSE(att.Update(t, w_B, g_up_N)) << "a sample that does not move time on";
+  EXPECT_FALSE(att.Update(t + 5000, Eigen::Vector3d(NAN, 0, 0), g_up_N)) << "a non-finite sample";
+}
+
+TEST(ImuAttitudeTest, FindsTheGyroBiasAndHoldsRollAndPitch) {
+  nav::ImuAttitude att;
+  const Eigen::Vector3d bias(0.01, -0.008, 0.0);  // [rad/s] a MEMS gyro's
+  const Eigen::Vector3d f_B(0, 0, -9.80665);       // level, at rest
+  int64_t t = 0;
+  for (int k = 0; k <= 300 * 200; ++k, t += 5'000) att.Update(t, bias, f_B);  // five minutes
+  // Uncorrected the bias would have tilted it by 3 rad; gravity holds it (its slow pole, ki/kp,
+  // is 50 s) and learns the bias.
+  const EulerAngles e = EulerFromRotationNB(att.q_NB().toRotationMatrix());
+  EXPECT_LT(std::abs(e.phi), 0.002);
+  EXPECT_LT(std::abs(e.theta), 0.002);
+  EXPECT_NEAR(att.gyro_bias_B().x(), 0.01, 5e-4);
+  EXPECT_NEAR(att.gyro_bias_B().y(), -0.008, 5e-4);
+  // The heading is the gyro's alone: its covariance grows with time, roll and pitch's do not.
+  EXPECT_GT(att.Covariance()(2, 2), att.Covariance()(0, 0) * 10);
+}
+
 TEST(Ins, AlignsOnTheGroundAndCalibratesTheGyroBias) {
   const auto params = VehicleFile();
   sim::SimVehicle vehicle(params, kHome, 0);

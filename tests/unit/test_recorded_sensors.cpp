@@ -93,7 +93,7 @@ TEST(RecordedStereo, AnEurocFolderIsPairedByTimeWithItsCalibrationAndTruth) {
   ASSERT_EQ(StereoLayoutOf(dir.path()), "EuRoC");
   const StereoRecording rec = ReadEurocRecording(dir.path());
   ASSERT_EQ(rec.frames.size(), 6u);
-  EXPECT_NEAR(rec.rate_hz, 20.0, 1e-6);
+  EXPECT_NEAR(rec.rate_hz, 10.0, 1e-6);
   EXPECT_DOUBLE_EQ(rec.left.fx, 707.0912);
   EXPECT_NEAR(((rec.T_BL.inverse() * rec.T_BR).translation() - Eigen::Vector3d(0.537, 0, 0)).norm(), 0.0, 1e-9);
   ASSERT_FALSE(rec.truth.empty());
@@ -120,6 +120,26 @@ TEST(RecordedStereo, AnEurocFolderIsPairedByTimeWithItsCalibrationAndTruth) {
     FAIL() << "a calibration of another size was accepted";
   } catch (const std::runtime_error& e) {
     EXPECT_THAT(e.what(), HasSubstr("image is 1226 x 370 px but the calibration is 640 x 480"));
+  }
+}
+
+TEST(RecordedStereo, AnEurocImuIsReadInTheBodyFrame) {
+  TempDir dir("euroc_imu");
+  MakeEuroc(dir.path(), 11, 1226, 370, /*imu=*/true);
+  const StereoRecording rec = ReadEurocRecording(dir.path());
+  ASSERT_EQ(rec.imu.size(), 200u);  // 10 intervals of 0.1 s at 200 Hz
+  EXPECT_EQ(rec.imu[1].t_us - rec.imu[0].t_us, 5000);
+  // A car on a level road: the specific force is g, up (-z in FRD).
+  EXPECT_NEAR(rec.imu[0].accel_B.z(), -9.80665, 0.5);
+  // And the truth is KITTI's: 10 frames on, about 11 m north.
+  EXPECT_NEAR(rec.truth.At(rec.frames[10].t_us).translation().x(), KittiBodyPoses_N()[10].translation().x(), 1e-6);
+  // An IMU time that goes back is refused, named.
+  std::ofstream(dir.path() + "/mav0/imu0/data.csv", std::ios::app) << EurocTime(0) << ",0,0,0,0,0,-9.8\n";
+  try {
+    ReadEurocRecording(dir.path());
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("imu0/data.csv line 202: the time repeats or goes backwards"));
   }
 }
 

@@ -242,6 +242,30 @@ StereoRecording ReadEurocRecording(const std::string& dir_in) {
   }
   CheckIncreasing(r.frames, "EuRoC cam0 '" + r.dir + "'");
   r.rate_hz = MedianRate(r.frames);
+  const fs::path imu = dir / "imu0" / "data.csv";
+  if (fs::exists(imu)) {
+    Eigen::Matrix3d R_BS = Eigen::Matrix3d::Identity();
+    if (fs::exists(dir / "imu0" / "sensor.yaml"))
+      R_BS = YamlTransform(ReadTextFile((dir / "imu0" / "sensor.yaml").string(), "IMU calibration"), "T_BS",
+                           (dir / "imu0" / "sensor.yaml").string())
+                 .linear();
+    std::istringstream csv(ReadTextFile(imu.string(), "IMU samples"));
+    std::string line;
+    int n = 0;
+    while (std::getline(csv, line)) {
+      ++n;
+      if (line.empty() || line[0] == '#') continue;
+      std::replace(line.begin(), line.end(), ',', ' ');
+      std::istringstream l(line);
+      double t = 0, wx, wy, wz, ax, ay, az;
+      if (!(l >> t >> wx >> wy >> wz >> ax >> ay >> az) || !std::isfinite(wx + wy + wz + ax + ay + az))
+        throw std::runtime_error(imu.string() + " line " + std::to_string(n) + ": expected timestamp, w_RS_S and a_RS_S");
+      const int64_t t_us = static_cast<int64_t>(t / 1000);
+      if (!r.imu.empty() && t_us <= r.imu.back().t_us)
+        throw std::runtime_error(imu.string() + " line " + std::to_string(n) + ": the time repeats or goes backwards");
+      r.imu.push_back({t_us, R_BS * Eigen::Vector3d(wx, wy, wz), R_BS * Eigen::Vector3d(ax, ay, az)});
+    }
+  }
   const fs::path gt = dir / "state_groundtruth_estimate0" / "data.csv";
   if (fs::exists(gt)) {
     // timestamp, p_RS_R (x y z), q_RS (w x y z), ...: the IMU S in the world R (z up).

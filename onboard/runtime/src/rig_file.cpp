@@ -157,12 +157,17 @@ std::unique_ptr<RigFile> RigFile::Parse(const std::string& text, const std::stri
         rd.Only(c, where, {"type", "path", "mount", "comment"});
         const std::string path = Resolve(dir, rd.String(c, "path", where));
         StereoRecording rec = type == "kitti" ? ReadKittiRecording(path, T_BC) : ReadEurocRecording(path);
-        const bool has_truth = !rec.truth.empty();
+        const bool has_truth = !rec.truth.empty(), has_imu = !rec.imu.empty();
         std::snprintf(rate_text, sizeof rate_text, "%.1f", rec.rate_hz);
         described[cam_name] = rec.layout + " sequence " + path + ", " + std::to_string(rec.frames.size()) + " pairs at " + rate_text +
-                              " Hz" + (has_truth ? ", ground truth" : "");
+                              " Hz" + (has_truth ? ", ground truth" : "") +
+                              (has_imu ? ", IMU (" + std::to_string(rec.imu.size()) + " samples)" : "");
         auto cam = std::make_unique<RecordedStereoCamera>(cam_name, std::move(rec), start_utime);
         end = std::max(end, cam->end_utime() + static_cast<int64_t>(0.5e6 / cam->left().rate_hz));
+        if (has_imu && !rig->imu_) {
+          rig->imu_ = &cam->recording().imu;
+          rig->imu_offset_us_ = cam->recording().frames.front().t_us - start_utime;
+        }
         if (has_truth && !rig->truth_) {
           rig->truth_ = &cam->recording().truth;
           rig->truth_offset_us_ = cam->recording().frames.front().t_us - start_utime;
@@ -252,18 +257,23 @@ std::unique_ptr<RigFile> RigFile::Parse(const std::string& text, const std::stri
   }
   const std::string pose = root.contains("pose") ? rd.String(root, "pose", "$")
                            : rig->truth_            ? "truth"
+                           : rig->imu_ && rig->rig_.odometry ? "imu"
                            : rig->rig_.odometry     ? "odometry"
                                                     : "fixed";
   if (pose == "truth") {
     if (!rig->truth_) rd.Fail("pose", "\"truth\" but no recording here has ground truth");
     rig->pose_source_ = PoseSource::kTruth;
+  } else if (pose == "imu") {
+    if (!rig->imu_) rd.Fail("pose", "\"imu\" but no recording here has an IMU (EuRoC's imu0/)");
+    if (!rig->rig_.odometry) rd.Fail("pose", "\"imu\" takes the position from the odometry, and no stereo pair feeds it");
+    rig->pose_source_ = PoseSource::kImuOdometry;
   } else if (pose == "odometry") {
     if (!rig->rig_.odometry) rd.Fail("pose", "\"odometry\" but no stereo pair feeds the odometry worker");
     rig->pose_source_ = PoseSource::kOdometry;
   } else if (pose == "fixed") {
     rig->pose_source_ = PoseSource::kFixed;
   } else {
-    rd.Fail("pose", "'" + pose + "' must be \"truth\", \"odometry\" or \"fixed\"");
+    rd.Fail("pose", "'" + pose + "' must be \"truth\", \"imu\", \"odometry\" or \"fixed\"");
   }
   rig->end_utime_ = any_live ? -1 : end;
   return rig;

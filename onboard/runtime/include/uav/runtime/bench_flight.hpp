@@ -1,8 +1,9 @@
 #pragma once
 // The vehicle on the bench: the onboard runtime on recorded or live sensors (a rig file) with
 // no actuators. The vision workers run as in flight and the link reports them to the GCS; the
-// vehicle's pose comes from the recording's ground truth, from the visual odometry, or stands
-// at home (RigFile::PoseSource); control is off, and every command that would move the vehicle
+// vehicle's pose comes from the recording's ground truth, from its IMU's attitude and the
+// visual odometry's position (the IMU aiding the odometry, as in flight), from the odometry
+// alone, or stands at home (RigFile::PoseSource); control is off, and every command that would move the vehicle
 // is refused saying so, as is arming (the pre-arm report names the bench). Target selection
 // works: the tracker follows a box picked on the recorded or live video. PX4's replay and a
 // ROS bag played into the stack are the models.
@@ -13,6 +14,7 @@
 
 #include <Eigen/Geometry>
 
+#include "uav/nav/imu_attitude.hpp"
 #include "uav/runtime/blackboard.hpp"
 #include "uav/runtime/lockstep_scheduler.hpp"
 #include "uav/runtime/rig_file.hpp"
@@ -62,6 +64,8 @@ class BenchFlight {
   int64_t last_prearm_utime_ = -1;
   int64_t vision_utime_ = -1;
   Eigen::Vector3d p_N_vision_ = Eigen::Vector3d::Zero();
+  nav::ImuAttitude imu_attitude_;  // the recorded IMU's attitude (pose "imu")
+  std::size_t imu_next_ = 0;       // the next recorded IMU sample to give it
 };
 
 }  // namespace uav::runtime

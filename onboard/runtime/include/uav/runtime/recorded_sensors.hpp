@@ -49,6 +49,13 @@ class RecordedTruth {
   std::vector<RecordedPose> poses_;
 };
 
+// One recorded IMU sample, in the body frame.
+struct ImuSample {
+  int64_t t_us = 0;
+  Eigen::Vector3d gyro_B = Eigen::Vector3d::Zero();   // [rad/s]
+  Eigen::Vector3d accel_B = Eigen::Vector3d::Zero();  // [m/s^2] specific force (at rest: g, up)
+};
+
 // One recorded exposure: its time on the recording's clock and its files (right: stereo only).
 struct RecordedFrame {
   int64_t t_us = 0;
@@ -69,6 +76,7 @@ struct StereoRecording {
   Eigen::Isometry3d T_BR = Eigen::Isometry3d::Identity();  // right camera in the body frame
   std::vector<RecordedFrame> frames;
   RecordedTruth truth;  // the body in N; empty without ground truth
+  std::vector<ImuSample> imu;  // the body's IMU (EuRoC's imu0); empty without one
   double rate_hz = 0.0;  // frames per second (median interval)
 };
 
@@ -79,8 +87,9 @@ struct StereoRecording {
 // naming the folder and what is wrong.
 StereoRecording ReadKittiRecording(const std::string& dir, const Eigen::Isometry3d& T_BL);
 // EuRoC/ASL (the folder or its mav0/): cam0/ cam1/ with data.csv and sensor.yaml (T_BS,
-// resolution, pinhole intrinsics, radial-tangential distortion), optional
-// state_groundtruth_estimate0/data.csv. The body is the recording's IMU frame S; its z-up world
+// resolution, pinhole intrinsics, radial-tangential distortion), optional imu0/data.csv
+// (timestamp ns, w_RS_S [rad/s], a_RS_S [m/s^2]; its sensor.yaml's T_BS, when there, turns the
+// samples into the body) and state_groundtruth_estimate0/data.csv. The body is the recording's IMU frame S; its z-up world
 // becomes N by a half turn about x. Throws std::runtime_error naming the file and what is wrong.
 StereoRecording ReadEurocRecording(const std::string& dir);
 // Which of the two a folder is ("" : neither).

@@ -17,9 +17,11 @@
 // with "times" or "rate_hz"), "live" (any OpenCV VideoCapture source). A mono camera needs its
 // calibration: our .camera file or OpenCV's YAML/XML (camera_matrix, distortion_coefficients,
 // image_width, image_height). Relative paths are from the rig file's folder. "pose": where the
-// bench takes the vehicle's pose from: "truth" (the recording's ground truth), "odometry" (the
-// VO worker's) or "fixed" (standing at home, level, heading north); by default the truth where
-// a recording has one, else the odometry where a pair feeds it, else fixed.
+// bench takes the vehicle's pose from: "truth" (the recording's ground truth), "imu" (the
+// attitude from the recording's IMU, the position from the VO worker, which the IMU aids),
+// "odometry" (the VO worker's alone) or "fixed" (standing at home, level, heading north); by
+// default the truth where a recording has one, else the IMU and odometry where both are, else
+// the odometry where a pair feeds it, else fixed.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -32,7 +34,7 @@ namespace uav::runtime {
 
 class RigFile {
  public:
-  enum class PoseSource { kTruth, kOdometry, kFixed };
+  enum class PoseSource { kTruth, kImuOdometry, kOdometry, kFixed };
   // Reads the file and opens every camera: recordings are read and checked, live devices opened
   // and a first frame taken. Recordings play from `start_utime`. Throws std::runtime_error naming
   // the file, the field and what is wrong (an unknown field or type, a camera no worker can
@@ -49,6 +51,10 @@ class RigFile {
   const RecordedTruth* truth() const { return pose_source_ == PoseSource::kTruth ? truth_ : nullptr; }
   // The ground truth's body pose at vehicle time `utime` (the recording plays from the start).
   Eigen::Isometry3d TruthAt(int64_t utime) const;
+  // The recorded IMU's samples (null: none, or the pose does not use it) and the vehicle time of
+  // a sample: t_us - imu_offset_us().
+  const std::vector<ImuSample>* imu() const { return pose_source_ == PoseSource::kImuOdometry ? imu_ : nullptr; }
+  int64_t imu_offset_us() const { return imu_offset_us_; }
   // When the last recorded frame has been taken: its exposure and half a frame more (-1: a
   // camera is live; no end).
   int64_t end_utime() const { return end_utime_; }
@@ -63,6 +69,8 @@ class RigFile {
   SensorRig rig_;
   const RecordedTruth* truth_ = nullptr;
   int64_t truth_offset_us_ = 0;  // recording time minus vehicle time
+  const std::vector<ImuSample>* imu_ = nullptr;
+  int64_t imu_offset_us_ = 0;
   PoseSource pose_source_ = PoseSource::kOdometry;
   int64_t end_utime_ = -1;
 };
