@@ -113,7 +113,7 @@ INSTANTIATE_TEST_SUITE_P(
                 R"({"cameras": {"a": {"type": "photos", "path": "photos", "calibration": "kitti.camera", "rate_hz": 5}},
                     "workers": {"tracking": "a"}, "pose": "truth"})",
                 "pose: \"truth\" but no recording here has ground truth"},
-        Refusal{"OdometryPoseWithoutOdometry",
+        Refusal{"OdometryPoseWithNoOdometryWorker",
                 R"({"cameras": {"a": {"type": "photos", "path": "photos", "calibration": "kitti.camera", "rate_hz": 5}},
                     "workers": {"tracking": "a"}, "pose": "odometry"})",
                 "pose: \"odometry\" but no stereo pair feeds the odometry worker"},

@@ -94,6 +94,27 @@ Eigen::Isometry3d YamlTransform(const std::string& text, const std::string& key,
   return T;
 }
 
+// The numeric rows of an ASL CSV file (comma-separated, '#' comments), each with its line number
+// and its first `columns` numbers. Throws std::runtime_error naming the file and line of a row
+// with fewer finite numbers than that (`expected` says what they are).
+std::vector<std::pair<int, std::vector<double>>> CsvRows(const std::string& path, const char* what, int columns,
+                                                         const char* expected) {
+  std::istringstream csv(ReadTextFile(path, what));
+  std::vector<std::pair<int, std::vector<double>>> rows;
+  std::string line;
+  for (int n = 1; std::getline(csv, line); ++n) {
+    if (line.empty() || line[0] == '#' || line == "\r") continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream l(line);
+    std::vector<double> v(static_cast<std::size_t>(columns));
+    for (double& x : v)
+      if (!(l >> x) || !std::isfinite(x))
+        throw std::runtime_error(path + " line " + std::to_string(n) + ": expected " + expected);
+    rows.emplace_back(n, std::move(v));
+  }
+  return rows;
+}
+
 struct EurocCamera {
   CameraIntrinsics k;
   Eigen::Isometry3d T_BS;
@@ -249,43 +270,23 @@ StereoRecording ReadEurocRecording(const std::string& dir_in) {
       R_BS = YamlTransform(ReadTextFile((dir / "imu0" / "sensor.yaml").string(), "IMU calibration"), "T_BS",
                            (dir / "imu0" / "sensor.yaml").string())
                  .linear();
-    std::istringstream csv(ReadTextFile(imu.string(), "IMU samples"));
-    std::string line;
-    int n = 0;
-    while (std::getline(csv, line)) {
-      ++n;
-      if (line.empty() || line[0] == '#') continue;
-      std::replace(line.begin(), line.end(), ',', ' ');
-      std::istringstream l(line);
-      double t = 0, wx, wy, wz, ax, ay, az;
-      if (!(l >> t >> wx >> wy >> wz >> ax >> ay >> az) || !std::isfinite(wx + wy + wz + ax + ay + az))
-        throw std::runtime_error(imu.string() + " line " + std::to_string(n) + ": expected timestamp, w_RS_S and a_RS_S");
-      const int64_t t_us = static_cast<int64_t>(t / 1000);
+    for (const auto& [n, v] : CsvRows(imu.string(), "IMU samples", 7, "timestamp, w_RS_S and a_RS_S")) {
+      const int64_t t_us = static_cast<int64_t>(v[0] / 1000);
       if (!r.imu.empty() && t_us <= r.imu.back().t_us)
         throw std::runtime_error(imu.string() + " line " + std::to_string(n) + ": the time repeats or goes backwards");
-      r.imu.push_back({t_us, R_BS * Eigen::Vector3d(wx, wy, wz), R_BS * Eigen::Vector3d(ax, ay, az)});
+      r.imu.push_back({t_us, R_BS * Eigen::Vector3d(v[1], v[2], v[3]), R_BS * Eigen::Vector3d(v[4], v[5], v[6])});
     }
   }
   const fs::path gt = dir / "state_groundtruth_estimate0" / "data.csv";
   if (fs::exists(gt)) {
     // timestamp, p_RS_R (x y z), q_RS (w x y z), ...: the IMU S in the world R (z up).
     Eigen::Matrix3d R_NR = Eigen::Vector3d(1, -1, -1).asDiagonal();
-    std::istringstream csv(ReadTextFile(gt.string(), "ground truth"));
-    std::string line;
     std::vector<RecordedPose> truth;
-    int n = 0;
-    while (std::getline(csv, line)) {
-      ++n;
-      if (line.empty() || line[0] == '#') continue;
-      std::replace(line.begin(), line.end(), ',', ' ');
-      std::istringstream l(line);
-      double t = 0, x, y, z, qw, qx, qy, qz;
-      if (!(l >> t >> x >> y >> z >> qw >> qx >> qy >> qz) || !std::isfinite(x + y + z + qw + qx + qy + qz))
-        throw std::runtime_error(gt.string() + " line " + std::to_string(n) + ": expected timestamp, position and quaternion");
+    for (const auto& [n, v] : CsvRows(gt.string(), "ground truth", 8, "timestamp, position and quaternion")) {
       RecordedPose p;
-      p.t_us = static_cast<int64_t>(t / 1000);
-      p.T_NB.linear() = R_NR * Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix();
-      p.T_NB.translation() = R_NR * Eigen::Vector3d(x, y, z);
+      p.t_us = static_cast<int64_t>(v[0] / 1000);
+      p.T_NB.linear() = R_NR * Eigen::Quaterniond(v[4], v[5], v[6], v[7]).normalized().toRotationMatrix();
+      p.T_NB.translation() = R_NR * Eigen::Vector3d(v[1], v[2], v[3]);
       truth.push_back(p);
     }
     // N's origin where the body starts.
