@@ -334,8 +334,17 @@ hal::StereoImages RecordedStereoCamera::Capture(int64_t utime, hal::Emitter) {
     problem = "the recording ended (" + std::to_string(rec_.frames.size()) + " pairs)";
   } else {
     const RecordedFrame& f = rec_.frames[static_cast<std::size_t>(i)];
-    out.left = ToBgr(cv::imread(f.left, cv::IMREAD_UNCHANGED));
-    out.right = ToBgr(cv::imread(f.right, cv::IMREAD_UNCHANGED));
+    {
+      std::lock_guard<std::mutex> reading(read_mutex_);
+      if (read_index_ != i) {
+        read_left_ = ToBgr(cv::imread(f.left, cv::IMREAD_UNCHANGED));
+        read_right_ = ToBgr(cv::imread(f.right, cv::IMREAD_UNCHANGED));
+        read_index_ = i;
+      }
+      // Each worker its own copy: none of them can change another's.
+      out.left = read_left_.clone();
+      out.right = read_right_.clone();
+    }
     out.left_utime = out.right_utime = start_utime_ + f.t_us - rec_.frames.front().t_us;
     for (const auto& [image, path, k] : {std::tie(out.left, f.left, rec_.left), std::tie(out.right, f.right, rec_.right)}) {
       std::string p = image.empty() ? "cannot read it as an image" : SizeProblem(image, k);

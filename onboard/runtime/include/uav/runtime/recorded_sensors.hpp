@@ -114,6 +114,10 @@ class RecordedStereoCamera : public hal::StereoCamera {
   hal::CameraInfo left_, right_;
   mutable std::mutex mutex_;
   std::string problem_;
+  // The pair last read: the workers sharing this pair take the same frame, decoded once.
+  std::mutex read_mutex_;
+  int read_index_ = -1;
+  cv::Mat read_left_, read_right_;
 };
 
 // A recorded mono camera: a video file (times from the container, or `times_path`) or a folder
