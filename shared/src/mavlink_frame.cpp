@@ -76,6 +76,36 @@ bool Verify(const SecretKey& key, const std::vector<uint8_t>& raw) {
   return std::equal(expected.begin(), expected.end(), s + 7);
 }
 
+const char* SignedStreams::Name(Verdict v) {
+  switch (v) {
+    case Verdict::kAccepted: return "accepted";
+    case Verdict::kUnsigned: return "unsigned";
+    case Verdict::kBadSignature: return "bad signature";
+    case Verdict::kReplay: return "replayed";
+    case Verdict::kStale: return "stale";
+  }
+  return "?";
+}
+
+SignedStreams::Verdict SignedStreams::Check(const Frame& f, uint64_t now) {
+  newest_ = std::max(newest_, now);
+  if (!f.signature) return insecure_ ? Verdict::kAccepted : Verdict::kUnsigned;
+  if (!Verify(key_, f.raw)) return Verdict::kBadSignature;
+  const uint64_t t = f.signature->timestamp;
+  const auto stream = std::make_tuple(f.sysid, f.compid, f.signature->link_id);
+  const auto it = last_.find(stream);
+  if (it != last_.end() && t <= it->second) return Verdict::kReplay;
+  if (it == last_.end() && t + kNewStreamWindow < newest_) return Verdict::kStale;
+  last_[stream] = t;
+  newest_ = std::max(newest_, t);
+  return Verdict::kAccepted;
+}
+
+uint64_t SignedStreams::NextTimestamp(uint64_t now) {
+  sent_ = std::max({sent_ + 1, now, newest_});
+  return sent_;
+}
+
 std::vector<Frame> Parser::Push(const uint8_t* data, std::size_t size) {
   buffer_.insert(buffer_.end(), data, data + size);
   std::vector<Frame> out;

@@ -73,17 +73,30 @@ SigningKey SigningKey::Generate(const std::string& path) {
     if (n <= 0) throw std::runtime_error(std::string("cannot draw a random key: ") + std::strerror(errno));
     got += static_cast<size_t>(n);
   }
+  key.Save(path);
+  return key;
+}
+
+SigningKey SigningKey::FromPassphrase(const std::string& passphrase) {
+  if (passphrase.empty()) throw std::invalid_argument("an empty passphrase makes no key");
+  SigningKey key;
+  Sha256 sha;
+  sha.Update(passphrase.data(), passphrase.size());
+  key.bytes = sha.Final();
+  return key;
+}
+
+void SigningKey::Save(const std::string& path) const {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0600);
   if (fd < 0) throw std::runtime_error("cannot create signing key '" + path + "': " + std::strerror(errno));
   ::fchmod(fd, 0600);  // whatever the umask
-  const ssize_t n = ::write(fd, key.bytes.data(), key.bytes.size());
+  const ssize_t n = ::write(fd, bytes.data(), bytes.size());
   const bool synced = ::fsync(fd) == 0;
   const bool closed = ::close(fd) == 0;
-  if (n != static_cast<ssize_t>(key.bytes.size()) || !synced || !closed) {
+  if (n != static_cast<ssize_t>(bytes.size()) || !synced || !closed) {
     ::unlink(path.c_str());
     throw std::runtime_error("cannot write signing key '" + path + "': " + std::strerror(errno));
   }
-  return key;
 }
 
 std::string SigningKey::Id() const { return Sha256::HexOf(bytes.data(), bytes.size()).substr(0, 16); }

@@ -10,6 +10,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <tuple>
 #include <optional>
 #include <string>
 #include <vector>
@@ -88,5 +90,30 @@ class Parser {
 // Whether a signed frame's signature is the key's (Frame::raw, signature included). A replayed
 // or stale timestamp is the caller's to refuse: it keeps the newest per link.
 bool Verify(const SecretKey& key, const std::vector<uint8_t>& raw);
+
+// The receiving side of signing (mavlink.io "Message Signing", accepting packets): a frame is
+// accepted when its signature is the key's and its timestamp is newer than the last accepted on
+// its stream (system id, component id, link id); a stream not seen before must be no more than a
+// minute behind this side's timestamp, which is the newest of the wall clock and every timestamp
+// accepted. Unsigned frames are refused unless `insecure`.
+class SignedStreams {
+ public:
+  enum class Verdict { kAccepted, kUnsigned, kBadSignature, kReplay, kStale };
+  static const char* Name(Verdict v);  // "accepted", "unsigned", "bad signature", "replayed", "stale"
+  SignedStreams(const SecretKey& key, bool insecure) : key_(key), insecure_(insecure) {}
+  // `now`: this side's wall clock as a signing timestamp (uav::SigningTimestamp).
+  Verdict Check(const Frame& f, uint64_t now);
+  // The timestamp for the next frame this side signs: the newest known, plus one (strictly
+  // increasing, as the specification asks of a sender).
+  uint64_t NextTimestamp(uint64_t now);
+  static constexpr uint64_t kNewStreamWindow = 6'000'000;  // [10 us] one minute
+
+ private:
+  SecretKey key_;
+  bool insecure_;
+  uint64_t newest_ = 0;
+  uint64_t sent_ = 0;
+  std::map<std::tuple<uint8_t, uint8_t, uint8_t>, uint64_t> last_;
+};
 
 }  // namespace uav::mavlink

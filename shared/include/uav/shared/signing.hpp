@@ -27,6 +27,11 @@ struct SigningKey {
   // Writes 32 random bytes (the kernel's getrandom) to a new file of mode 0600. Refuses to
   // overwrite an existing file. Throws std::runtime_error naming the file.
   static SigningKey Generate(const std::string& path);
+  // SHA-256 of a passphrase: the key QGroundControl and Mission Planner make from the passphrase
+  // an operator types (MAVLink 2 signing). Throws std::invalid_argument for an empty one.
+  static SigningKey FromPassphrase(const std::string& passphrase);
+  // Writes the key to a new file of mode 0600 (refuses to overwrite; nothing is left on failure).
+  void Save(const std::string& path) const;
   // A name to compare keys by without showing them: 16 hex digits of SHA-256(key).
   std::string Id() const;
 };
