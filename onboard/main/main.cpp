@@ -68,6 +68,9 @@ struct CommandLine {
   bool list_params = false;
   std::string benchmark_path;
   std::string rig_path;
+  std::string mavlink;
+  int mavlink_sysid = 1;
+  std::string mavlink_video = "127.0.0.1:5600";
 };
 
 void DeclareOptions(CLI::App& cli, CommandLine& o) {
@@ -99,6 +102,17 @@ void DeclareOptions(CLI::App& cli, CommandLine& o) {
       "heartbeats signed with it are executed; the newest accepted timestamp is kept in FILE.last");
   cli.add_flag("--insecure", o.insecure, "no signing key: execute unsigned messages from anyone on the network")
       ->excludes(key_option);
+  cli.add_option("--mavlink", o.mavlink,
+                 "also speak MAVLink 2 as a PX4 vehicle to QGroundControl or Mission Planner: udp:HOST:PORT "
+                 "(udp:127.0.0.1:14550), udpin:[HOST:]PORT or serial:DEVICE[:BAUD]. Frames are signed with --key "
+                 "(make it with uav-keygen --passphrase and type the passphrase into the GCS); unsigned ones are "
+                 "refused unless --insecure (docs/user-guide/mavlink.md)");
+  cli.add_option("--mavlink-sysid", o.mavlink_sysid, "MAVLink system id of this vehicle")
+      ->check(CLI::Range(1, 254))
+      ->capture_default_str();
+  cli.add_option("--mavlink-video", o.mavlink_video,
+                 "HOST:PORT for the video camera's RTP/H.264 stream (QGroundControl's default UDP 5600), 'off' for none")
+      ->capture_default_str();
   cli.add_option("--sensing-benchmark", o.benchmark_path,
                  "at exit, write the sensing benchmark (JSON: each vision worker's rate against its camera's, latency, "
                  "drops; the control loop's period; CPU use) to this file, '-' for stdout (needs --scene)");
@@ -186,6 +200,21 @@ int RunWithLink(const CommandLine& o, const uav::ParameterSet& params, const uav
     link_params.signing_key = uav::SigningKey::LoadFile(o.key_path);
     link_params.signing_state_file = o.key_path + ".last";
   }
+  if (!o.mavlink.empty()) {
+    uav::runtime::MavlinkParams m;
+    m.endpoint = o.mavlink;
+    m.system_id = o.mavlink_sysid;
+    m.insecure = o.insecure;
+    if (o.mavlink_video == "off") {
+      m.video_host.clear();
+    } else {
+      const std::size_t colon = o.mavlink_video.rfind(':');
+      if (colon == std::string::npos) throw std::invalid_argument("--mavlink-video: expected HOST:PORT or off, got '" + o.mavlink_video + "'");
+      m.video_host = o.mavlink_video.substr(0, colon);
+      m.video_port = std::stoi(o.mavlink_video.substr(colon + 1));
+    }
+    link_params.mavlink = m;
+  }
   uav::runtime::LinkWorker cmm(o.vehicle_id, o.lcm_url, link_params, v.board, missions, std::move(events));
   uav::runtime::LockstepScheduler& scheduler = v.scheduler;
   constexpr int64_t kPeriodUs = 20'000;  // 50 Hz, as the control threads (thesis 2.3.2)
@@ -195,8 +224,9 @@ int RunWithLink(const CommandLine& o, const uav::ParameterSet& params, const uav
 
   const std::string signing = link_params.signing_key ? "signed with key " + link_params.signing_key->Id()
                                                       : "INSECURE (unsigned commands from anyone are executed)";
-  std::printf("uav-onboard: vehicle %s, %s, speed %s, LCM %s, %s%s%s%s%s\n", o.vehicle_id.c_str(), v.description.c_str(),
-              o.speed_text.c_str(), o.lcm_url.c_str(), signing.c_str(), log_path.empty() ? "" : ", log ", log_path.c_str(),
+  const std::string mavlink = o.mavlink.empty() ? "" : ", MAVLink " + o.mavlink;
+  std::printf("uav-onboard: vehicle %s, %s, speed %s, LCM %s%s, %s%s%s%s%s\n", o.vehicle_id.c_str(), v.description.c_str(),
+              o.speed_text.c_str(), o.lcm_url.c_str(), mavlink.c_str(), signing.c_str(), log_path.empty() ? "" : ", log ", log_path.c_str(),
               events_path.empty() ? "" : ", events ", events_path.c_str());
   std::fflush(stdout);
   v.run();

@@ -472,6 +472,41 @@ TEST(MissionRunnerTest, AWingThatPassedACornerInItsTransitionGoesOnToTheNextLeg)
   EXPECT_TRUE(reached_last) << "item " << o.item << " at " << est.p_N.transpose();
 }
 
+// ctl_speed_max_xy lowered in flight below the mission's own speed (DO_CHANGE_SPEED 3 m/s): the
+// reference slows to the new limit at once (a setpoint above the limit is refused by the
+// envelope check, and the vehicle would hold), and speeds back up to the mission's when the
+// limit is raised again.
+TEST(MissionRunnerTest, ALimitLoweredInFlightHoldsTheMissionsSpeedToIt) {
+  using Step = waypoints::MissionStep;
+  Step speed{Step::Kind::kSetSpeed};
+  speed.value = 3.0;
+  Step far{Step::Kind::kWaypoint};
+  far.p_N = {500, 0, -20};
+  far.yaw_rad = NAN;
+  const MissionRunnerParams p{1.0, 0.5, 5.0, 2.0, 1.0, 1.0, 5.0, 30.0};
+  VehicleEstimate est;
+  est.p_N = {0, 0, -20};
+  MissionRunner runner({speed, far}, p, est);
+  auto fly = [&](int ticks) {
+    double fastest = 0;
+    MissionRunner::Output o;
+    for (int i = 0; i < ticks; ++i) {
+      o = runner.Update(est, 0.02);
+      est.p_N = o.setpoint.p_N;  // a vehicle that follows its reference
+      fastest = std::max(fastest, o.setpoint.v_ff_N.head<2>().norm());
+    }
+    return std::pair{fastest, *o.setpoint.speed_max_xy};
+  };
+  EXPECT_NEAR(fly(500).first, 3.0, 1e-6) << "the mission's 3 m/s under the 5 m/s limit";
+  runner.SetSpeedLimits(2.5, 2.0, 1.0);
+  fly(1);
+  const auto [lowered, limit] = fly(500);
+  EXPECT_LE(lowered, 2.5 + 1e-9);
+  EXPECT_EQ(limit, 2.5);
+  runner.SetSpeedLimits(5.0, 2.0, 1.0);
+  EXPECT_NEAR(fly(500).first, 3.0, 1e-6) << "back to what the mission asked, not to the new limit";
+}
+
 // A goto replaced by hover closes as replaced and says nothing after.
 TEST_F(TaskManagerTest, AReplacedCommandsRowClosesAndStaysClosed) {
   Send("arm");

@@ -15,7 +15,7 @@ bool IsPosition(const MissionStep& s) { return s.kind == Kind::kWaypoint; }
 MissionRunner::MissionRunner(std::vector<MissionStep> steps, const MissionRunnerParams& p,
                              const VehicleEstimate& est)
     : steps_(std::move(steps)), p_(p), ref_(est.p_N), target_(est.p_N), yaw_(est.euler.psi),
-      speed_(p.speed_max_xy) {
+      asked_speed_(p.speed_max_xy), speed_(p.speed_max_xy) {
   // Path length for progress: the waypoints in order from where we are.
   Eigen::Vector3d at = est.p_N;
   for (const auto& s : steps_) {
@@ -48,13 +48,19 @@ bool MissionRunner::IsStopAfter(std::size_t step) const {
   return true;
 }
 
+void MissionRunner::SetSpeedLimits(double speed_max_xy, double speed_max_up, double speed_max_down) {
+  p_.speed_max_xy = speed_max_xy, p_.speed_max_up = speed_max_up, p_.speed_max_down = speed_max_down;
+  speed_ = std::min(asked_speed_, p_.speed_max_xy);
+}
+
 void MissionRunner::Advance() {
   moving_ = false;
   while (index_ < steps_.size()) {
     const MissionStep& s = steps_[index_];
     switch (s.kind) {
       case Kind::kSetSpeed:
-        speed_ = std::min(s.value, p_.speed_max_xy);
+        asked_speed_ = s.value;
+        speed_ = std::min(asked_speed_, p_.speed_max_xy);
         ++index_;
         continue;
       case Kind::kCaptureStart:

@@ -132,6 +132,11 @@ void TaskManager::BeginPath(Task task, std::vector<waypoints::MissionStep> steps
   deadline_ = t + p_.stall_time;  // extended whenever progress is made
 }
 
+void TaskManager::SetParams(const TaskParams& params) {
+  p_ = params;
+  if (runner_) runner_->SetSpeedLimits(p_.speed_max_xy, p_.speed_max_up, p_.speed_max_down);
+}
+
 void TaskManager::StartPath(Task task, std::vector<waypoints::MissionStep> steps, const VehicleEstimate& est,
                             double t) {
   MissionRunnerParams rp{p_.reached_radius, p_.reached_speed, p_.speed_max_xy, p_.speed_max_up,

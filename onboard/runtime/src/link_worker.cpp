@@ -25,6 +25,7 @@ struct LinkWorker::Impl {
   FileSender files;  // finished maps, offered until a GCS has them
   std::unique_ptr<EventLog> events;
   std::vector<std::unique_ptr<Translator>> translators;  // run in this order every tick
+  std::unique_ptr<MavlinkEndpoint> mavlink;             // after them: it reads what they published
 };
 
 LinkWorker::LinkWorker(const std::string& vehicle_id, const std::string& lcm_url, const LinkParams& params,
@@ -69,6 +70,7 @@ void LinkWorker::Start(std::unique_ptr<EventLog> events) {
   im.translators.push_back(MakeTrackStatusTranslator(c));
   im.translators.push_back(MakeMapTileTranslator(c));
   im.translators.push_back(MakeFileTransferTranslator(c, im.files));
+  if (c.params.mavlink) im.mavlink = std::make_unique<MavlinkEndpoint>(c.vehicle_id, c.bus, *c.params.mavlink, c.params.signing_key);
 }
 
 LinkWorker::~LinkWorker() = default;
@@ -79,6 +81,7 @@ void LinkWorker::Tick(int64_t utime) {
   im.context.bus.Handle(0);  // commands, uploads, requests and GCS heartbeats since the last tick
   im.context.signatures.Tick();
   for (auto& t : im.translators) t->Tick(utime);
+  if (im.mavlink) im.mavlink->Tick(utime);
   if (im.events) im.events->Flush();
 }
 

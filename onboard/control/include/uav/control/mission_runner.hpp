@@ -69,6 +69,9 @@ class MissionRunner {
   Output Update(const VehicleEstimate& est, double dt);
   // On the wing (nullopt: hovering, the default), from the next step on.
   void SetWingBorne(std::optional<WingBorne> wing) { wing_ = wing; }
+  // The vehicle's limits changed in flight (ctl_speed_max_*): the mission's speed is held to the
+  // new ones from now on, and goes back up to what the mission asked when they are raised.
+  void SetSpeedLimits(double speed_max_xy, double speed_max_up, double speed_max_down);
 
   double path_length_m() const { return total_length_; }
 
@@ -83,6 +86,7 @@ class MissionRunner {
   Eigen::Vector3d target_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d leg_from_ = Eigen::Vector3d::Zero();  // the previous target: the leg to target_
   double yaw_ = 0.0;
+  double asked_speed_ = 0.0;  // what the mission asked (DO_CHANGE_SPEED), before the limit
   double speed_ = 0.0;      // commanded cruise speed
   double ref_speed_ = 0.0;  // current speed of the reference
   bool moving_ = false;     // a position step is in progress

@@ -66,7 +66,8 @@ class TaskManager {
   TaskManager(const TaskParams& params, MissionSource* missions = nullptr);
   // New settings (a parameter changed over the link): limits apply at once, a follow's or a
   // path's own settings from its next start.
-  void SetParams(const TaskParams& params) { p_ = params; }
+  // New parameters; a path being flown keeps to the new speed limits at once.
+  void SetParams(const TaskParams& params);
   const TaskParams& params() const { return p_; }
   // A tail-sitter on its wing (nullopt: hovering): goto's target counts as reached within the
   // acceptance radius at any speed, and paths are flown through their corners at cruise speed.

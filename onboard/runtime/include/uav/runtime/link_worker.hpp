@@ -11,6 +11,7 @@
 
 #include "uav/runtime/blackboard.hpp"
 #include "uav/runtime/event_log.hpp"
+#include "uav/runtime/mavlink_endpoint.hpp"
 #include "uav/runtime/mission_store.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/signing.hpp"
@@ -33,6 +34,8 @@ struct LinkParams {
   // executed. The newest accepted timestamp is kept in `signing_state_file` across restarts.
   std::optional<SigningKey> signing_key;
   std::string signing_state_file;
+  // A MAVLink endpoint beside the LCM link (off when unset), signing with `signing_key`.
+  std::optional<MavlinkParams> mavlink;
   static LinkParams FromParameters(const ParameterSet& p, AttitudeMode attitude_mode);
 };
 
