@@ -8,129 +8,20 @@
 // key of the shared passphrase. Prints one line per step; exits 0 only when every check held.
 //
 // Usage: node qgc_client.js --bin DIR --passphrase TEXT [--port 14550] [--report FILE] [--timeout S]
+//          [--lcm-param NAME=VALUE]  after the landing, expect this change by our GCS on LCM
 'use strict';
-const dgram = require('dgram');
 const fs = require('fs');
 const os = require('os');
 const path = require('path');
-const { PassThrough } = require('stream');
 const { execFileSync } = require('child_process');
 const {
-  MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, MavLinkPacketSignature, minimal, standard, common,
-} = require('node-mavlink');
+  args, key, wrongKey, report, listeners, frame, sendRaw, send, sent, waitFor, collect, sleep, check, commandLong,
+  command, commandStarted, listen, startHeartbeat, minimal, common,
+} = require('./gcs_link');
 
-const args = {};
-for (let i = 2; i < process.argv.length; i += 2) args[process.argv[i].replace(/^--/, '')] = process.argv[i + 1];
 const port = Number(args.port || 14550);
 const flightTimeoutS = Number(args.timeout || 900);
-const key = MavLinkPacketSignature.key(args.passphrase);
-const wrongKey = MavLinkPacketSignature.key(args.passphrase + ' (not it)');
-const REGISTRY = { ...minimal.REGISTRY, ...standard.REGISTRY, ...common.REGISTRY };
-const GCS_SYSID = 255, GCS_COMPID = 190;
-
-// ---- the link ----
-const socket = dgram.createSocket('udp4');
-const input = new PassThrough();
-let vehicleAddress = null;
-socket.on('message', (msg, rinfo) => { vehicleAddress = rinfo; input.write(msg); });
-const report = { frames: 0, unsigned: 0, bad_signature: 0, by_message: {}, statustexts: [], checks: [] };
-const listeners = new Set();
-input.pipe(new MavLinkPacketSplitter()).pipe(new MavLinkPacketParser()).on('data', (packet) => {
-  report.frames++;
-  if (!packet.signature) report.unsigned++;
-  else if (!packet.signature.matches(key)) report.bad_signature++;
-  const clazz = REGISTRY[packet.header.msgid];
-  if (!clazz) return;
-  const data = packet.protocol.data(packet.payload, clazz);
-  report.by_message[clazz.MSG_NAME] = (report.by_message[clazz.MSG_NAME] || 0) + 1;
-  if (clazz.MSG_NAME === 'STATUSTEXT') {
-    report.statustexts.push(data.text);
-    console.log(`  vehicle says: ${data.text}`);
-  }
-  for (const l of [...listeners]) l(clazz.MSG_NAME, data, packet);
-});
-
-let seq = 0;
-let lastTimestampMs = 0;
-const sent = [];  // every signed frame, for the replay check
-function frame(message, signingKey = key, { signed = true } = {}) {
-  const protocol = new MavLinkProtocolV2(GCS_SYSID, GCS_COMPID, signed ? MavLinkProtocolV2.IFLAG_SIGNED : 0);
-  const buffer = protocol.serialize(message, seq++ & 255);
-  if (!signed) return buffer;
-  // Strictly increasing timestamps (the specification asks it of a sender; node-mavlink's
-  // default, Date.now(), repeats within a millisecond).
-  lastTimestampMs = Math.max(Date.now(), lastTimestampMs + 1);
-  return protocol.sign(buffer, 1, signingKey, lastTimestampMs);
-}
-function sendRaw(buffer) {
-  if (!vehicleAddress) throw new Error('no vehicle address yet');
-  socket.send(buffer, vehicleAddress.port, vehicleAddress.address);
-}
-function send(message, options) {
-  const b = frame(message, options && options.key ? options.key : key, options);
-  sent.push(b);
-  sendRaw(b);
-}
-
-// Resolves with the first message `name` for which `pred` holds; rejects after `ms`.
-function waitFor(name, pred, ms, what) {
-  return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => { listeners.delete(l); reject(new Error(`timed out after ${ms} ms waiting for ${what || name}`)); }, ms);
-    const l = (n, d, p) => {
-      if (n !== name || (pred && !pred(d, p))) return;
-      clearTimeout(timer);
-      listeners.delete(l);
-      resolve(d);
-    };
-    listeners.add(l);
-  });
-}
-// Collects messages `name` for `ms`.
-function collect(name, ms, pred) {
-  return new Promise((resolve) => {
-    const got = [];
-    const l = (n, d) => { if (n === name && (!pred || pred(d))) got.push(d); };
-    listeners.add(l);
-    setTimeout(() => { listeners.delete(l); resolve(got); }, ms);
-  });
-}
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-function check(ok, text) {
-  report.checks.push({ ok: !!ok, text });
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${text}`);
-  if (!ok) process.exitCode = 1;
-}
-
-let target = 1;
-function commandLong(command, params = [], targetComponent = 1) {
-  const c = new common.CommandLong();
-  c.targetSystem = target;
-  c.targetComponent = targetComponent;
-  c.command = command;
-  c.confirmation = 0;
-  for (let i = 0; i < 7; i++) c[`_param${i + 1}`] = params[i] === undefined ? 0 : params[i];
-  return c;
-}
-// Sends a command and waits for its final COMMAND_ACK (IN_PROGRESS ones are progress).
-async function command(command, params, ms = 5000, targetComponent = 1) {
-  const progress = [];
-  const onAck = (n, d) => { if (n === 'COMMAND_ACK' && d.command === command && d.result === 5) progress.push(d.progress); };
-  listeners.add(onAck);
-  const done = waitFor('COMMAND_ACK', (d) => d.command === command && d.result !== 5, ms, `COMMAND_ACK of ${command}`);
-  send(commandLong(command, params, targetComponent));
-  try {
-    const ack = await done;
-    return { result: ack.result, progress };
-  } finally {
-    listeners.delete(onAck);
-  }
-}
-// Waits for the first ack of a command that may stay in progress (a mission runs for minutes).
-async function commandStarted(command, params, ms = 5000) {
-  const ack = waitFor('COMMAND_ACK', (d) => d.command === command, ms, `COMMAND_ACK of ${command}`);
-  send(commandLong(command, params));
-  return (await ack).result;
-}
+const target = 1;  // the vehicle's system id
 
 // ---- the mission protocol, GCS side ----
 async function download(type) {
@@ -205,18 +96,13 @@ function offset(home, north, east) {  // flat-earth offset, metres to degrees
 }
 
 async function main() {
-  await new Promise((r) => socket.bind(port, '127.0.0.1', r));
+  await listen(port);
   console.log(`qgc_client: listening on UDP ${port} as QGroundControl does`);
 
   // 1. The vehicle's heartbeat.
   const hb = await waitFor('HEARTBEAT', (d, p) => p.header.compid === 1, 30000, 'the vehicle\'s HEARTBEAT');
-  target = vehicleAddress && hb ? target : target;
   check(hb.autopilot === 12, `heartbeat: autopilot ${hb.autopilot} (12: PX4), type ${hb.type}, custom mode 0x${hb.customMode.toString(16)}`);
-  setInterval(() => {
-    const h = new minimal.Heartbeat();
-    h.type = 6; h.autopilot = 8; h.baseMode = 0; h.customMode = 0; h.systemStatus = 4; h.mavlinkVersion = 3;
-    send(h);
-  }, 1000);
+  startHeartbeat();
 
   // 2. AUTOPILOT_VERSION.
   const versionP = waitFor('AUTOPILOT_VERSION', null, 5000);
@@ -326,7 +212,14 @@ async function main() {
   const hbNow = await waitFor('HEARTBEAT', (d, p) => p.header.compid === 1, 3000);
   check((hbNow.baseMode & 128) === 0, 'still disarmed');
 
-  // 10. Arm, start the mission, every item reached, the landing.
+  // 10. Arm, start the mission, every item reached, the landing. From now on, listen for the
+  // change our GCS on LCM makes after the landing (it may come before this side sees the landing).
+  const lcmParam = args['lcm-param'] ? args['lcm-param'].split('=') : null;
+  let lcmParamSeen = false;
+  if (lcmParam)
+    listeners.add((n, d) => {
+      if (n === 'PARAM_VALUE' && d.paramId === lcmParam[0] && Math.abs(d.paramValue - Number(lcmParam[1])) < 1e-6) lcmParamSeen = true;
+    });
   const arm = await command(400, [1], 10000);
   check(arm.result === 0, `arm: COMMAND_ACK ${arm.result}${arm.progress.length ? `, progress ${arm.progress.join(' ')}` : ''}`);
   const reached = new Set();
@@ -348,6 +241,23 @@ async function main() {
   await sleep(3000);
   const newValue = await setParam(2.5);
   check(Math.abs(newValue - 2.5) < 1e-6, `${speedId} = 2.5 in flight: PARAM_VALUE ${newValue}`);
+  // The camera: its information and the video stream QGroundControl would open.
+  const camInfoP = waitFor('CAMERA_INFORMATION', null, 5000);
+  check((await command(512, [259], 5000, 100)).result === 0, 'camera: CAMERA_INFORMATION requested from component 100');
+  const camInfo = await camInfoP;
+  const streamP = waitFor('VIDEO_STREAM_INFORMATION', null, 5000);
+  check((await command(512, [269], 5000, 100)).result === 0, 'camera: VIDEO_STREAM_INFORMATION requested');
+  const stream = await streamP;
+  report.video = { width: stream.resolutionH, height: stream.resolutionV, uri: stream.uri, encoding: stream.encoding };
+  check(stream.type === 1 && stream.encoding === 1 && stream.uri === '5600' && stream.resolutionH > 0 && (camInfo.flags & 256),
+        `video: RTP/UDP H.264 on port ${stream.uri}, ${stream.resolutionH} x ${stream.resolutionV} at ${stream.framerate} Hz`);
+  // This vehicle has no tracker (uav-demo's X650 carries the survey camera and the stereo pair):
+  // the box is refused by the vehicle, saying why (tests/mavlink/qgc_commands.js tracks one).
+  const track = await command(2005, [0.4, 0.4, 0.6, 0.6], 5000, 100);
+  check(track.result === 2 && (camInfo.flags & 1024) === 0 && /no tracking camera/.test(report.statustexts.join(' | ')),
+        `CAMERA_TRACK_RECTANGLE on a vehicle without a tracker: COMMAND_ACK ${track.result} (2: DENIED), the reason said`);
+  const badBox = await command(2005, [0.6, 0.4, 0.4, 0.6], 5000, 100);
+  check(badBox.result === 2, `a rectangle with its corners swapped: COMMAND_ACK ${badBox.result} (2: DENIED)`);
   const finalAck = await missionDone;
   const t1 = Date.now();
   while (!(landedAfterFlight && disarmed) && Date.now() - t1 < 60000) await sleep(200);
@@ -358,7 +268,14 @@ async function main() {
   check(missing.length === 0, `MISSION_ITEM_REACHED for ${reached.size} of ${items.length} items${missing.length ? ` (missing ${missing.join(' ')})` : ''}`);
   check(maxRelAlt > 20 && landedAfterFlight && disarmed, `flew to ${maxRelAlt.toFixed(1)} m above home, landed and disarmed`);
 
-  // 11. Signing: every frame received.
+  // 11. A change made by our GCS on LCM (after the landing) reaches this one as PARAM_VALUE.
+  if (lcmParam) {
+    const t2 = Date.now();
+    while (!lcmParamSeen && Date.now() - t2 < 180000) await sleep(200);
+    check(lcmParamSeen, `${lcmParam[0]} = ${lcmParam[1]} set by our GCS on LCM: seen here as PARAM_VALUE`);
+  }
+
+  // 12. Signing: every frame received.
   check(report.frames > 0 && report.unsigned === 0 && report.bad_signature === 0,
         `${report.frames} frames received, every one signed with the passphrase's key (${report.unsigned} unsigned, ${report.bad_signature} bad)`);
   report.items = items.length;

@@ -27,6 +27,7 @@
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/status_text_t.hpp"
+#include "uavmsg/track_status_t.hpp"
 #include "uavmsg/track_target_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 #include "uavmsg/video_frame_t.hpp"
@@ -162,7 +163,10 @@ struct MavlinkEndpoint::Impl {
   std::optional<PreArmReport> prearm;
   std::optional<ParameterTable> table;
   std::map<std::string, std::string> param_by_id;  // MAVLink id -> our name
-  std::optional<VideoFrame> last_frame;            // the newest video frame's size and camera
+  // The camera MAVLink sees (component 100): the tracker's when the vehicle has one (SENSING names
+  // it), else the first that streams video; its newest frame's time and size.
+  std::optional<VideoFrame> last_frame;
+  std::string tracking_camera;
   std::deque<Said> texts;
   int last_item = -1;  // MISSION_CURRENT's last seq
   bool in_mission = false;
@@ -182,6 +186,7 @@ struct MavlinkEndpoint::Impl {
   };
   int64_t command_seq = 0;
   std::map<int64_t, Pending> pending;
+  std::map<int64_t, MavCommand> pending_tracks;  // target_seq -> CAMERA_TRACK_RECTANGLE, until the tracker answers
   std::set<std::string> param_echo;  // names to send PARAM_VALUE for with the next table
   std::deque<int> param_list;        // indices still to send for a PARAM_REQUEST_LIST
 
@@ -225,11 +230,12 @@ struct MavlinkEndpoint::Impl {
     if (transport->Send(bytes)) ++counts.frames_out;
   }
   void Text(Severity s, const std::string& text) {
-    // Longer than 50 characters: chunks with one id (MAVLink 2 STATUSTEXT), as PX4 sends them.
+    // Longer than 50 characters: chunks with one id (MAVLink 2 STATUSTEXT); the last chunk is
+    // shorter than 50 (empty when the text fills the others), so its NUL ends the text.
     static uint16_t id = 0;
     ++id;
-    const std::size_t chunks = (text.size() + 49) / 50;
-    for (std::size_t i = 0; i < std::max<std::size_t>(chunks, 1); ++i) {
+    const std::size_t chunks = text.size() <= 50 ? 1 : text.size() / 50 + 1;
+    for (std::size_t i = 0; i < chunks; ++i) {
       Statustext t;
       t.severity = static_cast<uint8_t>(s);
       SetText(t.text, text.substr(std::min(text.size(), i * 50), 50));
@@ -283,10 +289,34 @@ struct MavlinkEndpoint::Impl {
         });
     bus.Subscribe<uavmsg::mission_ack_t>(Channel(vehicle_id, Topic::kMissionAck),
                                          [this](const std::string&, const uavmsg::mission_ack_t& m) { OnMissionAck(m); });
+    bus.Subscribe<uavmsg::sensing_t>(Channel(vehicle_id, Report<SensingReport>::kTopic),
+                                      [this](const std::string&, const uavmsg::sensing_t& m) {
+                                        for (const SensingWorker& w : FromMessage(m).workers)
+                                          if (w.name == "TRK") tracking_camera = w.rig;
+                                      });
+    bus.Subscribe<uavmsg::track_status_t>(Channel(vehicle_id, Topic::kTrackStatus),
+                                          [this](const std::string&, const uavmsg::track_status_t& m) {
+                                            const auto it = pending_tracks.find(m.target_seq);
+                                            if (it == pending_tracks.end()) return;
+                                            const TrackStatus st = FromMessage(m);
+                                            if (st.state == TrackStatus::kTracking) {
+                                              Ack(it->second, kResultAccepted);
+                                            } else if (st.state == TrackStatus::kRejected || st.state == TrackStatus::kLost) {
+                                              Text(Severity::kWarning, "target " + std::string(st.state == TrackStatus::kLost ? "lost" : "refused") +
+                                                                           ": " + st.reason);
+                                              Ack(it->second, st.state == TrackStatus::kLost ? kResultFailed : kResultDenied);
+                                            } else {
+                                              return;
+                                            }
+                                            pending_tracks.erase(it);
+                                          });
     bus.Subscribe<uavmsg::video_frame_t>(Channel(vehicle_id, Topic::kVideo),
                                          [this](const std::string&, const uavmsg::video_frame_t& m) {
                                            VideoFrame f = FromMessage(m);
-                                           if (last_frame && last_frame->camera != f.camera) return;  // the first camera
+                                           const std::string& wanted = !tracking_camera.empty() ? tracking_camera
+                                                                       : last_frame          ? last_frame->camera
+                                                                                             : f.camera;
+                                           if (f.camera != wanted) return;
                                            if (video) video->Push(f);
                                            f.jpeg.clear();
                                            last_frame = std::move(f);
@@ -301,8 +331,16 @@ struct MavlinkEndpoint::Impl {
       ids[id] = e.name;
     }
     param_by_id = std::move(ids);
+    // A change from any GCS (ours over LCM, or this one) is broadcast as PARAM_VALUE, as PX4
+    // does, so that every MAVLink GCS's parameter editor stays current; a PARAM_SET that changed
+    // nothing is answered all the same.
+    std::set<std::string> changed;
+    if (table && t.version != table->version)
+      for (const ParameterEntry& e : t.entries)
+        if (const ParameterEntry* was = table->Find(e.name); was && was->value != e.value) changed.insert(e.name);
     table = std::move(t);
-    for (const std::string& name : param_echo) SendParam(name);
+    changed.insert(param_echo.begin(), param_echo.end());
+    for (const std::string& name : changed) SendParam(name);
     param_echo.clear();
   }
 
@@ -650,15 +688,18 @@ struct MavlinkEndpoint::Impl {
         Text(Severity::kWarning, "CAMERA_TRACK_RECTANGLE: the rectangle must lie in 0..1 with its corners in order");
         return Ack(c, kResultDenied);
       }
-      const double w = last_frame->source_width, h = last_frame->source_height;
+      // Our targets are in the same units: fractions of the image from its top-left corner.
       t.method = TrackTarget::kDrag;
-      t.x = x0 * w, t.y = y0 * h, t.width = (x1 - x0) * w, t.height = (y1 - y0) * h;
+      t.x = x0, t.y = y0, t.width = x1 - x0, t.height = y1 - y0;
       t.corners = {Eigen::Vector2d(t.x, t.y), Eigen::Vector2d(t.x + t.width, t.y),
                    Eigen::Vector2d(t.x + t.width, t.y + t.height), Eigen::Vector2d(t.x, t.y + t.height)};
     }
     uavmsg::track_target_t m = ToMessage(t);
     Publish(Topic::kTrackTarget, m);
-    Ack(c, kResultAccepted);
+    // A box is answered when the tracker has it (or refuses it); a stop at once.
+    if (c.command == kCmdStopTracking) return Ack(c, kResultAccepted);
+    pending_tracks[t.target_seq] = c;
+    Ack(c, kResultInProgress);
   }
 
   bool SendRequested(uint32_t id, const MavCommand& c) {
@@ -682,7 +723,8 @@ struct MavlinkEndpoint::Impl {
         std::copy_n(model.begin(), std::min<std::size_t>(model.size(), 31), ci.model_name.begin());
         ci.resolution_h = static_cast<uint16_t>(last_frame->source_width);
         ci.resolution_v = static_cast<uint16_t>(last_frame->source_height);
-        ci.flags = 256 | 1024;  // HAS_VIDEO_STREAM, HAS_TRACKING_RECTANGLE
+        // HAS_VIDEO_STREAM, and HAS_TRACKING_RECTANGLE when the onboard tracker runs on this camera.
+        ci.flags = 256 | (tracking_camera == last_frame->camera ? 1024 : 0);
         Send(ci, kCompCamera);
         return true;
       }
