@@ -1,6 +1,7 @@
 #include "uav/shared/mavlink_messages.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -96,6 +97,15 @@ MessageLookup Lookup() {
     if (!l) return std::nullopt;
     return MessageInfo{l->crc_extra, static_cast<uint8_t>(l->length)};
   };
+}
+
+std::string ParamIdOf(const std::string& name) {
+  if (name.size() <= 16) return name;
+  uint32_t h = 2166136261u;  // FNV-1a, folded to 16 bits
+  for (unsigned char ch : name) h = (h ^ ch) * 16777619u;
+  char tail[8];
+  std::snprintf(tail, sizeof tail, "_%04x", static_cast<unsigned>((h ^ (h >> 16)) & 0xFFFF));
+  return name.substr(0, 11) + tail;
 }
 
 std::vector<uint8_t> PackPayload(const MessageLayout& layout, const void* message) {

@@ -3,12 +3,15 @@
 //                   change applies)
 //   commands.md     the command grammar (the GCS bar and the vehicle's intake)
 //   reports.md      the vehicle's state and reports: topic, signal group, every signal
+//   mavlink.md      the MAVLink messages (id, CRC_EXTRA, lengths), PX4's modes as the vehicle
+//                   reports and accepts them, the MAVLink ids of parameters longer than 16 characters
 //   gcs-script.md   the GCS script language (script.hpp's own description) and every widget name
 //                   a script can click, type into or set (the panels' RegisterLastItem calls)
 // uav-docs-reference --out DIR writes them; --check DIR fails naming each page that differs from
 // what the code says now (the test docs.reference_current), with the command that rewrites it.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -20,6 +23,8 @@
 #include <vector>
 
 #include "uav/shared/command_grammar.hpp"
+#include "uav/shared/mavlink_messages.hpp"
+#include "uav/shared/mavlink_px4.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/program.hpp"
 #include "uav/shared/reports.hpp"
@@ -144,6 +149,44 @@ std::string ReportsPage() {
   return out.str();
 }
 
+std::string MavlinkPage() {
+  std::ostringstream out;
+  out << "# MAVLink\n\n" << kGenerated
+      << "What `uav-onboard --mavlink` speaks ([connecting a MAVLink GCS](../user-guide/mavlink.md)). Each "
+         "message is declared once (`shared/include/uav/shared/mavlink_messages.def`); its wire order, CRC_EXTRA "
+         "and lengths follow from the declaration and are checked against npm's `mavlink-mappings` "
+         "(`tests/mavlink/tables.js`).\n\n";
+  out << "## Messages (" << uav::mavlink::Layouts().size() << ")\n\n"
+      << "| id | name | CRC_EXTRA | payload bytes | extension fields |\n|---|---|---|---|---|\n";
+  for (const auto& l : uav::mavlink::Layouts()) {
+    std::string ext;
+    for (const auto& f : l.fields)
+      if (f.extension) ext += (ext.empty() ? "`" : ", `") + f.name + "`";
+    out << "| " << l.id << " | `" << l.name << "` | " << int{l.crc_extra} << " | " << l.base_length;
+    if (l.length != l.base_length) out << " (" << l.length << " with extensions)";
+    out << " | " << (ext.empty() ? "-" : ext) << " |\n";
+  }
+  out << "\n## Flight modes\n\nThe vehicle presents itself as PX4 (HEARTBEAT.autopilot 12), so that "
+         "QGroundControl allows mode changes and guided commands. The heartbeat reports the mode of the task "
+         "being flown; DO_SET_MODE to a mode asks the vehicle for its command, through the same checks as ours. "
+         "A mode not listed is refused (MAV_RESULT_UNSUPPORTED).\n\n"
+      << "| PX4 mode | custom_mode | reported while | DO_SET_MODE asks |\n|---|---|---|---|\n";
+  for (const auto& m : uav::mavlink::Px4Modes()) {
+    std::string tasks;
+    for (uav::Task t : m.tasks) tasks += (tasks.empty() ? "`" : ", `") + std::string(uav::Name(t)) + "`";
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "0x%08x", static_cast<unsigned>(m.custom_mode()));
+    out << "| " << m.name << " | " << hex << " | " << tasks << " | `" << m.command << "` |\n";
+  }
+  out << "\n## Parameter ids\n\nPARAM_VALUE names a parameter in 16 characters. A longer name is sent as its "
+         "first 11 characters, `_` and 4 hex digits of a hash of the whole name: the id depends on the name "
+         "alone, so it does not change as parameters are added. Every other parameter keeps its name "
+         "([parameters](parameters.md)).\n\n| parameter | MAVLink id |\n|---|---|\n";
+  for (const auto& p : uav::VehicleParameterSchema().specs)
+    if (p.name.size() > 16) out << "| `" << p.name << "` | `" << uav::mavlink::ParamIdOf(p.name) << "` |\n";
+  return out.str();
+}
+
 std::string ReadFile(const fs::path& p) {
   std::ifstream in(p);
   if (!in) throw std::runtime_error("cannot read " + p.string());
@@ -262,6 +305,7 @@ int main(int argc, char** argv) {
     pages = {{"parameters.md", ParametersPage()},
              {"commands.md", CommandsPage()},
              {"reports.md", ReportsPage()},
+             {"mavlink.md", MavlinkPage()},
              {"gcs-script.md", ScriptPage(source_dir)}};
   } catch (const std::exception& e) {
     std::cerr << "uav-docs-reference: " << e.what() << "\n";

@@ -15,6 +15,7 @@
 #include "uav/wire/messages.hpp"
 #include "uav/gcs/gcs_link.hpp"
 #include "uav/shared/channels.hpp"
+#include "uav/shared/mavlink_messages.hpp"
 #include "uav/wire/reports.hpp"
 #include "uav/wire/signed_message.hpp"
 #include "uavmsg/active_stereo_t.hpp"
@@ -51,6 +52,10 @@ std::vector<uint8_t> Encode(const Msg& m) {
   return b;
 }
 
+void WriteBytes(const fs::path& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
 void Write(const fs::path& path, uint8_t selector, const std::vector<uint8_t>& bytes) {
   std::ofstream out(path, std::ios::binary);
   out.put(static_cast<char>(selector));
@@ -74,7 +79,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path out = argv[1];
-  for (const char* d : {"vehicle_messages", "gcs_messages", "event_log"}) fs::create_directories(out / d);
+  for (const char* d : {"vehicle_messages", "gcs_messages", "event_log", "mavlink"}) fs::create_directories(out / d);
 
   // GCS -> vehicle, selector = the harness's case; signed with its key (0x42 x 32).
   uav::SigningKey key;
@@ -220,6 +225,25 @@ int main(int argc, char** argv) {
       e.data = b.data();
       log.writeEvent(&e);
     }
+  }
+  // MAVLink: every message we speak as one frame with a payload of varied bytes, signed with the
+  // harness's key (0x42 x 32) and unsigned, datagrams of 17 bytes (the harness's first byte);
+  // MAVLink 1 for the ids it can carry.
+  for (const uav::mavlink::MessageLayout& l : uav::mavlink::Layouts()) {
+    uav::mavlink::Frame f;
+    f.sysid = 255, f.compid = 190, f.msgid = l.id;
+    f.payload.resize(l.length);
+    for (std::size_t i = 0; i < f.payload.size(); ++i) f.payload[i] = static_cast<uint8_t>(i * 37 + l.id);
+    std::vector<uint8_t> bytes = {16};
+    const std::vector<uint8_t> frame = uav::mavlink::Encode(f, l.crc_extra, &key.bytes, 1, 600'000'000'000);
+    bytes.insert(bytes.end(), frame.begin(), frame.end());
+    WriteBytes(out / "mavlink" / (l.name + "_signed"), bytes);
+    bytes.resize(1);
+    f.version = l.id < 256 ? 1 : 2;
+    if (f.version == 1) f.payload.resize(l.base_length);
+    const std::vector<uint8_t> plain = uav::mavlink::Encode(f, l.crc_extra);
+    bytes.insert(bytes.end(), plain.begin(), plain.end());
+    WriteBytes(out / "mavlink" / (l.name + (f.version == 1 ? "_v1" : "_unsigned")), bytes);
   }
   std::printf("make_fuzz_seeds: wrote %s\n", out.c_str());
   return 0;

@@ -4,7 +4,10 @@
 // extensions, and the signing rules of a receiver (replay, stale, wrong key, unsigned).
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "uav/shared/mavlink_messages.hpp"
+#include "uav/shared/parameters.hpp"
 #include "uav/shared/signing.hpp"
 
 namespace uav::mavlink {
@@ -92,6 +95,21 @@ TEST(MavlinkMessages, AReceiverRefusesReplayedStaleForeignAndUnsignedFrames) {
   const uint64_t a = streams.NextTimestamp(now), b = streams.NextTimestamp(now);
   EXPECT_GT(b, a);
   EXPECT_GE(a, now);
+}
+
+TEST(MavlinkMessages, EveryVehicleParameterHasAStableUniqueIdOf16CharactersAtMost) {
+  std::map<std::string, std::string> by_id;
+  for (const ParameterSpec& p : VehicleParameterSchema().specs) {
+    const std::string id = ParamIdOf(p.name);
+    EXPECT_LE(id.size(), 16u) << p.name;
+    if (p.name.size() <= 16) {
+      EXPECT_EQ(id, p.name);
+    }
+    EXPECT_TRUE(by_id.emplace(id, p.name).second) << p.name << " and " << by_id[id] << " share " << id;
+  }
+  // Written down: a GCS's saved parameter file names it so.
+  EXPECT_EQ(ParamIdOf("gyro_cruise_roll_rate_gain"), ParamIdOf("gyro_cruise_roll_rate_gain"));
+  EXPECT_EQ(ParamIdOf("gyro_cruise_roll_rate_gain").substr(0, 12), "gyro_cruise_");
 }
 
 }  // namespace

@@ -70,7 +70,11 @@ void LinkWorker::Start(std::unique_ptr<EventLog> events) {
   im.translators.push_back(MakeTrackStatusTranslator(c));
   im.translators.push_back(MakeMapTileTranslator(c));
   im.translators.push_back(MakeFileTransferTranslator(c, im.files));
-  if (c.params.mavlink) im.mavlink = std::make_unique<MavlinkEndpoint>(c.vehicle_id, c.bus, *c.params.mavlink, c.params.signing_key);
+  if (c.params.mavlink)
+    im.mavlink = std::make_unique<MavlinkEndpoint>(c.vehicle_id, c.bus, *c.params.mavlink, c.params.signing_key,
+                                                   [&board = c.board](Severity s, const std::string& text) {
+                                                     board.PushStatus(s, text);
+                                                   });
 }
 
 LinkWorker::~LinkWorker() = default;

@@ -17,6 +17,7 @@
 #include "uav/shared/channels.hpp"
 #include "uav/shared/geodesy.hpp"
 #include "uav/shared/mavlink_messages.hpp"
+#include "uav/shared/mavlink_px4.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/waypoints/mission_messages.hpp"
 #include "uav/wire/bus.hpp"
@@ -57,10 +58,6 @@ constexpr uint16_t kCmdNavReturn = 20, kCmdNavLand = 21, kCmdNavTakeoff = 22, kC
                    kCmdRequestMessage = 512, kCmdRequestCapabilities = 520, kCmdTrackRectangle = 2005,
                    kCmdStopTracking = 2010, kCmdVtolTransition = 3000;
 constexpr float kForceDisarm = 21196.f;  // param2 of COMPONENT_ARM_DISARM: disarm in flight (a kill)
-// PX4's custom modes (px4_custom_mode.h): main mode in bits 16-23, AUTO's sub-mode in 24-31.
-constexpr uint8_t kPx4Posctl = 3, kPx4Auto = 4;
-constexpr uint8_t kPx4AutoTakeoff = 2, kPx4AutoLoiter = 3, kPx4AutoMission = 4, kPx4AutoRtl = 5, kPx4AutoLand = 6,
-                  kPx4AutoFollow = 8;
 // AUTOPILOT_VERSION capabilities: MISSION_FLOAT 1, PARAM_FLOAT 2, MISSION_INT 4, COMMAND_INT 8,
 // SET_POSITION_TARGET_GLOBAL_INT 64 (not claimed), MISSION_FENCE 1024, MISSION_RALLY 2048, MAVLINK2 8192.
 constexpr uint64_t kCapabilities = 2 | 4 | 8 | 1024 | 2048 | 8192;
@@ -68,36 +65,6 @@ constexpr uint64_t kCapabilities = 2 | 4 | 8 | 1024 | 2048 | 8192;
 constexpr uint32_t kSensorGyro = 1, kSensorAccel = 2, kSensorGps = 32, kSensorVisionPosition = 256,
                    kSensorMotorOutputs = 32768, kSensorGeofence = 1u << 20, kSensorAhrs = 1u << 21,
                    kSensorBattery = 1u << 25, kSensorPrearm = 1u << 28;
-
-uint32_t Px4Mode(uint8_t main, uint8_t sub = 0) { return (uint32_t{main} << 16) | (uint32_t{sub} << 24); }
-
-uint32_t CustomModeOf(Task t) {
-  switch (t) {
-    case Task::kTakeoff: return Px4Mode(kPx4Auto, kPx4AutoTakeoff);
-    case Task::kLand: return Px4Mode(kPx4Auto, kPx4AutoLand);
-    case Task::kTrack:
-    case Task::kMission: return Px4Mode(kPx4Auto, kPx4AutoMission);
-    case Task::kReturn: return Px4Mode(kPx4Auto, kPx4AutoRtl);
-    case Task::kFollow: return Px4Mode(kPx4Auto, kPx4AutoFollow);
-    case Task::kSticks: return Px4Mode(kPx4Posctl);
-    case Task::kIdle:
-    case Task::kHover:
-    case Task::kGoto: break;  // PX4 holds, and repositions, in Hold (AUTO_LOITER)
-  }
-  return Px4Mode(kPx4Auto, kPx4AutoLoiter);
-}
-
-// A parameter's MAVLink id: its name when it fits 16 characters, else its first 11 characters,
-// '_' and 4 hex digits of a hash of the whole name: stable (it depends on the name only) and
-// unique (checked when the table arrives).
-std::string ParamId(const std::string& name) {
-  if (name.size() <= 16) return name;
-  uint32_t h = 2166136261u;  // FNV-1a
-  for (unsigned char ch : name) h = (h ^ ch) * 16777619u;
-  char tail[8];
-  std::snprintf(tail, sizeof tail, "_%04x", (h ^ (h >> 16)) & 0xFFFF);
-  return name.substr(0, 11) + tail;
-}
 
 std::string Number(double v) {
   char buf[32];
@@ -133,8 +100,8 @@ struct Said {  // a status text of the vehicle's, to repeat as STATUSTEXT
 }  // namespace
 
 struct MavlinkEndpoint::Impl {
-  Impl(const std::string& id, Bus& b, const MavlinkParams& p, const std::optional<SigningKey>& k)
-      : vehicle_id(id), bus(b), params(p), key(k), transport(OpenMavlinkTransport(p.endpoint)),
+  Impl(const std::string& id, Bus& b, const MavlinkParams& p, const std::optional<SigningKey>& k, Say s)
+      : vehicle_id(id), bus(b), params(p), key(k), say(std::move(s)), transport(OpenMavlinkTransport(p.endpoint)),
         parser(Lookup()), streams(k ? k->bytes : SecretKey{}, p.insecure || !k),
         source("mavlink:" + std::to_string(p.system_id)) {
     if (key) signer.emplace(*key, kLinkId);
@@ -147,6 +114,7 @@ struct MavlinkEndpoint::Impl {
   Bus& bus;
   MavlinkParams params;
   std::optional<SigningKey> key;
+  Say say;
   std::optional<MessageSigner> signer;
   std::unique_ptr<MavlinkTransport> transport;
   std::unique_ptr<MavlinkVideo> video;
@@ -326,7 +294,7 @@ struct MavlinkEndpoint::Impl {
   void OnTable(ParameterTable t) {
     std::map<std::string, std::string> ids;
     for (const ParameterEntry& e : t.entries) {
-      const std::string id = ParamId(e.name);
+      const std::string id = ParamIdOf(e.name);
       if (ids.count(id)) Text(Severity::kError, "parameters " + ids[id] + " and " + e.name + " share MAVLink id " + id);
       ids[id] = e.name;
     }
@@ -352,7 +320,7 @@ struct MavlinkEndpoint::Impl {
   void SendParamAt(int i) {
     const ParameterEntry& e = table->entries[static_cast<std::size_t>(i)];
     ParamValue v;
-    SetText(v.param_id, ParamId(e.name));
+    SetText(v.param_id, ParamIdOf(e.name));
     v.param_value = static_cast<float>(e.value);
     v.param_type = kParamReal32;
     v.param_count = static_cast<uint16_t>(table->entries.size());
@@ -450,13 +418,7 @@ struct MavlinkEndpoint::Impl {
     said = wall;
     const std::string text = "MAVLink frame refused: " + why + " (" + FindLayout(f.msgid)->name + " from " +
                              std::to_string(f.sysid) + ":" + std::to_string(f.compid) + ")";
-    Text(Severity::kWarning, text);
-    uavmsg::status_text_t s;
-    s.utime = now;
-    s.severity = static_cast<int8_t>(Severity::kWarning);
-    s.text = text;
-    s.header = uavmsg::header_t{vehicle_id, ++bus_seq[Topic::kStatusText]};
-    bus.Publish(Channel(vehicle_id, Topic::kStatusText), s);
+    say(Severity::kWarning, text);  // the vehicle's status text: both links hear it
   }
 
   bool ForUs(uint8_t target_system, uint8_t target_component) const {
@@ -470,7 +432,7 @@ struct MavlinkEndpoint::Impl {
         const Heartbeat hb = Unpack<Heartbeat>(f);
         if (hb.type != kTypeGcs) return;
         gcs_sysid = f.sysid, gcs_compid = f.compid;
-        if (!gcs_seen) Text(Severity::kInfo, "MAVLink GCS " + std::to_string(f.sysid) + " connected");
+        if (!gcs_seen) say(Severity::kInfo, "MAVLink GCS " + std::to_string(f.sysid) + " connected");
         gcs_seen = true;
         // The link-loss failsafe counts MAVLink GCSs too: their heartbeats become ours.
         uavmsg::heartbeat_t m{};
@@ -601,19 +563,14 @@ struct MavlinkEndpoint::Impl {
         if (!(static_cast<uint8_t>(c.param[0]) & kModeFlagCustom))
           return {"", kResultUnsupported, "DO_SET_MODE without custom mode: PX4 modes only"};
         const uint8_t main = static_cast<uint8_t>(c.param[1]), sub = static_cast<uint8_t>(c.param[2]);
-        if (main == kPx4Posctl) return {"sticks"};
-        if (main == kPx4Auto) {
-          switch (sub) {
-            case kPx4AutoLoiter: return {"hover"};
-            case kPx4AutoMission: return {last_item >= 0 && !in_mission ? "resume" : "mission"};
-            case kPx4AutoRtl: return {"return"};
-            case kPx4AutoLand: return {"land"};
-            case kPx4AutoTakeoff: return {"takeoff 10"};
-            case kPx4AutoFollow: return {"follow"};
-          }
-        }
-        return {"", kResultUnsupported,
-                "mode " + std::to_string(main) + "/" + std::to_string(sub) + " is not one this vehicle flies"};
+        const Px4Mode* mode = FindPx4Mode(main, sub);
+        if (!mode)
+          return {"", kResultUnsupported,
+                  "mode " + std::to_string(main) + "/" + std::to_string(sub) + " is not one this vehicle flies"};
+        // Mission after an interruption goes on where it stopped, as PX4's does.
+        const bool interrupted = last_item >= 0 && last_item < static_cast<int>(ListOf(kTypeMission).size()) && !in_mission;
+        if (mode->main_mode == px4::kMainAuto && mode->sub_mode == px4::kAutoMission && interrupted) return {"resume"};
+        return {mode->command};
       }
       case kCmdVtolTransition:
         if (c.param[0] == 3.f) return {"transition mc"};
@@ -994,7 +951,7 @@ struct MavlinkEndpoint::Impl {
       hb.mavlink_version = 3;
       if (state) {
         hb.type = state->vehicle_type == VehicleType::kTailSitter ? kTypeVtolTailsitterQuad : kTypeQuadrotor;
-        hb.custom_mode = CustomModeOf(state->task);
+        hb.custom_mode = Px4ModeOf(state->task).custom_mode();
         hb.base_mode = kModeFlagCustom | kModeFlagStabilize | kModeFlagGuided | kModeFlagAuto |
                        (state->armed ? kModeFlagArmed : 0);
         hb.system_status = state->failsafe != FailsafeAction::kNone ? kStateCritical
@@ -1188,8 +1145,8 @@ struct MavlinkEndpoint::Impl {
 };
 
 MavlinkEndpoint::MavlinkEndpoint(const std::string& vehicle_id, Bus& bus, const MavlinkParams& params,
-                                 const std::optional<SigningKey>& key)
-    : impl_(std::make_unique<Impl>(vehicle_id, bus, params, key)) {}
+                                 const std::optional<SigningKey>& key, Say say)
+    : impl_(std::make_unique<Impl>(vehicle_id, bus, params, key, std::move(say))) {}
 MavlinkEndpoint::~MavlinkEndpoint() = default;
 void MavlinkEndpoint::Tick(int64_t utime) { impl_->Tick(utime); }
 MavlinkEndpoint::Counts MavlinkEndpoint::counts() const { return impl_->counts; }

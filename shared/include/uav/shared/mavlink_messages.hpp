@@ -75,6 +75,12 @@ M Unpack(const Frame& f) {
   return m;
 }
 
+// A parameter's MAVLink id (PARAM_VALUE's param_id holds 16 characters): its name when it fits,
+// else its first 11 characters, '_' and 4 hex digits of a hash of the whole name. Stable (it
+// depends on the name alone, so a GCS's saved parameter files keep working as parameters are
+// added) and checked unique over the vehicle's schema by the tests.
+std::string ParamIdOf(const std::string& name);
+
 // A char[N] field as text (up to its first NUL; N characters when it has none, as MAVLink
 // allows) and back (truncated to N).
 template <std::size_t N>

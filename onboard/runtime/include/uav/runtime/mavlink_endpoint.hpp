@@ -7,11 +7,13 @@
 // heartbeats and track targets on it, signed with the vehicle's key. So every MAVLink command
 // goes through the checks of our own, and each GCS sees what the other's commands did.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "uav/shared/signing.hpp"
+#include "uav/shared/vehicle_enums.hpp"
 
 namespace uav {
 class Bus;
@@ -32,9 +34,11 @@ class MavlinkEndpoint {
  public:
   // `key`: the vehicle's signing key, for MAVLink (SHA-256 of the passphrase the MAVLink GCS
   // types: uav-keygen --passphrase) and for the bus. Without one, frames go unsigned and only
-  // `insecure` lets anything in. Throws naming the endpoint when it cannot be opened.
+  // `insecure` lets anything in. `say` makes a status text of the vehicle's (both GCSs hear it:
+  // a GCS connected, frames refused). Throws naming the endpoint when it cannot be opened.
+  using Say = std::function<void(Severity, const std::string&)>;
   MavlinkEndpoint(const std::string& vehicle_id, Bus& bus, const MavlinkParams& params,
-                  const std::optional<SigningKey>& key);
+                  const std::optional<SigningKey>& key, Say say);
   ~MavlinkEndpoint();
   // On the link thread, after the bus was handled: reads and answers what arrived, sends the
   // telemetry due at the vehicle's clock `utime`.
