@@ -1,0 +1,149 @@
+// The vehicle's MAVLink endpoint apart from any vehicle: on a memq:// bus, it turns a signed
+// COMMAND_LONG into the vehicle's own command (signed on the bus, from "mavlink:<sysid>"), drops
+// and counts unsigned, foreign-key and replayed frames and garbage, and names what is wrong with
+// an endpoint it cannot open.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <string>
+#include <vector>
+
+#include "uav/runtime/mavlink_endpoint.hpp"
+#include "uav/shared/channels.hpp"
+#include "uav/shared/mavlink_messages.hpp"
+#include "uav/shared/time.hpp"
+#include "uav/wire/bus.hpp"
+#include "uavmsg/command_t.hpp"
+
+namespace uav::runtime {
+namespace {
+
+using namespace uav::mavlink;
+
+// A UDP socket on a free port of the loopback, as a ground station would have.
+struct Peer {
+  int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in vehicle{};
+  Peer() {
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+    timeval tv{0, 200'000};
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  }
+  ~Peer() { ::close(fd); }
+  void Send(const std::vector<uint8_t>& b) {
+    ::sendto(fd, b.data(), b.size(), 0, reinterpret_cast<sockaddr*>(&vehicle), sizeof vehicle);
+  }
+};
+
+int FreePort() {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+std::vector<uint8_t> Arm(const SecretKey* key, uint64_t timestamp) {
+  CommandLong c;
+  c.target_system = 1, c.target_component = 1, c.command = 400, c.param1 = 1;
+  Frame f;
+  f.sysid = 255, f.compid = 190, f.msgid = CommandLong::kId;
+  f.payload = Pack(c);
+  return Encode(f, FindLayout(CommandLong::kId)->crc_extra, key, 1, timestamp);
+}
+
+TEST(MavlinkEndpointTest, ASignedCommandBecomesTheVehiclesOwnAndEverythingElseIsDroppedAndCounted) {
+  Bus bus("memq://");
+  std::vector<uavmsg::command_t> commands;
+  bus.Subscribe<uavmsg::command_t>(Channel("UAV1", Topic::kCommand),
+                                   [&](const std::string&, const uavmsg::command_t& m) { commands.push_back(m); });
+  const SigningKey key = SigningKey::FromPassphrase("the crew's passphrase");
+  const SigningKey other = SigningKey::FromPassphrase("not the crew's");
+  std::vector<std::string> said;
+  MavlinkParams p;
+  const int port = FreePort();
+  p.endpoint = "udpin:127.0.0.1:" + std::to_string(port);
+  p.video_host.clear();
+  MavlinkEndpoint endpoint("UAV1", bus, p, key, [&](Severity, const std::string& t) { said.push_back(t); });
+  Peer gcs;
+  gcs.vehicle.sin_family = AF_INET;
+  gcs.vehicle.sin_port = htons(static_cast<uint16_t>(port));
+  gcs.vehicle.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  auto tick = [&] {
+    ::usleep(20'000);
+    endpoint.Tick(1'000'000);
+    bus.Handle(0);
+  };
+  const uint64_t now = static_cast<uint64_t>(SigningTimestamp(WallTimeMicros()));
+  const std::vector<uint8_t> arm = Arm(&key.bytes, now);
+  gcs.Send(arm);
+  tick();
+  ASSERT_EQ(commands.size(), 1u);
+  EXPECT_EQ(commands[0].text, "arm");
+  EXPECT_EQ(commands[0].source, "mavlink:1");
+  EXPECT_NE(commands[0].signature.version, 0) << "signed with the vehicle's key, as our GCS signs";
+
+  gcs.Send(arm);                          // the same frame again
+  gcs.Send(Arm(nullptr, 0));              // unsigned
+  gcs.Send(Arm(&other.bytes, now + 10));  // another key
+  gcs.Send({'n', 'o', 'i', 's', 'e'});
+  std::vector<uint8_t> damaged = Arm(&key.bytes, now + 20);
+  damaged[15] ^= 0x40;
+  gcs.Send(damaged);
+  tick();
+  EXPECT_EQ(commands.size(), 1u) << "none of them reached the vehicle";
+  const MavlinkEndpoint::Counts c = endpoint.counts();
+  EXPECT_EQ(c.replayed, 1);
+  EXPECT_EQ(c.unsigned_frames, 1);
+  EXPECT_EQ(c.bad_signature, 1);
+  EXPECT_GE(c.skipped_bytes, 5);
+  EXPECT_EQ(c.bad_checksum, 1);
+  std::string all;
+  for (const std::string& s : said) all += s + "\n";
+  EXPECT_NE(all.find("MAVLink frame refused: replayed"), std::string::npos) << all;
+  EXPECT_NE(all.find("MAVLink frame refused: unsigned"), std::string::npos) << all;
+  EXPECT_NE(all.find("MAVLink frame refused: bad signature"), std::string::npos) << all;
+
+  // The answers went back to the sender (udpin): a HEARTBEAT as PX4 among them.
+  uint8_t buf[2048];
+  Parser parser(Lookup());
+  bool px4 = false;
+  for (ssize_t n; (n = ::recv(gcs.fd, buf, sizeof buf, 0)) > 0;)
+    for (const Frame& f : parser.Push(buf, static_cast<std::size_t>(n)))
+      if (f.msgid == Heartbeat::kId) px4 = Unpack<Heartbeat>(f).autopilot == 12 && f.signature && Verify(key.bytes, f.raw);
+  EXPECT_TRUE(px4) << "a signed PX4 heartbeat";
+}
+
+TEST(MavlinkEndpointTest, AnEndpointItCannotOpenIsNamed) {
+  Bus bus("memq://");
+  auto open = [&](const std::string& spec) {
+    MavlinkParams p;
+    p.endpoint = spec;
+    try {
+      MavlinkEndpoint e("UAV1", bus, p, std::nullopt, [](Severity, const std::string&) {});
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("opened");
+  };
+  EXPECT_NE(open("tcp:127.0.0.1:5760").find("expected udp:HOST:PORT"), std::string::npos);
+  EXPECT_NE(open("udp:127.0.0.1").find("needs HOST:PORT"), std::string::npos);
+  EXPECT_NE(open("udp:127.0.0.1:99999").find("port '99999' is not 1..65535"), std::string::npos);
+  EXPECT_NE(open("udp:no.such.host.invalid:14550").find("cannot resolve host"), std::string::npos);
+  EXPECT_NE(open("serial:/nonexistent/ttyUSB9:57600").find("cannot open /nonexistent/ttyUSB9"), std::string::npos);
+  EXPECT_NE(open("serial:/dev/null:12345").find("baud rate 12345"), std::string::npos);
+  EXPECT_NE(open("serial:/dev/null:57600").find("is not a serial device"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace uav::runtime
