@@ -686,7 +686,7 @@ struct MavlinkEndpoint::Impl {
         return true;
       }
       case VideoStreamInformation::kId: {
-        if (!video || !last_frame) return false;
+        if (!video || !last_frame || video->width() == 0) return false;  // nothing encoded (yet)
         VideoStreamInformation vs;
         vs.stream_id = 1, vs.count = 1;
         vs.type = 1;  // VIDEO_STREAM_TYPE_RTPUDP
@@ -1136,8 +1136,12 @@ struct MavlinkEndpoint::Impl {
     PumpUploader();
     StatusTexts();
     Telemetry();
-    // The parameter list, 40 a tick: a burst of hundreds would overflow a telemetry radio.
-    for (int i = 0; i < 40 && !param_list.empty() && table; ++i) {
+    // The parameter list, paced: on a network 40 a tick; on a radio half of what the line
+    // carries (a PARAM_VALUE frame, signed, is 50 bytes), so the telemetry keeps flowing and the
+    // serial driver's buffer never overflows.
+    const int bps = transport->bytes_per_second();
+    const int per_tick = bps > 0 ? std::max(1, bps / 50 / 2 / 50) : 40;
+    for (int i = 0; i < per_tick && !param_list.empty() && table; ++i) {
       if (param_list.front() < static_cast<int>(table->entries.size())) SendParamAt(param_list.front());
       param_list.pop_front();
     }

@@ -85,7 +85,7 @@ class UdpTransport : public MavlinkTransport {
 
 class SerialTransport : public MavlinkTransport {
  public:
-  SerialTransport(const std::string& spec, const std::string& device, int baud) : spec_(spec) {
+  SerialTransport(const std::string& spec, const std::string& device, int baud) : spec_(spec), baud_(baud) {
     static const std::map<int, speed_t> kBauds = {{9600, B9600},     {19200, B19200},   {38400, B38400},
                                                   {57600, B57600},   {115200, B115200}, {230400, B230400},
                                                   {460800, B460800}, {921600, B921600}};
@@ -119,9 +119,11 @@ class SerialTransport : public MavlinkTransport {
     return ::write(fd_, bytes.data(), bytes.size()) == static_cast<ssize_t>(bytes.size());
   }
   std::string Describe() const override { return spec_; }
+  int bytes_per_second() const override { return baud_ / 10; }  // 8N1: ten bits a byte
 
  private:
   std::string spec_;
+  int baud_;
   int fd_ = -1;
 };
 

@@ -17,6 +17,8 @@ class MavlinkTransport {
   // Sends one frame (dropped, and counted by the caller, when the peer is unknown or the link full).
   virtual bool Send(const std::vector<uint8_t>& bytes) = 0;
   virtual std::string Describe() const = 0;
+  // What the link carries [bytes/s]: a serial line's baud rate / 10; 0 for a network.
+  virtual int bytes_per_second() const { return 0; }
 };
 
 // "udp:HOST:PORT"     send to HOST:PORT from a port of our own, and read what comes back;
