@@ -17,6 +17,7 @@
 #include "uav/shared/time.hpp"
 #include "uav/wire/bus.hpp"
 #include "uavmsg/command_t.hpp"
+#include "uavmsg/vehicle_state_t.hpp"
 
 namespace uav::runtime {
 namespace {
@@ -114,14 +115,37 @@ TEST(MavlinkEndpointTest, ASignedCommandBecomesTheVehiclesOwnAndEverythingElseIs
   EXPECT_NE(all.find("MAVLink frame refused: unsigned"), std::string::npos) << all;
   EXPECT_NE(all.find("MAVLink frame refused: bad signature"), std::string::npos) << all;
 
-  // The answers went back to the sender (udpin): a HEARTBEAT as PX4 among them.
+  // A reposition to latitude 200 degrees: refused (DENIED), nothing sent to the vehicle, and the
+  // endpoint goes on.
+  uavmsg::vehicle_state_t state{};
+  state.header.vehicle_id = "UAV1";
+  state.home_latitude_deg = 1.2966, state.home_longitude_deg = 103.7764, state.home_altitude_m = 15;
+  bus.Publish(Channel("UAV1", Topic::kState), state);
+  bus.Handle(0);  // the state reaches the endpoint
+  CommandInt reposition;
+  reposition.target_system = 1, reposition.target_component = 1, reposition.command = 192, reposition.frame = 6;
+  reposition.x = 2'000'000'000, reposition.y = 1'037'764'000, reposition.z = 10;
+  Frame rf;
+  rf.sysid = 255, rf.compid = 190, rf.msgid = CommandInt::kId;
+  rf.payload = Pack(reposition);
+  gcs.Send(Encode(rf, FindLayout(CommandInt::kId)->crc_extra, &key.bytes, 1, now + 30));
+  tick();
+  EXPECT_EQ(commands.size(), 1u);
+
+  // The answers went back to the sender (udpin): a signed PX4 HEARTBEAT, the reposition denied.
   uint8_t buf[2048];
   Parser parser(Lookup());
-  bool px4 = false;
+  bool px4 = false, denied = false;
   for (ssize_t n; (n = ::recv(gcs.fd, buf, sizeof buf, 0)) > 0;)
-    for (const Frame& f : parser.Push(buf, static_cast<std::size_t>(n)))
+    for (const Frame& f : parser.Push(buf, static_cast<std::size_t>(n))) {
       if (f.msgid == Heartbeat::kId) px4 = Unpack<Heartbeat>(f).autopilot == 12 && f.signature && Verify(key.bytes, f.raw);
+      if (f.msgid == mavlink::CommandAck::kId) {
+        const auto ack = Unpack<mavlink::CommandAck>(f);
+        denied = denied || (ack.command == 192 && ack.result == 2);
+      }
+    }
   EXPECT_TRUE(px4) << "a signed PX4 heartbeat";
+  EXPECT_TRUE(denied) << "DO_REPOSITION to latitude 200 denied";
 }
 
 TEST(MavlinkEndpointTest, AnEndpointItCannotOpenIsNamed) {

@@ -396,8 +396,9 @@ struct MavlinkEndpoint::Impl {
       }
       try {
         Handle(f);
-      } catch (const std::invalid_argument& e) {
-        Text(Severity::kWarning, std::string("MAVLink: ") + e.what());
+      } catch (const std::exception& e) {
+        // Whatever a frame carries, the link thread goes on: the sender is told what was wrong.
+        Text(Severity::kWarning, std::string("MAVLink ") + FindLayout(f.msgid)->name + " refused: " + e.what());
       }
     }
   }
@@ -549,8 +550,9 @@ struct MavlinkEndpoint::Impl {
         } else {
           lat = c.param[4], lon = c.param[5];
         }
-        if (!std::isfinite(lat) || !std::isfinite(lon))
-          return {"", kResultDenied, "DO_REPOSITION without a position"};
+        if (!(std::abs(lat) <= 90 && std::abs(lon) <= 180))
+          return {"", kResultDenied, "DO_REPOSITION: latitude " + Number(lat) + ", longitude " + Number(lon) +
+                                         " is not a position"};
         // Relative-altitude frames (3, 6) are above home; the global ones (0, 5) above mean sea level.
         const bool relative = c.has_int_position && (c.frame == 3 || c.frame == 6);
         if (!std::isfinite(alt)) alt = s->altitude();
