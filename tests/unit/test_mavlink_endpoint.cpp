@@ -1,7 +1,7 @@
 // The vehicle's MAVLink endpoint apart from any vehicle: on a memq:// bus, it turns a signed
 // COMMAND_LONG into the vehicle's own command (signed on the bus, from "mavlink:<sysid>"), drops
-// and counts unsigned, foreign-key and replayed frames and garbage, and names what is wrong with
-// an endpoint it cannot open.
+// and counts unsigned, foreign-key and replayed frames, garbage and bus messages that do not
+// convert, denies a reposition to no place, and names what is wrong with an endpoint it cannot open.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -117,6 +117,13 @@ TEST(MavlinkEndpointTest, ASignedCommandBecomesTheVehiclesOwnAndEverythingElseIs
 
   // A reposition to latitude 200 degrees: refused (DENIED), nothing sent to the vehicle, and the
   // endpoint goes on.
+  // First a state that does not convert (anyone can publish on the bus): counted, nothing stops.
+  uavmsg::vehicle_state_t broken{};
+  broken.header.vehicle_id = "UAV1";
+  broken.task = 99;
+  bus.Publish(Channel("UAV1", Topic::kState), broken);
+  bus.Handle(0);
+  EXPECT_EQ(endpoint.counts().bad_bus_messages, 1);
   uavmsg::vehicle_state_t state{};
   state.header.vehicle_id = "UAV1";
   state.home_latitude_deg = 1.2966, state.home_longitude_deg = 103.7764, state.home_altitude_m = 15;

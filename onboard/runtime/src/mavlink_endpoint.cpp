@@ -228,68 +228,70 @@ struct MavlinkEndpoint::Impl {
   }
 
   // ---- from the bus ----
-  void Subscribe() {
-    bus.Subscribe<uavmsg::vehicle_state_t>(Channel(vehicle_id, Topic::kState),
-                                           [this](const std::string&, const uavmsg::vehicle_state_t& m) {
-                                             state = FromMessage(m);
-                                           });
-    bus.Subscribe<uavmsg::pre_arm_t>(Channel(vehicle_id, Report<PreArmReport>::kTopic),
-                                     [this](const std::string&, const uavmsg::pre_arm_t& m) { prearm = FromMessage(m); });
-    bus.Subscribe<uavmsg::param_table_t>(Channel(vehicle_id, Report<ParameterTable>::kTopic),
-                                         [this](const std::string&, const uavmsg::param_table_t& m) { OnTable(FromMessage(m)); });
-    bus.Subscribe<uavmsg::status_text_t>(Channel(vehicle_id, Topic::kStatusText),
-                                         [this](const std::string&, const uavmsg::status_text_t& m) {
-                                           texts.push_back({static_cast<Severity>(m.severity), m.text});
-                                         });
-    bus.Subscribe<uavmsg::command_ack_t>(Channel(vehicle_id, Topic::kCommandAck),
-                                         [this](const std::string&, const uavmsg::command_ack_t& m) {
-                                           if (m.source == source) OnCommandAck(FromMessage(m));
-                                         });
-    bus.Subscribe<uavmsg::mission_upload_t>(
-        Channel(vehicle_id, Topic::kMissionUpload), [this](const std::string&, const uavmsg::mission_upload_t& m) {
-          try {
-            observed[m.source].Receive(waypoints::FromMessage(m), [this, &m](const waypoints::Mission& mission) {
-              observed_done[m.source] = mission;
-              return std::string();
-            });
-          } catch (const std::invalid_argument&) {
-          }
-        });
-    bus.Subscribe<uavmsg::mission_ack_t>(Channel(vehicle_id, Topic::kMissionAck),
-                                         [this](const std::string&, const uavmsg::mission_ack_t& m) { OnMissionAck(m); });
-    bus.Subscribe<uavmsg::sensing_t>(Channel(vehicle_id, Report<SensingReport>::kTopic),
-                                      [this](const std::string&, const uavmsg::sensing_t& m) {
-                                        for (const SensingWorker& w : FromMessage(m).workers)
-                                          if (w.name == "TRK") tracking_camera = w.rig;
-                                      });
-    bus.Subscribe<uavmsg::track_status_t>(Channel(vehicle_id, Topic::kTrackStatus),
-                                          [this](const std::string&, const uavmsg::track_status_t& m) {
-                                            const auto it = pending_tracks.find(m.target_seq);
-                                            if (it == pending_tracks.end()) return;
-                                            const TrackStatus st = FromMessage(m);
-                                            if (st.state == TrackStatus::kTracking) {
-                                              Ack(it->second, kResultAccepted);
-                                            } else if (st.state == TrackStatus::kRejected || st.state == TrackStatus::kLost) {
-                                              Text(Severity::kWarning, "target " + std::string(st.state == TrackStatus::kLost ? "lost" : "refused") +
-                                                                           ": " + st.reason);
-                                              Ack(it->second, st.state == TrackStatus::kLost ? kResultFailed : kResultDenied);
-                                            } else {
-                                              return;
-                                            }
-                                            pending_tracks.erase(it);
-                                          });
-    bus.Subscribe<uavmsg::video_frame_t>(Channel(vehicle_id, Topic::kVideo),
-                                         [this](const std::string&, const uavmsg::video_frame_t& m) {
-                                           VideoFrame f = FromMessage(m);
-                                           const std::string& wanted = !tracking_camera.empty() ? tracking_camera
-                                                                       : last_frame          ? last_frame->camera
-                                                                                             : f.camera;
-                                           if (f.camera != wanted) return;
-                                           if (video) video->Push(f);
-                                           f.jpeg.clear();
-                                           last_frame = std::move(f);
-                                         });
+  // One subscription to the vehicle's own channel `t`: a message for another vehicle is ignored,
+  // and one that does not convert (anyone on the network can publish on the bus) is counted and
+  // dropped without ever stopping the link thread.
+  template <class Msg, class F>
+  void On(Topic t, F handle) {
+    bus.Subscribe<Msg>(Channel(vehicle_id, t), [this, handle](const std::string&, const Msg& m) {
+      if (m.header.vehicle_id != vehicle_id) return;
+      try {
+        handle(m);
+      } catch (const std::exception&) {
+        ++counts.bad_bus_messages;
+      }
+    });
   }
+
+  void Subscribe() {
+    On<uavmsg::vehicle_state_t>(Topic::kState, [this](const auto& m) { state = FromMessage(m); });
+    On<uavmsg::pre_arm_t>(Report<PreArmReport>::kTopic, [this](const auto& m) { prearm = FromMessage(m); });
+    On<uavmsg::param_table_t>(Report<ParameterTable>::kTopic, [this](const auto& m) { OnTable(FromMessage(m)); });
+    On<uavmsg::status_text_t>(Topic::kStatusText, [this](const auto& m) {
+      texts.push_back({static_cast<Severity>(std::clamp<int>(m.severity, 0, 7)), m.text});
+    });
+    On<uavmsg::command_ack_t>(Topic::kCommandAck, [this](const auto& m) {
+      if (m.source == source) OnCommandAck(FromMessage(m));
+    });
+    // Every upload on the bus, whichever GCS sent it: the mission the vehicle accepts is the one a
+    // MAVLink GCS downloads.
+    On<uavmsg::mission_upload_t>(Topic::kMissionUpload, [this](const auto& m) {
+      observed[m.source].Receive(waypoints::FromMessage(m), [this, &m](const waypoints::Mission& mission) {
+        observed_done[m.source] = mission;
+        return std::string();
+      });
+    });
+    On<uavmsg::mission_ack_t>(Topic::kMissionAck, [this](const auto& m) { OnMissionAck(m); });
+    On<uavmsg::sensing_t>(Report<SensingReport>::kTopic, [this](const auto& m) {
+      for (const SensingWorker& w : FromMessage(m).workers)
+        if (w.name == "TRK") tracking_camera = w.rig;
+    });
+    On<uavmsg::track_status_t>(Topic::kTrackStatus, [this](const auto& m) { OnTrackStatus(FromMessage(m)); });
+    On<uavmsg::video_frame_t>(Topic::kVideo, [this](const auto& m) {
+      VideoFrame f = FromMessage(m);
+      const std::string& wanted = !tracking_camera.empty() ? tracking_camera : last_frame ? last_frame->camera : f.camera;
+      if (f.camera != wanted) return;
+      if (video) video->Push(f);
+      f.jpeg.clear();
+      last_frame = std::move(f);
+    });
+  }
+
+  // A target box is answered when the tracker has it, refuses it or loses it.
+  void OnTrackStatus(const TrackStatus& st) {
+    const auto it = pending_tracks.find(st.target_seq);
+    if (it == pending_tracks.end()) return;
+    if (st.state == TrackStatus::kTracking) {
+      Ack(it->second, kResultAccepted);
+    } else if (st.state == TrackStatus::kRejected || st.state == TrackStatus::kLost) {
+      Text(Severity::kWarning, std::string("target ") + (st.state == TrackStatus::kLost ? "lost" : "refused") + ": " + st.reason);
+      Ack(it->second, st.state == TrackStatus::kLost ? kResultFailed : kResultDenied);
+    } else {
+      return;
+    }
+    pending_tracks.erase(it);
+  }
+
 
   void OnTable(ParameterTable t) {
     std::map<std::string, std::string> ids;

@@ -50,6 +50,7 @@ class MavlinkEndpoint {
     int64_t bad_checksum = 0, unknown_message = 0, bad_flags = 0, skipped_bytes = 0;
     int64_t unsigned_frames = 0, bad_signature = 0, replayed = 0, stale = 0;
     int64_t commands = 0, commands_refused = 0;
+    int64_t bad_bus_messages = 0;  // the vehicle's own channels: messages that did not convert
   };
   Counts counts() const;
 
