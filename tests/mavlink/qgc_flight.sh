@@ -8,14 +8,9 @@
 # Usage: qgc_flight.sh BIN_DIR OUT_DIR [--window]   (inside netns.sh: LCM and UDP stay on this machine)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-source "$here/../integration/scaled_timeout.sh"
-bin=$(cd "$1" && pwd) out=$2
-mkdir -p "$out"
-cd "$out"
-rm -f uav.key uav.key.last video_*.gray mavlink_watch.png report.json
 passphrase="correct horse battery staple"
-"$bin/uav-keygen" uav.key --passphrase "$passphrase" > /dev/null
-url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608"
+source "$here/prepare.sh"
+rm -f video_*.gray mavlink_watch.png report.json
 # The video as QGroundControl receives it: RTP/H.264 on UDP 5600, every decoded frame a raw
 # grey image.
 gst-launch-1.0 -q udpsrc port=5600 \

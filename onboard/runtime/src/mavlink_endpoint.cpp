@@ -141,9 +141,7 @@ struct MavlinkEndpoint::Impl {
   bool finishing = false;  // the mission's last item (a return, a landing) until the vehicle is down
 
   // The GCS on the other side.
-  uint8_t gcs_sysid = 255, gcs_compid = 190;
   bool gcs_seen = false;
-  int64_t last_gcs_heartbeat_us = -1;
 
   // Commands in flight: our command_seq -> the MAVLink command it carries.
   struct Pending {
@@ -434,7 +432,6 @@ struct MavlinkEndpoint::Impl {
       case Heartbeat::kId: {
         const Heartbeat hb = Unpack<Heartbeat>(f);
         if (hb.type != kTypeGcs) return;
-        gcs_sysid = f.sysid, gcs_compid = f.compid;
         if (!gcs_seen) say(Severity::kInfo, "MAVLink GCS " + std::to_string(f.sysid) + " connected");
         gcs_seen = true;
         // The link-loss failsafe counts MAVLink GCSs too: their heartbeats become ours.
