@@ -17,6 +17,7 @@
 #include "uav/gcs/spoken_alerts.hpp"
 #include "uav/gcs/gcs_link.hpp"
 #include "uav/gcs/log_replay.hpp"
+#include "uav/gcs/mavlink_link.hpp"
 #include "uav/wire/bus.hpp"
 #include "uav/gcs/gcs_model.hpp"
 #include "uav/gcs/gcs_ui.hpp"
@@ -123,6 +124,24 @@ int main(int argc, char** argv) {
                                     "missions, targets, file requests and heartbeats are signed with it");
   cli.add_flag("--insecure", insecure, "send unsigned (only a vehicle started with --insecure obeys); shown in red")
       ->excludes(key_option);
+  std::vector<std::string> mavlink_endpoints;
+  std::string mavlink_key_path, mavlink_passphrase;
+  int mavlink_video_port = 5600;
+  cli.add_option("--mavlink", mavlink_endpoints,
+                 "MAVLink vehicles (PX4, ArduPilot) beside the bus: udpin:14550 listens as QGroundControl does, "
+                 "udp:HOST:PORT connects out, serial:DEVICE[:BAUD] a telemetry radio (repeat for several)");
+  auto* mavlink_key_option = cli.add_option("--mavlink-key", mavlink_key_path,
+                                            "MAVLink 2 signing key file (32 bytes, mode 0600; uav-keygen): frames sent "
+                                            "are signed, frames received must be")
+                                 ->needs("--mavlink");
+  cli.add_option("--mavlink-passphrase", mavlink_passphrase,
+                 "MAVLink 2 signing from a passphrase (its SHA-256, as QGroundControl and Mission Planner make the key)")
+      ->needs("--mavlink")
+      ->excludes(mavlink_key_option);
+  cli.add_option("--mavlink-video", mavlink_video_port, "UDP port of the vehicles' RTP/H.264 video (0: none)")
+      ->check(CLI::Range(0, 65535))
+      ->needs("--mavlink")
+      ->capture_default_str();
   cli.add_option("--exit-after", exit_after, "quit after this many seconds (0: never)")->check(CLI::Range(0.0, 1e6));
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
@@ -185,6 +204,17 @@ int main(int argc, char** argv) {
     } else {
       fresh_model();
     }
+    // MAVLink vehicles beside the bus (live only): their entries of what the model sends go to them.
+    std::vector<std::unique_ptr<uav::gcs::MavlinkLink>> mavlink_links;
+    if (!mavlink_endpoints.empty() && replaying) throw std::invalid_argument("--mavlink and --replay: a replay sends nothing");
+    for (std::size_t i = 0; i < mavlink_endpoints.size(); ++i) {
+      uav::gcs::MavlinkLinkParams mp;
+      mp.endpoint = mavlink_endpoints[i];
+      if (!mavlink_key_path.empty()) mp.key = uav::SigningKey::LoadFile(mavlink_key_path);
+      if (!mavlink_passphrase.empty()) mp.key = uav::SigningKey::FromPassphrase(mavlink_passphrase);
+      mp.video_port = i == 0 ? mavlink_video_port : 0;  // one video port: the first link's vehicles
+      mavlink_links.push_back(std::make_unique<uav::gcs::MavlinkLink>(mp, *model_ptr));
+    }
     std::unique_ptr<ReplayScriptControl> panel_control, script_control;
     if (replay) {
       panel_control = std::make_unique<ReplayScriptControl>(*replay, true);
@@ -211,8 +241,10 @@ int main(int argc, char** argv) {
         ctx, p->has_display() ? uav::gcs::ImGuiScriptDriver::ScreenshotFn(
                                     [p](const std::string& path, std::string* err) { return p->Screenshot(path, err); })
                               : nullptr);
-    std::printf("uav-gcs %s: %s, %s%s\n", name.c_str(), headless ? "headless" : "window",
-                replaying ? "replay, no bus" : ("LCM " + lcm_url).c_str(), runner ? (demo ? ", demo script" : (", script " + script_path).c_str()) : "");
+    std::string mavlink_note;
+    for (const std::string& e : mavlink_endpoints) mavlink_note += ", MAVLink " + e;
+    std::printf("uav-gcs %s: %s, %s%s%s\n", name.c_str(), headless ? "headless" : "window",
+                replaying ? "replay, no bus" : ("LCM " + lcm_url).c_str(), mavlink_note.c_str(), runner ? (demo ? ", demo script" : (", script " + script_path).c_str()) : "");
     std::fflush(stdout);
 
     const double start = Now();
@@ -232,8 +264,14 @@ int main(int argc, char** argv) {
         last_replay = wall;
         now = replay->now();  // the model's clock is the flight's
         if (headless) usleep(15000);
-      } else {
+      } else if (mavlink_links.empty()) {
         link_ptr->Poll(headless ? 15 : 0, now);  // headless: the receive wait paces the loop (~60 Hz)
+      } else {
+        link_ptr->Receive(headless ? 15 : 0, now);
+        for (auto& l : mavlink_links) l->Receive(now);
+        uav::gcs::GcsOutgoing out = model_ptr->TakeOutgoing();
+        for (auto& l : mavlink_links) l->Send(out, now);
+        link_ptr->Send(out, now);
       }
       ctx.now = now;
       uav::gcs::GcsModel& model = *model_ptr;

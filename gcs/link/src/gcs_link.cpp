@@ -206,24 +206,33 @@ bool GcsLink::Dispatch(const std::string& channel, const void* data, int size, d
 }
 
 void GcsLink::Poll(int timeout_ms, double now) {
+  Receive(timeout_ms, now);
+  if (!impl_->bus || impl_->model.replay()) return;  // a replay watches only
+  GcsOutgoing out = impl_->model.TakeOutgoing();
+  Send(out, now);
+}
+
+void GcsLink::Receive(int timeout_ms, double now) {
+  impl_->now = now;
+  if (impl_->bus) impl_->bus->Handle(timeout_ms);
+}
+
+void GcsLink::Send(GcsOutgoing& out, double now) {
   Impl& im = *impl_;
-  im.now = now;
-  if (!im.bus) return;
-  im.bus->Handle(timeout_ms);
-  if (im.model.replay()) return;  // a replay watches only
-  for (const auto& c : im.model.commands().TakeOutgoing()) {
+  if (!im.bus || im.model.replay()) return;
+  for (const auto& c : out.commands) {
     uavmsg::command_t m{};
     m.source = im.model.gcs_name();
     m.command_seq = c.command_seq;
     m.text = c.text;
     im.Publish(c.vehicle_id, Topic::kCommand, m);
   }
-  for (const auto& c : im.model.missions().TakeOutgoing()) {
+  for (const auto& c : out.mission_chunks) {
     uavmsg::mission_upload_t m = waypoints::ToMessage(c.chunk);
     m.source = im.model.gcs_name();
     im.Publish(c.vehicle_id, Topic::kMissionUpload, m);
   }
-  for (const auto& r : im.model.maps().TakeOutgoing()) {
+  for (const auto& r : out.file_requests) {
     uavmsg::file_request_t m{};
     m.source = im.model.gcs_name();
     m.transfer_id = r.request.transfer_id;
@@ -236,12 +245,12 @@ void GcsLink::Poll(int timeout_ms, double now) {
     m.n_ranges = static_cast<int16_t>(m.first.size());
     im.Publish(r.vehicle_id, Topic::kFileRequest, m);
   }
-  for (const auto& [vehicle_id, sticks] : im.model.sticks().TakeOutgoing()) {
+  for (const auto& [vehicle_id, sticks] : out.sticks) {
     uavmsg::manual_control_t m = ToMessage(sticks);
     m.source = im.model.gcs_name();
     im.Publish(vehicle_id, Topic::kManualControl, m);
   }
-  for (const auto& t : im.model.video().TakeOutgoing()) {
+  for (const auto& t : out.targets) {
     uavmsg::track_target_t m = ToMessage(t);
     m.source = im.model.gcs_name();
     im.Publish(t.vehicle_id, Topic::kTrackTarget, m);
@@ -249,6 +258,7 @@ void GcsLink::Poll(int timeout_ms, double now) {
   if (now - im.last_heartbeat >= kHeartbeatPeriod) {
     im.last_heartbeat = now;
     for (const auto& [id, v] : im.model.vehicles()) {
+      if (v.mavlink) continue;  // its link sends MAVLink's
       uavmsg::heartbeat_t hb{};
       hb.source_kind = uavmsg::heartbeat_t::SOURCE_GCS;
       hb.source_name = im.model.gcs_name();

@@ -17,12 +17,26 @@ bool CommandCenter::Submit(const std::string& text, const std::string& vehicle_i
     error_ = parsed.error;
     return false;
   }
+  return Queue(parsed.command->Text(), text, vehicle_id, now, log);
+}
+
+bool CommandCenter::SubmitForeignParameter(const std::string& name, const std::string& value,
+                                           const std::string& vehicle_id, double now, MessageLog& log) {
+  if (!refusal_.empty()) {
+    error_ = refusal_;
+    return false;
+  }
+  const std::string text = "param " + name + " " + value;
+  return Queue(text, text, vehicle_id, now, log);
+}
+
+bool CommandCenter::Queue(const std::string& canonical, const std::string& text, const std::string& vehicle_id,
+                          double now, MessageLog& log) {
   if (vehicle_id.empty()) {
     error_ = "no vehicle selected";
     return false;
   }
   error_.clear();
-  const std::string canonical = parsed.command->Text();
   if (history_.empty() || history_.back() != text) history_.push_back(text);
   SentCommand c;
   c.command_seq = next_seq_++;

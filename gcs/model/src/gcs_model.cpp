@@ -136,7 +136,13 @@ void GcsModel::SelectVehicle(const std::string& id) {
 }
 
 bool GcsModel::SubmitCommand(const std::string& text, double now) {
-  return commands_.Submit(text, Selected() ? selected_ : "", now, log_);
+  const VehicleModel* v = selected();
+  // A MAVLink autopilot's parameters are its own: checked against its table, not our grammar.
+  if (v && v->mavlink && text.rfind("param ", 0) == 0) {
+    char name[64] = {0}, value[64] = {0}, extra[8] = {0};
+    if (std::sscanf(text.c_str() + 6, "%63s %63s %7s", name, value, extra) == 2) return SetParameter(name, value, now);
+  }
+  return commands_.Submit(text, v ? selected_ : "", now, log_);
 }
 
 bool GcsModel::FreezeVideo(bool freeze) { return video_.Freeze(Selected(), selected_, freeze); }
@@ -232,6 +238,11 @@ bool GcsModel::DownloadMission(double now) {
     log_.Add(now, "", "no vehicle selected to download a mission from", Severity::kWarning);
     return false;
   }
+  if (v->mavlink) {  // through the vehicle's mission service
+    missions_.RequestDownload(selected_);
+    log_.Add(now, selected_, "downloading the vehicle's mission, fence and rally points into the mission editor", Severity::kInfo);
+    return true;
+  }
   const FileOffer* newest = nullptr;
   long newest_n = -1;
   const std::vector<FileOffer> offers = v->files.offers();
@@ -303,13 +314,51 @@ void GcsModel::Tick(double now) {
   }
   commands_.Tick(now, log_);
   sticks_.Tick(selected_, now);
-  if (replay_) {  // a replay only watches: whatever the concerns queued goes nowhere
-    commands_.TakeOutgoing();
-    sticks_.TakeOutgoing();
-    missions_.TakeOutgoing();
-    maps_.TakeOutgoing();
-    video_.TakeOutgoing();
+  if (replay_) TakeOutgoing();  // a replay only watches: whatever the concerns queued goes nowhere
+}
+
+GcsOutgoing GcsModel::TakeOutgoing() {
+  GcsOutgoing out;
+  out.commands = commands_.TakeOutgoing();
+  out.mission_chunks = missions_.TakeOutgoing();
+  out.missions = missions_.TakeOutgoingWhole();
+  out.mission_downloads = missions_.TakeDownloadRequests();
+  out.file_requests = maps_.TakeOutgoing();
+  out.sticks = sticks_.TakeOutgoing();
+  out.targets = video_.TakeOutgoing();
+  return out;
+}
+
+void GcsModel::OnVideoPixels(const std::string& vehicle_id, const VideoPixels& pixels, double now) {
+  VideoTracking::OnVideoPixels(Vehicle(vehicle_id), pixels, now);
+}
+
+void GcsModel::OnMavlinkLink(const std::string& vehicle_id, const MavlinkLinkInfo& info, double now) {
+  const bool fresh = !vehicles_.count(vehicle_id);
+  VehicleModel& v = Vehicle(vehicle_id);
+  if (fresh || !v.mavlink)
+    log_.Add(now, vehicle_id,
+             info.autopilot + " " + info.frame + " (MAVLink system " + std::to_string(info.system_id) + " on " +
+                 info.endpoint + (info.signing ? ", signed" : ", unsigned") + ")",
+             Severity::kInfo);
+  v.mavlink = info;
+  v.whole_missions = true;
+}
+
+void GcsModel::OnMissionDownloaded(const std::string& vehicle_id, const waypoints::Mission& mission, bool for_editor,
+                                   double now) {
+  VehicleModel& v = Vehicle(vehicle_id);
+  v.mission = mission;
+  if (!for_editor) return;
+  if (mission.items.empty()) {
+    log_.Add(now, vehicle_id, "the vehicle holds no mission: the editor is left as it is", Severity::kWarning);
+    return;
   }
+  missions_.LoadMission(mission, vehicle_id + ":mission", v.home, MissionLimits(), now, log_);
+}
+
+void GcsModel::OnLinkNote(const std::string& source, const std::string& text, Severity severity, double now) {
+  log_.Add(now, source, text, severity);
 }
 
 }  // namespace uav::gcs

@@ -24,6 +24,7 @@ bool MissionUploads::UploadMission(VehicleMission* v, const std::string& vehicle
     return false;
   }
   v->upload.emplace(*mission, commands.NextSeq());
+  v->whole_sent = false;
   log.Add(now, vehicle_id, "uploading mission of " + std::to_string(mission->items.size()) + " items", Severity::kInfo);
   return true;
 }
@@ -48,6 +49,13 @@ void MissionUploads::OnMissionAck(VehicleMission& v, const std::string& vehicle_
 
 void MissionUploads::Tick(VehicleMission& v, const std::string& id, double now, MessageLog& log) {
   if (!v.upload) return;
+  if (v.whole_missions) {  // the link runs the transfer, its own resends and timeouts
+    if (v.upload->state() == waypoints::MissionUploader::State::kSending && !v.whole_sent) {
+      outgoing_whole_.push_back({id, v.upload->upload_id(), v.upload->mission()});
+      v.whole_sent = true;
+    }
+    return;
+  }
   const auto before = v.upload->state();
   for (auto& c : v.upload->Tick(now)) outgoing_.push_back({id, std::move(c)});
   if (before != v.upload->state()) log.Add(now, id, "mission upload failed: " + v.upload->reason(), Severity::kError);

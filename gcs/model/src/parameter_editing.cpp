@@ -79,7 +79,8 @@ bool GcsModel::SetParameter(const std::string& name, const std::string& text, do
     log_.Add(now, selected_, "parameter not sent: " + why, Severity::kWarning);
     return false;
   }
-  return SubmitCommand("param " + name + " " + FormatParameterValue(value), now);
+  if (v->mavlink) return commands_.SubmitForeignParameter(name, FormatParameterValue(value), selected_, now, log_);
+  return commands_.Submit("param " + name + " " + FormatParameterValue(value), selected_, now, log_);
 }
 
 bool GcsModel::SaveParameters(const std::string& path, ParameterFileFormat format, double now) {
@@ -111,7 +112,9 @@ bool GcsModel::LoadParameters(const std::string& path, double now) {
   }
   for (const std::string& p : load.problems) log_.Add(now, selected_, "parameter file: " + p, Severity::kWarning);
   int sent = 0;
-  for (const auto& [name, value] : load.to_send) sent += SubmitCommand("param " + name + " " + FormatParameterValue(value), now);
+  for (const auto& [name, value] : load.to_send)
+    sent += v->mavlink ? commands_.SubmitForeignParameter(name, FormatParameterValue(value), selected_, now, log_)
+                       : commands_.Submit("param " + name + " " + FormatParameterValue(value), selected_, now, log_);
   log_.Add(now, selected_,
            path + ": " + std::to_string(sent) + " changes sent, " + std::to_string(load.unchanged) + " unchanged, " +
                std::to_string(load.problems.size()) + " not sent",

@@ -52,20 +52,27 @@ void VideoTracking::OnVideoFrame(VehicleVideo& v, const std::string& vehicle_id,
   if (std::find(v.cameras.begin(), v.cameras.end(), f.camera) == v.cameras.end()) v.cameras.push_back(f.camera);
   if (v.camera.empty()) v.camera = f.camera;
   if (f.camera != v.camera) return;
-  VideoFeed& feed = v.video;
   std::string problem;
-  std::vector<uint8_t> rgba;
-  if (!DecodeJpeg(f.jpeg, f.width, f.height, &rgba, &problem)) {
-    if (feed.rejected++ == 0) log.Add(now, vehicle_id, "video frame rejected: " + problem, Severity::kWarning);
+  VideoPixels pixels{f.camera, f.utime, f.width, f.height, {}};
+  if (!DecodeJpeg(f.jpeg, f.width, f.height, &pixels.rgba, &problem)) {
+    if (v.video.rejected++ == 0) log.Add(now, vehicle_id, "video frame rejected: " + problem, Severity::kWarning);
     return;
   }
-  feed.rgba = std::move(rgba);
-  feed.width = f.width;
-  feed.height = f.height;
-  feed.source_width = f.source_width;
-  feed.source_height = f.source_height;
-  feed.camera = f.camera;
-  feed.utime = f.utime;
+  OnVideoPixels(v, std::move(pixels), now);
+  v.video.source_width = f.source_width;
+  v.video.source_height = f.source_height;
+}
+
+void VideoTracking::OnVideoPixels(VehicleVideo& v, VideoPixels pixels, double now) {
+  if (std::find(v.cameras.begin(), v.cameras.end(), pixels.camera) == v.cameras.end()) v.cameras.push_back(pixels.camera);
+  if (v.camera.empty()) v.camera = pixels.camera;
+  if (pixels.camera != v.camera) return;
+  VideoFeed& feed = v.video;
+  feed.rgba = std::move(pixels.rgba);
+  feed.width = feed.source_width = pixels.width;
+  feed.height = feed.source_height = pixels.height;
+  feed.camera = pixels.camera;
+  feed.utime = pixels.utime;
   ++feed.frames;
   feed.recent.push_back(now);
   while (!feed.recent.empty() && now - feed.recent.front() > 1.0) feed.recent.pop_front();

@@ -12,7 +12,8 @@
 
 #include <Eigen/Geometry>
 
-#include "mavlink_transport.hpp"
+#include "uav/shared/mavlink_transport.hpp"
+#include "uav/waypoints/mavlink_items.hpp"
 #include "mavlink_video.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/geodesy.hpp"
@@ -729,17 +730,9 @@ struct MavlinkEndpoint::Impl {
   }
 
   // ---- missions ----
-  static bool TypeHolds(uint8_t type, const waypoints::MissionItem& it) {
-    if (type == kTypeFence) return waypoints::IsFenceItem(it.command);
-    if (type == kTypeRally) return waypoints::IsRallyItem(it.command);
-    return !waypoints::IsFenceItem(it.command) && !waypoints::IsRallyItem(it.command);
-  }
   std::vector<waypoints::MissionItem> ListOf(uint8_t type) const {
-    std::vector<waypoints::MissionItem> out;
-    if (vehicle_mission)
-      for (const auto& it : vehicle_mission->items)
-        if (TypeHolds(type, it)) out.push_back(it);
-    return out;
+    if (!vehicle_mission) return {};
+    return waypoints::ItemsOf(*vehicle_mission, static_cast<waypoints::MavMissionList>(type));
   }
 
   void SendItem(uint8_t type, uint16_t index, const Frame& f) {
@@ -749,21 +742,8 @@ struct MavlinkEndpoint::Impl {
       a.target_system = f.sysid, a.target_component = f.compid, a.type = kMissionInvalidSequence, a.mission_type = type;
       return Send(a);
     }
-    const waypoints::MissionItem& it = list[index];
-    MissionItemInt m;
+    MissionItemInt m = waypoints::ToItemInt(list[index], index, static_cast<waypoints::MavMissionList>(type));
     m.target_system = f.sysid, m.target_component = f.compid;
-    m.seq = index;
-    m.frame = static_cast<uint8_t>(it.frame);
-    m.command = static_cast<uint16_t>(it.command);
-    m.current = index == 0;
-    m.autocontinue = it.autocontinue;
-    m.param1 = static_cast<float>(it.param[0]), m.param2 = static_cast<float>(it.param[1]);
-    m.param3 = static_cast<float>(it.param[2]), m.param4 = static_cast<float>(it.param[3]);
-    const bool position = it.frame != waypoints::mav_frame::kMission;
-    m.x = position ? static_cast<int32_t>(std::lround(it.latitude_deg * 1e7)) : static_cast<int32_t>(it.latitude_deg);
-    m.y = position ? static_cast<int32_t>(std::lround(it.longitude_deg * 1e7)) : static_cast<int32_t>(it.longitude_deg);
-    m.z = static_cast<float>(it.altitude_m);
-    m.mission_type = type;
     Send(m);
   }
 
@@ -797,29 +777,17 @@ struct MavlinkEndpoint::Impl {
   void OnMissionItem(const MissionItemInt& m) {
     if (!upload || !ForUs(m.target_system, m.target_component) || m.mission_type != upload->type) return;
     if (m.seq != upload->items.size()) return;  // a repeat of one we have: the request for the next stands
-    waypoints::MissionItem it;
-    it.command = m.command;
-    // The _INT frames (5, 6) are the same frames with integer positions.
-    it.frame = m.frame == 5 ? waypoints::mav_frame::kGlobal : m.frame == 6 ? waypoints::mav_frame::kGlobalRelativeAlt : m.frame;
     auto fail = [&](uint8_t result, const std::string& why) {
       Text(Severity::kWarning, "mission item " + std::to_string(m.seq) + ": " + why);
       MissionAckTo(upload->sysid, upload->compid, upload->type, result);
       upload.reset();
     };
-    if (it.frame != waypoints::mav_frame::kGlobal && it.frame != waypoints::mav_frame::kMission &&
-        it.frame != waypoints::mav_frame::kGlobalRelativeAlt)
-      return fail(kMissionUnsupportedFrame, "frame " + std::to_string(m.frame) + " (0, 2, 3, 5 or 6 are flown)");
-    if (std::string(waypoints::CommandName(it.command)).empty())
-      return fail(kMissionUnsupported, "command " + std::to_string(m.command) + " is not one this vehicle flies");
-    if (!TypeHolds(upload->type, it))
-      return fail(kMissionUnsupported, std::string(waypoints::CommandName(it.command)) + " does not belong in a " +
-                                           (upload->type == kTypeFence ? "fence" : upload->type == kTypeRally ? "rally" : "mission") + " list");
-    it.param = {m.param1, m.param2, m.param3, m.param4};
-    const bool position = it.frame != waypoints::mav_frame::kMission;
-    it.latitude_deg = position ? m.x * 1e-7 : m.x;
-    it.longitude_deg = position ? m.y * 1e-7 : m.y;
-    it.altitude_m = m.z;
-    it.autocontinue = m.autocontinue != 0;
+    std::string why;
+    waypoints::ItemProblem problem;
+    const waypoints::MissionItem it =
+        waypoints::FromItemInt(m, static_cast<waypoints::MavMissionList>(upload->type), &problem, &why);
+    if (problem == waypoints::ItemProblem::kFrame) return fail(kMissionUnsupportedFrame, why);
+    if (problem != waypoints::ItemProblem::kNone) return fail(kMissionUnsupported, why);
     upload->items.push_back(it);
     if (upload->items.size() < upload->count) return RequestNext();
     Combine();

@@ -32,6 +32,10 @@ class GcsLink {
   ~GcsLink();
   // Receives for up to timeout_ms, then sends what the model queued. `now` is the GCS clock [s].
   void Poll(int timeout_ms, double now);
+  // The two halves, for a GCS with other links: receive; then send the entries of `out` (what
+  // the other links left of GcsModel::TakeOutgoing()) and the heartbeats to our vehicles.
+  void Receive(int timeout_ms, double now);
+  void Send(GcsOutgoing& out, double now);
   // Decodes one message as it was on `channel` and feeds the model. Returns false (and counts it
   // in dropped_messages()) when the channel is not ours, the bytes do not decode, or the
   // content is refused (a vehicle id not matching the channel, an unknown enum value).

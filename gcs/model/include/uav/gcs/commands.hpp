@@ -51,6 +51,10 @@ class CommandCenter {
   // Queues `text` for `vehicle_id`. Returns false and sets error() when the text is invalid, no
   // vehicle is selected (empty id), or sending is off (replay: `refusal` says why).
   bool Submit(const std::string& text, const std::string& vehicle_id, double now, MessageLog& log);
+  // `param NAME VALUE` to a vehicle whose parameters are not ours (a MAVLink autopilot's): the
+  // name and value were checked against the vehicle's own table, not our grammar.
+  bool SubmitForeignParameter(const std::string& name, const std::string& value, const std::string& vehicle_id,
+                              double now, MessageLog& log);
   // Only answers to this GCS count, and the vehicle's reports of what it does on its own (source
   // kVehicleInitiatedSource), which get rows of their own; a changed result is logged.
   void OnAck(const std::string& vehicle_id, const CommandAck& ack, double now, MessageLog& log);
@@ -78,6 +82,7 @@ class CommandCenter {
   std::deque<SentCommand> sent_;
   std::vector<OutgoingCommand> outgoing_;
 
+  bool Queue(const std::string& text, const std::string& typed, const std::string& vehicle_id, double now, MessageLog& log);
   void OnVehicleReport(const std::string& vehicle_id, const CommandAck& ack, double now, MessageLog& log);
   void Keep(SentCommand c);
 };

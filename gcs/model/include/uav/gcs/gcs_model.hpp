@@ -42,6 +42,18 @@ struct VehicleModel : VehicleTelemetry, VehicleVideo, VehicleMaps, VehicleMissio
 // or when `v` holds another mission.
 int FlownRow(const VehicleModel* v, const EditorCheck& made);
 
+// Everything the concerns queued for the links to send, taken at once: each link takes the
+// entries of the vehicles it serves (a MAVLink vehicle's go to the MAVLink link), the bus the rest.
+struct GcsOutgoing {
+  std::vector<OutgoingCommand> commands;
+  std::vector<OutgoingMissionChunk> mission_chunks;
+  std::vector<OutgoingMission> missions;           // whole, for links with their own transfer
+  std::vector<std::string> mission_downloads;      // vehicles asked for the mission they hold
+  std::vector<OutgoingFileRequest> file_requests;
+  std::vector<std::pair<std::string, ManualSticks>> sticks;
+  std::vector<TrackTarget> targets;
+};
+
 class GcsModel {
  public:
   GcsModel(std::string gcs_name, int64_t first_command_seq) : commands_(std::move(gcs_name), first_command_seq) {}
@@ -57,6 +69,16 @@ class GcsModel {
   void OnFileOffer(const std::string& vehicle_id, const FileOffer& offer, double now);
   void OnFileChunk(const std::string& vehicle_id, const FileChunk& chunk, double now);
   void OnMapTile(const std::string& vehicle_id, const MapTile& tile, double now);
+  // A decoded picture (RTP/H.264 video of a MAVLink vehicle), RGBA.
+  void OnVideoPixels(const std::string& vehicle_id, const VideoPixels& pixels, double now);
+  // A MAVLink vehicle's identity and link (it is a MAVLink vehicle from then on: whole-mission
+  // uploads, its own parameter names).
+  void OnMavlinkLink(const std::string& vehicle_id, const MavlinkLinkInfo& info, double now);
+  // The mission a vehicle holds, downloaded by its link: drawn on the map, and loaded into the
+  // editor when the operator asked for it (`for_editor`).
+  void OnMissionDownloaded(const std::string& vehicle_id, const waypoints::Mission& mission, bool for_editor, double now);
+  // What a link says of itself or of frames it refused, before any vehicle is known by them.
+  void OnLinkNote(const std::string& source, const std::string& text, Severity severity, double now);
   // `seq`: the message's header.seq (telemetry counts receipts by it).
   void OnTrackStatus(const std::string& vehicle_id, int64_t seq, const TrackStatus& status, double now);
   // Any vehicle report (uav/shared/reports.hpp): kept as the vehicle's newest of its type
@@ -118,6 +140,8 @@ class GcsModel {
 
   // ---- Periodic: resends, uploads, download requests and saves.
   void Tick(double now);
+  // What the concerns queued since the last call, for the links.
+  GcsOutgoing TakeOutgoing();
 
   // ---- The concerns.
   PlotSet& plots() { return plots_; }

@@ -20,10 +20,23 @@ struct OutgoingMissionChunk {
   waypoints::MissionChunk chunk;
 };
 
+// A whole mission for a link that runs its own transfer protocol (MAVLink's mission service):
+// it answers with MissionUploadAcks (progress, then accepted with the mission's digest, or
+// rejected with the reason), as our vehicles do chunk by chunk.
+struct OutgoingMission {
+  std::string vehicle_id;
+  int64_t upload_id = 0;
+  waypoints::Mission mission;
+};
+
 // Per vehicle.
 struct VehicleMission {
   std::optional<waypoints::MissionUploader> upload;  // in progress, or the last finished
   std::optional<waypoints::Mission> mission;         // the last one it accepted
+  // Its link takes whole missions (a MAVLink vehicle), not our chunks; `whole_sent`: the upload
+  // in progress has been handed to it.
+  bool whole_missions = false;
+  bool whole_sent = false;
 };
 
 class MissionUploads {
@@ -42,6 +55,10 @@ class MissionUploads {
                     double now, MessageLog& log);
   void Tick(VehicleMission& v, const std::string& vehicle_id, double now, MessageLog& log);
   std::vector<OutgoingMissionChunk> TakeOutgoing() { return std::exchange(outgoing_, {}); }
+  std::vector<OutgoingMission> TakeOutgoingWhole() { return std::exchange(outgoing_whole_, {}); }
+  // Vehicles whose link is asked for the mission they hold (into the editor when it arrives).
+  void RequestDownload(const std::string& vehicle_id) { downloads_.push_back(vehicle_id); }
+  std::vector<std::string> TakeDownloadRequests() { return std::exchange(downloads_, {}); }
   // The editor's file actions (.plan, or WPL by extension); the outcome is logged. Import keeps
   // the map on `home` if given, and changes nothing when the file cannot be loaded. What the
   // vehicle would refuse (waypoints::CheckMission against `limits`) is logged as warnings; the
@@ -64,6 +81,8 @@ class MissionUploads {
   MissionEditor editor_;
   std::string error_;
   std::vector<OutgoingMissionChunk> outgoing_;
+  std::vector<OutgoingMission> outgoing_whole_;
+  std::vector<std::string> downloads_;
 };
 
 }  // namespace uav::gcs

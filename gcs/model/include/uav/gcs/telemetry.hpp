@@ -93,6 +93,20 @@ struct ReceivedReports<TypeList<Ts...>> {
   }
 };
 
+// A vehicle that speaks MAVLink (PX4, ArduPilot) rather than our bus: who it is and how its
+// link is, as the GCS's MAVLink link found them.
+struct MavlinkLinkInfo {
+  std::string endpoint;             // udpin:14550, udp:HOST:PORT, serial:DEVICE
+  int system_id = 0;
+  std::string autopilot;            // "PX4", "ArduCopter", "ArduPlane", "ArduPlane VTOL", "generic"
+  std::string frame;                // "quadrotor", "fixed wing", "VTOL tail-sitter"
+  std::string mode;                 // its flight mode's name ("Mission", "Loiter")
+  bool signing = false;             // frames checked against our key (and ours signed with it)
+  int64_t refused_frames = 0;       // bad signature, unsigned, replayed or stale
+  int64_t unknown_messages = 0;     // frames of messages we do not read
+  int parameters_received = 0, parameters_total = 0;
+};
+
 struct TelemetryParams {
   double link_up_age_s = 3.0;     // a vehicle whose heartbeat is older is shown as LOST
 };
@@ -120,6 +134,7 @@ struct VehicleTelemetry {
   std::deque<Eigen::Vector2d> gps_trail, vo_trail, truth_trail;
   std::optional<PositionSource> position_source;  // where the INS takes its position from
   ReceivedReports<VehicleReports> reports;     // the newest of each vehicle report
+  std::optional<MavlinkLinkInfo> mavlink;      // set for a MAVLink vehicle
 
   const SignalGroup& group(SignalGroupId g) const { return groups[static_cast<int>(g)]; }
   // Newest value and history of a signal; nullopt / nullptr before its first sample.

@@ -33,6 +33,14 @@ struct VideoFeed {
   double Rate(double now) const;
 };
 
+// A decoded video picture (a MAVLink vehicle's RTP/H.264 stream arrives decoded).
+struct VideoPixels {
+  std::string camera;
+  int64_t utime = 0;
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;  // width * height * 4
+};
+
 // Per vehicle. A vehicle may stream several cameras; the panel shows one (the first seen until
 // the operator picks another).
 struct VehicleVideo {
@@ -57,6 +65,7 @@ class VideoTracking {
   // (the first one is logged with the reason) and the previous frame stays on screen.
   static void OnVideoFrame(VehicleVideo& v, const std::string& vehicle_id, const VideoFrame& frame, double now,
                            MessageLog& log);
+  static void OnVideoPixels(VehicleVideo& v, VideoPixels pixels, double now);
   // A status that is not finite, names an unknown state or lies far outside the image is logged
   // and dropped (returns false).
   static bool OnTrackStatus(VehicleVideo& v, const std::string& vehicle_id, const TrackStatus& status, double now,

@@ -1,4 +1,4 @@
-#include "mavlink_transport.hpp"
+#include "uav/shared/mavlink_transport.hpp"
 
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -13,7 +13,7 @@
 #include <optional>
 #include <stdexcept>
 
-namespace uav::runtime {
+namespace uav::mavlink {
 namespace {
 
 int ParsePort(const std::string& text, const std::string& spec) {
@@ -166,4 +166,4 @@ std::unique_ptr<MavlinkTransport> OpenMavlinkTransport(const std::string& spec) 
   throw std::invalid_argument("MAVLink endpoint '" + spec + "': expected udp:HOST:PORT, udpin:[HOST:]PORT or serial:DEVICE[:BAUD]");
 }
 
-}  // namespace uav::runtime
+}  // namespace uav::mavlink

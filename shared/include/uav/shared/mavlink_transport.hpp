@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace uav::runtime {
+namespace uav::mavlink {
 
 class MavlinkTransport {
  public:
@@ -28,4 +28,4 @@ class MavlinkTransport {
 // socket or device cannot be opened.
 std::unique_ptr<MavlinkTransport> OpenMavlinkTransport(const std::string& spec);
 
-}  // namespace uav::runtime
+}  // namespace uav::mavlink
