@@ -256,7 +256,7 @@ struct MavlinkLink::Impl {
     for (uint32_t id : unknown_ids) {
       if (!unknown_said.insert(id).second) continue;
       model.OnLinkNote("mavlink", "MAVLink message id " + std::to_string(id) +
-                                      " is not one this GCS reads: skipped (counted under the vehicle's link)",
+                                      " is not one this GCS reads: skipped, and counted in the link's unknown messages",
                        Severity::kInfo, now);
     }
     for (auto& [sysid, v] : vehicles) Tick(v);
@@ -1008,8 +1008,10 @@ struct MavlinkLink::Impl {
                                          : (t.expected < 0 ? "it never said how many items it holds"
                                                            : "it stopped sending at item " + std::to_string(t.next) + " of " +
                                                                  std::to_string(t.expected));
+      const bool home_counted = list == MavMissionList::kMission && HomeIsMissionItemZero(v.autopilot) && t.next > 0;
       const std::string why = std::string("no answer from the vehicle about its ") + Name(list) + " for " +
-                              FormatParameterValue(params.retry_s * params.max_tries) + " s: " + where;
+                              FormatParameterValue(params.retry_s * params.max_tries) + " s: " + where +
+                              (home_counted ? " (its numbering: home is item 0)" : "");
       if (t.upload) return FinishUpload(v, false, why);
       // A fence or rally list that never comes: the autopilot may not keep one.
       if (list != MavMissionList::kMission && t.expected < 0) return NextList(v, std::string(Name(list)) + " not kept");

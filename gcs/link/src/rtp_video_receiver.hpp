@@ -3,6 +3,7 @@
 // depayloaded and decoded by GStreamer (rtph264depay, avdec_h264) through OpenCV on a thread of
 // its own; the newest picture waits for the GCS's frame, older ones are dropped.
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -21,14 +22,19 @@ class RtpVideoReceiver {
   bool Take(VideoPixels* out);
 
  private:
-  // Shared with the thread, which may outlive this object: a GStreamer read blocks until a
-  // frame comes, so the thread is let go (detached) and stops at its next frame.
+  // Shared with the thread, which may outlive this object: a GStreamer read blocks until a frame
+  // comes. While frames come the thread stops at the next one and is joined; when none comes (the
+  // vehicle stopped streaming) it is let go, blocked, after kJoinWait.
   struct State {
     std::mutex mutex;
+    std::condition_variable finished_cv;
+    bool finished = false;
     std::optional<VideoPixels> newest;
     std::atomic<bool> stop{false};
   };
+  static constexpr int kJoinWaitMs = 500;
   std::shared_ptr<State> state_;
+  std::thread thread_;
 };
 
 }  // namespace uav::gcs

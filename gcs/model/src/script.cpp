@@ -111,11 +111,13 @@ void ScriptRunner::Pass(const ScriptStep& s, double now, const std::string& deta
 void ScriptRunner::Fail(const GcsModel& model, const ScriptStep& s, double now, const std::string& why) {
   std::fprintf(out_, "[%7.2fs] FAIL  %3d: %s  -> %s\n", now - script_start_, s.line, s.text.c_str(),
                why.c_str());
-  constexpr int kWarningsShown = 3;
+  // The newest warnings, and the newest messages of any kind: what the operator would have read.
+  constexpr int kWarningsShown = 3, kLinesShown = 8;
   std::vector<const LogLine*> warnings;
   const auto& lines = model.log().lines();
-  for (auto it = lines.rbegin(); it != lines.rend() && static_cast<int>(warnings.size()) < kWarningsShown; ++it)
-    if (it->severity <= Severity::kWarning) warnings.push_back(&*it);
+  int shown = 0;
+  for (auto it = lines.rbegin(); it != lines.rend() && static_cast<int>(warnings.size()) < kWarningsShown + kLinesShown; ++it)
+    if (it->severity <= Severity::kWarning || shown++ < kLinesShown) warnings.push_back(&*it);
   for (auto it = warnings.rbegin(); it != warnings.rend(); ++it)
     std::fprintf(out_, "           log: [%s] %s\n", (*it)->vehicle_id.c_str(), (*it)->text.c_str());
   std::fflush(out_);
