@@ -24,6 +24,8 @@
 
 #include "uav/shared/command_grammar.hpp"
 #include "uav/shared/mavlink_messages.hpp"
+#include "uav/gcs/mavlink_commands.hpp"
+#include "uav/shared/mavlink_autopilots.hpp"
 #include "uav/shared/mavlink_px4.hpp"
 #include "uav/shared/parameters.hpp"
 #include "uav/shared/program.hpp"
@@ -152,7 +154,8 @@ std::string ReportsPage() {
 std::string MavlinkPage() {
   std::ostringstream out;
   out << "# MAVLink\n\n" << kGenerated
-      << "What `uav-onboard --mavlink` speaks ([connecting a MAVLink GCS](../user-guide/mavlink.md)). Each "
+      << "What `uav-onboard --mavlink` speaks ([connecting a MAVLink GCS](../user-guide/mavlink.md)), and how "
+         "`uav-gcs --mavlink` flies PX4 and ArduPilot vehicles. Each "
          "message is declared once (`shared/include/uav/shared/mavlink_messages.def`); its wire order, CRC_EXTRA "
          "and lengths follow from the declaration and are checked against npm's `mavlink-mappings` "
          "(`tests/mavlink/tables.js`).\n\n";
@@ -177,6 +180,43 @@ std::string MavlinkPage() {
     char hex[16];
     std::snprintf(hex, sizeof hex, "0x%08x", static_cast<unsigned>(m.custom_mode()));
     out << "| " << m.name << " | " << hex << " | " << tasks << " | `" << m.command << "` |\n";
+  }
+  out << "\n## Our GCS and PX4 or ArduPilot vehicles\n\n"
+         "`uav-gcs --mavlink ENDPOINT` ([flying PX4 and ArduPilot from our GCS](../user-guide/mavlink-vehicles.md)) "
+         "recognises the autopilot from HEARTBEAT.autopilot and HEARTBEAT.type, shows its modes by name and as our "
+         "tasks, reads its parameters in its encoding (PX4 byte-wise, ArduPilot C-cast; AUTOPILOT_VERSION's "
+         "capability bits win when sent), puts ArduPilot's home at item 0 of an upload and drops it from a "
+         "download, and sends each command of the command bar as below (`gcs/link/src/mavlink_commands.cpp`).\n\n"
+         "### Commands\n\n| command | PX4 | ArduCopter | ArduPlane | ArduPlane VTOL |\n|---|---|---|---|---|\n";
+  const uav::GeodeticPoint home{1.2966, 103.7764, 15.0};
+  using uav::mavlink::Autopilot;
+  for (const char* text : {"arm", "disarm", "emergency_stop", "takeoff 10", "hover", "land", "return", "goto 20 10 15",
+                           "mission", "resume", "follow", "transition fw", "param NAME VALUE", "track 1"}) {
+    out << "| `" << text << "` |";
+    for (Autopilot a : {Autopilot::kPx4, Autopilot::kArduCopter, Autopilot::kArduPlane, Autopilot::kArduPlaneVtol}) {
+      if (std::string(text) == "param NAME VALUE") {
+        out << " PARAM_SET, answered by PARAM_VALUE |";
+        continue;
+      }
+      const uav::gcs::MavlinkPlan plan =
+          uav::gcs::PlanMavlinkCommand(text, a, a == Autopilot::kArduPlaneVtol, home);
+      std::string cell;
+      for (const auto& step : plan.steps) cell += (cell.empty() ? "" : ", then ") + step.what;
+      out << " " << (plan.refusal.empty() ? cell : "refused: " + plan.refusal) << " |";
+    }
+    out << "\n";
+  }
+  out << "\nA command is done at its last step's ACCEPTED, or, for those that fly somewhere, when the vehicle "
+         "gets there (the altitude, the position within 1.5 m, landed and disarmed, the mission's last item).\n";
+  for (Autopilot a : {Autopilot::kPx4, Autopilot::kArduCopter, Autopilot::kArduPlane}) {
+    out << "\n### " << uav::mavlink::Name(a) << (a == Autopilot::kArduPlane ? " (and ArduPlane VTOL)" : "")
+        << " modes\n\n| mode | custom_mode | shown as task |\n|---|---|---|\n";
+    for (const auto& m : uav::mavlink::ModesOf(a)) {
+      char number[16];
+      std::snprintf(number, sizeof number, a == Autopilot::kPx4 ? "0x%08x" : "%u", static_cast<unsigned>(m.custom_mode));
+      out << "| " << m.name << " | " << number << " | " << (m.task ? "`" + std::string(uav::Name(*m.task)) + "`" : "-")
+          << " |\n";
+    }
   }
   out << "\n## Parameter ids\n\nPARAM_VALUE names a parameter in 16 characters. A longer name is sent as its "
          "first 11 characters, `_` and 4 hex digits of a hash of the whole name: the id depends on the name "

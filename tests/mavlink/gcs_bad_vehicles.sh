@@ -11,6 +11,7 @@ mkdir -p "$out" && cd "$out"
 pids=()
 trap 'kill "${pids[@]}" 2>/dev/null || true' EXIT
 node "$here/mock_vehicle.js" --autopilot px4 --sysid 2 --gcs "127.0.0.1:$port" --passphrase "$passphrase" --silent \
+  --drop-every 10 \
   > mock_silent.log 2>&1 & pids+=($!)
 node "$here/mock_vehicle.js" --autopilot arducopter --sysid 3 --gcs "127.0.0.1:$((port + 1))" --passphrase "$passphrase" \
   --stop-upload-at 3 --unknown > mock_stops.log 2>&1 & pids+=($!)

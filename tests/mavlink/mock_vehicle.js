@@ -15,6 +15,7 @@
 // Kinematics are a point flying at the mission's speed, sped up by --rate for short tests.
 // Faults on request: --silent (telemetry only; no service answers), --stop-upload-at N (stops
 // asking for mission items at item N), --unknown (sends messages our GCS does not read),
+// --drop-every N (every Nth frame lost, as on a lossy radio),
 // --passphrase (signs with that key's SHA-256, and takes only frames signed with it).
 'use strict';
 const dgram = require('dgram');
@@ -76,10 +77,14 @@ const socket = dgram.createSocket('udp4');
 const [gcsHost, gcsPort] = args.gcs.split(':');
 const input = new PassThrough();
 socket.on('message', (msg) => input.write(msg));
-let seq = 0, lastTs = 0;
+const seqs = {};  // the sequence is per component (the camera counts its own)
+let lastTs = 0, sentFrames = 0;
 function send(message, compid = COMPID) {
+  // --drop-every N: every Nth frame is numbered but never sent (a lossy radio).
+  const seq = seqs[compid] = ((seqs[compid] === undefined ? -1 : seqs[compid]) + 1) & 255;
+  if (args['drop-every'] && ++sentFrames % Number(args['drop-every']) === 0) return;
   const protocol = new MavLinkProtocolV2(SYSID, compid, key ? MavLinkProtocolV2.IFLAG_SIGNED : 0);
-  let buffer = protocol.serialize(message, seq++ & 255);
+  let buffer = protocol.serialize(message, seq);
   if (key) {
     lastTs = Math.max(Date.now(), lastTs + 1);
     buffer = protocol.sign(buffer, 0, key, lastTs);

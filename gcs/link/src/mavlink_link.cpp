@@ -121,7 +121,9 @@ struct MavVehicle {
   // link quality
   bool seq_known = false;
   uint8_t last_seq = 0;
-  int64_t seq = 0;               // unwrapped: frames sent by the vehicle, counted by their seq
+  int64_t lost = 0;              // frames missing from the autopilot's sequence numbers
+  int64_t lost_counted = 0;      // of which already folded into state_seq
+  int64_t state_seq = 0;         // per state: 1 + the frames lost since the previous one
   int64_t heartbeats = 0;
   // state
   uint32_t custom_mode = 0;
@@ -395,8 +397,8 @@ struct MavlinkLink::Impl {
 
   void CountSeq(MavVehicle& v, const Frame& f) {
     if (f.compid != v.compid) return;
-    if (!v.seq_known) v.seq_known = true, v.seq = f.seq;
-    else v.seq += static_cast<uint8_t>(f.seq - v.last_seq);
+    if (v.seq_known) v.lost += static_cast<uint8_t>(f.seq - v.last_seq - 1);
+    v.seq_known = true;
     v.last_seq = f.seq;
   }
 
@@ -424,7 +426,7 @@ struct MavlinkLink::Impl {
     const AutopilotMode* mode = FindMode(v.autopilot, h.custom_mode);
     HeartbeatInfo hb;
     hb.task = mode && mode->task ? *mode->task : Task::kIdle;
-    if (hb.task == Task::kGoto && !v.armed) hb.task = Task::kIdle;
+    if (!v.armed && hb.task != Task::kSticks) hb.task = Task::kIdle;  // Hold or Guided on the ground: nothing flown
     hb.armed = v.armed;
     hb.flight_mode = mode && mode->task == Task::kSticks ? FlightMode::kManual : FlightMode::kAuto;
     hb.signing = params.key.has_value();
@@ -494,7 +496,11 @@ struct MavlinkLink::Impl {
     s.armed = v.armed;
     s.landed = v.landed_state ? v.landed_state == 1 : (!v.armed || s.altitude() < 0.3);
     s.mission_item = s.task == Task::kMission && v.mission_seq >= 0 ? MissionIndex(v, v.mission_seq) : -1;
-    model.OnState(v.id, v.seq, s, now);
+    // The model counts a jump in a group's sequence as messages missed: the frames this vehicle
+    // sent that never came (MAVLink's sequence counts every frame, not each message).
+    v.state_seq += 1 + (v.lost - v.lost_counted);
+    v.lost_counted = v.lost;
+    model.OnState(v.id, v.state_seq, s, now);
     WatchCommands(v);
   }
 

@@ -155,6 +155,7 @@ bool Lookup(const std::string& name, const GcsModel& m, const ReplayControl* rep
     return *num = n, true;
   }
   if (name == "vehicles") return *num = static_cast<double>(m.vehicles().size()), true;
+  if (name == "link.lost") return *num = v ? static_cast<double>(v->sequence_gaps) : 0.0, true;
   if (name == "plot_panels") return *num = static_cast<double>(m.plots().specs().size()), true;
   if (name == "plot.window") return *num = m.plots().window(), true;
   if (name == "plot.held") return *num = m.plots().hold() ? 1.0 : 0.0, true;

@@ -30,7 +30,7 @@
 // "~ VALUE TOL" (|LHS - VALUE| <= TOL). LHS is a signal of the selected vehicle ("alt",
 // "STATE.x", "HEARTBEAT...") or one of: ack ack.reason ack.command ack.percent (this GCS's newest
 // command; vehicle.ack ... for what the vehicle did on its own, a failsafe) tries error task
-// armed vehicles selected plots link sent gave_up log survey.vertices survey.images
+// armed vehicles selected plots link link.lost sent gave_up log survey.vertices survey.images
 // survey.lines survey.altitude survey.ok survey.problem upload upload.reason mission.items
 // plan.items plan.selected plan.flown plan.problems plan.problem plan.alt.N plan.speed.N plan.hold.N
 // video.frames video.rejected video.frozen basemap.width livemap.tiles livemap.received download.offered
