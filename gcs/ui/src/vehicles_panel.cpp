@@ -1,4 +1,6 @@
 // Vehicles discovered by heartbeat; the selected one is what the other panels show and command.
+// A MAVLink vehicle's line below says what it is and how its link is: autopilot, frame, mode,
+// endpoint, signing, frames lost and refused, parameters read.
 #include <cstdio>
 #include <string>
 
@@ -21,6 +23,13 @@ void DrawVehiclesPanel(GcsModel& model, UiContext& ctx) {
     if (ImGui::Selectable((std::string(line) + "###vehicle:" + id).c_str(), id == model.selected_id()))
       model.SelectVehicle(id);
     RegisterLastItem(ctx, "vehicle:" + id);
+    if (v.mavlink) {
+      const MavlinkLinkInfo& m = *v.mavlink;
+      ImGui::TextDisabled("  %s %s, %s | %s%s | lost %lld, refused %lld | params %d/%d", m.autopilot.c_str(), m.frame.c_str(),
+                          m.mode.c_str(), m.endpoint.c_str(), m.signing ? ", signed" : ", unsigned",
+                          static_cast<long long>(v.sequence_gaps), static_cast<long long>(m.refused_frames),
+                          m.parameters_received, m.parameters_total);
+    }
   }
   ImGui::End();
 }
