@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path out = argv[1];
-  for (const char* d : {"vehicle_messages", "gcs_messages", "event_log", "mavlink"}) fs::create_directories(out / d);
+  for (const char* d : {"vehicle_messages", "gcs_messages", "event_log", "mavlink", "gcs_mavlink"}) fs::create_directories(out / d);
 
   // GCS -> vehicle, selector = the harness's case; signed with its key (0x42 x 32).
   uav::SigningKey key;
@@ -244,6 +244,70 @@ int main(int argc, char** argv) {
     const std::vector<uint8_t> plain = uav::mavlink::Encode(f, l.crc_extra);
     bytes.insert(bytes.end(), plain.begin(), plain.end());
     WriteBytes(out / "mavlink" / (l.name + (f.version == 1 ? "_v1" : "_unsigned")), bytes);
+  }
+  // The GCS's MAVLink link: a vehicle's session, unsigned, as PX4 and as ArduCopter: heartbeat,
+  // home, position, two parameters, a mission of two items offered, acknowledgements, texts,
+  // the requests of an upload, progress. Datagrams of 33 bytes.
+  for (const uint8_t autopilot : {uint8_t{12}, uint8_t{3}}) {
+    using namespace uav::mavlink;
+    std::vector<uint8_t> bytes = {32};
+    uint8_t seq = 0;
+    auto add = [&](const auto& m) {
+      Frame f;
+      f.seq = seq++, f.sysid = 1, f.compid = 1;
+      f.msgid = std::decay_t<decltype(m)>::kId;
+      f.payload = Pack(m);
+      const std::vector<uint8_t> frame = Encode(f, FindLayout(f.msgid)->crc_extra);
+      bytes.insert(bytes.end(), frame.begin(), frame.end());
+    };
+    Heartbeat hb;
+    hb.type = 2, hb.autopilot = autopilot, hb.base_mode = 129, hb.custom_mode = autopilot == 12 ? 0x03040000u : 5u;
+    add(hb);
+    HomePosition home;
+    home.latitude = 12966000, home.longitude = 1037764000, home.altitude = 15000;
+    add(home);
+    GlobalPositionInt p;
+    p.lat = 12966100, p.lon = 1037764100, p.alt = 25000, p.relative_alt = 10000, p.vx = 100;
+    add(p);
+    ParamValue pv;
+    SetText(pv.param_id, "P1");
+    pv.param_value = 1.f, pv.param_type = 9, pv.param_count = 2, pv.param_index = 0;
+    add(pv);
+    SetText(pv.param_id, "P2");
+    pv.param_type = 6, pv.param_index = 1;
+    add(pv);
+    MissionCount mc;
+    mc.target_system = 255, mc.count = 2;
+    add(mc);
+    MissionItemInt item;
+    item.target_system = 255, item.command = 16, item.frame = 3, item.x = 12966000, item.y = 1037764000, item.z = 10;
+    add(item);
+    item.seq = 1;
+    add(item);
+    MissionRequestInt rq;
+    rq.target_system = 255;
+    add(rq);
+    rq.seq = 1;
+    add(rq);
+    MissionAck ma;
+    ma.target_system = 255;
+    add(ma);
+    CommandAck ca;
+    ca.command = 400, ca.target_system = 255;
+    add(ca);
+    ca.command = 176;
+    add(ca);
+    Statustext st;
+    st.severity = 4;
+    SetText(st.text, "PreArm: fuzz");
+    add(st);
+    MissionCurrent cur;
+    cur.seq = 1;
+    add(cur);
+    MissionItemReached reached;
+    reached.seq = 1;
+    add(reached);
+    WriteBytes(out / "gcs_mavlink" / (autopilot == 12 ? "px4_session" : "ardupilot_session"), bytes);
   }
   std::printf("make_fuzz_seeds: wrote %s\n", out.c_str());
   return 0;

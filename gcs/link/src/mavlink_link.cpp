@@ -165,7 +165,7 @@ std::string MavlinkLink::VehicleIdOf(Autopilot a, int system_id) {
 
 struct MavlinkLink::Impl {
   Impl(const MavlinkLinkParams& p, GcsModel& m)
-      : params(p), model(m), transport(OpenMavlinkTransport(p.endpoint)),
+      : params(p), model(m), transport(p.endpoint.empty() ? nullptr : OpenMavlinkTransport(p.endpoint)),
         parser([this](uint32_t id) {
           const auto info = Lookup()(id);
           if (!info) unknown_ids.insert(id);
@@ -202,7 +202,7 @@ struct MavlinkLink::Impl {
     f.payload = Pack(m);
     const uint64_t ts = streams.NextTimestamp(static_cast<uint64_t>(SigningTimestamp(WallTimeMicros())));
     const auto bytes = Encode(f, FindLayout(M::kId)->crc_extra, params.key ? &params.key->bytes : nullptr, 0, ts);
-    if (transport->Send(bytes)) ++counts.frames_out;
+    if (transport && transport->Send(bytes)) ++counts.frames_out;
   }
   void SendStep(const MavVehicle& v, const MavlinkStep& s, int confirmation) {
     if (s.command_int) {
@@ -231,12 +231,20 @@ struct MavlinkLink::Impl {
   void Say(const MavVehicle& v, const std::string& text, Severity s) { model.OnLinkNote(v.id, text, s, now); }
 
   // ---- receiving ----
-  void Receive(double t) {
+  void Receive(double t, const uint8_t* extra = nullptr, std::size_t extra_size = 0) {
     now = t;
+    if (extra) Ingest(extra, extra_size);
     for (;;) {
-      const std::vector<uint8_t> bytes = transport->Receive();
+      const std::vector<uint8_t> bytes = transport ? transport->Receive() : std::vector<uint8_t>{};
       if (bytes.empty()) break;
-      for (const Frame& f : parser.Push(bytes.data(), bytes.size())) {
+      Ingest(bytes.data(), bytes.size());
+    }
+    Periodic();
+  }
+
+  void Ingest(const uint8_t* data, std::size_t size) {
+    {
+      for (const Frame& f : parser.Push(data, size)) {
         ++counts.frames_in;
         const auto verdict = streams.Check(f, static_cast<uint64_t>(SigningTimestamp(WallTimeMicros())));
         if (verdict != SignedStreams::Verdict::kAccepted) {
@@ -252,6 +260,9 @@ struct MavlinkLink::Impl {
         }
       }
     }
+  }
+
+  void Periodic() {
     const Parser::Counts& c = parser.counts();
     counts.unknown_messages = c.unknown_message;
     counts.bad_checksum = c.bad_checksum;
@@ -1129,6 +1140,7 @@ struct MavlinkLink::Impl {
 MavlinkLink::MavlinkLink(const MavlinkLinkParams& params, GcsModel& model) : impl_(std::make_unique<Impl>(params, model)) {}
 MavlinkLink::~MavlinkLink() = default;
 void MavlinkLink::Receive(double now) { impl_->Receive(now); }
+void MavlinkLink::ReceiveBytes(const uint8_t* data, std::size_t size, double now) { impl_->Receive(now, data, size); }
 void MavlinkLink::Send(GcsOutgoing& out, double now) { impl_->Send(out, now); }
 MavlinkLink::Counts MavlinkLink::counts() const { return impl_->counts; }
 

@@ -19,7 +19,9 @@
 namespace uav::gcs {
 
 struct MavlinkLinkParams {
-  std::string endpoint = "udpin:14550";  // udpin:[HOST:]PORT, udp:HOST:PORT or serial:DEVICE[:BAUD]
+  // udpin:[HOST:]PORT, udp:HOST:PORT or serial:DEVICE[:BAUD]; "": none (bytes come from
+  // ReceiveBytes, nothing is sent: a recording, the fuzzer).
+  std::string endpoint = "udpin:14550";
   std::optional<SigningKey> key;         // none: unsigned, and unsigned frames accepted
   int video_port = 5600;                 // RTP/H.264 in (QGroundControl's default); 0: off
   // The services' patience: a request unanswered for `retry_s` is sent again, `max_tries` times.
@@ -35,6 +37,8 @@ class MavlinkLink {
   ~MavlinkLink();
   // Reads what arrived, feeds the model, runs the services' resends and timeouts. `now`: GCS clock [s].
   void Receive(double now);
+  // Bytes from elsewhere than the endpoint, as if received (then as Receive).
+  void ReceiveBytes(const uint8_t* data, std::size_t size, double now);
   // Takes the entries of `out` for this link's vehicles and sends them.
   void Send(GcsOutgoing& out, double now);
 
