@@ -274,7 +274,8 @@ struct MavlinkLink::Impl {
     }
     for (auto& [sysid, v] : vehicles) Tick(v);
     PollVideo();
-    if (now - last_heartbeat >= 1.0 && !vehicles.empty()) {
+    // Always, as QGroundControl: a vehicle that listens (udp: here, its udpin:) hears us first.
+    if (now - last_heartbeat >= 1.0) {
       last_heartbeat = now;
       Heartbeat h;
       h.type = kMavTypeGcs, h.autopilot = kMavAutopilotInvalid, h.system_status = 4, h.mavlink_version = 3;
