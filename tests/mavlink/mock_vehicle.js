@@ -50,10 +50,10 @@ let mode = PX4 ? MODES.hold : MODES.loiter;
 
 // ---- parameters: [id, type, value] (MAV_PARAM_TYPE 2 INT8, 4 INT16, 6 INT32, 9 REAL32) ----
 const params = PX4
-  ? [['MPC_XY_CRUISE', 9, 5.0], ['MIS_TAKEOFF_ALT', 9, 2.5], ['RTL_RETURN_ALT', 9, 30.0], ['COM_DISARM_LAND', 9, 2.0],
+  ? [['MPC_XY_CRUISE', 9, 6.0], ['MIS_TAKEOFF_ALT', 9, 2.5], ['RTL_RETURN_ALT', 9, 30.0], ['COM_DISARM_LAND', 9, 2.0],
      ['NAV_DLL_ACT', 6, 2], ['COM_RCL_EXCEPT', 6, 4], ['SYS_AUTOSTART', 6, 4001], ['MAV_SYS_ID', 6, SYSID],
      ['CAL_ACC0_ID', 6, 1310988], ['GF_ACTION', 6, 1]]
-  : [['WPNAV_SPEED', 9, 500.0], ['RTL_ALT', 6, 1500], ['FENCE_ENABLE', 2, 0], ['ARMING_CHECK', 6, 1],
+  : [['WPNAV_SPEED', 9, 600.0], ['RTL_ALT', 6, 1500], ['FENCE_ENABLE', 2, 0], ['ARMING_CHECK', 6, 1],
      ['SYSID_THISMAV', 4, SYSID], ['LAND_SPEED', 4, 50], ['WP_YAW_BEHAVIOR', 2, 2], ['FRAME_CLASS', 2, 1],
      ['PILOT_SPEED_UP', 4, 250], ['WPNAV_SPEED_DN', 9, 150.0]];
 const LIMITS = { MPC_XY_CRUISE: [3, 20], WPNAV_SPEED: [20, 2000] };
@@ -91,10 +91,16 @@ function send(message, compid = COMPID) {
   }
   socket.send(buffer, Number(gcsPort), gcsHost);
 }
+let textId = 0;
 function text(severity, t) {
-  const s = new common.StatusText();
-  s.severity = severity; s.text = t.slice(0, 50); s.id = 0; s.chunkSeq = 0;
-  send(s);
+  // Longer than 50 characters: chunks of 50 sharing an id, the last one shorter (MAVLink 2).
+  const id = t.length > 50 ? ++textId : 0;
+  for (let i = 0, chunk = 0; i === 0 || i < t.length + (t.length % 50 === 0 ? 1 : 0); i += 50, chunk++) {
+    const s = new common.StatusText();
+    s.severity = severity; s.text = t.slice(i, i + 50); s.id = id; s.chunkSeq = chunk;
+    send(s);
+    if (!id) break;
+  }
   console.log(`  ${args.autopilot} says: ${t}`);
 }
 function ack(command, result, compid = COMPID) {
@@ -129,6 +135,7 @@ function startMission() {
   if (items.length <= first) return false;
   current = first;
   activity = { kind: 'mission' };
+  text(6, `Mission started: ${items.length - first} items, from item ${first} (home is item 0 on ArduPilot, not on PX4)`);
   setMode(PX4 ? MODES.mission : MODES.auto, 'mission');
   beginItem();
   return true;
@@ -268,6 +275,9 @@ function onCommand(c, isInt) {
       if (!PX4 && want === MODES.guided) activity = { kind: 'hold' };
       return ack(cmd, RESULT.ACCEPTED);
     }
+    case 511:  // SET_MESSAGE_INTERVAL: ArduPilot streams what a GCS asks for
+      streams.add(p[0]);
+      return ack(cmd, RESULT.ACCEPTED);
     case 512: {  // REQUEST_MESSAGE
       if (p[0] === 148) sendVersion(); else if (p[0] === 242) sendHome(); else return ack(cmd, RESULT.UNSUPPORTED);
       return ack(cmd, RESULT.ACCEPTED);
@@ -350,6 +360,10 @@ function sendHome() {
   send(h);
 }
 let tick = 0;
+// ArduPilot sends a GCS only the streams it asked for (SET_MESSAGE_INTERVAL; SRn_ parameters at
+// zero); PX4 streams its set to a GCS link unasked.
+const streams = new Set();
+const streamed = (id) => PX4 || streams.has(id);
 function telemetry() {
   tick++;
   const lat = HOME.lat + v.north / M_PER_DEG, lon = HOME.lon + v.east / (M_PER_DEG * Math.cos(HOME.lat * Math.PI / 180));
@@ -357,18 +371,18 @@ function telemetry() {
   Object.assign(g, { timeBootMs: Math.round(process.uptime() * 1000), lat: Math.round(lat * 1e7), lon: Math.round(lon * 1e7),
                      alt: Math.round((HOME.alt + v.up) * 1000), relativeAlt: Math.round(v.up * 1000),
                      vx: Math.round(v.vn * 100), vy: Math.round(v.ve * 100), vz: Math.round(-v.vu * 100), hdg: 0 });
-  send(g);
+  if (streamed(33)) send(g);
   const a = new common.Attitude();
   Object.assign(a, { timeBootMs: g.timeBootMs, roll: 0, pitch: 0, yaw: v.yaw, rollspeed: 0, pitchspeed: 0, yawspeed: 0 });
-  send(a);
+  if (streamed(30)) send(a);
   if (tick % 5 === 0) {
     const gps = new common.GpsRawInt();
     Object.assign(gps, { timeUsec: BigInt(Date.now()) * 1000n, fixType: 3, lat: g.lat, lon: g.lon, alt: g.alt, eph: 80, epv: 120,
                          vel: 0, cog: 0, satellitesVisible: 14 });
-    send(gps);
+    if (streamed(24)) send(gps);
     const h = new common.VfrHud();
     Object.assign(h, { airspeed: 0, groundspeed: Math.hypot(v.vn, v.ve), heading: 0, throttle: 50, alt: HOME.alt + v.up, climb: v.vu });
-    send(h);
+    if (streamed(74)) send(h);
   }
   if (tick % 10 === 0) {
     const hb = new minimal.Heartbeat();
@@ -381,13 +395,13 @@ function telemetry() {
     Object.assign(s, { onboardControlSensorsPresent: sensors, onboardControlSensorsEnabled: sensors, onboardControlSensorsHealth: sensors,
                        load: 300, voltageBattery: 16200, currentBattery: 500, batteryRemaining: 87, dropRateComm: 0, errorsComm: 0,
                        errorsCount1: 0, errorsCount2: 0, errorsCount3: 0, errorsCount4: 0 });
-    send(s);
+    if (streamed(1)) send(s);
     const e = new common.ExtendedSysState();
     e.vtolState = 0; e.landedState = v.landed ? 1 : activity.kind === 'land' ? 4 : 2;
-    send(e);
+    if (streamed(245)) send(e);
     const c = new common.MissionCurrent();
     c.seq = current;
-    send(c);
+    if (streamed(42)) send(c);
     if (args.unknown) {  // messages our GCS does not read (VIBRATION, ESTIMATOR_STATUS)
       const vib = new common.Vibration();
       Object.assign(vib, { timeUsec: BigInt(Date.now()) * 1000n, vibrationX: 0.1, vibrationY: 0.1, vibrationZ: 0.2, clipping0: 0, clipping1: 0, clipping2: 0 });

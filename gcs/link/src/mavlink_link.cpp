@@ -35,6 +35,12 @@ constexpr uint8_t kMavTypeGcs = 6, kMavAutopilotInvalid = 8;
 constexpr uint8_t kResultAccepted = 0, kResultInProgress = 5;
 constexpr uint8_t kMissionAccepted = 0;
 constexpr double kHomeRequestPeriod = 3.0;  // [s] until HOME_POSITION has come
+// What the GCS asks ArduPilot to stream (SET_MESSAGE_INTERVAL; ArduPilot streams only what a
+// GCS asks for or its SRn_ parameters set): message id and interval [us].
+constexpr std::pair<uint32_t, float> kArduPilotStreams[] = {
+    {Attitude::kId, 100'000},       {GlobalPositionInt::kId, 100'000}, {VfrHud::kId, 250'000},
+    {GpsRawInt::kId, 500'000},      {SysStatus::kId, 1'000'000},       {ExtendedSysState::kId, 1'000'000},
+    {MissionCurrent::kId, 1'000'000}, {BatteryStatus::kId, 1'000'000}};
 // SYS_STATUS sensor bits (MAV_SYS_STATUS_SENSOR) shown as pre-arm checks, as QGroundControl's.
 struct SensorBit {
   uint32_t bit;
@@ -135,6 +141,7 @@ struct MavVehicle {
   int mission_seq = -1;          // MISSION_CURRENT as the vehicle counts
   int mission_items = -1;        // of the mission list (ours, without ArduPilot's home)
   int last_reached = -1;
+  std::map<uint16_t, std::string> text_chunks;  // STATUSTEXT id -> the chunks so far
   std::string last_warning;      // the newest warning text, for the reason of a refusal
   double last_warning_at = -1e9;
   // parameters
@@ -360,7 +367,15 @@ struct MavlinkLink::Impl {
       }
       case Statustext::kId: {
         const Statustext s = Unpack<Statustext>(f);
-        const std::string text = Text(s.text);
+        // MAVLink 2 splits a long text into 50-character chunks sharing an id; the last is shorter.
+        std::string text = Text(s.text);
+        if (s.id != 0) {
+          std::string& so_far = v.text_chunks[s.id];
+          so_far += text;
+          if (text.size() == s.text.size() && so_far.size() < 1000) return;
+          text = std::move(so_far);
+          v.text_chunks.erase(s.id);
+        }
         if (s.severity <= 4) v.last_warning = text, v.last_warning_at = now;
         model.OnStatusText(v.id, SeverityOf(s.severity), text, now);
         return;
@@ -428,6 +443,13 @@ struct MavlinkLink::Impl {
       if (IsFixedWingType(h.type)) v.state.vtol_mode = VtolMode::kCruise;
       model.OnMavlinkLink(v.id, Info(v), now);
       RequestMessage(v, AutopilotVersion::kId);
+      if (IsArduPilot(v.autopilot))
+        for (const auto& [id, interval_us] : kArduPilotStreams) {
+          MavlinkStep s;
+          s.command = mav_cmd::kSetMessageInterval;
+          s.param[0] = static_cast<float>(id), s.param[1] = interval_us;
+          SendStep(v, s, 0);
+        }
       StartParamList(v);
     }
     CountSeq(v, f);

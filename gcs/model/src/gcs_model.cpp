@@ -208,9 +208,19 @@ bool GcsModel::FitSurveyToVehicle(double now) {
   };
   SurveyPlanner& planner = missions_.planner();
   waypoints::SurveyParams& p = planner.params();
-  const bool wing = value("vehicle_type") == static_cast<double>(VehicleType::kTailSitter);
-  const double speed = wing ? value("ts_cruise_speed") : std::min(p.speed_m_s, value("ctl_speed_max_xy"));
-  const double radius = wing ? CoordinatedTurnRadius(speed, value("ts_bank_max"), value("gravity")) : 0.0;
+  bool wing = value("vehicle_type") == static_cast<double>(VehicleType::kTailSitter);
+  double speed = wing ? value("ts_cruise_speed") : std::min(p.speed_m_s, value("ctl_speed_max_xy"));
+  double radius = wing ? CoordinatedTurnRadius(speed, value("ts_bank_max"), value("gravity")) : 0.0;
+  if (v->mavlink) {  // the autopilot's own names: its mission cruise speed and, on a wing, its bank limit
+    const std::string& a = v->mavlink->autopilot;
+    constexpr double kDegToRad = 3.14159265358979323846 / 180.0, kGravity = 9.80665;
+    wing = a == "ArduPlane" || (a == "PX4" && v->state && v->state->vehicle_type == VehicleType::kTailSitter);
+    if (a == "PX4") speed = wing ? value("FW_AIRSPD_TRIM") : value("MPC_XY_CRUISE");
+    else if (a == "ArduCopter") speed = value("WPNAV_SPEED") / 100.0;  // [cm/s]
+    else speed = std::isfinite(value("AIRSPEED_CRUISE")) ? value("AIRSPEED_CRUISE") : value("TRIM_ARSPD_CM") / 100.0;
+    const double bank_deg = a == "PX4" ? value("FW_R_LIM") : value("ROLL_LIMIT_DEG");
+    radius = wing ? CoordinatedTurnRadius(speed, bank_deg * kDegToRad, kGravity) : 0.0;
+  }
   if (!std::isfinite(speed) || !std::isfinite(radius)) {
     log_.Add(now, selected_, "survey not fitted: the vehicle's parameter table lacks its speed or bank limit", Severity::kWarning);
     return false;
@@ -219,8 +229,8 @@ bool GcsModel::FitSurveyToVehicle(double now) {
   p.turn_radius_m = radius;
   char text[160];
   if (wing)
-    std::snprintf(text, sizeof text, "survey fitted to %s, a tail-sitter: its cruise %.1f m/s, turns of %.1f m radius",
-                  selected_.c_str(), speed, radius);
+    std::snprintf(text, sizeof text, "survey fitted to %s, %s: its cruise %.1f m/s, turns of %.1f m radius",
+                  selected_.c_str(), v->mavlink ? "a fixed wing" : "a tail-sitter", speed, radius);
   else
     std::snprintf(text, sizeof text, "survey fitted to %s, a multicopter: %.1f m/s, turns on the spot", selected_.c_str(), speed);
   planner.ParamsChanged();

@@ -18,7 +18,7 @@ namespace uav::gcs {
 // MAV_CMD values the GCS sends.
 namespace mav_cmd {
 constexpr uint16_t kNavReturn = 20, kNavLand = 21, kNavTakeoff = 22, kDoSetMode = 176, kDoReposition = 192,
-                   kMissionStart = 300, kArmDisarm = 400, kRequestMessage = 512, kTrackRectangle = 2005,
+                   kMissionStart = 300, kArmDisarm = 400, kSetMessageInterval = 511, kRequestMessage = 512, kTrackRectangle = 2005,
                    kStopTracking = 2010, kVtolTransition = 3000;
 }  // namespace mav_cmd
 constexpr float kForceDisarmMagic = 21196.f;  // COMPONENT_ARM_DISARM param2: disarm in flight
