@@ -31,7 +31,8 @@ case "$mode" in
   # into this build; their seeds run in the g++ build and under libFuzzer's ASan.
   asan-unit)
     targets=(test_shared test_wire test_waypoints make_fuzz_seeds fuzz_command_grammar fuzz_mission_files fuzz_parameters
-             fuzz_capture_folder fuzz_gcs_script fuzz_vehicle_messages fuzz_gcs_messages fuzz_event_log fuzz_mavlink)
+             fuzz_capture_folder fuzz_gcs_script fuzz_vehicle_messages fuzz_gcs_messages fuzz_event_log fuzz_mavlink
+             fuzz_gcs_mavlink)
     select=(-L '^(test_shared|test_wire|test_waypoints|fuzz)$' -E '^fuzz\.(scene|stereo_calibration)\.seeds$') ;;
   tsan) targets=(test_onboard test_gcs uav-onboard uav-gcs uav-keygen)
         select=(-R '^(LockstepScheduler|CameraWorker|StereoWorker|ActiveStereoWorker|TrackWorker|LinkTest|integration\.fly_mission)') ;;
