@@ -66,10 +66,10 @@ const char* ParamTypeName(uint8_t t) {
   return t < 11 ? kNames[t] : "?";
 }
 
-// One parameter as the vehicle holds it.
+// One parameter as the vehicle sent it: decoded when read, in the encoding known then.
 struct Param {
   std::string id;
-  double value = 0;
+  float wire = 0;
   uint8_t type = kParamReal32;
 };
 
@@ -80,7 +80,6 @@ struct PendingCommand {
   std::string name;          // "takeoff"
   MavlinkPlan plan;
   std::size_t step = 0;
-  double sent = -1;
   int confirmation = 0;
   bool finished = false;     // the final answer given
   bool watching = false;     // accepted, waiting for the vehicle to get there
@@ -123,7 +122,6 @@ struct MavVehicle {
   uint8_t mav_type = 0;
   std::string id;
   ParamEncoding encoding = ParamEncoding::kCCast;
-  bool encoding_from_version = false;
   // link quality
   bool seq_known = false;
   uint8_t last_seq = 0;
@@ -188,7 +186,6 @@ struct MavlinkLink::Impl {
   Parser parser;
   SignedStreams streams;
   std::unique_ptr<RtpVideoReceiver> video;
-  int64_t video_frames = 0;
   std::map<uint8_t, MavVehicle> vehicles;  // by system id
   std::set<uint32_t> unknown_ids;
   std::set<uint32_t> unknown_said;
@@ -383,8 +380,11 @@ struct MavlinkLink::Impl {
       case mavlink::CommandAck::kId: return OnCommandAck(v, Unpack<mavlink::CommandAck>(f), f);
       case AutopilotVersion::kId: {
         const AutopilotVersion a = Unpack<AutopilotVersion>(f);
-        if (a.capabilities & kCapabilityParamBytewise) v.encoding = ParamEncoding::kBytewise, v.encoding_from_version = true;
-        else if (a.capabilities & kCapabilityParamCCast) v.encoding = ParamEncoding::kCCast, v.encoding_from_version = true;
+        // Parameters are kept as they came (wire value and type), so one that arrived before this
+        // is read again in the right encoding.
+        if (a.capabilities & kCapabilityParamBytewise) v.encoding = ParamEncoding::kBytewise;
+        else if (a.capabilities & kCapabilityParamCCast) v.encoding = ParamEncoding::kCCast;
+        if (v.params_complete) PublishTable(v);
         return;
       }
       case ParamValue::kId: return OnParamValue(v, Unpack<ParamValue>(f));
@@ -603,7 +603,6 @@ struct MavlinkLink::Impl {
         Answer(v, other, CommandResult::kReplaced, c.name);
       }
     PendingCommand& kept = v.commands[c.command_seq] = c;
-    kept.sent = now;
     SendStep(v, kept.plan.steps[0], 0);
     while (v.commands.size() > 50) v.commands.erase(v.commands.begin());
   }
@@ -682,15 +681,13 @@ struct MavlinkLink::Impl {
     v.param_last = now;
     v.param_tries = 0;
     if (m.param_count > 0 && m.param_count != 65535) v.param_count = m.param_count;
-    if (value) {
-      int index = m.param_index;
-      if (index == 65535) {  // an answer to a set or a read by name: find it by its id
-        index = -1;
-        for (const auto& [i, p] : v.params)
-          if (p.id == id) index = i;
-      }
-      if (index >= 0) v.params[index] = {id, *value, m.param_type};
+    int index = m.param_index;
+    if (index == 65535) {  // an answer to a set or a read by name: find it by its id
+      index = -1;
+      for (const auto& [i, p] : v.params)
+        if (p.id == id) index = i;
     }
+    if (index >= 0) v.params[index] = {id, m.param_value, m.param_type};  // counted even when not shown (64-bit)
     for (PendingParam& p : v.param_sets) {
       if (p.finished || p.id != id) continue;
       p.finished = true;
@@ -718,9 +715,11 @@ struct MavlinkLink::Impl {
     t.utime = WallTimeMicros();
     t.version = ++v.param_version;
     for (const auto& [i, p] : v.params) {
+      const std::optional<double> value = DecodeParamValue(p.wire, p.type, v.encoding);
+      if (!value) continue;  // a type the float cannot carry: not shown, never made up
       ParameterEntry e;
       e.name = p.id;
-      e.value = p.value;
+      e.value = *value;
       e.default_value = NAN;
       e.unit = ParamTypeName(p.type);
       e.description = std::string(Name(v.autopilot)) + " parameter";
@@ -1102,7 +1101,6 @@ struct MavlinkLink::Impl {
     for (const auto& [sysid, v] : vehicles)
       if (!owner || (v.video_announced && !owner->video_announced)) owner = &v;
     if (!owner) return;
-    ++video_frames;
     model.OnVideoPixels(owner->id, pixels, now);
   }
 
