@@ -68,7 +68,8 @@ std::string FormatParameterFile(const ParameterTable& table, ParameterFileFormat
   if (format == ParameterFileFormat::kQgc) {
     // QGroundControl writes this header; a MAVLink system id is a number, so ours is 1.
     os << "# Onboard parameters for " << vehicle_id << "\n#\n# Vehicle-Id Component-Id Name Value Type\n";
-    for (const ParameterEntry& e : table.entries) os << "1\t1\t" << e.name << "\t" << FormatParameterValue(e.value) << "\t9\n";
+    for (const ParameterEntry& e : table.entries)
+      os << "1\t1\t" << e.name << "\t" << FormatParameterValue(e.value) << "\t" << e.mavlink_type << "\n";
     return os.str();
   }
   os << "# Parameters of " << vehicle_id << " (version " << table.version << "): name  value  # unit [min, max] description\n";

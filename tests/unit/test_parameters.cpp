@@ -1,3 +1,4 @@
+#include <cmath>
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -226,6 +227,11 @@ TEST(ParameterFiles, BothFormatsRoundTripAndBadLinesNameThemselves) {
       EXPECT_EQ(values[i].second, table.entries[i].value) << values[i].first;  // exact: shortest round-trip digits
     }
   }
+  // A MAVLink autopilot's integer parameter keeps its type in QGroundControl's file.
+  ParameterTable px4;
+  px4.entries.push_back(ParameterEntry{"SYS_AUTOSTART", "INT32", "", 4001, std::nan(""), -1e30, 1e30, ParamApply::kInFlight, 6});
+  const std::string saved = FormatParameterFile(px4, ParameterFileFormat::kQgc, "px4-1");
+  EXPECT_NE(saved.find("1\t1\tSYS_AUTOSTART\t4001\t6\n"), std::string::npos) << saved;
   // Our format is a vehicle file: the vehicle loads it as one.
   const ParameterSet again = ParameterSet::Parse(FormatParameterFile(table, ParameterFileFormat::kVehicle, "UAV1"), "saved.params",
                                                  VehicleParameterSchema());

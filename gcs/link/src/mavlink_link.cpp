@@ -725,6 +725,7 @@ struct MavlinkLink::Impl {
       e.description = std::string(Name(v.autopilot)) + " parameter";
       e.min = -1e30, e.max = 1e30;
       e.apply = ParamApply::kInFlight;  // the autopilot says what it refuses
+      e.mavlink_type = p.type;
       t.entries.push_back(std::move(e));
     }
     std::sort(t.entries.begin(), t.entries.end(), [](const ParameterEntry& a, const ParameterEntry& b) { return a.name < b.name; });

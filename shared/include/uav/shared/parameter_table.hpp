@@ -16,6 +16,9 @@ struct ParameterEntry {
   std::string name, unit, description;
   double value = 0.0, default_value = 0.0, min = 0.0, max = 0.0;  // [unit]; default NaN: none
   ParamApply apply = ParamApply::kAtStart;
+  // MAV_PARAM_TYPE, what a QGroundControl .params file writes in its type column: ours are all
+  // REAL32 (9); a MAVLink autopilot's come with their own (6: INT32).
+  int mavlink_type = 9;
 };
 
 struct ParameterTable {
