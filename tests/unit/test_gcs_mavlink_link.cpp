@@ -15,6 +15,7 @@
 #include "uav/gcs/mavlink_link.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/mavlink_messages.hpp"
+#include "unit/free_port.hpp"
 #include "uav/wire/bus.hpp"
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/heartbeat_t.hpp"
@@ -24,17 +25,7 @@ namespace {
 
 using namespace uav::mavlink;
 
-int FreePort() {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
+using test::FreePort;
 
 // The vehicle's side: sends frames of system 1 to the GCS's port, parses what comes back.
 struct Vehicle {

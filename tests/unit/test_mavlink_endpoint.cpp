@@ -14,6 +14,7 @@
 #include "uav/runtime/mavlink_endpoint.hpp"
 #include "uav/shared/channels.hpp"
 #include "uav/shared/mavlink_messages.hpp"
+#include "unit/free_port.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/wire/bus.hpp"
 #include "uavmsg/command_t.hpp"
@@ -42,17 +43,7 @@ struct Peer {
   }
 };
 
-int FreePort() {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
+using test::FreePort;
 
 std::vector<uint8_t> Arm(const SecretKey* key, uint64_t timestamp) {
   CommandLong c;

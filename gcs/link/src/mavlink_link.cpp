@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <set>
 #include <stdexcept>
 
@@ -133,6 +134,7 @@ struct MavVehicle {
   uint32_t custom_mode = 0;
   bool armed = false;
   std::optional<GeodeticPoint> home;
+  std::unique_ptr<LocalNedFrame> frame;  // N at home, made once per home (positions are from it)
   double last_home_request = -1e9;
   VehicleState state;
   int landed_state = 0;          // EXTENDED_SYS_STATE: 0 unknown, 1 on ground, 2 in air, 3 taking off, 4 landing
@@ -502,6 +504,9 @@ struct MavlinkLink::Impl {
       return;
     }
     const bool first = !v.home;
+    if (!v.home || v.home->latitude_deg != home.latitude_deg || v.home->longitude_deg != home.longitude_deg ||
+        v.home->altitude_m != home.altitude_m)
+      v.frame = std::make_unique<LocalNedFrame>(home);
     v.home = home;
     v.state.home = home;
     if (first) {
@@ -522,8 +527,7 @@ struct MavlinkLink::Impl {
     VehicleState& s = v.state;
     s.utime = int64_t{p.time_boot_ms} * 1000;
     s.gps = {p.lat * 1e-7, p.lon * 1e-7, p.alt * 1e-3};
-    const LocalNedFrame frame(*v.home);
-    s.p_N = frame.ToNed(s.gps);
+    s.p_N = v.frame->ToNed(s.gps);
     s.p_N.z() = -p.relative_alt * 1e-3;  // the autopilot's own height above home
     const Eigen::Vector3d v_N(p.vx * 1e-2, p.vy * 1e-2, p.vz * 1e-2);
     s.v_B = RotationNBFromEuler(s.euler).transpose() * v_N;

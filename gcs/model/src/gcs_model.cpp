@@ -319,7 +319,7 @@ void GcsModel::Tick(double now) {
         ++it;
       }
     }
-    missions_.Tick(v, id, now, log_);
+    missions_.Tick(v, id, v.mavlink.has_value(), now, log_);
     wires_.Tick(v, id, v.reports.Get<PowerLines>().at, now, log_);
   }
   commands_.Tick(now, log_);
@@ -352,7 +352,6 @@ void GcsModel::OnMavlinkLink(const std::string& vehicle_id, const MavlinkLinkInf
                  info.endpoint + (info.signing ? ", signed" : ", unsigned") + ")",
              Severity::kInfo);
   v.mavlink = info;
-  v.whole_missions = true;
 }
 
 void GcsModel::OnMissionDownloaded(const std::string& vehicle_id, const waypoints::Mission& mission, bool for_editor,

@@ -47,9 +47,9 @@ void MissionUploads::OnMissionAck(VehicleMission& v, const std::string& vehicle_
   }
 }
 
-void MissionUploads::Tick(VehicleMission& v, const std::string& id, double now, MessageLog& log) {
+void MissionUploads::Tick(VehicleMission& v, const std::string& id, bool whole_missions, double now, MessageLog& log) {
   if (!v.upload) return;
-  if (v.whole_missions) {  // the link runs the transfer, its own resends and timeouts
+  if (whole_missions) {  // the link runs the transfer, its own resends and timeouts
     if (v.upload->state() == waypoints::MissionUploader::State::kSending && !v.whole_sent) {
       outgoing_whole_.push_back({id, v.upload->upload_id(), v.upload->mission()});
       v.whole_sent = true;

@@ -33,10 +33,7 @@ struct OutgoingMission {
 struct VehicleMission {
   std::optional<waypoints::MissionUploader> upload;  // in progress, or the last finished
   std::optional<waypoints::Mission> mission;         // the last one it accepted
-  // Its link takes whole missions (a MAVLink vehicle), not our chunks; `whole_sent`: the upload
-  // in progress has been handed to it.
-  bool whole_missions = false;
-  bool whole_sent = false;
+  bool whole_sent = false;  // the upload in progress has been handed to a link that takes whole missions
 };
 
 class MissionUploads {
@@ -53,7 +50,9 @@ class MissionUploads {
   // Only answers to this GCS (`gcs_name`) count.
   void OnMissionAck(VehicleMission& v, const std::string& vehicle_id, const waypoints::MissionUploadAck& ack,
                     double now, MessageLog& log);
-  void Tick(VehicleMission& v, const std::string& vehicle_id, double now, MessageLog& log);
+  // `whole_missions`: the vehicle's link takes whole missions and runs its own transfer (MAVLink's
+  // mission service), not our chunks.
+  void Tick(VehicleMission& v, const std::string& vehicle_id, bool whole_missions, double now, MessageLog& log);
   std::vector<OutgoingMissionChunk> TakeOutgoing() { return std::exchange(outgoing_, {}); }
   std::vector<OutgoingMission> TakeOutgoingWhole() { return std::exchange(outgoing_whole_, {}); }
   // Vehicles whose link is asked for the mission they hold (into the editor when it arrives).
