@@ -287,6 +287,117 @@ TEST(TrackerCorrelation, FollowsAGreyTargetThroughGrowthAndOcclusion) {
   EXPECT_LE(relocked, 2);
 }
 
+// A runner seen from above (blue shirt, dark trousers, the shirt's folds and arms giving it
+// shape) on yellow-green grass with its own texture; the exact box is known. `at` is its box.
+struct Field {
+  cv::Mat grass;
+  cv::Mat runner;  // BGR, the box's size
+  explicit Field(cv::Size size) {
+    cv::RNG rng(5);
+    cv::Mat noise(size, CV_32FC3);
+    rng.fill(noise, cv::RNG::NORMAL, 0, 30);
+    cv::GaussianBlur(noise, noise, cv::Size(0, 0), 3);
+    cv::Mat base(size, CV_32FC3, cv::Scalar(60, 150, 160));  // BGR: dry grass
+    cv::Mat f = base + noise;
+    f.convertTo(grass, CV_8UC3);
+    runner = cv::Mat(64, 28, CV_8UC3, cv::Scalar(60, 150, 160));
+    cv::ellipse(runner, cv::Point(14, 7), cv::Size(6, 7), 0, 0, 360, cv::Scalar(60, 90, 150), -1);     // head
+    cv::rectangle(runner, cv::Rect(4, 14, 20, 24), cv::Scalar(170, 60, 40), -1);                      // shirt
+    cv::line(runner, cv::Point(14, 16), cv::Point(14, 36), cv::Scalar(120, 40, 30), 2);                // fold
+    cv::rectangle(runner, cv::Rect(6, 38, 7, 24), cv::Scalar(40, 35, 35), -1);                        // legs
+    cv::rectangle(runner, cv::Rect(15, 38, 7, 24), cv::Scalar(40, 35, 35), -1);
+  }
+  cv::Mat Frame(const std::vector<cv::Point>& at) const {
+    cv::Mat f = grass.clone();
+    for (const cv::Point& p : at) {
+      cv::Mat mask;
+      cv::inRange(runner, cv::Scalar(60, 150, 160), cv::Scalar(60, 150, 160), mask);
+      runner.copyTo(f(cv::Rect(p, runner.size())), ~mask);
+    }
+    return f;
+  }
+  cv::Rect Box(cv::Point p) const { return cv::Rect(p, runner.size()); }
+};
+
+double Iou(const TrackResult& r, const cv::Rect& t) {
+  const cv::Rect2d b = r.box.boundingRect2f();
+  const double inter = (b & cv::Rect2d(t)).area();
+  return inter / (b.area() + t.area() - inter);
+}
+
+// Drift: the runner jumps 300 px (the video skipped, the camera swung) while the grass where it
+// was stays, textured and static, just what a correlation filter on shape holds on to with a
+// high peak. The selection's colours are now elsewhere: the box says lost within the loss time
+// (0.3 s) instead of tracking grass, and the whole image is searched, where the one blue shirt
+// on the field is found again.
+TEST(TrackerCorrelation, DriftOntoTheBackgroundIsLostAndTheTargetFoundElsewhere) {
+  const Field field(cv::Size(640, 480));
+  constexpr int kJumpAt = 15, kFrames = 35;
+  const auto where = [](int k) { return k < kJumpAt ? cv::Point(100 + 3 * k, 200 + k) : cv::Point(420 + 3 * (k - kJumpAt), 80 + 2 * (k - kJumpAt)); };
+  TrackerParams p;
+  p.kind = TrackerKind::kCorrelation;
+  TargetTracker tracker(p);
+  tracker.Start(field.Frame({where(0)}), 0.0, field.Box(where(0)));
+  int lost_at = -1, found_at = -1;
+  for (int k = 1; k < kFrames; ++k) {
+    const TrackResult r = tracker.Update(field.Frame({where(k)}), 0.1 * k);
+    const double iou = Iou(r, field.Box(where(k)));
+    if (k < kJumpAt) {
+      EXPECT_EQ(r.state, TrackState::kTracking) << "frame " << k;
+      EXPECT_GT(iou, 0.6) << "frame " << k;
+      continue;
+    }
+    if (lost_at < 0 && r.state == TrackState::kLost) {
+      lost_at = k;
+      EXPECT_NE(r.lost_reason.find("colours left the box"), std::string::npos) << r.lost_reason;
+    }
+    if (found_at < 0 && r.state == TrackState::kTracking && iou > 0.5) found_at = k;
+    // Never tracking the grass past the loss time.
+    if (r.state == TrackState::kTracking && k > kJumpAt + 3) {
+      EXPECT_GT(iou, 0.5) << "frame " << k << " tracks the grass";
+    }
+  }
+  std::printf("[ drift ] runner jumped at frame %d: lost at %d, found again at %d\n", kJumpAt, lost_at, found_at);
+  EXPECT_GE(found_at, kJumpAt);
+  EXPECT_LE(found_at, kJumpAt + 8);
+  if (found_at > kJumpAt) {  // not relocked at once: it said lost in between
+    EXPECT_GE(lost_at, kJumpAt);
+    EXPECT_LE(lost_at, found_at);
+  }
+}
+
+// Among look-alikes a lost target is not taken back by colour: two runners in the same shirt,
+// the tracked one hidden (painted over by grass). The tracker says lost and stays lost while it is
+// hidden, rather than jumping to the other runner 250 px away; when it comes back where it was,
+// the track is taken up again.
+TEST(TrackerCorrelation, ALostTargetAmongLookAlikesStaysLostUntilItReturns) {
+  const Field field(cv::Size(640, 480));
+  const cv::Point other(450, 300);
+  const auto where = [](int k) { return cv::Point(120 + 2 * k, 150); };
+  TrackerParams p;
+  p.kind = TrackerKind::kCorrelation;
+  TargetTracker tracker(p);
+  tracker.Start(field.Frame({where(0), other}), 0.0, field.Box(where(0)));
+  constexpr int kHideFrom = 10, kHideTo = 20, kFrames = 26;
+  bool lost = false;
+  int back_at = -1;
+  for (int k = 1; k < kFrames; ++k) {
+    const bool hidden = k >= kHideFrom && k < kHideTo;
+    const TrackResult r = tracker.Update(hidden ? field.Frame({other}) : field.Frame({where(k), other}), 0.1 * k);
+    EXPECT_LT(Iou(r, field.Box(other)), 0.1) << "frame " << k << ": took the other runner";
+    if (hidden && k >= kHideFrom + 4) {  // 0.3 s and a frame
+      EXPECT_EQ(r.state, TrackState::kLost) << "frame " << k;
+      EXPECT_FALSE(r.lost_reason.empty());
+      lost = lost || r.state == TrackState::kLost;
+    }
+    if (!hidden && k >= kHideTo && back_at < 0 && r.state == TrackState::kTracking && Iou(r, field.Box(where(k))) > 0.5) back_at = k;
+  }
+  std::printf("[ look-alike ] lost while hidden: %s; taken up again at frame %d (back at %d)\n", lost ? "yes" : "no", back_at, kHideTo);
+  EXPECT_TRUE(lost);
+  EXPECT_GE(back_at, kHideTo);
+  EXPECT_LE(back_at, kHideTo + 3);
+}
+
 TEST(TrackerBadInput, SelectionsAreRefusedNamingWhy) {
   const Sequence& s = Cached(Target::kBall);
   const cv::Mat& image = s.images[0];

@@ -164,9 +164,7 @@ void TrackWorker::Report(int64_t utime, const vision::TrackResult& r, Outbox& ou
   rep.window_width = r.search_window.width / W;
   rep.window_height = r.search_window.height / H;
   rep.confidence = r.confidence;
-  if (r.state == vision::TrackState::kLost)
-    rep.reason = tracker_.method() == vision::TrackerKind::kCamShift ? "the target's colour is not in view"
-                                                                     : "the target is hidden or out of view";
+  if (r.state == vision::TrackState::kLost) rep.reason = r.lost_reason;
   out.Post([rep](Blackboard& b) { b.track_reports.Push(rep); });
 }
 

@@ -16,7 +16,14 @@ constexpr int kPeakExclusionCells = 5;       // PSR: the sidelobe excludes 11 x 
 constexpr int kWarmUpFrames = 5;             // frames taken as sure while the PSR level settles
 constexpr float kSurroundWeight = 0.2f;      // the surroundings' weight in the learned sample
 constexpr double kMinInViewShare = 0.5;
-constexpr int kRedetectReach = 1;
+constexpr double kWholeImageTargetPx = 10.0;
+constexpr int kWholeImageCandidates = 3;
+constexpr double kMinMemoryContrast = 0.05;
+// Drift: somewhere else resembles the selection by at least this much more than the box does.
+constexpr double kDriftMargin = 0.5;
+// The farthest a target moves between frames, in its mean side: a runner crossing a drone's view
+// at 10 frames/s moves about 0.6 of its width a frame.
+constexpr double kReachPerFrame = 1.0;
 constexpr double kSureLevelRate = 0.05, kUnsureLevelRate = 0.02;
 
 // |z|^2 of a complex (2-channel) spectrum.
@@ -120,7 +127,7 @@ cv::Mat CorrelationTracker::Resampled(const cv::Mat& grey, cv::Point2d centre, c
   const cv::Rect inside = wanted & cv::Rect(0, 0, grey.cols, grey.rows);
   cv::Mat patch;
   if (inside.area() == 0)
-    patch = cv::Mat(h, w, CV_8U, cv::Scalar(cv::mean(grey)[0]));
+    patch = cv::Mat(h, w, grey.type(), cv::mean(grey));
   else  // beyond the image edge: its last pixels repeated
     cv::copyMakeBorder(grey(inside), patch, inside.y - wanted.y, wanted.br().y - inside.br().y, inside.x - wanted.x,
                        wanted.br().x - inside.br().x, cv::BORDER_REPLICATE);
@@ -143,9 +150,10 @@ void CorrelationTracker::TranslationSpectra(const cv::Mat& grey, cv::Point2d cen
 cv::Mat CorrelationTracker::ScaleSpectra(const cv::Mat& grey) const {
   cv::Mat samples;
   std::vector<cv::Mat> channels;
+  const cv::Size2d target = TargetSize();
   for (int n = 0; n < p_.scales; ++n) {
-    const double s = scale_ * scale_factors_[n];
-    Features(Resampled(grey, centre_, cv::Size2d(start_size_.width * s, start_size_.height * s), scale_model_), channels);
+    const double f = scale_factors_[n];
+    Features(Resampled(grey, centre_, cv::Size2d(target.width * f, target.height * f), scale_model_), channels);
     if (samples.empty()) samples.create(static_cast<int>(channels.size() * channels[0].total()), p_.scales, CV_32F);
     int row = 0;
     for (const cv::Mat& m : channels)
@@ -157,11 +165,118 @@ cv::Mat CorrelationTracker::ScaleSpectra(const cv::Mat& grey) const {
   return spectra;
 }
 
-void CorrelationTracker::Start(const cv::Mat& grey, const cv::Rect2d& box) {
+cv::Size2d CorrelationTracker::TargetSize() const {
+  return {start_size_.width * scale_, start_size_.height * scale_};
+}
+
+namespace {
+constexpr int kColourShift = 3;  // Staple's 32 bins per BGR channel
+constexpr int kColourBins = 1 << (3 * (8 - kColourShift));
+inline int ColourBin(const uchar* p) {
+  return ((p[0] >> kColourShift) << (2 * (8 - kColourShift))) | ((p[1] >> kColourShift) << (8 - kColourShift)) | (p[2] >> kColourShift);
+}
+}  // namespace
+
+// Staple's regions around `centre`: the target's box shrunk by a tenth of its mean side each way
+// (its pixels are the target's), the box, and the box grown by half its mean side each way (its
+// pixels outside the box are the surroundings').
+CorrelationTracker::ColourRegions CorrelationTracker::RegionsAt(cv::Point2d centre, cv::Size image_size) const {
+  const cv::Size2d size = TargetSize();
+  const double avg = 0.5 * (size.width + size.height);
+  const cv::Rect image(cv::Point(), image_size);
+  const auto centred = [&](double w, double h) {
+    return cv::Rect(static_cast<int>(std::lround(centre.x - w / 2)), static_cast<int>(std::lround(centre.y - h / 2)),
+                    static_cast<int>(std::lround(w)), static_cast<int>(std::lround(h)));
+  };
+  ColourRegions r;
+  r.inner = centred(std::max(1.0, size.width - 0.2 * avg), std::max(1.0, size.height - 0.2 * avg)) & image;
+  r.target = centred(size.width, size.height);
+  r.outer = centred(size.width + avg, size.height + avg) & image;
+  return r;
+}
+
+// The normalised histograms of the target's pixels and of its surroundings' (RegionsAt).
+void CorrelationTracker::Histograms(const cv::Mat& bgr, std::vector<float>& fg, std::vector<float>& bg) const {
+  const auto [inner, target, outer] = RegionsAt(centre_, bgr.size());
+  fg.assign(kColourBins, 0.0f);
+  bg.assign(kColourBins, 0.0f);
+  double nf = 0, nb = 0;
+  for (int y = outer.y; y < outer.br().y; ++y) {
+    const uchar* row = bgr.ptr<uchar>(y);
+    for (int x = outer.x; x < outer.br().x; ++x) {
+      const cv::Point at(x, y);
+      if (inner.contains(at)) {
+        fg[ColourBin(row + 3 * x)] += 1;
+        ++nf;
+      } else if (!target.contains(at)) {
+        bg[ColourBin(row + 3 * x)] += 1;
+        ++nb;
+      }
+    }
+  }
+  if (nf > 0)
+    for (float& v : fg) v /= static_cast<float>(nf);
+  if (nb > 0)
+    for (float& v : bg) v /= static_cast<float>(nb);
+}
+
+void CorrelationTracker::LearnColour(const cv::Mat& bgr, double rate) {
+  std::vector<float> fg, bg;
+  Histograms(bgr, fg, bg);
+  if (foreground_.empty() || rate >= 1.0) {
+    foreground_ = fg;
+    background_ = bg;
+  } else {
+    for (int i = 0; i < kColourBins; ++i) {
+      foreground_[i] = static_cast<float>((1 - rate) * foreground_[i] + rate * fg[i]);
+      background_[i] = static_cast<float>((1 - rate) * background_[i] + rate * bg[i]);
+    }
+  }
+  // Staple's per-colour P(target | colour) = rho_O / (rho_O + rho_B); 0 for colours never seen.
+  target_probability_.resize(kColourBins);
+  for (int i = 0; i < kColourBins; ++i) {
+    const float f = foreground_[i], g = background_[i];
+    target_probability_[i] = f + g > 0 ? f / (f + g) : 0.0f;
+  }
+}
+
+// Staple's colour score (Bertinetto et al. 2016): each pixel's P(target | colour) from the two
+// histograms, averaged over a target-sized box at each displacement; laid out as the translation
+// response (zero displacement at [0, 0], wrapped), one value per cell.
+cv::Mat CorrelationTracker::Likelihood(const cv::Mat& bgr) const {
+  cv::Mat likelihood(bgr.size(), CV_32F);
+  for (int y = 0; y < bgr.rows; ++y) {
+    const uchar* p = bgr.ptr<uchar>(y);
+    float* l = likelihood.ptr<float>(y);
+    for (int x = 0; x < bgr.cols; ++x) l[x] = target_probability_[ColourBin(p + 3 * x)];
+  }
+  return likelihood;
+}
+
+cv::Mat CorrelationTracker::ColourResponse(const cv::Mat& bgr, cv::Point2d centre) const {
+  const cv::Mat likelihood = Likelihood(Resampled(bgr, centre, Window(), template_));
+  const double template_px_per_image_px = 1.0 / (template_ratio_ * scale_);
+  const cv::Size box(std::max(1, static_cast<int>(std::lround(TargetSize().width * template_px_per_image_px))),
+                     std::max(1, static_cast<int>(std::lround(TargetSize().height * template_px_per_image_px))));
+  cv::Mat mean_in_box, per_cell;
+  cv::boxFilter(likelihood, mean_in_box, -1, box, cv::Point(-1, -1), true, cv::BORDER_CONSTANT);
+  cv::resize(mean_in_box, per_cell, cells_, 0, 0, cv::INTER_AREA);
+  cv::Mat wrapped(cells_, CV_32F);
+  for (int r = 0; r < cells_.height; ++r)
+    for (int q = 0; q < cells_.width; ++q)
+      wrapped.at<float>((r - cells_.height / 2 + cells_.height) % cells_.height, (q - cells_.width / 2 + cells_.width) % cells_.width) =
+          per_cell.at<float>(r, q);
+  return wrapped;
+}
+
+void CorrelationTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box) {
+  cv::cvtColor(bgr, grey_, cv::COLOR_BGR2GRAY);
+  const cv::Mat& grey = grey_;
   centre_ = last_sure_ = cv::Point2d(box.x + box.width / 2, box.y + box.height / 2);
   start_size_ = box.size();
   scale_ = 1.0;
-  psr_level_ = 0.0;
+  psr_level_ = colour_level_ = 0.0;
+  frames_unsure_ = 0;
   sure_frames_ = 0;
   const cv::Size2d window = Window();
   template_ratio_ = std::sqrt(window.area()) / p_.template_px;
@@ -214,9 +329,104 @@ void CorrelationTracker::Start(const cv::Mat& grey, const cv::Rect2d& box) {
   min_scale_ = std::max(4.0 / box.width, 4.0 / box.height);
   max_scale_ = std::min(grey.cols / box.width, grey.rows / box.height);
   Learn(grey, 1.0, 1.0);
+  LearnColour(bgr, 1.0);
+  // The long-term memory: the operator's selection as it was, never learned over. Hue alone
+  // (thesis 3.7's CamShift model), so that light changing is not drift: per hue bin, how much more
+  // the selection holds it than its surroundings, (f - b) / (f + b) clipped at 0. Grass inside
+  // and outside the box scores 0, a blue shirt 1; greys and dark pixels carry no reliable hue
+  // and score 0.
+  const ColourRegions regions = RegionsAt(centre_, bgr.size());
+  const cv::Mat hue_of = HueBins(bgr(regions.outer));
+  const cv::Point origin = regions.outer.tl();
+  const int nbins = MemoryBins();
+  std::vector<double> fg(nbins, 0.0), bg(nbins, 0.0);
+  double nf = 0, nb = 0;
+  for (int y = 0; y < hue_of.rows; ++y)
+    for (int x = 0; x < hue_of.cols; ++x) {
+      const cv::Point at = origin + cv::Point(x, y);
+      const int bin = hue_of.at<short>(y, x);
+      const bool inside = regions.inner.contains(at), around = !regions.target.contains(at);
+      nf += inside;
+      nb += around;
+      if (bin < 0) continue;
+      if (inside) fg[bin] += 1;
+      if (around) bg[bin] += 1;
+    }
+  memory_probability_.assign(nbins, 0.0f);
+  for (int i = 0; i < nbins; ++i) {
+    const double f = nf > 0 ? fg[i] / nf : 0, g = nb > 0 ? bg[i] / nb : 0;
+    memory_probability_[i] = f + g > 0 ? static_cast<float>(std::max(0.0, (f - g) / (f + g))) : 0.0f;
+  }
+  memory_inside_ = MemoryDensity(bgr, regions.inner);
+  cv::Mat ring_density = HueDensity(bgr(regions.outer));
+  cv::Mat ring_mask(ring_density.size(), CV_8U, cv::Scalar(255));
+  ring_mask((regions.target - origin) & cv::Rect(cv::Point(), ring_mask.size())).setTo(0);
+  memory_around_ = cv::mean(ring_density, ring_mask)[0];
+  // Colour can find the target anywhere only if nothing else in view looked like it when it was
+  // picked: with a look-alike about (two runners in the same shirt) it is found again only near
+  // where it was lost.
+  colour_unique_ = ColourTellsTarget();
+  const cv::Size2d size = TargetSize();
+  for (const cv::Point2d& at : WholeImageCandidates(bgr))
+    if (std::abs(at.x - centre_.x) > size.width || std::abs(at.y - centre_.y) > size.height)
+      colour_unique_ = colour_unique_ && Resemblance(bgr, at) < p_.relock_share;
 }
 
-CorrelationTracker::Found CorrelationTracker::Detect(const cv::Mat& grey, cv::Point2d centre) const {
+static int MemShift() { static const int k = getenv("UAV_MEM") ? atoi(getenv("UAV_MEM")) : 0; return k; }
+int CorrelationTracker::MemoryBins() const { return MemShift() ? 1 << (3 * (8 - MemShift())) : p_.hue_bins; }
+// Each pixel's hue bin, -1 where saturation or value is too low for a reliable hue (CV_16S).
+cv::Mat CorrelationTracker::HueBins(const cv::Mat& bgr) const {
+  cv::Mat bins(bgr.size(), CV_16S);
+  if (MemShift()) {
+    const int k = MemShift();
+    for (int y = 0; y < bgr.rows; ++y) {
+      const uchar* p = bgr.ptr<uchar>(y);
+      short* b = bins.ptr<short>(y);
+      for (int x = 0; x < bgr.cols; ++x)
+        b[x] = static_cast<short>(((p[3 * x] >> k) << (2 * (8 - k))) | ((p[3 * x + 1] >> k) << (8 - k)) | (p[3 * x + 2] >> k));
+    }
+    return bins;
+  }
+  cv::Mat hsv;
+  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+  for (int y = 0; y < hsv.rows; ++y) {
+    const uchar* p = hsv.ptr<uchar>(y);
+    short* b = bins.ptr<short>(y);
+    for (int x = 0; x < hsv.cols; ++x)
+      b[x] = p[3 * x + 1] >= p_.min_saturation && p[3 * x + 2] >= p_.min_value
+                 ? static_cast<short>(std::min(p_.hue_bins - 1, p[3 * x] * p_.hue_bins / 180))
+                 : static_cast<short>(-1);
+  }
+  return bins;
+}
+
+// Each pixel's memory score (CV_32F).
+cv::Mat CorrelationTracker::HueDensity(const cv::Mat& bgr) const {
+  const cv::Mat bins = HueBins(bgr);
+  cv::Mat density(bins.size(), CV_32F);
+  for (int y = 0; y < bins.rows; ++y) {
+    const short* b = bins.ptr<short>(y);
+    float* d = density.ptr<float>(y);
+    for (int x = 0; x < bins.cols; ++x) d[x] = b[x] < 0 ? 0.0f : memory_probability_[b[x]];
+  }
+  return density;
+}
+
+double CorrelationTracker::MemoryDensity(const cv::Mat& bgr, const cv::Rect& area) const {
+  const cv::Rect inside = area & cv::Rect(0, 0, bgr.cols, bgr.rows);
+  return inside.area() > 0 ? cv::mean(HueDensity(bgr(inside)))[0] : 0.0;
+}
+
+bool CorrelationTracker::ColourTellsTarget() const { return memory_inside_ - memory_around_ >= kMinMemoryContrast; }
+
+double CorrelationTracker::Resemblance(const cv::Mat& bgr, cv::Point2d centre) const {
+  if (!ColourTellsTarget()) return 1.0;
+  const double contrast = memory_inside_ - memory_around_;
+  const double here = MemoryDensity(bgr, RegionsAt(centre, bgr.size()).inner);
+  return std::clamp((here - memory_around_) / contrast, 0.0, 1.0);
+}
+
+CorrelationTracker::Found CorrelationTracker::Detect(const cv::Mat& grey, const cv::Mat& bgr, cv::Point2d centre) const {
   // Response = IDFT(sum_l conj(A_l) Z_l / (B + lambda)) (DSST Eq. 6).
   std::vector<cv::Mat> z;
   TranslationSpectra(grey, centre, cosine_window_, z);
@@ -234,8 +444,12 @@ CorrelationTracker::Found CorrelationTracker::Detect(const cv::Mat& grey, cv::Po
       s[2 * q + 1] *= k;
     }
   }
-  cv::Mat response;
-  cv::dft(sum, response, cv::DFT_INVERSE | cv::DFT_SCALE | cv::DFT_REAL_OUTPUT);
+  cv::Mat shape_response;
+  cv::dft(sum, shape_response, cv::DFT_INVERSE | cv::DFT_SCALE | cv::DFT_REAL_OUTPUT);
+  // Staple's merge (Bertinetto et al. 2016): shape and colour vote on the displacement; the
+  // PSR below is the merged response's.
+  const cv::Mat colour = ColourResponse(bgr, centre);
+  const cv::Mat response = (1 - p_.colour_weight) * shape_response + p_.colour_weight * colour;
   double peak;
   cv::Point at;
   cv::minMaxLoc(response, nullptr, &peak, nullptr, &at);
@@ -263,10 +477,12 @@ CorrelationTracker::Found CorrelationTracker::Detect(const cv::Mat& grey, cv::Po
   const double mean = n > 0 ? sum_v / n : 0.0;
   const double spread = n > 0 ? std::sqrt(std::max(1e-12, sum_v2 / n - mean * mean)) : 1.0;
   found.psr = (peak - mean) / spread;
+  found.colour = colour.at<float>(at);
   const double px_per_cell = p_.cell_px * template_ratio_ * scale_;
   found.centre = centre + cv::Point2d(dx * px_per_cell, dy * px_per_cell);
   found.centre.x = std::clamp(found.centre.x, 0.0, grey.cols - 1.0);
   found.centre.y = std::clamp(found.centre.y, 0.0, grey.rows - 1.0);
+  found.resemblance = Resemblance(bgr, found.centre);
   return found;
 }
 
@@ -318,10 +534,35 @@ void CorrelationTracker::Learn(const cv::Mat& grey, double rate, double scale_ra
   }
 }
 
-CorrelationDetection CorrelationTracker::Update(const cv::Mat& grey) {
+// Where the selection's colours are densest in the whole image: up to kWholeImageCandidates
+// target-sized windows, best first, at least a target's size apart. The image is shrunk so the
+// target is about kWholeImageTargetPx across (a person of 40 x 80 px in 1280 x 720: 320 x 180).
+std::vector<cv::Point2d> CorrelationTracker::WholeImageCandidates(const cv::Mat& bgr) const {
+  const cv::Size2d target = TargetSize();
+  const double shrink = std::min(1.0, kWholeImageTargetPx / std::min(target.width, target.height));
+  cv::Mat small;
+  cv::resize(bgr, small, cv::Size(), shrink, shrink, shrink < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  cv::Mat likelihood = HueDensity(small), mass;
+  const cv::Size box(std::max(1, static_cast<int>(std::lround(target.width * shrink))),
+                     std::max(1, static_cast<int>(std::lround(target.height * shrink))));
+  cv::boxFilter(likelihood, mass, -1, box, cv::Point(-1, -1), true, cv::BORDER_CONSTANT);
+  std::vector<cv::Point2d> candidates;
+  for (int k = 0; k < kWholeImageCandidates; ++k) {
+    double best;
+    cv::Point at;
+    cv::minMaxLoc(mass, nullptr, &best, nullptr, &at);
+    candidates.emplace_back((at.x + 0.5) / shrink, (at.y + 0.5) / shrink);
+    cv::rectangle(mass, cv::Rect(at.x - box.width, at.y - box.height, 2 * box.width + 1, 2 * box.height + 1), cv::Scalar(0), cv::FILLED);
+  }
+  return candidates;
+}
+
+CorrelationDetection CorrelationTracker::Update(const cv::Mat& bgr, bool search_whole_image) {
+  cv::cvtColor(bgr, grey_, cv::COLOR_BGR2GRAY);
+  const cv::Mat& grey = grey_;
   const cv::Rect2d image(0, 0, grey.cols, grey.rows);
   const auto box_at = [&](cv::Point2d centre) {
-    const cv::Size2d size(start_size_.width * scale_, start_size_.height * scale_);
+    const cv::Size2d size = TargetSize();
     return cv::Rect2d(centre.x - size.width / 2, centre.y - size.height / 2, size.width, size.height);
   };
   // A target mostly beyond the image edge has left the view: nothing there is the target.
@@ -329,43 +570,107 @@ CorrelationDetection CorrelationTracker::Update(const cv::Mat& grey) {
     const cv::Rect2d box = box_at(centre);
     return (box & image).area() >= kMinInViewShare * box.area();
   };
-  Found found = Detect(grey, centre_);
-  bool sure = (sure_frames_ < kWarmUpFrames || found.psr >= p_.sure_psr_share * psr_level_) && in_view(found.centre);
+  // Sure: the shape's PSR and the colour's score both at least `share` of their levels, and the
+  // box resembling the selection at least that much.
+  const auto sure_at = [&](const Found& f, double share) {
+    return f.psr >= share * psr_level_ && f.colour >= share * colour_level_ && f.resemblance >= share && in_view(f.centre);
+  };
+  Found found = Detect(grey, bgr, centre_);
+  // Where the selection's colours are densest in the whole image, looked at when the box has lost
+  // them or the target is lost: each candidate detected there once.
+  std::vector<Found> elsewhere;
+  const auto look_elsewhere = [&] {
+    if (!elsewhere.empty()) return;
+    for (const cv::Point2d& at : WholeImageCandidates(bgr))
+      if (image.contains(at)) elsewhere.push_back(Detect(grey, bgr, at));
+  };
+  // Drift shows as the selection's colours leaving the box for somewhere else. Colours that have
+  // faded from the box without being any denser elsewhere (a small target's blurred shirt, light
+  // changing) say nothing about the track: the resemblance is then not held against it.
+  if (ColourTellsTarget() && found.resemblance < p_.sure_share) {
+    look_elsewhere();
+    double best = 0.0;
+    for (const Found& f : elsewhere) best = std::max(best, f.resemblance);
+    if (best < found.resemblance + kDriftMargin) found.resemblance = 1.0;
+  }
+  bool sure = sure_frames_ < kWarmUpFrames ? in_view(found.centre) : sure_at(found, p_.sure_share);
+  // A detection away from the track must be as sure as the target usually is, in shape and in
+  // colour: grass that happens to correlate with the filter is not the runner in a blue shirt.
+  const auto try_relock = [&](const Found& candidate, bool by_colour_alone) {
+    const bool by_colour = by_colour_alone && ColourTellsTarget() && candidate.resemblance >= p_.relock_share &&
+                           candidate.colour >= p_.relock_share * colour_level_ && in_view(candidate.centre);
+    if ((sure_at(candidate, p_.relock_share) || by_colour) && (!sure || candidate.psr > found.psr)) {
+      found = candidate;
+      sure = true;
+    }
+  };
   if (!sure) {
-    // Occluded, or lost: half a window and a whole window around where it was last seen for
-    // sure. A detection away from the track must be as sure as the target usually is.
-    const cv::Size2d window = Window();
-    for (int reach = 1; reach <= kRedetectReach; ++reach)
-      for (const cv::Point step : {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1), cv::Point(1, 1),
-                                   cv::Point(-1, 1), cv::Point(1, -1), cv::Point(-1, -1)}) {
-        const cv::Point2d at = last_sure_ + cv::Point2d(step.x * reach * 0.5 * window.width, step.y * reach * 0.5 * window.height);
-        if (!image.contains(at)) continue;
-        const Found candidate = Detect(grey, at);
-        if (candidate.psr >= p_.relock_psr_share * psr_level_ && candidate.psr > found.psr && in_view(candidate.centre)) {
-          found = candidate;
-          sure = true;
-        }
+    // Occluded, or drifting: half a window around where it was last seen for sure, as far as the
+    // target can have gone since (a walker behind a post does not reappear as a window two
+    // storeys up).
+    const cv::Size2d window = Window(), target = TargetSize();
+    const double reach = (frames_unsure_ + 1) * kReachPerFrame * 0.5 * (target.width + target.height);
+    for (const cv::Point step : {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1), cv::Point(1, 1),
+                                 cv::Point(-1, 1), cv::Point(1, -1), cv::Point(-1, -1)}) {
+      const cv::Point2d at = last_sure_ + cv::Point2d(step.x * 0.5 * window.width, step.y * 0.5 * window.height);
+      if (!image.contains(at)) continue;
+      const Found candidate = Detect(grey, bgr, at);
+      if (cv::norm(candidate.centre - last_sure_) <= reach) try_relock(candidate, false);
+    }
+  }
+  // Lost: wherever in the image the selection's colours are densest (the target may have moved
+  // anywhere, and turned or crouched: its shape may be one the filter has not seen). Where the
+  // selection's colours told it from its surroundings, those colours, in both models, are enough.
+  // Away from the track only a unique match is taken: the candidate resembling the selection by
+  // kDriftMargin more than any other (one blue shirt on a field, not one of many walkers in a
+  // street, nor anything where colour does not tell the target at all), and only for a target
+  // that had no look-alike in view when it was picked.
+  if (!sure && search_whole_image) {
+    look_elsewhere();
+    const Found* best = nullptr;
+    double runner_up = 0.0;
+    for (const Found& f : elsewhere)
+      if (!best || f.resemblance > best->resemblance) {
+        if (best) runner_up = best->resemblance;
+        best = &f;
+      } else {
+        runner_up = std::max(runner_up, f.resemblance);
       }
+    if (best && colour_unique_ && best->resemblance >= runner_up + kDriftMargin) try_relock(Found(*best), true);
   }
   centre_ = found.centre;
   // The PSR level follows sure frames quickly and the others slowly: a lasting change of
   // appearance (a walker setting off, the camera turning, light) lowers it within a few frames,
-  // a brief occlusion hardly.
+  // a brief occlusion hardly. The colour level follows sure frames only: clothes and paint do
+  // not change, and a level that sank towards the background's would take the background.
   if (!sure && sure_frames_ >= kWarmUpFrames && in_view(found.centre))
     psr_level_ += kUnsureLevelRate * (found.psr - psr_level_);
+  frames_unsure_ = sure ? 0 : frames_unsure_ + 1;
   if (sure) {
     last_sure_ = centre_;
-    psr_level_ = sure_frames_ < kWarmUpFrames ? (psr_level_ * sure_frames_ + found.psr) / (sure_frames_ + 1)
-                                              : psr_level_ + kSureLevelRate * (found.psr - psr_level_);
+    const auto follow = [&](double& level, double value) {
+      level = sure_frames_ < kWarmUpFrames ? (level * sure_frames_ + value) / (sure_frames_ + 1)
+                                           : level + kSureLevelRate * (value - level);
+    };
+    follow(psr_level_, found.psr);
+    follow(colour_level_, found.colour);
     ++sure_frames_;
     scale_ = std::clamp(scale_ * EstimateScaleChange(grey), min_scale_, max_scale_);
     Learn(grey, p_.learning_rate, p_.scale_learning_rate);
+    LearnColour(bgr, p_.colour_learning_rate);
   }
   CorrelationDetection out;
   out.box = box_at(centre_);
   out.psr = found.psr;
+  out.colour = found.colour;
   out.sure = sure;
-  out.confidence = psr_level_ > 0 ? std::clamp(found.psr / psr_level_, 0.0, 1.0) : 1.0;
+  // The selection's colours left the box and are clearly denser elsewhere (the fade check above
+  // let the resemblance stand): drift, not a shape the filter has not seen.
+  out.drifted = !sure && ColourTellsTarget() && found.resemblance < p_.sure_share;
+  const double shape_confidence = psr_level_ > 0 ? std::clamp(found.psr / psr_level_, 0.0, 1.0) : 1.0;
+  const double colour_confidence = colour_level_ > 0 ? std::clamp(found.colour / colour_level_, 0.0, 1.0) : 1.0;
+  out.resemblance = found.resemblance;
+  out.confidence = std::min({shape_confidence, colour_confidence, found.resemblance});
   return out;
 }
 

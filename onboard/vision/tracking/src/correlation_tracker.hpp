@@ -11,11 +11,17 @@
 // - Features: HOG cells in Felzenszwalb et al.'s layout (2010: 18 signed and 9 unsigned orientation
 //   bins per 4 x 4 cell, normalised by the surrounding cells' gradient energy, clipped at 0.2) plus
 //   the cell's mean grey. Gradients make the filter indifferent to colour and to lighting.
+// - Colour: Staple's (Bertinetto et al. 2016) per-pixel P(target | colour) from histograms of the
+//   target and its surroundings (32 bins per BGR channel), averaged over a target-sized box at each
+//   displacement and merged with the shape's response. Shape holds the box where colour is
+//   ambiguous; colour holds it where a runner's changing shape is not.
 // - Scale: DSST's separate one-dimensional scale filter over 33 scales 2 % apart.
-// - Occlusion and loss: the peak-to-sidelobe ratio (PSR, Bolme et al.) measures how sure each
-//   detection is. Below a share of its running level the filter stops learning (an occluder is not
+// - Occlusion, drift and loss: the peak-to-sidelobe ratio (PSR, Bolme et al.) and the colour
+//   score each measure how sure a detection is against their running levels. Below a share of
+//   either the filter stops learning (an occluder, the grass a drifting box slides onto, is not
 //   learned as the target) and windows around the last sure position are searched; a detection
-//   there as sure as the target's usual relocks the track.
+//   there as sure as the target's usual, in shape and in colour, relocks the track. Lost, the
+//   whole image is searched where the target's colours are densest.
 #include <vector>
 
 #include <opencv2/core/mat.hpp>
@@ -34,37 +40,72 @@ struct CorrelationParams {
   double scale_step = 1.02;       // ratio between neighbouring scales
   double scale_learning_rate = 0.025;  // DSST's
   double scale_model_area_px = 512.0;  // the scale filter's samples are resampled to this area
-  // A detection is sure when its PSR is at least this share of the running PSR of sure frames;
-  // one found by re-detection, away from the track, needs the larger share.
-  double sure_psr_share = 0.5;
-  double relock_psr_share = 0.6;
+  // Staple's colour model (Bertinetto et al. 2016): weight of the colour score in the merged
+  // response, and its histograms' learning rate per sure frame (Staple's 0.3 and 0.04).
+  double colour_weight = 0.3;
+  double colour_learning_rate = 0.04;
+  // A detection is sure when its PSR and its colour score are each at least this share of their
+  // running levels over sure frames; one found by re-detection, away from the track, needs the
+  // larger share.
+  double sure_share = 0.5;
+  double relock_share = 0.6;
+  // Hue of the kept memory of the selection: TrackerParams' (CamShift's) bins and thresholds.
+  int hue_bins = 30;
+  int min_saturation = 60;
+  int min_value = 40;
 };
 
 struct CorrelationDetection {
   cv::Rect2d box;         // pixels
   double psr = 0.0;       // peak-to-sidelobe ratio of the translation response
-  double confidence = 0;  // psr against the running level of sure frames, 0..1
+  double colour = 0.0;    // mean P(target | colour) over the box, 0..1
+  // 0..1: how much the box still looks like the operator's selection by the selection's own
+  // colours (1 where those did not tell it from its surroundings).
+  double resemblance = 1.0;
+  // 0..1: the lowest of the PSR and the colour score, each against its running level over sure
+  // frames, and the resemblance. Drift onto the background shows in the colour before the shape.
+  double confidence = 0;
   bool sure = false;      // learned from; false while occluded or lost
+  bool drifted = false;   // the selection's colours are elsewhere: the box is on the background
 };
 
 class CorrelationTracker {
  public:
   explicit CorrelationTracker(const CorrelationParams& params = {});
-  // `grey` CV_8UC1; `box` inside it with sides of at least 4 px (the caller checks).
-  void Start(const cv::Mat& grey, const cv::Rect2d& box);
-  CorrelationDetection Update(const cv::Mat& grey);
+  // `bgr` CV_8UC3; `box` inside it with sides of at least 4 px (the caller checks).
+  void Start(const cv::Mat& bgr, const cv::Rect2d& box);
+  // `search_whole_image`: the target is lost; look for it wherever its colours are.
+  CorrelationDetection Update(const cv::Mat& bgr, bool search_whole_image = false);
 
  private:
   struct Found {
     cv::Point2d centre;
     double psr = 0.0;
+    double colour = 0.0;  // mean P(target | colour) over the box found
+    double resemblance = 1.0;  // Resemblance() there
   };
   void Features(const cv::Mat& patch, std::vector<cv::Mat>& channels) const;
   cv::Mat Resampled(const cv::Mat& grey, cv::Point2d centre, cv::Size2d size, cv::Size out) const;
   void TranslationSpectra(const cv::Mat& grey, cv::Point2d centre, const cv::Mat& window, std::vector<cv::Mat>& spectra) const;
   cv::Mat ScaleSpectra(const cv::Mat& grey) const;
-  Found Detect(const cv::Mat& grey, cv::Point2d centre) const;
   double EstimateScaleChange(const cv::Mat& grey) const;
+  cv::Size2d TargetSize() const;
+  Found Detect(const cv::Mat& grey, const cv::Mat& bgr, cv::Point2d centre) const;
+  struct ColourRegions {
+    cv::Rect inner, target, outer;
+  };
+  ColourRegions RegionsAt(cv::Point2d centre, cv::Size image_size) const;
+  cv::Mat HueBins(const cv::Mat& bgr) const;
+  int MemoryBins() const;
+  cv::Mat HueDensity(const cv::Mat& bgr) const;
+  double MemoryDensity(const cv::Mat& bgr, const cv::Rect& area) const;
+  double Resemblance(const cv::Mat& bgr, cv::Point2d centre) const;
+  bool ColourTellsTarget() const;
+  void Histograms(const cv::Mat& bgr, std::vector<float>& fg, std::vector<float>& bg) const;
+  cv::Mat Likelihood(const cv::Mat& bgr) const;
+  cv::Mat ColourResponse(const cv::Mat& bgr, cv::Point2d centre) const;
+  std::vector<cv::Point2d> WholeImageCandidates(const cv::Mat& bgr) const;
+  void LearnColour(const cv::Mat& bgr, double rate);
   void Learn(const cv::Mat& grey, double rate, double scale_rate);
   cv::Size2d Window() const;
 
@@ -83,8 +124,16 @@ class CorrelationTracker {
   std::vector<double> scale_factors_;
   std::vector<float> scale_window_;
   cv::Mat scale_label_spectrum_, scale_numerator_, scale_denominator_;
+  std::vector<float> foreground_, background_;  // colour histograms, normalised
+  std::vector<float> target_probability_;       // per colour bin: P(target | colour)
+  std::vector<float> memory_probability_;       // per hue bin: the selection's, kept (Start)
+  double memory_inside_ = 0.0, memory_around_ = 0.0;  // its means over the selection, around it
+  bool colour_unique_ = false;  // nothing else in view resembled the selection when it was picked
+  cv::Mat grey_;
   double psr_level_ = 0.0;  // running PSR of sure frames
+  double colour_level_ = 0.0;  // running colour score of sure frames
   int sure_frames_ = 0;
+  int frames_unsure_ = 0;  // since the last sure frame
 };
 
 }  // namespace uav::vision::detail

@@ -129,7 +129,8 @@ struct TargetTracker::Impl {
   cv::Ptr<cv::Tracker> opencv;
   // The correlation filter, on grey.
   std::unique_ptr<detail::CorrelationTracker> correlation;
-  cv::Mat grey;
+  bool drifted = false;  // the correlation filter's last frame: the box on the background
+  std::string lost_reason;
   double colour_coverage = 0.0;  // share of the selection CamShift's probability image covers
 
   // CamShift's model of the target (thesis 3.7): the background-weighted hue histogram, the
@@ -265,8 +266,8 @@ struct TargetTracker::Impl {
   // the filter follows without learning (a changed gait, a partial occlusion). Lost, it
   // searches around where it was last seen until sure again.
   TrackResult UpdateCorrelation(const cv::Mat& bgr) {
-    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
-    const detail::CorrelationDetection d = correlation->Update(grey);
+    const detail::CorrelationDetection d = correlation->Update(bgr, state == TrackState::kLost);
+    drifted = d.drifted;
     if (d.sure) {
       confident_at_s = now_s;
       state = TrackState::kTracking;
@@ -349,11 +350,12 @@ void TargetTracker::Start(const cv::Mat& bgr, double t_s, const cv::Rect2d& box,
     }
   }
   s.correlation.reset();
+  s.drifted = false;
+  s.lost_reason.clear();
   s.opencv.release();
   if (s.method == TrackerKind::kCorrelation) {
-    cv::cvtColor(bgr, s.grey, cv::COLOR_BGR2GRAY);
     s.correlation = std::make_unique<detail::CorrelationTracker>();
-    s.correlation->Start(s.grey, cv::Rect2d(roi));
+    s.correlation->Start(bgr, cv::Rect2d(roi));
   } else if (s.method != TrackerKind::kCamShift) {
     if (s.method == TrackerKind::kKcf)
       s.opencv = cv::TrackerKCF::create();
@@ -373,11 +375,22 @@ TrackResult TargetTracker::Update(const cv::Mat& bgr, double t_s) {
   Require(bgr.size() == s.image_size, "the image is " + std::to_string(bgr.cols) + " x " + std::to_string(bgr.rows) +
                                           ", the target was picked in " + std::to_string(s.image_size.width) + " x " +
                                           std::to_string(s.image_size.height));
+  TrackResult r;
   switch (s.method) {
-    case TrackerKind::kCamShift: return s.UpdateCamShift(bgr);
-    case TrackerKind::kCorrelation: return s.UpdateCorrelation(bgr);
-    default: return s.UpdateOpenCv(bgr);
+    case TrackerKind::kCamShift: r = s.UpdateCamShift(bgr); break;
+    case TrackerKind::kCorrelation: r = s.UpdateCorrelation(bgr); break;
+    default: r = s.UpdateOpenCv(bgr); break;
   }
+  if (r.state != TrackState::kLost) {
+    s.lost_reason.clear();
+  } else if (s.lost_reason.empty()) {  // why it was lost, as it was when it was lost
+    s.lost_reason = s.method == TrackerKind::kCamShift ? "the target's colour is not in view"
+                    : s.drifted                        ? "the target's colours left the box for elsewhere (drift, or a look-alike)"
+                    : s.method == TrackerKind::kCorrelation ? "the target is hidden or out of view"
+                                                            : "OpenCV's tracker lost it";
+  }
+  r.lost_reason = s.lost_reason;
+  return r;
 }
 
 void TargetTracker::Stop() {

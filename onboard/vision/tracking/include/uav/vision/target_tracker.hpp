@@ -67,8 +67,11 @@ struct TrackResult {
   cv::RotatedRect box;
   cv::Rect search_window;
   // 0..1. CamShift: back-projection density in the box against the selection's; the correlation
-  // filter: the response's peak-to-sidelobe ratio against its running level; KCF, CSRT: 1 or 0.
+  // filter: the lowest of its shape's and colour's scores against their running levels and the
+  // box's resemblance to the selection; KCF, CSRT: 1 or 0.
   double confidence = 0.0;
+  // Lost: why, in words for the operator ("" while tracking).
+  std::string lost_reason;
 };
 
 class TargetTracker {
