@@ -398,6 +398,38 @@ TEST(TrackerCorrelation, ALostTargetAmongLookAlikesStaysLostUntilItReturns) {
   EXPECT_LE(back_at, kHideTo + 3);
 }
 
+// Any box the tracker accepts, in any image, tracks through frames of anything without a fault
+// and with a finite box: boxes touching the edges, the whole image, 4 px in a 6 px image, frames
+// of noise, of one colour, of black.
+TEST(TrackerCorrelation, AnyAcceptedBoxTracksAnyFramesWithoutFault) {
+  cv::RNG rng(3);
+  for (int trial = 0; trial < 40; ++trial) {
+    const cv::Size size(6 + rng.uniform(0, 200), 6 + rng.uniform(0, 150));
+    cv::Mat first(size, CV_8UC3);
+    rng.fill(first, cv::RNG::UNIFORM, 0, 256);
+    const int w = rng.uniform(4, size.width + 1), h = rng.uniform(4, size.height + 1);
+    const cv::Rect2d box(rng.uniform(0, size.width - w + 1), rng.uniform(0, size.height - h + 1), w, h);
+    TrackerParams p;
+    p.kind = TrackerKind::kCorrelation;
+    TargetTracker tracker(p);
+    ASSERT_NO_THROW(tracker.Start(first, 0.0, box)) << size << " " << box;
+    for (int k = 1; k <= 8; ++k) {
+      cv::Mat frame(size, CV_8UC3);
+      if (k % 3 == 0)
+        frame.setTo(cv::Scalar(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256)));
+      else if (k % 4 == 0)
+        frame.setTo(cv::Scalar::all(0));
+      else
+        rng.fill(frame, cv::RNG::UNIFORM, 0, 256);
+      const TrackResult r = tracker.Update(frame, 0.1 * k);
+      ASSERT_TRUE(std::isfinite(r.box.center.x) && std::isfinite(r.box.center.y) && std::isfinite(r.confidence))
+          << size << " " << box << " frame " << k;
+      ASSERT_TRUE(r.confidence >= 0 && r.confidence <= 1);
+      ASSERT_EQ(r.state == TrackState::kLost, !r.lost_reason.empty());
+    }
+  }
+}
+
 TEST(TrackerBadInput, SelectionsAreRefusedNamingWhy) {
   const Sequence& s = Cached(Target::kBall);
   const cv::Mat& image = s.images[0];
