@@ -11,6 +11,8 @@
 // Any scene file (an obstacle layout of one's own) is flown the same way with --scene and --to.
 //   uav-avoid-bench --density 1/25 --speed 3 --seeds 1-10 [--json OUT] [--picture DIR]
 //   uav-avoid-bench --scene FILE --to N,E [--altitude M] --speed 3 --seeds 1
+// Many seeds: --jobs N flies N at once in processes of their own; --slurm DIR submits them to a
+// Slurm cluster as a job array (--wait merges the tasks' results when they end).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +30,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "seed_runs.hpp"
 #include "uav/simflight/sim_flight.hpp"
 #include "uav/shared/command_grammar.hpp"
 #include "uav/shared/decimal.hpp"
@@ -680,8 +683,32 @@ int main(int argc, char** argv) {
       ->excludes("--density")->excludes("--scene")->excludes("--seeds")->excludes("--to")->excludes("--picture")
       ->excludes("--trace")->excludes("--speed")->excludes("--rig-roll")->excludes("--wire-rig-roll")->excludes("--param")
       ->excludes("--params")->excludes("--altitude");
+  int jobs = 1, seeds_per_task = 10;
+  std::string slurm_dir;
+  std::vector<std::string> sbatch_options;
+  bool wait = false;
+  cli.add_option("--jobs", jobs, "fly this many seeds at once, each in a process of its own (a flight keeps about 1.7 cores busy)")
+      ->check(CLI::Range(1, 256));
+  cli.add_option("--slurm", slurm_dir,
+                 "submit the seeds to Slurm (sbatch) as a job array instead of flying them here: one task per --seeds-per-task "
+                 "seeds, each task's results and log in this folder (task_K.json, task_K.log)")
+      ->excludes("--jobs");
+  cli.add_option("--seeds-per-task", seeds_per_task, "with --slurm: seeds each task flies, one after the other (default 10)")
+      ->check(CLI::Range(1, 10000));
+  cli.add_option("--sbatch", sbatch_options, "with --slurm: an option for sbatch, as --sbatch=--partition=long (repeatable)");
+  cli.add_flag("--wait", wait, "with --slurm: wait for the whole array and merge its results (as --merge DIR/task_*.json)");
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
+  for (const char* option : {"--jobs", "--slurm", "--seeds-per-task", "--sbatch", "--wait"})
+    if (!merge_paths.empty() && cli.count(option) > 0) {
+      std::fprintf(stderr, "uav-avoid-bench: %s flies seeds; --merge flies nothing\n", option);
+      return 2;
+    }
+  for (const char* option : {"--seeds-per-task", "--sbatch", "--wait"})
+    if (slurm_dir.empty() && cli.count(option) > 0) {
+      std::fprintf(stderr, "uav-avoid-bench: %s is for --slurm\n", option);
+      return 2;
+    }
   try {
     if (!merge_paths.empty()) {
       std::vector<FlightResult> results;
@@ -740,6 +767,66 @@ int main(int argc, char** argv) {
     for (const auto& o : overrides) params = params.WithAssignment(o);
     if (!picture_dir.empty()) std::filesystem::create_directories(picture_dir);
     if (!trace_dir.empty()) std::filesystem::create_directories(trace_dir);
+    if (jobs > 1 || !slurm_dir.empty()) {
+      // Every process repeats this command line but for how and where to run, its seeds and its
+      // results file.
+      const std::vector<std::string> repeated = uav::simflight::RepeatedArguments(
+          argc, argv, {"--jobs", "--slurm", "--seeds-per-task", "--sbatch", "--seeds", "--json"}, {"--wait", "--quiet"});
+      const uav::simflight::SeedRange seeds{a, b};
+      std::vector<std::string> parts;
+      std::string temporary;  // the local processes' results folder
+      if (!slurm_dir.empty()) {
+        uav::simflight::SlurmArray array;
+        array.dir = std::filesystem::absolute(slurm_dir).string();
+        array.seeds = seeds;
+        array.seeds_per_task = seeds_per_task;
+        const std::string job = uav::simflight::SubmitSlurmArray(array, uav::simflight::ThisExecutable(), repeated, sbatch_options, wait);
+        std::fprintf(stderr, "uav-avoid-bench: job array %s: %d task(s) of up to %d seeds (%d-%d), results in %s/task_K.json\n",
+                     job.c_str(), array.tasks(), seeds_per_task, a, b, array.dir.c_str());
+        if (!wait) {
+          std::printf("{\"job\": \"%s\", \"tasks\": %d, \"merge\": \"uav-avoid-bench --merge %s/task_*.json\"}\n", job.c_str(),
+                      array.tasks(), array.dir.c_str());
+          return 0;
+        }
+        const std::vector<std::string> missing = uav::simflight::MissingTasks(array);
+        if (!missing.empty()) {
+          std::string text;
+          for (const std::string& m : missing) text += "\n  " + m;
+          throw std::runtime_error(std::to_string(missing.size()) + " of " + std::to_string(array.tasks()) +
+                                   " task(s) did not fly all their seeds (the others' results are in " + array.dir + "):" + text);
+        }
+        for (int k = 0; k < array.tasks(); ++k) parts.push_back(array.ResultFile(k));
+      } else {
+        char pattern[] = "/tmp/uav-avoid-bench-XXXXXX";
+        if (!mkdtemp(pattern)) throw std::runtime_error("cannot make a folder for the seeds' results in /tmp");
+        const std::string dir = pattern;
+        int finished = 0;
+        try {
+          parts = uav::simflight::RunSeedsLocally(uav::simflight::ThisExecutable(), repeated, seeds, jobs, dir, 1, [&](int seed, int code) {
+            ++finished;
+            if (!quiet)
+              std::fprintf(stderr, "seed %d: %s (%d of %d flown)\n", seed, code == 0 ? "success" : code == 1 ? "failed" : "error",
+                           finished, seeds.count());
+          });
+        } catch (...) {
+          std::filesystem::remove_all(dir);
+          throw;
+        }
+        temporary = dir;
+      }
+      // One cell, as one process flying them all would have written it (the pooled planning-time
+      // percentiles aside: each process keeps only its own flights' p50 and p99).
+      std::vector<FlightResult> results;
+      nlohmann::json out = Merge(parts, &results);
+      if (!temporary.empty()) {
+        out.erase("merged_from");
+        std::filesystem::remove_all(temporary);
+      }
+      out["cell"] = Cell(results, speed);
+      if (!json_path.empty()) uav::WriteFileAtomically(json_path, out.dump(2) + "\n");
+      std::printf("%s\n", out["cell"].dump(2).c_str());
+      return out["cell"]["failed_seeds"].empty() ? 0 : 1;
+    }
     nlohmann::json out = {{"density", course.density}, {"scene", scene_path}, {"goal_ne_m", {course.goal_NE.x(), course.goal_NE.y()}},
                           {"altitude_m", course.altitude_m}, {"speed", speed}, {"rig_roll_deg", rig_roll}, {"wire_rig_roll_deg", wire_rig_roll}, {"flights", nlohmann::json::array()}};
     std::vector<FlightResult> results;
