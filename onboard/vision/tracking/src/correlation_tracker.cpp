@@ -338,7 +338,7 @@ void CorrelationTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box) {
   const ColourRegions regions = RegionsAt(centre_, bgr.size());
   const cv::Mat hue_of = HueBins(bgr(regions.outer));
   const cv::Point origin = regions.outer.tl();
-  const int nbins = MemoryBins();
+  const int nbins = p_.hue_bins;
   std::vector<double> fg(nbins, 0.0), bg(nbins, 0.0);
   double nf = 0, nb = 0;
   for (int y = 0; y < hue_of.rows; ++y)
@@ -372,21 +372,9 @@ void CorrelationTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box) {
       colour_unique_ = colour_unique_ && Resemblance(bgr, at) < p_.relock_share;
 }
 
-static int MemShift() { static const int k = getenv("UAV_MEM") ? atoi(getenv("UAV_MEM")) : 0; return k; }
-int CorrelationTracker::MemoryBins() const { return MemShift() ? 1 << (3 * (8 - MemShift())) : p_.hue_bins; }
 // Each pixel's hue bin, -1 where saturation or value is too low for a reliable hue (CV_16S).
 cv::Mat CorrelationTracker::HueBins(const cv::Mat& bgr) const {
   cv::Mat bins(bgr.size(), CV_16S);
-  if (MemShift()) {
-    const int k = MemShift();
-    for (int y = 0; y < bgr.rows; ++y) {
-      const uchar* p = bgr.ptr<uchar>(y);
-      short* b = bins.ptr<short>(y);
-      for (int x = 0; x < bgr.cols; ++x)
-        b[x] = static_cast<short>(((p[3 * x] >> k) << (2 * (8 - k))) | ((p[3 * x + 1] >> k) << (8 - k)) | (p[3 * x + 2] >> k));
-    }
-    return bins;
-  }
   cv::Mat hsv;
   cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
   for (int y = 0; y < hsv.rows; ++y) {

@@ -49,7 +49,8 @@ struct CorrelationParams {
   // larger share.
   double sure_share = 0.5;
   double relock_share = 0.6;
-  // Hue of the kept memory of the selection: TrackerParams' (CamShift's) bins and thresholds.
+  // Hue of the kept memory of the selection: TargetTracker sets TrackerParams' (CamShift's) bins
+  // and thresholds.
   int hue_bins = 30;
   int min_saturation = 60;
   int min_value = 40;
@@ -96,7 +97,6 @@ class CorrelationTracker {
   };
   ColourRegions RegionsAt(cv::Point2d centre, cv::Size image_size) const;
   cv::Mat HueBins(const cv::Mat& bgr) const;
-  int MemoryBins() const;
   cv::Mat HueDensity(const cv::Mat& bgr) const;
   double MemoryDensity(const cv::Mat& bgr, const cv::Rect& area) const;
   double Resemblance(const cv::Mat& bgr, cv::Point2d centre) const;

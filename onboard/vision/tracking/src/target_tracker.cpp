@@ -354,7 +354,11 @@ void TargetTracker::Start(const cv::Mat& bgr, double t_s, const cv::Rect2d& box,
   s.lost_reason.clear();
   s.opencv.release();
   if (s.method == TrackerKind::kCorrelation) {
-    s.correlation = std::make_unique<detail::CorrelationTracker>();
+    detail::CorrelationParams cp;  // the selection's kept hue memory uses CamShift's hue model
+    cp.hue_bins = s.p.hue_bins;
+    cp.min_saturation = s.p.min_saturation;
+    cp.min_value = s.p.min_value;
+    s.correlation = std::make_unique<detail::CorrelationTracker>(cp);
     s.correlation->Start(bgr, cv::Rect2d(roi));
   } else if (s.method != TrackerKind::kCamShift) {
     if (s.method == TrackerKind::kKcf)
