@@ -1,8 +1,10 @@
 #include "uav/vision/map_stitcher.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -293,6 +295,38 @@ struct MapStitcher::Impl {
     return C->allFinite();
   }
 
+  // Why a chained placement (photos without poses) cannot be drawn, or "" when it can. The first
+  // frame's pixels are the map's, so its footprint is the image; a chained footprint must stay a
+  // convex quadrilateral in front of the camera (no corner at or beyond the horizon) of between
+  // a quarter and four times that area: beyond, the chain has stopped describing the ground.
+  std::string ChainProblem(const Eigen::Matrix3d& H) const {
+    if (!H.allFinite()) return "the chained placement is not finite";
+    const std::array<Eigen::Vector2d, 4> corners = ImageCorners(cv::Size(k.width, k.height));
+    std::array<Eigen::Vector2d, 4> q;
+    for (int i = 0; i < 4; ++i) {
+      if (H.row(2).dot(Eigen::Vector3d(corners[i].x(), corners[i].y(), 1.0)) <= 1e-9 * std::abs(H(2, 2)))
+        return "the chained placement puts a corner beyond the horizon (the camera is not looking down at the ground)";
+      q[i] = Apply(H, corners[i]);
+    }
+    double area2 = 0.0;
+    int turns = 0;
+    for (int i = 0; i < 4; ++i) {
+      const Eigen::Vector2d a = q[(i + 1) % 4] - q[i], b = q[(i + 2) % 4] - q[(i + 1) % 4];
+      turns += a.x() * b.y() - a.y() * b.x() > 0 ? 1 : -1;
+      area2 += q[i].x() * q[(i + 1) % 4].y() - q[(i + 1) % 4].x() * q[i].y();
+    }
+    if (std::abs(turns) != 4) return "the chained placement folds the frame over (it is no longer a view of the ground)";
+    const double growth = std::abs(area2) / 2.0 / (static_cast<double>(k.width - 1) * (k.height - 1));
+    if (growth > 4.0 || growth < 0.25) {
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    "the chained placement is out of scale (%.2f times the first frame's area: the camera is not "
+                    "looking straight down at a plane)", growth);
+      return text;
+    }
+    return "";
+  }
+
   // Map pixels per image pixel at image point q (square root of the Jacobian's determinant).
   static double PixelScale(const Eigen::Matrix3d& H, const Eigen::Vector2d& q) {
     const Eigen::Vector2d a = Apply(H, q);
@@ -546,6 +580,19 @@ StitchStep MapStitcher::Add(PreparedFrame frame) {
     m.C_prev = C;
   } else if (step.registered && !have_nav) {
     H = m.H_map_prev * step.registration.H_prev_cur;  // Eq. 6.4 alone
+    if (const std::string problem = m.ChainProblem(H); !problem.empty()) {
+      // Each step is sane (Algorithm 1's gates) but their product is not: a camera that is not
+      // looking straight down at a plane (an oblique or panning video) piles perspective up until
+      // the footprint crosses the horizon. Such a frame is not placed, and the chain goes on from
+      // it, so the frames after it are judged by the same chain.
+      step.failure = problem;
+      step.registered = false;
+      m.H_map_prev = H;
+      m.prev_grey = grey;
+      m.prev_features = std::move(frame.features);
+      step.seconds = frame.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return step;
+    }
   } else if (have_nav) {
     if (step.registered) step.failure = "no similarity between the placements";
     step.registered = false;
@@ -558,6 +605,7 @@ StitchStep MapStitcher::Add(PreparedFrame frame) {
     // The next frame registers against this one and chains from the last placement.
     m.prev_grey = grey;
     m.prev_features = std::move(frame.features);
+    step.seconds = frame.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return step;
   }
   step.placed = true;
