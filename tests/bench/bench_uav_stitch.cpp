@@ -1,9 +1,10 @@
-// bench_uav_stitch [--frames 100,300,1000] [--opencv-frames 30] [--work DIR]
+// bench_uav_stitch [--frames 100,300,1000] [--opencv-frames 30] [--work DIR] [--folder PHOTOS]
 // The whole uav-stitch process (read, register, adjust jointly, render without seams, write the
 // GeoTIFF) on capture folders of 960x540 frames as the onboard camera thread writes them: wall
 // time per frame and the process's peak memory for each folder size, then OpenCV's
 // cv::Stitcher in SCANS mode and uav-stitch (the median of five runs) side by side on the same
-// first frames. Prints a JSON
+// first frames. With --folder, only the side-by-side run, on the first photos of any folder
+// (real frames). Prints a JSON
 // report on stdout; progress on stderr.
 #include <fcntl.h>
 #include <spawn.h>
@@ -25,6 +26,7 @@
 #include <opencv2/stitching.hpp>
 
 #include "uav/runtime/camera_worker.hpp"
+#include "uav/shared/image_files.hpp"
 #include "uav/shared/progress_bar.hpp"
 #include "uav/sim/sim_cameras.hpp"
 #include "uav/world/scene.hpp"
@@ -148,6 +150,42 @@ json Report(const std::string& path) {
   return in ? json::parse(in, nullptr, false) : json();
 }
 
+// uav-stitch (the median of five runs) and cv::Stitcher in SCANS mode on the same images: `dir`
+// is what uav-stitch is given, `images` what OpenCV is given (already decoded, as its API takes
+// them; uav-stitch's time includes reading the files).
+json SideBySide(const std::string& dir, const std::vector<std::string>& images) {
+  std::fprintf(stderr, "bench_uav_stitch: uav-stitch and cv::Stitcher (SCANS) on the same %zu frames...\n", images.size());
+  // A second on a machine shared with others varies by a tenth: the median of five runs.
+  std::vector<double> ours_s;
+  int ours_exit = 0;
+  for (int r = 0; r < 5; ++r) {
+    const Run run = Measure({UAV_STITCH_BIN, dir, "--out", dir + "/map", "--report", dir + "/report.json"}, dir + "/log.txt");
+    ours_s.push_back(run.seconds);
+    ours_exit = std::max(ours_exit, run.exit_code);
+  }
+  std::sort(ours_s.begin(), ours_s.end());
+  const double ours_median_s = ours_s[ours_s.size() / 2];
+  const json ours = Report(dir + "/report.json");
+  std::vector<cv::Mat> decoded;
+  for (const std::string& f : images) decoded.push_back(cv::imread(f, cv::IMREAD_COLOR));
+  const auto start = std::chrono::steady_clock::now();
+  cv::Ptr<cv::Stitcher> stitcher = cv::Stitcher::create(cv::Stitcher::SCANS);
+  cv::Mat pano;
+  const cv::Stitcher::Status status = stitcher->stitch(decoded, pano);
+  const double opencv_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  cv::imwrite(dir + "/opencv_scans.jpg", pano.empty() ? cv::Mat(1, 1, CV_8UC3) : pano);
+  return {{"frames", images.size()},
+          {"uav_stitch_seconds", ours_median_s},
+          {"uav_stitch_seconds_all_runs", ours_s},
+          {"uav_stitch_exit_code", ours_exit},
+          {"uav_stitch_placed", ours.value("placed", 0)},
+          {"uav_stitch_seconds_by_stage", ours.value("seconds", json::object())},
+          {"opencv_scans_seconds", opencv_s},
+          {"opencv_scans_status", static_cast<int>(status)},
+          {"opencv_scans_size", {pano.cols, pano.rows}},
+          {"speedup", opencv_s / ours_median_s}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -159,9 +197,30 @@ int main(int argc, char** argv) {
   cli.add_option("--opencv-frames", opencv_frames, "frames for the side-by-side run with cv::Stitcher (0: skip)")
       ->capture_default_str();
   cli.add_option("--work", work, "scratch folder (rendered surveys, maps)")->capture_default_str();
+  std::string folder;
+  cli.add_option("--folder", folder,
+                 "instead of the rendered surveys: the side-by-side run on the first --opencv-frames photos of this "
+                 "folder (any folder uav-stitch takes, in name order)")
+      ->check(CLI::ExistingDirectory);
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   try {
+    if (!folder.empty()) {
+      std::vector<std::string> images = uav::ImageFilesIn(folder);
+      if (opencv_frames <= 0) throw std::invalid_argument("--opencv-frames must be positive with --folder");
+      if (images.size() > static_cast<size_t>(opencv_frames)) images.resize(opencv_frames);
+      if (images.size() < 2) throw std::invalid_argument(folder + ": fewer than 2 photos");
+      // The photos linked into a folder of their own (uav-stitch takes a whole folder).
+      const std::string dir = work + "/folder";
+      fs::remove_all(dir);
+      fs::create_directories(dir);
+      for (const std::string& f : images) fs::create_symlink(fs::absolute(f), dir + "/" + fs::path(f).filename().string());
+      const json report = {{"folder", fs::absolute(folder).string()},
+                           {"hardware_threads", std::thread::hardware_concurrency()},
+                           {"side_by_side", SideBySide(dir, images)}};
+      std::printf("%s\n", report.dump(2).c_str());
+      return 0;
+    }
     const uav::world::Scene scene =
         uav::world::Scene::LoadFile(std::string(UAV_RESOURCE_DIR) + "/scenes/survey_village.scene.json");
     const int largest = std::max(*std::max_element(sizes.begin(), sizes.end()), opencv_frames);
@@ -193,33 +252,7 @@ int main(int argc, char** argv) {
     }
     if (opencv_frames > 0) {
       const std::string dir = Subset(full, opencv_frames, work + "/survey_opencv");
-      std::fprintf(stderr, "bench_uav_stitch: uav-stitch and cv::Stitcher (SCANS) on the same %d frames...\n", opencv_frames);
-      // A second on a machine shared with others varies by a tenth: the median of five runs.
-      std::vector<double> ours_s;
-      int ours_exit = 0;
-      for (int r = 0; r < 5; ++r) {
-        const Run run = Measure({UAV_STITCH_BIN, dir, "--out", dir + "/map"}, dir + "/log.txt");
-        ours_s.push_back(run.seconds);
-        ours_exit = std::max(ours_exit, run.exit_code);
-      }
-      std::sort(ours_s.begin(), ours_s.end());
-      const double ours_median_s = ours_s[ours_s.size() / 2];
-      std::vector<cv::Mat> images;
-      for (const std::string& f : FirstImages(full, opencv_frames)) images.push_back(cv::imread(f, cv::IMREAD_COLOR));
-      const auto start = std::chrono::steady_clock::now();
-      cv::Ptr<cv::Stitcher> stitcher = cv::Stitcher::create(cv::Stitcher::SCANS);
-      cv::Mat pano;
-      const cv::Stitcher::Status status = stitcher->stitch(images, pano);
-      const double opencv_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      cv::imwrite(dir + "/opencv_scans.jpg", pano.empty() ? cv::Mat(1, 1, CV_8UC3) : pano);
-      report["side_by_side"] = {{"frames", opencv_frames},
-                                {"uav_stitch_seconds", ours_median_s},
-                                {"uav_stitch_seconds_all_runs", ours_s},
-                                {"uav_stitch_exit_code", ours_exit},
-                                {"opencv_scans_seconds", opencv_s},
-                                {"opencv_scans_status", static_cast<int>(status)},
-                                {"opencv_scans_size", {pano.cols, pano.rows}},
-                                {"speedup", opencv_s / ours_median_s}};
+      report["side_by_side"] = SideBySide(dir, FirstImages(full, opencv_frames));
     }
     std::printf("%s\n", report.dump(2).c_str());
     return 0;

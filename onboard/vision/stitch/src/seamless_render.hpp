@@ -6,7 +6,8 @@
 //      frame are plenty);
 //   2. seams: each map pixel is taken from the frame whose centre (principal point) is nearest,
 //      the most nadir view, with the least relief displacement and lens error (a Voronoi seam on
-//      the frames' centres, clipped to their footprints);
+//      the frames' centres, clipped to their footprints). Of frames whose centres nearly
+//      coincide (a video, a dense survey), only those the coverage needs are drawn;
 //   3. multi-band blending across those seams (cv::detail::MultiBandBlender, Burt and Adelson),
 //      so brightness differences fade over a band-dependent width while edges stay sharp.
 #include <array>
