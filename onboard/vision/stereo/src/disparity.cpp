@@ -8,6 +8,7 @@
 #include <string>
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ximgproc/disparity_filter.hpp>
 
@@ -49,51 +50,54 @@ void RefineSubpixel(const cv::Mat& left8, const cv::Mat& right8, int block, cv::
   cv::Mat(d16 > 0).convertTo(matched, CV_32F, 1.0 / 255.0);
   const int radius = block / 2, width = d16.cols, height = d16.rows;
   cv::Mat refined = d16.clone();
-  for (int v = radius; v < height - radius; ++v) {
-    const int16_t* d_row = d16.ptr<int16_t>(v);
-    int16_t* out_row = refined.ptr<int16_t>(v);
-    for (int u = radius; u < width - radius; ++u) {
-      if (d_row[u] <= 0) continue;
-      const double d0 = d_row[u] / 16.0;
-      double d = d0;
-      bool ok = true;
-      for (int iteration = 0; iteration < kIterations && ok; ++iteration) {
-        // The whole window shifts by d: one interpolation offset and weight for all its pixels.
-        const double shifted = u - radius - d;
-        const int x0 = static_cast<int>(std::floor(shifted));
-        if (x0 < 0 || x0 + 2 * radius + 1 >= width) {
-          ok = false;
-          break;
-        }
-        const float a = static_cast<float>(shifted - x0), b = 1.0f - a;
-        float n = 0, sr = 0, sg = 0, srg = 0, sgg = 0;
-        for (int dv = -radius; dv <= radius; ++dv) {
-          const int y = v + dv;
-          const float *l = left.ptr<float>(y) + (u - radius), *lg = left_gx.ptr<float>(y) + (u - radius);
-          const float *r = right.ptr<float>(y) + x0, *rg = right_gx.ptr<float>(y) + x0;
-          const float* w = matched.ptr<float>(y) + (u - radius);
-          for (int i = 0; i <= 2 * radius; ++i) {
-            const float residual = w[i] * (l[i] - (b * r[i] + a * r[i + 1]));
-            const float gradient = w[i] * 0.5f * (lg[i] + b * rg[i] + a * rg[i + 1]);
-            n += w[i];
-            sr += residual;
-            sg += gradient;
-            srg += residual * gradient;
-            sgg += gradient * gradient;
+  // Rows are refined independently, in parallel (a third of the disparity's time on one core).
+  cv::parallel_for_(cv::Range(radius, height - radius), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      const int16_t* d_row = d16.ptr<int16_t>(v);
+      int16_t* out_row = refined.ptr<int16_t>(v);
+      for (int u = radius; u < width - radius; ++u) {
+        if (d_row[u] <= 0) continue;
+        const double d0 = d_row[u] / 16.0;
+        double d = d0;
+        bool ok = true;
+        for (int iteration = 0; iteration < kIterations && ok; ++iteration) {
+          // The whole window shifts by d: one interpolation offset and weight for all its pixels.
+          const double shifted = u - radius - d;
+          const int x0 = static_cast<int>(std::floor(shifted));
+          if (x0 < 0 || x0 + 2 * radius + 1 >= width) {
+            ok = false;
+            break;
           }
+          const float a = static_cast<float>(shifted - x0), b = 1.0f - a;
+          float n = 0, sr = 0, sg = 0, srg = 0, sgg = 0;
+          for (int dv = -radius; dv <= radius; ++dv) {
+            const int y = v + dv;
+            const float *l = left.ptr<float>(y) + (u - radius), *lg = left_gx.ptr<float>(y) + (u - radius);
+            const float *r = right.ptr<float>(y) + x0, *rg = right_gx.ptr<float>(y) + x0;
+            const float* w = matched.ptr<float>(y) + (u - radius);
+            for (int i = 0; i <= 2 * radius; ++i) {
+              const float residual = w[i] * (l[i] - (b * r[i] + a * r[i + 1]));
+              const float gradient = w[i] * 0.5f * (lg[i] + b * rg[i] + a * rg[i + 1]);
+              n += w[i];
+              sr += residual;
+              sg += gradient;
+              srg += residual * gradient;
+              sgg += gradient * gradient;
+            }
+          }
+          // r(d + step) ~ r(d) + step * g, so the least-squares step is -cov(r, g) / var(g).
+          const double var = sgg - static_cast<double>(sg) * sg / std::max(n, 1.0f);
+          if (n < 3 || var < kMinGradientVariance * n) {
+            ok = false;
+            break;
+          }
+          d -= (srg - static_cast<double>(sr) * sg / n) / var;
+          if (std::abs(d - d0) > kMaxChangePx) ok = false;
         }
-        // r(d + step) ~ r(d) + step * g, so the least-squares step is -cov(r, g) / var(g).
-        const double var = sgg - static_cast<double>(sg) * sg / std::max(n, 1.0f);
-        if (n < 3 || var < kMinGradientVariance * n) {
-          ok = false;
-          break;
-        }
-        d -= (srg - static_cast<double>(sr) * sg / n) / var;
-        if (std::abs(d - d0) > kMaxChangePx) ok = false;
+        if (ok) out_row[u] = static_cast<int16_t>(std::max(1L, std::lround(16.0 * d)));
       }
-      if (ok) out_row[u] = static_cast<int16_t>(std::max(1L, std::lround(16.0 * d)));
     }
-  }
+  });
   d16 = refined;
 }
 }  // namespace
