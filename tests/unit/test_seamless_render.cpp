@@ -3,6 +3,8 @@
 // few of its frames, and none of the ground its frames saw is lost.
 #include <atomic>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -117,6 +119,29 @@ TEST(SeamlessRender, ATurningVideoIsDrawnFromAFewFramesAndLosesOnlySliversAtItsE
   EXPECT_LE(r.frames_loaded, 15);
   EXPECT_GE(r.ground_kept, 0.975);
   EXPECT_LT(r.mean_error, 4.5);
+}
+
+// A placement near the horizon puts a corner ~1e12 px out: named as too large to render, not
+// an allocation that fails (a rectangle's int area overflowed and looked small before).
+TEST(SeamlessRender, APlacementBeyondAnyMapIsNamedNotAllocated) {
+  const cv::Size image(640, 480);
+  const cv::Mat grey(image.height / 4, image.width / 4, CV_8U, cv::Scalar(100));
+  Eigen::Matrix3d near_horizon = Eigen::Matrix3d::Identity();
+  near_horizon(2, 1) = -1.0 / 479.0 + 1e-12;  // the bottom row's w is 1e-12 * 479
+  Eigen::Matrix3d huge = Eigen::Matrix3d::Identity();
+  huge(0, 0) = huge(1, 1) = 100.0;  // 64000 x 48000 px
+  for (const Eigen::Matrix3d& H : {near_horizon, huge}) {
+    const std::vector<SeamlessFrame> frames = {{Eigen::Matrix3d::Identity(), grey}, {H, grey}};
+    try {
+      RenderSeamless(frames, image, cv::Point2d(319.5, 239.5), 5, [&](int, const cv::Rect& region, cv::Point* origin) {
+        *origin = region.tl();
+        return cv::Mat(region.size(), CV_8UC3, cv::Scalar::all(100));
+      });
+      ADD_FAILURE() << "rendered";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("too large to render"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

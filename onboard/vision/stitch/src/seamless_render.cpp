@@ -5,6 +5,7 @@
 #include <future>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include <Eigen/Geometry>
 #include <opencv2/core/eigen.hpp>
@@ -142,6 +143,23 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
   if (n == 0) return out;
   std::vector<cv::Rect> box(n);
   std::vector<cv::Point2d> centre(n);
+  // The extent is checked in floating point before any integer rectangle is made: a placement
+  // near the horizon puts corners beyond int's range, where a rectangle's area overflows and
+  // looked small (30 frames of an oblique video asked for 34 GB).
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
+  for (int k = 0; k < n; ++k)
+    for (const cv::Point2f& q : Outline(frames[k].H_map_img, image_size)) {
+      if (!std::isfinite(q.x) || !std::isfinite(q.y)) throw std::runtime_error("seamless map: a frame's placement is not finite");
+      x0 = std::min<double>(x0, q.x);
+      x1 = std::max<double>(x1, q.x);
+      y0 = std::min<double>(y0, q.y);
+      y1 = std::max<double>(y1, q.y);
+    }
+  constexpr double kMostPixels = 4e8;  // about 12 GB to render (pyramids, weights, labels)
+  if ((x1 - x0 + 1) * (y1 - y0 + 1) > kMostPixels)
+    throw std::runtime_error("seamless map: " + std::to_string(std::llround(x1 - x0 + 1)) + "x" +
+                             std::to_string(std::llround(y1 - y0 + 1)) + " px is too large to render");
   cv::Rect content;
   for (int k = 0; k < n; ++k) {
     box[k] = cv::boundingRect(Outline(frames[k].H_map_img, image_size));
@@ -149,9 +167,6 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
     centre[k] = cv::Point2d(c.x(), c.y());
     content = k == 0 ? box[k] : (content | box[k]);
   }
-  if (static_cast<double>(content.area()) > 4e8)
-    throw std::runtime_error("seamless map: " + std::to_string(content.width) + "x" + std::to_string(content.height) +
-                             " px is too large to render");
 
   const std::vector<uint8_t> drawn = FramesToDraw(frames, image_size, centre, content);
 
