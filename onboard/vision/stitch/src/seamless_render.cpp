@@ -58,17 +58,17 @@ void Warp(const cv::Mat& image, const Eigen::Matrix3d& H_map_img, int reduce, co
 //  - then, while some frame has more than kSeamLeftover of its footprint uncovered, the one with
 //    the most is drawn too;
 //  - what is left, slivers under kSeamLeftover of a footprint at the map's outer edge, is not in
-//    the map (`SeamlessRender.*`: 0.03 % of a line's ground with a sideways wobble, 1.9 % of a video
+//    the map (`SeamlessRenderOf.*`: 0.03 % of a line's ground with a sideways wobble, 1.9 % of a video
 //    turning 1.5 degrees a frame).
 // Coverage is counted on a grid of kCoverageReduce map pixels (at 8, slivers of a sideways wobble
 // fell between its cells: 0.9 % of a line's ground was lost).
-std::vector<uint8_t> FramesToDraw(const std::vector<SeamlessFrame>& frames, const cv::Size& image_size,
+std::vector<uint8_t> FramesToDraw(const std::vector<std::vector<cv::Point2f>>& outline,
                                   const std::vector<cv::Point2d>& centre, const cv::Rect& content) {
   constexpr double kSeamSpacing = 0.125;   // of the footprint's shorter side
   constexpr double kSeamNewGround = 0.2;   // of the footprint
   constexpr double kSeamLeftover = 0.005;  // of the footprint
   constexpr int kCoverageReduce = 4;
-  const int n = static_cast<int>(frames.size());
+  const int n = static_cast<int>(outline.size());
   std::vector<uint8_t> drawn(n, 0);
   std::vector<int> picked;
   cv::Mat covered(content.height / kCoverageReduce + 2, content.width / kCoverageReduce + 2, CV_8U, cv::Scalar(0));
@@ -82,7 +82,7 @@ std::vector<uint8_t> FramesToDraw(const std::vector<SeamlessFrame>& frames, cons
     covered(around[k]) |= footprint[k];
   };
   for (int k = 0; k < n; ++k) {
-    const std::vector<cv::Point2f> q = Outline(frames[k].H_map_img, image_size);
+    const std::vector<cv::Point2f>& q = outline[k];
     std::vector<cv::Point> corner;
     for (const cv::Point2f& p : q)
       corner.emplace_back(cvRound((p.x - content.x) / kCoverageReduce), cvRound((p.y - content.y) / kCoverageReduce));
@@ -141,6 +141,7 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
   SeamlessMap out;
   const int n = static_cast<int>(frames.size());
   if (n == 0) return out;
+  std::vector<std::vector<cv::Point2f>> outline(n);  // each frame's, in map pixels
   std::vector<cv::Rect> box(n);
   std::vector<cv::Point2d> centre(n);
   // The extent is checked in floating point before any integer rectangle is made: a placement
@@ -148,27 +149,29 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
   // looked small (30 frames of an oblique video asked for 34 GB).
   constexpr double kInf = std::numeric_limits<double>::infinity();
   double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
-  for (int k = 0; k < n; ++k)
-    for (const cv::Point2f& q : Outline(frames[k].H_map_img, image_size)) {
+  for (int k = 0; k < n; ++k) {
+    outline[k] = Outline(frames[k].H_map_img, image_size);
+    for (const cv::Point2f& q : outline[k]) {
       if (!std::isfinite(q.x) || !std::isfinite(q.y)) throw std::runtime_error("seamless map: a frame's placement is not finite");
       x0 = std::min<double>(x0, q.x);
       x1 = std::max<double>(x1, q.x);
       y0 = std::min<double>(y0, q.y);
       y1 = std::max<double>(y1, q.y);
     }
+  }
   constexpr double kMostPixels = 4e8;  // about 12 GB to render (pyramids, weights, labels)
   if ((x1 - x0 + 1) * (y1 - y0 + 1) > kMostPixels)
     throw std::runtime_error("seamless map: " + std::to_string(std::llround(x1 - x0 + 1)) + "x" +
                              std::to_string(std::llround(y1 - y0 + 1)) + " px is too large to render");
   cv::Rect content;
   for (int k = 0; k < n; ++k) {
-    box[k] = cv::boundingRect(Outline(frames[k].H_map_img, image_size));
+    box[k] = cv::boundingRect(outline[k]);
     const Eigen::Vector2d c = Apply(frames[k].H_map_img, Eigen::Vector2d(centre_px.x, centre_px.y));
     centre[k] = cv::Point2d(c.x(), c.y());
     content = k == 0 ? box[k] : (content | box[k]);
   }
 
-  const std::vector<uint8_t> drawn = FramesToDraw(frames, image_size, centre, content);
+  const std::vector<uint8_t> drawn = FramesToDraw(outline, centre, content);
 
   // 2. Seams: the nearest drawn frame's centre wins each pixel of the footprints, each footprint
   // eroded by 2 px (its edge pixels mix with the outside). A footprint is a convex
@@ -177,7 +180,7 @@ SeamlessMap RenderSeamless(const std::vector<SeamlessFrame>& frames, const cv::S
   constexpr double kInsetPx = 2.0;
   std::vector<std::array<Eigen::Vector3d, 4>> edges(n);  // (a, b, c): a x + b y + c >= 0 inside, |(a, b)| = 1
   for (int k = 0; k < n; ++k) {
-    const std::vector<cv::Point2f> q = Outline(frames[k].H_map_img, image_size);
+    const std::vector<cv::Point2f>& q = outline[k];
     double area2 = 0.0;
     for (int i = 0; i < 4; ++i) area2 += q[i].x * q[(i + 1) % 4].y - q[(i + 1) % 4].x * q[i].y;
     for (int i = 0; i < 4; ++i) {
