@@ -23,6 +23,8 @@ const std::vector<Signal<VisualOdometryReport>>& ReportSignals<VisualOdometryRep
       {{"tracked", "tracked", "1", "", F::kInteger}, [](const R& r) { return double(r.tracked); }},
       {{"segment", "segment", "1", "", F::kInteger}, [](const R& r) { return double(r.segment); }},
       {{"rms", "rms_px", "px", "", F::kMetres}, [](const R& r) { return r.rms_px; }},
+      {{"disparity_offset", "disparity_offset_px", "px", "stereo calibration residual learnt from the motion", F::kMetres},
+       [](const R& r) { return r.disparity_offset_px; }},
       {{"track_n", "track_n_m", "m", "VO+IMU north", F::kMetres}, [](const R& r) { return r.track_N ? r.track_N->x() : 0.0; }},
       {{"track_e", "track_e_m", "m", "VO+IMU east", F::kMetres}, [](const R& r) { return r.track_N ? r.track_N->y() : 0.0; }},
       {{"truth_n", "truth_n_m", "m", "simulation", F::kMetres}, [](const R& r) { return r.truth_N ? r.truth_N->x() : 0.0; }},

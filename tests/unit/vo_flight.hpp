@@ -3,6 +3,7 @@
 // exact pose of the rectified left camera for every pair.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -59,6 +60,40 @@ inline Eigen::Isometry3d RacetrackPose(double s, double alt_m, double speed) {
   return BodyPose({p.x(), p.y(), -alt}, heading, -4 * M_PI / 180, bank);
 }
 
+// A KITTI-like car rig (Geiger et al. 2012, sequences 04-12): grey cameras of 1226 x 370 px, focal
+// length 707.09 px, baseline 0.54 m, facing forward 1.65 m above the road.
+inline world::StereoSetup KittiRig() {
+  world::CameraSetup c;
+  c.name = "kitti";
+  c.intrinsics.width = 1226, c.intrinsics.height = 370;
+  c.intrinsics.fx = c.intrinsics.fy = 707.0912;
+  c.intrinsics.cx = 601.8873, c.intrinsics.cy = 183.1104;
+  c.rate_hz = 10;
+  Eigen::Isometry3d T_B_rig = Eigen::Isometry3d::Identity();
+  T_B_rig.linear() = RotationBCForward();
+  return world::MakeStereoSetup(c, T_B_rig, 0.5372, {});
+}
+
+// A drive on the ground (the rig 1.65 m up): `straight` m north, a left turn of `turn_deg` on a
+// radius of `radius` m, then straight on. `s` is the distance driven.
+inline Eigen::Isometry3d DrivePose(double s, double straight, double radius, double turn_deg) {
+  const double arc = radius * turn_deg * M_PI / 180;
+  Eigen::Vector2d p(-straight, 0);
+  double heading = 0;
+  const double l1 = std::min(s, straight);
+  p.x() += l1;
+  s -= l1;
+  if (s > 0) {
+    const double l2 = std::min(s, arc), ang = l2 / radius;
+    const Eigen::Vector2d centre = p + radius * Eigen::Vector2d(0, -1);  // turning left (towards west)
+    p = centre + radius * Eigen::Vector2d(std::sin(ang), std::cos(ang));
+    heading = -ang;
+    s -= l2;
+  }
+  if (s > 0) p += s * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+  return BodyPose({p.x(), p.y(), -1.65}, heading, 0, 0);
+}
+
 // The INS's attitude of a camera as the odometry is fed it in flight: the truth with a slow
 // drift (0.01 deg/s about the vertical, as a heading held by the magnetometer wanders) and
 // 0.03 deg of noise per axis.
@@ -83,8 +118,12 @@ struct RenderedPair {
 
 class StereoFlightRenderer {
  public:
-  explicit StereoFlightRenderer(const world::Scene& scene)
-      : setup_(*scene.stereo_camera()), renderer_(scene, setup_),
+  explicit StereoFlightRenderer(const world::Scene& scene) : StereoFlightRenderer(scene, *scene.stereo_camera()) {}
+  // `setup` as calibrated (what rectification and the odometry believe); `actual`, where given, as
+  // the cameras really are (a calibration's residual).
+  StereoFlightRenderer(const world::Scene& scene, const world::StereoSetup& setup,
+                       const std::optional<world::StereoSetup>& actual = std::nullopt)
+      : setup_(setup), actual_(actual.value_or(setup)), renderer_(scene, actual_),
         rectifier_(StereoRig{setup_.left.intrinsics, setup_.right.intrinsics, setup_.T_LR()}) {}
   RenderedPair Render(const Eigen::Isometry3d& T_NB, int64_t utime) const {
     const world::StereoFrame f = renderer_.Render(T_NB, utime, false);  // dark, as the VO thread takes its pairs
@@ -103,7 +142,7 @@ class StereoFlightRenderer {
   const world::StereoSetup& setup() const { return setup_; }
 
  private:
-  world::StereoSetup setup_;
+  world::StereoSetup setup_, actual_;
   world::StereoRenderer renderer_;
   StereoRectifier rectifier_;
 };

@@ -77,6 +77,8 @@ void VoWorker::Work(Outbox& out) {
   report.tracked = r.tracked;
   report.inliers = r.inliers;
   report.rms_px = r.rms_px;
+  report.disparity_offset_px = r.disparity_offset_px;
+  report.disparity_offset_sigma_px = r.disparity_offset_sigma_px;
   if (pair.truth_T_NB) report.truth_N = pair.truth_T_NB->translation();
   std::optional<BlackboardData::VisionPosition> position;
   if (r.healthy) {

@@ -23,6 +23,10 @@ VisualOdometryReport FromMessage(const uavmsg::visual_odometry_t& m) {
   r.inliers = m.inliers;
   if (!std::isfinite(m.rms_px) || m.rms_px < 0) fail("rms_px is not a finite non-negative number");
   r.rms_px = m.rms_px;
+  if (!std::isfinite(m.disparity_offset_px) || !std::isfinite(m.disparity_offset_sigma_px) || m.disparity_offset_sigma_px < 0)
+    fail("disparity offset or its sigma is not a finite number (sigma non-negative)");
+  r.disparity_offset_px = m.disparity_offset_px;
+  r.disparity_offset_sigma_px = m.disparity_offset_sigma_px;
   if (m.track_valid) {
     const Eigen::Vector3d p(m.track_n, m.track_e, m.track_d);
     if (!p.allFinite()) fail("track position is not finite");
@@ -49,6 +53,8 @@ uavmsg::visual_odometry_t ToMessage(const VisualOdometryReport& r) {
   m.tracked = static_cast<int16_t>(std::min(r.tracked, 32767));
   m.inliers = static_cast<int16_t>(std::min(r.inliers, 32767));
   m.rms_px = static_cast<float>(r.rms_px);
+  m.disparity_offset_px = static_cast<float>(r.disparity_offset_px);
+  m.disparity_offset_sigma_px = static_cast<float>(r.disparity_offset_sigma_px);
   m.track_valid = r.track_N.has_value();
   if (r.track_N) m.track_n = r.track_N->x(), m.track_e = r.track_N->y(), m.track_d = r.track_N->z();
   m.nav_source = static_cast<int8_t>(r.source);

@@ -43,11 +43,24 @@ Eigen::Vector3d EulerFromRotation(const Eigen::Matrix3d& r) {
 // One correspondence from the keyframe to the current frame.
 struct Match {
   int keyframe_index;
-  Eigen::Vector3d p_K;           // triangulated in the keyframe
+  Eigen::Vector3d p_K;           // triangulated in the keyframe (with the disparity offset as now estimated)
+  cv::Point2f px_K;              // its measurement there: left pixel (the row averaged over both images) ...
+  float disparity_K = 0;         // ... and the disparity as matched [px], before the offset
   cv::Point2f px_C;              // tracked into the current left image
   std::optional<Eigen::Vector3d> p_C;  // triangulated in the current frame
   std::optional<float> u_R;            // the current right image's column on the same row
 };
+
+// The spread of disparities (10th to 90th percentile) a keyframe's points need to measure the
+// rig's disparity offset (see StereoVo::Impl::OffsetFromFrame).
+constexpr double kOffsetDepthSpan = 3.0;
+
+// A rectified pair's pixel, row and matched disparity to a point in the left camera (thesis 3.2,
+// Eq. 3.11), the disparity corrected by `offset` px (see StereoVo::Impl::disparity_offset).
+Eigen::Vector3d Triangulated(const RectifiedGeometry& g, double u, double v, double disparity, double offset) {
+  const double z = g.f_px * g.baseline_m / (disparity + offset);
+  return {(u - g.cx) * z / g.f_px, (v - g.cy) * z / g.f_px, z};
+}
 
 // Thesis 5.5: LM over the three Euler angles and the translation, the Jacobian by forward
 // differences. A subclass gives the residuals of a pose T_CK.
@@ -147,8 +160,8 @@ class RigidResiduals : public PoseResiduals {
 class StereoReprojection : public PoseResiduals {
  public:
   StereoReprojection(const std::vector<Match>& m, const std::vector<int>& in, double f, double cx, double cy, double b,
-                     std::optional<RotationPrior> prior)
-      : PoseResiduals(1e-7, prior), m_(m), in_(in), f_(f), cx_(cx), cy_(cy), b_(b) {}
+                     double disparity_offset, std::optional<RotationPrior> prior)
+      : PoseResiduals(1e-7, prior), m_(m), in_(in), f_(f), cx_(cx), cy_(cy), b_(b), offset_(disparity_offset) {}
 
  private:
   std::vector<double> Errors(const Eigen::Isometry3d& T) const override {
@@ -160,13 +173,14 @@ class StereoReprojection : public PoseResiduals {
       const double z = std::max(c.z(), 1e-3);
       e.push_back(f_ * c.x() / z + cx_ - m.px_C.x);
       e.push_back(f_ * c.y() / z + cy_ - m.px_C.y);
-      if (m.u_R) e.push_back(f_ * (c.x() - b_) / z + cx_ - *m.u_R);
+      // The matched column sits the offset to the right of the true one (disparity = measured + offset).
+      if (m.u_R) e.push_back(f_ * (c.x() - b_) / z + cx_ + offset_ - *m.u_R);
     }
     return e;
   }
   const std::vector<Match>& m_;
   const std::vector<int>& in_;
-  double f_, cx_, cy_, b_;
+  double f_, cx_, cy_, b_, offset_;
 };
 
 }  // namespace
@@ -199,6 +213,11 @@ void VoParams::Validate() const {
   require(lk_fb_tol_px > 0 && epipolar_tol_px > 0, "tolerances must be positive");
   require(disparity_sigma_px > 0 && max_depth_error > 0 && max_depth_error < 1, "depth error model out of range");
   require(min_depth_m > 0, "min_depth_m must be positive");
+  require(disparity_offset_prior_sigma_px >= 0 && disparity_offset_prior_sigma_px <= 5 && disparity_offset_min_sigma_px > 0 &&
+              disparity_offset_min_sigma_px <= std::max(disparity_offset_prior_sigma_px, 0.01) &&
+              disparity_offset_measurement_sigma_px > 0 && disparity_offset_measurement_sigma_px <= 5,
+          "disparity_offset_prior_sigma_px must be 0..5, disparity_offset_min_sigma_px in (0, prior] and "
+          "disparity_offset_measurement_sigma_px in (0, 5]");
   require(ransac_p > 0 && ransac_p < 1 && ransac_initial_outliers >= 0 && ransac_initial_outliers < 1,
           "RANSAC probabilities must be in (0, 1)");
   require(ransac_max_iterations >= 1 && ransac_max_iterations <= 100000, "ransac_max_iterations must be 1..100000");
@@ -253,6 +272,13 @@ struct StereoVo::Impl {
     cv::Mat last_left;                 // the previous frame's left image, where tracking starts
     std::vector<cv::Point2f> px;       // left pixels of the points with depth
     std::vector<Eigen::Vector3d> p_K;  // their positions in the keyframe [m]
+    std::vector<cv::Point2f> px_row;   // each point's column and row (averaged over both images) ...
+    std::vector<float> disparity;      // ... and disparity as matched [px], before the offset
+    double p_K_offset = 0;             // the disparity offset p_K was computed with
+    // The offset the latest frame's motion from this keyframe asks for, and its variance [px^2];
+    // counted once, when the keyframe is replaced (the frames of one keyframe share its
+    // disparities, so their errors are not independent).
+    std::optional<std::pair<double, double>> offset_measurement;
     std::vector<cv::Point2f> last_px;  // where each was last seen or predicted (the next LK's guess)
     std::vector<char> alive;           // kTracked, kPredicted or kGone
     Eigen::Isometry3d T_WK = Eigen::Isometry3d::Identity();
@@ -261,6 +287,13 @@ struct StereoVo::Impl {
   std::optional<Keyframe> keyframe;
   Eigen::Isometry3d T_WC = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Matrix3d> R_XW;  // W in the IMU's frame X, from the first pair that had one
+  // The rig's disparity offset [px] (true disparity = matched + offset) and its information
+  // [1/px^2]: a rectified pair whose principal points sit a tenth of a pixel apart (a
+  // calibration's residual, as KITTI's has) makes every depth wrong by a share that grows with
+  // the depth, and the motion's length with it. Estimated from the motion itself (see
+  // OffsetFromFrame), so no calibration target is needed in the field.
+  double disparity_offset = 0;
+  double offset_information = 0;
   int segment = 0;
   int64_t last_utime = -1;
 
@@ -304,12 +337,11 @@ struct StereoVo::Impl {
         ++*row_misses;
         continue;
       }
-      const double d = px_l[i].x - px_r[i].x;
+      const double d = px_l[i].x - px_r[i].x + disparity_offset;
       if (!(d > 0)) continue;
       const double z = g.f_px * g.baseline_m / d;
       if (z < p.min_depth_m || z > max_depth_m) continue;
-      const double v = 0.5 * (px_l[i].y + px_r[i].y);
-      out[i] = Eigen::Vector3d((px_l[i].x - g.cx) * z / g.f_px, (v - g.cy) * z / g.f_px, z);
+      out[i] = Triangulated(g, px_l[i].x, 0.5 * (px_l[i].y + px_r[i].y), px_l[i].x - px_r[i].x, disparity_offset);
       if (u_r) (*u_r)[i] = px_r[i].x;
     }
     return out;
@@ -347,13 +379,19 @@ struct StereoVo::Impl {
   std::string MakeKeyframe(const cv::Mat& left, const cv::Mat& right, const Eigen::Isometry3d& T_WK) {
     const std::vector<cv::Point2f> corners = DetectCorners(left);
     int row_misses = 0;
-    const auto points = Triangulate(left, right, corners, &row_misses);
+    std::vector<float> u_r;
+    const auto points = Triangulate(left, right, corners, &row_misses, &u_r);
     Keyframe k;
     k.left = left.clone();
     k.last_left = k.left;
     k.T_WK = T_WK;
-    for (size_t i = 0; i < corners.size(); ++i)
-      if (points[i]) k.px.push_back(corners[i]), k.p_K.push_back(*points[i]);
+    for (size_t i = 0; i < corners.size(); ++i) {
+      if (!points[i]) continue;
+      k.px.push_back(corners[i]), k.p_K.push_back(*points[i]);
+      k.px_row.emplace_back(corners[i].x, static_cast<float>(points[i]->y() * g.f_px / points[i]->z() + g.cy));
+      k.disparity.push_back(corners[i].x - u_r[i]);
+    }
+    k.p_K_offset = disparity_offset;
     k.last_px = k.px;
     k.alive.assign(k.px.size(), kTracked);
     if (static_cast<int>(k.px.size()) < p.min_inliers) {
@@ -475,7 +513,8 @@ struct StereoVo::Impl {
     }
     if (!cv::checkRange(rvec) || !cv::checkRange(tvec)) return T0;
     // Then Eq. 5.21 in both images of the current pair.
-    return RefineLm(cv::makePtr<StereoReprojection>(m, in, g.f_px, g.cx, g.cy, g.baseline_m, prior(p.track_sigma_px)),
+    return RefineLm(cv::makePtr<StereoReprojection>(m, in, g.f_px, g.cx, g.cy, g.baseline_m, disparity_offset,
+                                                    prior(p.track_sigma_px)),
                     FromRvecTvec(rvec, tvec));
   }
 
@@ -525,6 +564,87 @@ struct StereoVo::Impl {
       if (pass == 0) T = Refine(m, *inliers, T, imu);
     }
     return T;
+  }
+
+  // The disparity offset that the motion from the keyframe asks for (thesis 5.5's stereo
+  // reprojections with the offset as a seventh unknown beside the pose): one Gauss-Newton step
+  // from the refined pose, and the offset's variance from the step's normal equations, scaled by
+  // the residuals' spread. A constant offset changes near and far depths by different shares,
+  // which no motion can mimic, so it is observable wherever the points span a range of depths
+  // and the camera has moved; at a hover or over flat ground at one depth the variance is large
+  // and the estimate does not move.
+  std::optional<std::pair<double, double>> OffsetFromFrame(const std::vector<Match>& m, const std::vector<int>& in,
+                                                           const Eigen::Isometry3d& T_CK,
+                                                           const std::optional<RotationPrior>& imu) const {
+    const auto residuals = [&](const Eigen::Matrix<double, 7, 1>& x) {
+      cv::Mat pose(6, 1, CV_64F);
+      for (int j = 0; j < 6; ++j) pose.at<double>(j) = x(j);
+      const Eigen::Isometry3d T = PoseOf(pose);
+      std::vector<double> e;
+      e.reserve(3 * in.size() + 3);
+      for (int i : in) {
+        const Match& q = m[i];
+        const Eigen::Vector3d c = T * Triangulated(g, q.px_K.x, q.px_K.y, q.disparity_K, x(6));
+        const double z = std::max(c.z(), 1e-3);
+        e.push_back(g.f_px * c.x() / z + g.cx - q.px_C.x);
+        e.push_back(g.f_px * c.y() / z + g.cy - q.px_C.y);
+        if (q.u_R) e.push_back(g.f_px * (c.x() - g.baseline_m) / z + g.cx + x(6) - *q.u_R);
+      }
+      if (imu) {
+        const Eigen::Vector3d r = p.track_sigma_px * imu->weight * FromPrior(T.linear(), *imu);
+        e.insert(e.end(), {r.x(), r.y(), r.z()});
+      }
+      return Eigen::Map<const Eigen::VectorXd>(e.data(), static_cast<Eigen::Index>(e.size())).eval();
+    };
+    // An offset is told from the motion's length only by how differently it changes near and far
+    // depths: points whose disparities span less than a factor of kOffsetDepthSpan (10th to 90th
+    // percentile) do not measure it, whatever the normal equations say (a downward camera over
+    // plain ground would otherwise pass its tilt and scale errors off as an offset).
+    std::vector<double> d;
+    for (int i : in) d.push_back(m[i].disparity_K + disparity_offset);
+    if (d.size() < 20) return std::nullopt;
+    std::sort(d.begin(), d.end());
+    if (!(d[d.size() * 9 / 10] >= kOffsetDepthSpan * d[d.size() / 10])) return std::nullopt;
+    Eigen::Matrix<double, 7, 1> x;
+    const cv::Mat pose = ParamsOf(T_CK);
+    for (int j = 0; j < 6; ++j) x(j) = pose.at<double>(j);
+    x(6) = disparity_offset;
+    const Eigen::VectorXd r0 = residuals(x);
+    const Eigen::Index n = r0.size();
+    if (n < 20) return std::nullopt;
+    Eigen::MatrixXd J(n, 7);
+    for (int j = 0; j < 7; ++j) {
+      Eigen::Matrix<double, 7, 1> xh = x;
+      const double h = j < 3 ? 1e-7 : j < 6 ? 1e-6 : 1e-4;
+      xh(j) += h;
+      J.col(j) = (residuals(xh) - r0) / h;
+    }
+    const Eigen::Matrix<double, 7, 7> H = J.transpose() * J;
+    const Eigen::LDLT<Eigen::Matrix<double, 7, 7>> ldlt(H);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return std::nullopt;
+    const Eigen::Matrix<double, 7, 1> step = ldlt.solve(-J.transpose() * r0);
+    const Eigen::Matrix<double, 7, 1> e6 = Eigen::Matrix<double, 7, 1>::Unit(6);
+    const double sigma2 = r0.squaredNorm() / std::max<double>(1.0, static_cast<double>(n) - 7);
+    const double variance = sigma2 * ldlt.solve(e6)(6);
+    if (!std::isfinite(step(6)) || !(variance > 0) || !std::isfinite(variance)) return std::nullopt;
+    return std::pair{disparity_offset + step(6), variance};
+  }
+
+  // Folds one keyframe's measurement of the offset into the estimate (inverse-variance
+  // weighting); a measurement more than 3 sigma from the estimate is a bad motion, not the rig.
+  // The information is capped at disparity_offset_min_sigma_px, so the estimate keeps following a
+  // rig whose calibration shifts (heat, a knock).
+  void FuseOffset(const std::optional<std::pair<double, double>>& measured) {
+    if (!measured || !(offset_information > 0)) return;
+    const auto [value, variance] = *measured;
+    // A measurement that leaves the offset loose (a downward camera over plain ground, where a
+    // depth offset and the motion's length trade almost freely) is where the pose's own errors
+    // would pass for an offset: it is not counted.
+    if (variance > p.disparity_offset_measurement_sigma_px * p.disparity_offset_measurement_sigma_px) return;
+    if (std::abs(value - disparity_offset) > 3 * std::sqrt(variance + 1 / offset_information)) return;
+    const double info = 1 / variance;
+    disparity_offset = (offset_information * disparity_offset + info * value) / (offset_information + info);
+    offset_information = std::min(offset_information + info, 1 / (p.disparity_offset_min_sigma_px * p.disparity_offset_min_sigma_px));
   }
 
   VoResult Unhealthy(std::string reason) const {
@@ -596,6 +716,11 @@ struct StereoVo::Impl {
       return r;
     }
     Keyframe& k = *keyframe;
+    if (k.p_K_offset != disparity_offset) {  // the offset has been learnt further: the points move
+      for (size_t i = 0; i < k.p_K.size(); ++i)
+        k.p_K[i] = Triangulated(g, k.px_row[i].x, k.px_row[i].y, k.disparity[i], disparity_offset);
+      k.p_K_offset = disparity_offset;
+    }
     // Frame to frame (thesis 5.2: "KLT is further applied to each subsequent left image frame"):
     // each keyframe point from where it was in the previous frame, with a backward check. From
     // frame to frame the view changes little (exposure, cloud shadows, perspective), which a
@@ -633,7 +758,7 @@ struct StereoVo::Impl {
       if (!st1[j] || !st2[j] || cv::norm(back[j] - from[j]) > p.lk_fb_tol_px) continue;
       if (st3[j] && cv::norm(anchored[j] - to[j]) < p.lk_fb_tol_px) to[j] = anchored[j];
       if (!Inside(to[j], left.size())) continue;
-      matches.push_back({ids[j], k.p_K[ids[j]], to[j], std::nullopt, std::nullopt});
+      matches.push_back({ids[j], k.p_K[ids[j]], k.px_row[ids[j]], k.disparity[ids[j]], to[j], std::nullopt, std::nullopt});
       tracked_px.push_back(to[j]);
     }
     // Points lost earlier are looked for again straight from the keyframe's image, starting where
@@ -647,7 +772,8 @@ struct StereoVo::Impl {
         const cv::Point2f& q = lost_to[j];
         if (!st1[j] || !st2[j] || cv::norm(lost_back[j] - lost_from[j]) > p.lk_fb_tol_px) continue;
         if (!Inside(q, left.size())) continue;
-        matches.push_back({lost_ids[j], k.p_K[lost_ids[j]], q, std::nullopt, std::nullopt});
+        matches.push_back({lost_ids[j], k.p_K[lost_ids[j]], k.px_row[lost_ids[j]], k.disparity[lost_ids[j]], q, std::nullopt,
+                           std::nullopt});
         tracked_px.push_back(q);
       }
     }
@@ -711,6 +837,8 @@ struct StereoVo::Impl {
       ++segment;
       return r;
     }
+    if (p.method != VoMethod::kRigid && offset_information > 0)
+      if (auto o = OffsetFromFrame(matches, inliers, *T_CK, imu)) k.offset_measurement = o;
     // The pose chain (Eq. 5.22-5.28): T_WC = T_WK T_KC, with T_KC = C^-1 of this frame's motion.
     const Eigen::Isometry3d T_KC = T_CK->inverse();
     T_WC = k.T_WK * T_KC;
@@ -749,6 +877,7 @@ struct StereoVo::Impl {
     const bool thinning = r.keyframe_points > p.keyframe_min_inliers && r.inliers < p.keyframe_min_inliers;
     if (thinning || r.inliers < p.keyframe_min_fraction * r.keyframe_points) {
       // A new keyframe here; if this frame cannot make one, the old keyframe is kept.
+      FuseOffset(k.offset_measurement);
       Keyframe old = std::move(k);
       if (MakeKeyframe(left, right, T_WC).empty()) r.new_keyframe = true;
       else keyframe = std::move(old);
@@ -765,10 +894,17 @@ StereoVo::StereoVo(const RectifiedGeometry& geometry, const VoParams& params) : 
   impl_->p = params;
   impl_->K = (cv::Mat_<double>(3, 3) << geometry.f_px, 0, geometry.cx, 0, geometry.f_px, geometry.cy, 0, 0, 1);
   impl_->max_depth_m = params.max_depth_error * geometry.f_px * geometry.baseline_m / params.disparity_sigma_px;
+  if (params.disparity_offset_prior_sigma_px > 0)
+    impl_->offset_information = 1 / (params.disparity_offset_prior_sigma_px * params.disparity_offset_prior_sigma_px);
 }
 StereoVo::~StereoVo() = default;
 StereoVo::StereoVo(StereoVo&&) noexcept = default;
-VoResult StereoVo::Process(const RectifiedPair& pair) { return impl_->Process(pair); }
+VoResult StereoVo::Process(const RectifiedPair& pair) {
+  VoResult r = impl_->Process(pair);
+  r.disparity_offset_px = impl_->disparity_offset;
+  r.disparity_offset_sigma_px = impl_->offset_information > 0 ? 1 / std::sqrt(impl_->offset_information) : 0.0;
+  return r;
+}
 const RectifiedGeometry& StereoVo::geometry() const { return impl_->g; }
 const VoParams& StereoVo::params() const { return impl_->p; }
 

@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
     std::map<std::string, int> reasons;
     int healthy = 0, segments = 0, last_segment = -1;
     std::vector<std::string> skipped;
+    std::pair<double, double> offset{0, 0};
     uav::ProgressBar progress(last - first);
     for (int i = first; i < last; ++i) {
       uav::vision::RectifiedPair pair;
@@ -83,6 +84,7 @@ int main(int argc, char** argv) {
       const uav::vision::VoResult r = vo.Process(pair);
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       poses.push_back(r.T_WC);
+      offset = {r.disparity_offset_px, r.disparity_offset_sigma_px};
       if (r.healthy) {
         ++healthy;
       } else {
@@ -109,6 +111,8 @@ int main(int argc, char** argv) {
                              {"ms_per_frame_median", median},
                              {"ms_per_frame_p95", p95},
                              {"frames_per_s", 1000.0 / median},
+                             {"disparity_offset_px", offset.first},
+                             {"disparity_offset_sigma_px", offset.second},
                              {"poses", out}};
     std::printf("%s\n", report.dump(2).c_str());
   } catch (const std::exception& e) {

@@ -23,6 +23,7 @@ struct VisualOdometryReport {
   int segment = 0;
   int keyframe_points = 0, tracked = 0, inliers = 0;
   double rms_px = 0.0;
+  double disparity_offset_px = 0.0, disparity_offset_sigma_px = 0.0;  // [px] learnt from the motion
   std::optional<Eigen::Vector3d> track_N;  // [m] the VO+IMU filter's body position
   PositionSource source = PositionSource::kGps;
   std::optional<Eigen::Vector3d> truth_N;  // [m] simulation only

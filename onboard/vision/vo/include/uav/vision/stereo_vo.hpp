@@ -39,6 +39,15 @@ struct VoParams {
   double disparity_sigma_px = 0.2;
   double max_depth_error = 0.05;
   double min_depth_m = 0.3;
+  // The rig's disparity offset (true disparity = matched + offset; a residual of the calibration,
+  // such as principal points a tenth of a pixel apart) is estimated from the motion, starting
+  // from 0 with this sigma (0: taken as exactly 0, not estimated), the estimate's sigma kept at
+  // or above the minimum so that it follows a calibration that shifts in flight (PnP and EPnP).
+  // A keyframe's measurement of it counts only when its sigma is at most
+  // disparity_offset_measurement_sigma_px (the points span enough depths and the camera moved).
+  double disparity_offset_prior_sigma_px = 0.2;
+  double disparity_offset_min_sigma_px = 0.01;
+  double disparity_offset_measurement_sigma_px = 0.1;
   // RANSAC (thesis 5.4): N from Eq. 5.20 with p, updated as the outlier share is learnt, capped;
   // it stops early once the consensus holds `consensus` of the points (step 4).
   double ransac_p = 0.99;
@@ -83,6 +92,8 @@ struct VoResult {
   int inliers = 0;           // RANSAC consensus after refinement
   int ransac_iterations = 0;
   double rms_px = 0.0;       // reprojection RMS of the inliers after refinement
+  double disparity_offset_px = 0.0;        // the rig's disparity offset as estimated so far ...
+  double disparity_offset_sigma_px = 0.0;  // ... and its sigma (0 when it is not estimated)
 };
 
 // One pair: rectified images (8-bit grey or BGR) with each camera's exposure time.
