@@ -22,7 +22,10 @@ T ExampleReport() {
     r.cells[0].reason = r.cells[1].reason = "no features";
     r.obstacle_depth_m = 8.0;
   }
-  if constexpr (std::is_same_v<T, VisualOdometryReport>) r.method = "pnp";
+  if constexpr (std::is_same_v<T, VisualOdometryReport>) {
+    r.method = "pnp";
+    r.disparity_offset_px = 0.25, r.disparity_offset_sigma_px = 0.01;
+  }
   if constexpr (std::is_same_v<T, PreArmReport>)
     r.checks = {{"gps", false, "no 3-D fix (fix 0, 0 satellites)"}, {"battery", true, "100 % remaining"}};
   if constexpr (std::is_same_v<T, ParameterTable>) {

@@ -19,6 +19,7 @@
 #include "uavmsg/heartbeat_t.hpp"
 #include "uavmsg/status_text_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
+#include "uavmsg/visual_odometry_t.hpp"
 
 namespace uav {
 namespace {
@@ -173,6 +174,21 @@ TEST(Messages, MonoDepthRoundTripsThroughBytesAndBadGridsAreRefusedByName) {
   refused([](auto& b) { b.state[3] = 7; }, "cell 3: state 7 is not 0..2");
   refused([](auto& b) { b.depth_m[0] = 0; }, "cell 0: known without a depth");
   refused([](auto& b) { b.healthy = false; }, "cell 0: known in an unhealthy report");
+}
+
+TEST(Messages, VisualOdometryCarriesTheLearntDisparityOffsetAndRefusesABadOne) {
+  VisualOdometryReport r = ExampleReport<VisualOdometryReport>();
+  r.disparity_offset_px = -0.3;
+  r.disparity_offset_sigma_px = 0.02;
+  const VisualOdometryReport d = FromMessage(ToMessage(r));
+  EXPECT_FLOAT_EQ(d.disparity_offset_px, -0.3f);
+  EXPECT_FLOAT_EQ(d.disparity_offset_sigma_px, 0.02f);
+  auto refused = [&](const std::function<void(uavmsg::visual_odometry_t&)>& spoil, const std::string& why) {
+    ExpectRefused(ToMessage(r), spoil, why);
+  };
+  const std::string why = "disparity offset or its sigma is not a finite number (sigma non-negative)";
+  refused([](auto& m) { m.disparity_offset_px = NAN; }, why);
+  refused([](auto& m) { m.disparity_offset_sigma_px = -0.1f; }, why);
 }
 
 TEST(Messages, AvoidanceRoundTripsToTheCentimetreAndBadReportsAreRefusedByName) {
