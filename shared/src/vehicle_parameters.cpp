@@ -283,6 +283,7 @@ const ParameterSchema& VehicleParameterSchema() {
     {"vo_method", "-", 0, 0, 2, "motion from 0 PnP, 1 EPnP, 2 the rigid 3D-3D method (thesis 5.3)", kStart},
     {"vo_position_noise", "m", 0.05, 0.001, 10, "1 sigma the INS and the VO+IMU filter give a VO position", kStart},
     {"vo_max_features", "-", 400, 20, 5000, "corners detected per keyframe", kStart},
+    {"vo_offset_prior", "px", 0.2, 0, 5, "1 sigma of the stereo pair's disparity offset before the odometry learns it from the motion; 0: taken as 0, not learnt", kStart},
     // --- Vision timing (thesis Table 2.1's vision threads, off the control path) ---
     // Each result reaches the rest of the vehicle this long after its frame was exposed. On a
     // simulated clock these fixed figures keep a run repeatable; at --speed 1 (or with

@@ -19,6 +19,7 @@ VoWorkerParams VoWorkerParams::FromParameters(const ParameterSet& p) {
   const int method = static_cast<int>(p.Get("vo_method"));
   v.vo.method = method == 1 ? vision::VoMethod::kEpnp : method == 2 ? vision::VoMethod::kRigid : vision::VoMethod::kPnp;
   v.vo.max_features = static_cast<int>(p.Get("vo_max_features"));
+  v.vo.disparity_offset_prior_sigma_px = p.Get("vo_offset_prior");
   v.vo.Validate();
   return v;
 }

@@ -1,4 +1,4 @@
-// uav-vo SEQ_DIR [--method pnp|epnp|rigid] --out poses.txt [--max-features N] [--first N] [--frames N]
+// uav-vo SEQ_DIR [--method pnp|epnp|rigid] --out poses.txt [--max-features N] [--offset-prior PX] [--first N] [--frames N]
 // Stereo visual odometry (thesis ch. 5) over a KITTI-layout sequence: image_0/ (left) and
 // image_1/ (right) rectified images in name order, calib.txt with the projection matrices P0 and
 // P1, optional times.txt (seconds; 10 Hz is assumed without it). Writes one KITTI pose line per
@@ -36,6 +36,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"pnp", "epnp", "rigid"}))
       ->capture_default_str();
   cli.add_option("--max-features", params.max_features, "features kept per keyframe")->capture_default_str();
+  cli.add_option("--offset-prior", params.disparity_offset_prior_sigma_px,
+                 "1 sigma [px] of the pair's disparity offset before it is learnt from the motion; 0: taken as 0")
+      ->capture_default_str();
   cli.add_option("--first", first, "first frame to use")->check(CLI::NonNegativeNumber)->capture_default_str();
   cli.add_option("--frames", frames, "frames to use (0: all)")->check(CLI::NonNegativeNumber)->capture_default_str();
   uav::PrepareCommandLine(cli);
