@@ -253,7 +253,7 @@ const ParameterSchema& VehicleParameterSchema() {
 
     // --- Stereo obstacles (STEREO thread, thesis 3.2, 3.5) ---
     {"obs_enable", "-", 1, 0, 1, "detect obstacles (and, with pwl_enable, wires unless pwl_rig has them) on obs_rig; 0: the rig is not used for them (obstacle avoidance needs 1)", kStart},
-    {"obs_matcher", "-", 1, 0, 1, "disparity by 0: block matching, 1: semi-global matching", kStart},
+    {"obs_matcher", "-", 1, 0, 2, "disparity by 0: block matching, 1: OpenCV's semi-global matching, 2: our census semi-global matcher", kStart},
     {"obs_max_sigma", "m", 0.3, 0.05, 2, "range gate: points deeper than where the depth error (Eq. 3.7) reaches this are dropped", kStart},
     {"obs_margin", "m", 0.5, 0, 5, "safety margin added to each obstacle cylinder's radius", kFlight},
     {"obs_min_voxels", "-", 20, 3, 1000, "smallest cluster (5 cm voxels) reported as an obstacle", kStart},

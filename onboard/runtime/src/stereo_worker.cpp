@@ -39,7 +39,9 @@ StereoWorkerParams StereoWorkerParams::FromParameters(const ParameterSet& p) {
   s.ranging.min_range_m = p.Get("pwl_min_range");
   s.ranging.max_range_m = p.Get("pwl_max_range");
   s.ranging.Validate();
-  s.obstacles.disparity.matcher = p.Get("obs_matcher") != 0.0 ? vision::MatcherKind::kSemiGlobal : vision::MatcherKind::kBlockMatching;
+  static constexpr vision::MatcherKind kMatchers[] = {vision::MatcherKind::kBlockMatching, vision::MatcherKind::kSemiGlobal,
+                                                      vision::MatcherKind::kCensusSemiGlobal};
+  s.obstacles.disparity.matcher = kMatchers[static_cast<int>(p.Get("obs_matcher"))];
   s.obstacles.max_depth_sigma_m = p.Get("obs_max_sigma");
   s.obstacles.safety_margin_m = p.Get("obs_margin");
   s.obstacles.min_cluster_voxels = static_cast<int>(p.Get("obs_min_voxels"));

@@ -12,6 +12,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ximgproc/disparity_filter.hpp>
 
+#include "census_sgm.hpp"
+
 namespace uav::vision {
 
 namespace {
@@ -105,10 +107,18 @@ void RefineSubpixel(const cv::Mat& left8, const cv::Mat& right8, int block, cv::
 MatcherKind ParseMatcherKind(const std::string& text) {
   if (text == "bm") return MatcherKind::kBlockMatching;
   if (text == "sgbm") return MatcherKind::kSemiGlobal;
-  throw std::invalid_argument("unknown matcher '" + text + "' (bm or sgbm)");
+  if (text == "census") return MatcherKind::kCensusSemiGlobal;
+  throw std::invalid_argument("unknown matcher '" + text + "' (bm, sgbm or census)");
 }
 
-const char* MatcherKindName(MatcherKind kind) { return kind == MatcherKind::kBlockMatching ? "bm" : "sgbm"; }
+const char* MatcherKindName(MatcherKind kind) {
+  switch (kind) {
+    case MatcherKind::kBlockMatching: return "bm";
+    case MatcherKind::kSemiGlobal: return "sgbm";
+    case MatcherKind::kCensusSemiGlobal: return "census";
+  }
+  return "?";
+}
 
 void DisparityParams::Validate() const {
   Require(downscale == 1 || downscale == 2 || downscale == 4, "downscale must be 1, 2 or 4");
@@ -120,6 +130,7 @@ void DisparityParams::Validate() const {
   Require(std::isfinite(wls_lambda) && wls_lambda > 0, "wls_lambda must be positive");
   Require(std::isfinite(wls_sigma_color) && wls_sigma_color > 0, "wls_sigma_color must be positive");
   Require(std::isfinite(texture_threshold) && texture_threshold >= 0, "texture_threshold must not be negative");
+  Require(!(wls_filter && matcher == MatcherKind::kCensusSemiGlobal), "the WLS filter needs the bm or sgbm matcher");
 }
 
 cv::Mat DisparityMap::FullResolution16U(const cv::Size& full) const {
@@ -212,7 +223,9 @@ DisparityMatcher::DisparityMatcher(const DisparityParams& p) : impl_(std::make_u
   Impl& m = *impl_;
   m.params = p;
   const int block = p.block_size;
-  if (p.matcher == MatcherKind::kSemiGlobal) {
+  if (p.matcher == MatcherKind::kCensusSemiGlobal) {
+    // Ours: nothing to build.
+  } else if (p.matcher == MatcherKind::kSemiGlobal) {
     // Penalties as OpenCV's stereo_match sample (P1 = 8 w^2, P2 = 32 w^2 for grey images);
     // disp12MaxDiff is SGBM's left-right consistency check; uniqueness and speckle filtering
     // drop ambiguous and isolated matches that would otherwise pose as near obstacles.
@@ -277,20 +290,28 @@ DisparityMap DisparityMatcher::Compute(const cv::Mat& left_rect, const cv::Mat& 
   // images are padded on the left by the search range (edge replicated: no artificial edge to
   // match), so every pixel is searched over the disparities the image can hold; the left-right
   // check and the uniqueness test reject the pixels whose partner lies outside the image.
-  const int pad = p.num_disparities;
-  cv::Mat padded[2];
-  for (int i = 0; i < 2; ++i) cv::copyMakeBorder(image[i], padded[i], 0, 0, pad, 0, cv::BORDER_REPLICATE);
-  cv::Mat d16;
-  m.left->compute(padded[0], padded[1], d16);
-  if (m.wls) {
-    cv::Mat right16, filtered;
-    m.right->compute(padded[1], padded[0], right16);
-    m.wls->filter(d16, padded[0], filtered, right16);
-    d16 = filtered;
-  }
   DisparityMap out;
   out.downscale = p.downscale;
-  out.d16 = d16.colRange(pad, d16.cols).clone();
+  if (p.matcher == MatcherKind::kCensusSemiGlobal) {
+    // Ours searches every pixel over the disparities its column can hold: no padding needed.
+    detail::CensusSgmParams census;
+    census.num_disparities = p.num_disparities;
+    census.lr_max_diff_px = p.lr_max_diff_px;
+    out.d16 = detail::CensusSemiGlobalMatch(image[0], image[1], census);
+  } else {
+    const int pad = p.num_disparities;
+    cv::Mat padded[2];
+    for (int i = 0; i < 2; ++i) cv::copyMakeBorder(image[i], padded[i], 0, 0, pad, 0, cv::BORDER_REPLICATE);
+    cv::Mat d16;
+    m.left->compute(padded[0], padded[1], d16);
+    if (m.wls) {
+      cv::Mat right16, filtered;
+      m.right->compute(padded[1], padded[0], right16);
+      m.wls->filter(d16, padded[0], filtered, right16);
+      d16 = filtered;
+    }
+    out.d16 = d16.colRange(pad, d16.cols).clone();
+  }
   // A disparity larger than the column points outside the right image: no partner.
   for (int v = 0; v < out.d16.rows; ++v) {
     int16_t* row = out.d16.ptr<int16_t>(v);

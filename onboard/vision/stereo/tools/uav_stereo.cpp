@@ -1,4 +1,4 @@
-// uav-stereo LEFT RIGHT [--calib FILE | --rectified [--focal PX --baseline M]] [--matcher bm|sgbm]
+// uav-stereo LEFT RIGHT [--calib FILE | --rectified [--focal PX --baseline M]] [--matcher bm|sgbm|census]
 //   [--num-disparities N] [--block N] [--downscale N] [--wls] [--dense] [--disparity OUT.png]
 //   [--cloud OUT.pcd] [--obstacles OUT.json] [--truth GT.png [--truth-scale S]]
 // The stereo obstacle pipeline (thesis 3.5) on a pair of image files. A raw pair is rectified
@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
   cli.add_flag("--rectified", rectified, "the pair is already rectified")->excludes(calib);
   cli.add_option("--focal", focal_px, "rectified focal length [px] (with --rectified)");
   cli.add_option("--baseline", baseline_m, "baseline [m] (with --rectified)");
-  cli.add_option("--matcher", matcher, "bm or sgbm")->check(CLI::IsMember({"bm", "sgbm"}))->capture_default_str();
+  cli.add_option("--matcher", matcher, "bm, sgbm (OpenCV's) or census (ours)")->check(CLI::IsMember({"bm", "sgbm", "census"}))->capture_default_str();
   cli.add_option("--num-disparities", params.disparity.num_disparities, "search range [px] at matching resolution, multiple of 16")
       ->capture_default_str();
   cli.add_option("--block", params.disparity.block_size, "matching window [px], odd 5..21")->capture_default_str();
