@@ -66,8 +66,26 @@ double ParabolaPeak(double left, double centre, double right) {
 
 CorrelationTracker::CorrelationTracker(const CorrelationParams& params) : p_(params) {}
 
+// DSST's scale filter: sizes step^k, k = -(S-1)/2 .. (S-1)/2; a Gaussian label over them whose
+// sigma is DSST's (sqrt(33) / 4 = 1.44 steps) whatever the count.
+void CorrelationTracker::SizeFilter::Setup(int count, double step) {
+  samples = count;
+  factors.resize(count);
+  window.resize(count);
+  cv::Mat label(1, count, CV_32F);
+  const double sigma = std::sqrt(33.0) * 0.25;
+  for (int n = 0; n < count; ++n) {
+    const double k = n - (count - 1) / 2.0;
+    factors[n] = std::pow(step, k);
+    window[n] = static_cast<float>(0.5 - 0.5 * std::cos(2 * CV_PI * (n + 1) / (count + 1)));
+    label.at<float>(n) = static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)));
+  }
+  cv::dft(label, label_spectrum, cv::DFT_ROWS | cv::DFT_COMPLEX_OUTPUT);
+}
+
 cv::Size2d CorrelationTracker::Window() const {
-  return {start_size_.width * (1 + p_.padding) * scale_, start_size_.height * (1 + p_.padding) * scale_};
+  const cv::Size2d target = TargetSize();
+  return {target.width * (1 + p_.padding), target.height * (1 + p_.padding)};
 }
 
 void CorrelationTracker::Features(const cv::Mat& patch, std::vector<cv::Mat>& channels) const {
@@ -146,23 +164,24 @@ void CorrelationTracker::TranslationSpectra(const cv::Mat& grey, cv::Point2d cen
 
 // DSST's scale sample: the target at each of the scales, resampled to the scale model's size, one
 // column of HOG features per scale (weighted by a Hann window over the scales), transformed along
-// the scales.
-cv::Mat CorrelationTracker::ScaleSpectra(const cv::Mat& grey) const {
+// the scales. Along the aspect axis the width grows by each factor and the height shrinks by it.
+cv::Mat CorrelationTracker::SizeSpectra(const cv::Mat& grey, SizeAxis axis) const {
   cv::Mat samples;
   std::vector<cv::Mat> channels;
   const cv::Size2d target = TargetSize();
-  for (int n = 0; n < p_.scales; ++n) {
-    const double f = scale_factors_[n];
-    Features(Resampled(grey, centre_, cv::Size2d(target.width * f, target.height * f), scale_model_), channels);
+  const SizeFilter& filter = size_filters_[static_cast<int>(axis)];
+  for (int n = 0; n < filter.samples; ++n) {
+    const double f = filter.factors[n], fy = axis == SizeAxis::kScale ? f : 1.0 / f;
+    Features(Resampled(grey, centre_, cv::Size2d(target.width * f, target.height * fy), scale_model_), channels);
     // HOG alone, as DSST's: the mean grey of a bigger sample is more of the background's, and
     // it pulled the box of a runner on bright grass smaller frame by frame (person11: to 0.6 of
     // the selection in 240 frames, 0.73 without it).
     channels.pop_back();
-    if (samples.empty()) samples.create(static_cast<int>(channels.size() * channels[0].total()), p_.scales, CV_32F);
+    if (samples.empty()) samples.create(static_cast<int>(channels.size() * channels[0].total()), filter.samples, CV_32F);
     int row = 0;
     for (const cv::Mat& m : channels)
       for (int y = 0; y < m.rows; ++y)
-        for (int x = 0; x < m.cols; ++x) samples.at<float>(row++, n) = m.at<float>(y, x) * scale_window_[n];
+        for (int x = 0; x < m.cols; ++x) samples.at<float>(row++, n) = m.at<float>(y, x) * filter.window[n];
   }
   cv::Mat spectra;
   cv::dft(samples, spectra, cv::DFT_ROWS | cv::DFT_COMPLEX_OUTPUT);
@@ -170,7 +189,7 @@ cv::Mat CorrelationTracker::ScaleSpectra(const cv::Mat& grey) const {
 }
 
 cv::Size2d CorrelationTracker::TargetSize() const {
-  return {start_size_.width * scale_, start_size_.height * scale_};
+  return {start_size_.width * scale_ * aspect_, start_size_.height * scale_ / aspect_};
 }
 
 namespace {
@@ -259,9 +278,10 @@ cv::Mat CorrelationTracker::Likelihood(const cv::Mat& bgr) const {
 
 cv::Mat CorrelationTracker::ColourResponse(const cv::Mat& bgr, cv::Point2d centre) const {
   const cv::Mat likelihood = Likelihood(Resampled(bgr, centre, Window(), template_));
-  const double template_px_per_image_px = 1.0 / (template_ratio_ * scale_);
-  const cv::Size box(std::max(1, static_cast<int>(std::lround(TargetSize().width * template_px_per_image_px))),
-                     std::max(1, static_cast<int>(std::lround(TargetSize().height * template_px_per_image_px))));
+  // The window is resampled to the template whatever its size and aspect: the target keeps its
+  // size in the template.
+  const cv::Size box(std::max(1, static_cast<int>(std::lround(start_size_.width / template_ratio_))),
+                     std::max(1, static_cast<int>(std::lround(start_size_.height / template_ratio_))));
   cv::Mat mean_in_box, per_cell;
   cv::boxFilter(likelihood, mean_in_box, -1, box, cv::Point(-1, -1), true, cv::BORDER_CONSTANT);
   cv::resize(mean_in_box, per_cell, cells_, 0, 0, cv::INTER_AREA);
@@ -278,7 +298,7 @@ void CorrelationTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box) {
   const cv::Mat& grey = grey_;
   centre_ = last_sure_ = cv::Point2d(box.x + box.width / 2, box.y + box.height / 2);
   start_size_ = box.size();
-  scale_ = 1.0;
+  scale_ = aspect_ = 1.0;
   psr_level_ = colour_level_ = 0.0;
   frames_unsure_ = 0;
   sure_frames_ = 0;
@@ -315,18 +335,8 @@ void CorrelationTracker::Start(const cv::Mat& bgr, const cv::Rect2d& box) {
       label.at<float>(r, q) = static_cast<float>(std::exp(-0.5 * (dx * dx + dy * dy) / (sigma * sigma)));
     }
   cv::dft(label, label_spectrum_, cv::DFT_COMPLEX_OUTPUT);
-  // DSST's scale filter: scales a^n, n = -(S-1)/2 .. (S-1)/2; a Gaussian label over them.
-  scale_factors_.resize(p_.scales);
-  scale_window_.resize(p_.scales);
-  cv::Mat scale_label(1, p_.scales, CV_32F);
-  const double scale_sigma = p_.scales / std::sqrt(33.0) * 0.25;  // DSST's 1/4 at 33 scales
-  for (int n = 0; n < p_.scales; ++n) {
-    const double k = n - (p_.scales - 1) / 2.0;
-    scale_factors_[n] = std::pow(p_.scale_step, k);
-    scale_window_[n] = static_cast<float>(0.5 - 0.5 * std::cos(2 * CV_PI * (n + 1) / (p_.scales + 1)));
-    scale_label.at<float>(n) = static_cast<float>(std::exp(-0.5 * k * k / (scale_sigma * scale_sigma)));
-  }
-  cv::dft(scale_label, scale_label_spectrum_, cv::DFT_ROWS | cv::DFT_COMPLEX_OUTPUT);
+  size_filters_[static_cast<int>(SizeAxis::kScale)].Setup(p_.scales, p_.scale_step);
+  size_filters_[static_cast<int>(SizeAxis::kAspect)].Setup(p_.aspects, p_.scale_step);
   const double shrink = std::min(1.0, std::sqrt(p_.scale_model_area_px / box.area()));
   scale_model_ = cv::Size(std::max(2 * c, static_cast<int>(box.width * shrink) / c * c),
                           std::max(2 * c, static_cast<int>(box.height * shrink) / c * c));
@@ -471,26 +481,27 @@ CorrelationTracker::Found CorrelationTracker::Detect(const cv::Mat& grey, const 
   found.psr = (peak - mean) / spread;
   found.colour = colour.at<float>(at);
   const double px_per_cell = p_.cell_px * template_ratio_ * scale_;
-  found.centre = centre + cv::Point2d(dx * px_per_cell, dy * px_per_cell);
+  found.centre = centre + cv::Point2d(dx * px_per_cell * aspect_, dy * px_per_cell / aspect_);
   found.centre.x = std::clamp(found.centre.x, 0.0, grey.cols - 1.0);
   found.centre.y = std::clamp(found.centre.y, 0.0, grey.rows - 1.0);
   found.resemblance = Resemblance(bgr, found.centre);
   return found;
 }
 
-double CorrelationTracker::EstimateScaleChange(const cv::Mat& grey) const {
-  const cv::Mat z = ScaleSpectra(grey);
+double CorrelationTracker::EstimateSizeChange(const cv::Mat& grey, SizeAxis axis) const {
+  const SizeFilter& filter = size_filters_[static_cast<int>(axis)];
+  const cv::Mat z = SizeSpectra(grey, axis);
   cv::Mat sum = cv::Mat::zeros(1, z.cols, CV_32FC2);
   float* o = sum.ptr<float>(0);
   for (int r = 0; r < z.rows; ++r) {
     const float* x = z.ptr<float>(r);
-    const float* a = scale_numerator_.ptr<float>(r);
+    const float* a = filter.numerator.ptr<float>(r);
     for (int q = 0; q < z.cols; ++q) {  // Z .* conj(A)
       o[2 * q] += x[2 * q] * a[2 * q] + x[2 * q + 1] * a[2 * q + 1];
       o[2 * q + 1] += x[2 * q + 1] * a[2 * q] - x[2 * q] * a[2 * q + 1];
     }
   }
-  const float* d = scale_denominator_.ptr<float>(0);
+  const float* d = filter.denominator.ptr<float>(0);
   for (int q = 0; q < z.cols; ++q) {
     const float k = 1.0f / (d[q] + static_cast<float>(p_.regularisation));
     o[2 * q] *= k;
@@ -500,7 +511,12 @@ double CorrelationTracker::EstimateScaleChange(const cv::Mat& grey) const {
   cv::dft(sum, response, cv::DFT_INVERSE | cv::DFT_SCALE | cv::DFT_REAL_OUTPUT | cv::DFT_ROWS);
   cv::Point best;
   cv::minMaxLoc(response, nullptr, nullptr, nullptr, &best);
-  return scale_factors_[best.x];
+  // Between the sampled factors by the parabola through the peak and its neighbours: a whole
+  // step (2 %) taken every frame walks the aspect ratio away, half a step each way.
+  if (best.x == 0 || best.x == response.cols - 1) return filter.factors[best.x];
+  const float* r = response.ptr<float>(0);
+  const double k = best.x - (filter.samples - 1) / 2.0 + ParabolaPeak(r[best.x - 1], r[best.x], r[best.x + 1]);
+  return std::pow(p_.scale_step, k);
 }
 
 void CorrelationTracker::Learn(const cv::Mat& grey, double rate, double scale_rate) {
@@ -515,14 +531,17 @@ void CorrelationTracker::Learn(const cv::Mat& grey, double rate, double scale_ra
     denominator += SquaredMagnitude(x[l]);
   }
   denominator_ = first ? denominator : (1 - rate) * denominator_ + rate * denominator;
-  cv::Mat scale_numerator, scale_denominator;
-  ScaleTerms(ScaleSpectra(grey), scale_label_spectrum_, scale_numerator, scale_denominator);
-  if (first || scale_rate >= 1.0) {
-    scale_numerator_ = scale_numerator;
-    scale_denominator_ = scale_denominator;
-  } else {
-    scale_numerator_ = (1 - scale_rate) * scale_numerator_ + scale_rate * scale_numerator;
-    scale_denominator_ = (1 - scale_rate) * scale_denominator_ + scale_rate * scale_denominator;
+  for (const SizeAxis axis : {SizeAxis::kScale, SizeAxis::kAspect}) {
+    SizeFilter& filter = size_filters_[static_cast<int>(axis)];
+    cv::Mat size_numerator, size_denominator;
+    ScaleTerms(SizeSpectra(grey, axis), filter.label_spectrum, size_numerator, size_denominator);
+    if (first || scale_rate >= 1.0) {
+      filter.numerator = size_numerator;
+      filter.denominator = size_denominator;
+    } else {
+      filter.numerator = (1 - scale_rate) * filter.numerator + scale_rate * size_numerator;
+      filter.denominator = (1 - scale_rate) * filter.denominator + scale_rate * size_denominator;
+    }
   }
 }
 
@@ -647,7 +666,9 @@ CorrelationDetection CorrelationTracker::Update(const cv::Mat& bgr, bool search_
     follow(psr_level_, found.psr);
     follow(colour_level_, found.colour);
     ++sure_frames_;
-    scale_ = std::clamp(scale_ * EstimateScaleChange(grey), min_scale_, max_scale_);
+    scale_ = std::clamp(scale_ * EstimateSizeChange(grey, SizeAxis::kScale), min_scale_, max_scale_);
+    aspect_ = std::clamp(aspect_ * EstimateSizeChange(grey, SizeAxis::kAspect), 1.0 / p_.max_aspect_change,
+                         p_.max_aspect_change);
     Learn(grey, p_.learning_rate, p_.scale_learning_rate);
     LearnColour(bgr, p_.colour_learning_rate);
   }

@@ -15,7 +15,9 @@
 //   target and its surroundings (32 bins per BGR channel), averaged over a target-sized box at each
 //   displacement and merged with the shape's response. Shape holds the box where colour is
 //   ambiguous; colour holds it where a runner's changing shape is not.
-// - Scale: DSST's separate one-dimensional scale filter over 33 scales 2 % apart.
+// - Scale: DSST's separate one-dimensional scale filter over 33 scales 2 % apart, and a second
+//   such filter over the aspect ratio at a constant area (a car turning away, a runner's stride):
+//   DSST keeps the selection's aspect, which a target that turns or strides does not.
 // - Occlusion, drift and loss: the peak-to-sidelobe ratio (PSR, Bolme et al.) and the colour
 //   score each measure how sure a detection is against their running levels. Below a share of
 //   either the filter stops learning (an occluder, the grass a drifting box slides onto, is not
@@ -38,8 +40,14 @@ struct CorrelationParams {
   double learning_rate = 0.01;    // model update per sure frame (Staple's 0.01)
   int scales = 33;                // DSST's scale filter: scales tried per frame
   double scale_step = 1.02;       // ratio between neighbouring scales
+  // The aspect filter: ratios tried per frame (width x f, height / f), 2 % apart. An aspect ratio
+  // changes a few percent a second: 17 samples (+-16 %) are plenty, and each costs a HOG sample.
+  // 9 and 33 scored within the sequences' own spread (mean AUC over the four real sets 76.0,
+  // 75.6 with 17, 76.0 with 33; 74.8 without the filter); 33 took twice the time of 17.
+  int aspects = 17;
   double scale_learning_rate = 0.025;  // DSST's
   double scale_model_area_px = 512.0;  // the scale filter's samples are resampled to this area
+  double max_aspect_change = 2.0;      // the aspect ratio stays within this factor of the selection's
   // Staple's colour model (Bertinetto et al. 2016): weight of the colour score in the merged
   // response, and its histograms' learning rate per sure frame (Staple's 0.3 and 0.04).
   double colour_weight = 0.3;
@@ -88,8 +96,19 @@ class CorrelationTracker {
   void Features(const cv::Mat& patch, std::vector<cv::Mat>& channels) const;
   cv::Mat Resampled(const cv::Mat& grey, cv::Point2d centre, cv::Size2d size, cv::Size out) const;
   void TranslationSpectra(const cv::Mat& grey, cv::Point2d centre, const cv::Mat& window, std::vector<cv::Mat>& spectra) const;
-  cv::Mat ScaleSpectra(const cv::Mat& grey) const;
-  double EstimateScaleChange(const cv::Mat& grey) const;
+  // A one-dimensional size filter (DSST's scale filter): over the scales, or over the aspect
+  // ratio at a constant area.
+  enum class SizeAxis { kScale, kAspect };
+  struct SizeFilter {
+    int samples = 0;                // sizes tried per frame
+    std::vector<double> factors;    // step^k, k = -(samples-1)/2 .. (samples-1)/2
+    std::vector<float> window;      // Hann window over the samples
+    cv::Mat label_spectrum;         // Gaussian label over the samples, transformed
+    cv::Mat numerator, denominator;
+    void Setup(int count, double step);
+  };
+  cv::Mat SizeSpectra(const cv::Mat& grey, SizeAxis axis) const;
+  double EstimateSizeChange(const cv::Mat& grey, SizeAxis axis) const;
   cv::Size2d TargetSize() const;
   Found Detect(const cv::Mat& grey, const cv::Mat& bgr, cv::Point2d centre) const;
   struct ColourRegions {
@@ -113,7 +132,8 @@ class CorrelationTracker {
   cv::Point2d centre_;       // target centre now [px]
   cv::Point2d last_sure_;    // where the target was last seen for sure
   cv::Size2d start_size_;    // the selection's size [px]
-  double scale_ = 1.0;       // target size = start_size_ x scale_
+  double scale_ = 1.0;       // target size = start_size_ x scale_, its width x aspect_, height / aspect_
+  double aspect_ = 1.0;
   double min_scale_ = 0.1, max_scale_ = 10.0;
   double template_ratio_ = 1.0;  // image pixels per template pixel at scale 1
   cv::Size template_, cells_;
@@ -121,9 +141,7 @@ class CorrelationTracker {
   std::vector<cv::Mat> numerator_;  // per channel, complex
   cv::Mat denominator_;             // real
   cv::Size scale_model_;
-  std::vector<double> scale_factors_;
-  std::vector<float> scale_window_;
-  cv::Mat scale_label_spectrum_, scale_numerator_, scale_denominator_;
+  SizeFilter size_filters_[2];  // by SizeAxis
   std::vector<float> foreground_, background_;  // colour histograms, normalised
   std::vector<float> target_probability_;       // per colour bin: P(target | colour)
   std::vector<float> memory_probability_;       // per hue bin: the selection's, kept (Start)
