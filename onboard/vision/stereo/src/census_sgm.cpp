@@ -21,7 +21,11 @@
 namespace uav::vision::detail {
 namespace {
 
+#if defined(__x86_64__)
 #define UAV_SGM_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define UAV_SGM_CLONES  // elsewhere (an ARM flight computer) the compiler's own vector width
+#endif
 #define UAV_SGM_INLINE static inline __attribute__((always_inline))
 
 typedef uint16_t V16 __attribute__((vector_size(32)));  // 16 disparities at once
@@ -88,18 +92,22 @@ UAV_SGM_CLONES void Census(const cv::Mat& image, cv::Mat& out) {
     for (int d = 0; d < n; ++d) c[d] = static_cast<uint16_t>(__builtin_popcountll(l ^ r[d])); \
     for (int d = n; d < D; ++d) c[d] = kNoPartner;                                            \
   }
+#if defined(__x86_64__)
 __attribute__((target("avx512f,avx512bw,avx512vl,avx512vpopcntdq,avx2,popcnt"))) void RowCostVectorPopcount(
     const uint64_t* left, const uint64_t* right_reversed, int W, int D, uint16_t* C) {
   UAV_SGM_ROW_COST
 }
+#endif
 UAV_SGM_CLONES void RowCostScalarPopcount(const uint64_t* left, const uint64_t* right_reversed, int W, int D, uint16_t* C) {
   UAV_SGM_ROW_COST
 }
 using RowCostFn = void (*)(const uint64_t*, const uint64_t*, int, int, uint16_t*);
 RowCostFn PickRowCost() {
+#if defined(__x86_64__)
   __builtin_cpu_init();
-  return __builtin_cpu_supports("avx512vpopcntdq") && __builtin_cpu_supports("avx512bw") ? RowCostVectorPopcount
-                                                                                         : RowCostScalarPopcount;
+  if (__builtin_cpu_supports("avx512vpopcntdq") && __builtin_cpu_supports("avx512bw")) return RowCostVectorPopcount;
+#endif
+  return RowCostScalarPopcount;
 }
 
 // One step along a path (Hirschmueller's Eq. 13): L(p, d) = C(p, d) + min(L(p-r, d),
