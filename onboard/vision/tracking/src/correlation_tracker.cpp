@@ -667,8 +667,10 @@ CorrelationDetection CorrelationTracker::Update(const cv::Mat& bgr, bool search_
     follow(colour_level_, found.colour);
     ++sure_frames_;
     scale_ = std::clamp(scale_ * EstimateSizeChange(grey, SizeAxis::kScale), min_scale_, max_scale_);
-    aspect_ = std::clamp(aspect_ * EstimateSizeChange(grey, SizeAxis::kAspect), 1.0 / p_.max_aspect_change,
-                         p_.max_aspect_change);
+    // Each side stays at least 4 px (the scale's own limit) whatever the aspect.
+    const double lowest = std::max(1.0 / p_.max_aspect_change, 4.0 / (start_size_.width * scale_));
+    const double highest = std::max(lowest, std::min(p_.max_aspect_change, start_size_.height * scale_ / 4.0));
+    aspect_ = std::clamp(aspect_ * EstimateSizeChange(grey, SizeAxis::kAspect), lowest, highest);
     Learn(grey, p_.learning_rate, p_.scale_learning_rate);
     LearnColour(bgr, p_.colour_learning_rate);
   }
