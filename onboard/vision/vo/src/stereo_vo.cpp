@@ -157,6 +157,17 @@ class RigidResiduals : public PoseResiduals {
 // current left image (u, v) and, where the current pair matched them, into the right one (u; the
 // row is the same after rectification). The right camera's column pins the depth along the motion
 // that a single image leaves free to trade against a rotation.
+// One point's stereo reprojection errors (Eq. 5.21 in both cameras): c is the point in the
+// current left camera; the right column sits the disparity offset to the right of the true one
+// (true disparity = measured + offset).
+void AppendStereoErrors(const Eigen::Vector3d& c, const Match& m, double f, double cx, double cy, double b, double offset,
+                        std::vector<double>& e) {
+  const double z = std::max(c.z(), 1e-3);
+  e.push_back(f * c.x() / z + cx - m.px_C.x);
+  e.push_back(f * c.y() / z + cy - m.px_C.y);
+  if (m.u_R) e.push_back(f * (c.x() - b) / z + cx + offset - *m.u_R);
+}
+
 class StereoReprojection : public PoseResiduals {
  public:
   StereoReprojection(const std::vector<Match>& m, const std::vector<int>& in, double f, double cx, double cy, double b,
@@ -167,15 +178,7 @@ class StereoReprojection : public PoseResiduals {
   std::vector<double> Errors(const Eigen::Isometry3d& T) const override {
     std::vector<double> e;
     e.reserve(3 * in_.size());
-    for (int i : in_) {
-      const Match& m = m_[i];
-      const Eigen::Vector3d c = T * m.p_K;
-      const double z = std::max(c.z(), 1e-3);
-      e.push_back(f_ * c.x() / z + cx_ - m.px_C.x);
-      e.push_back(f_ * c.y() / z + cy_ - m.px_C.y);
-      // The matched column sits the offset to the right of the true one (disparity = measured + offset).
-      if (m.u_R) e.push_back(f_ * (c.x() - b_) / z + cx_ + offset_ - *m.u_R);
-    }
+    for (int i : in_) AppendStereoErrors(T * m_[i].p_K, m_[i], f_, cx_, cy_, b_, offset_, e);
     return e;
   }
   const std::vector<Match>& m_;
@@ -582,14 +585,10 @@ struct StereoVo::Impl {
       const Eigen::Isometry3d T = PoseOf(pose);
       std::vector<double> e;
       e.reserve(3 * in.size() + 3);
-      for (int i : in) {
-        const Match& q = m[i];
-        const Eigen::Vector3d c = T * Triangulated(g, q.px_K.x, q.px_K.y, q.disparity_K, x(6));
-        const double z = std::max(c.z(), 1e-3);
-        e.push_back(g.f_px * c.x() / z + g.cx - q.px_C.x);
-        e.push_back(g.f_px * c.y() / z + g.cy - q.px_C.y);
-        if (q.u_R) e.push_back(g.f_px * (c.x() - g.baseline_m) / z + g.cx + x(6) - *q.u_R);
-      }
+      // The keyframe's points re-triangulated with the offset being solved for.
+      for (int i : in)
+        AppendStereoErrors(T * Triangulated(g, m[i].px_K.x, m[i].px_K.y, m[i].disparity_K, x(6)), m[i], g.f_px, g.cx, g.cy,
+                           g.baseline_m, x(6), e);
       if (imu) {
         const Eigen::Vector3d r = p.track_sigma_px * imu->weight * FromPrior(T.linear(), *imu);
         e.insert(e.end(), {r.x(), r.y(), r.z()});
