@@ -1,5 +1,5 @@
 // Power-line speed at 640x480 on rendered views of the village's power line: the image detector
-// (thin filter, Sobel, LSD, grouping, fits), and detection plus ranging in 3-D on a stereo pair
+// (thin filter, Sobel, EDLines or LSD, grouping, fits), and detection plus ranging in 3-D on a stereo pair
 // (rectification of both images, the right image's thin filter, the oriented window search).
 // Target: the stereo pair's rate, 15 pairs/s (67 ms) on this 2-core machine.
 #include <benchmark/benchmark.h>
@@ -21,15 +21,19 @@ cv::Mat VillageView() {
   return uav::world::Renderer(scene, cam).Render(T_NC, 1'000'000).image;
 }
 
+// Arg 0: EDLines pieces (the detector's default), 1: LSD's (the vehicle's, pwl_segments 0).
 void BM_PowerLines(benchmark::State& state) {
   const cv::Mat image = VillageView();
-  const uav::vision::PowerLineDetector detector;
+  uav::vision::PowerLineParams params;
+  params.segments = state.range(0) == 0 ? uav::vision::PowerLineParams::Segments::kEdLines
+                                        : uav::vision::PowerLineParams::Segments::kLsd;
+  const uav::vision::PowerLineDetector detector(params);
   std::size_t wires = 0;
   for (auto _ : state) wires = detector.Detect(image).size();
   state.counters["wires"] = static_cast<double>(wires);
   state.counters["frames_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_PowerLines)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PowerLines)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // The scene's rig (rolled 45 degrees), facing the line across it from 15 m.
 void BM_PowerLinesStereo(benchmark::State& state) {

@@ -39,6 +39,8 @@ StereoWorkerParams StereoWorkerParams::FromParameters(const ParameterSet& p) {
   s.ranging.min_range_m = p.Get("pwl_min_range");
   s.ranging.max_range_m = p.Get("pwl_max_range");
   s.ranging.Validate();
+  s.detection.segments =
+      p.Get("pwl_segments") != 0.0 ? vision::PowerLineParams::Segments::kEdLines : vision::PowerLineParams::Segments::kLsd;
   static constexpr vision::MatcherKind kMatchers[] = {vision::MatcherKind::kBlockMatching, vision::MatcherKind::kSemiGlobal,
                                                       vision::MatcherKind::kCensusSemiGlobal};
   s.obstacles.disparity.matcher = kMatchers[static_cast<int>(p.Get("obs_matcher"))];
@@ -62,7 +64,7 @@ StereoWorker::StereoWorker(hal::StereoCamera& camera, Blackboard& board, const S
       preview_(camera.left().name, camera.left().preview_rate_hz) {
   if (!params.detect_obstacles && !params.power_lines)
     throw std::invalid_argument("a stereo worker with neither obstacles nor wires to detect");
-  if (params.power_lines) power_lines_.emplace(RigOf(camera), vision::PowerLineParams(), params.ranging);
+  if (params.power_lines) power_lines_.emplace(RigOf(camera), params.detection, params.ranging);
 }
 
 void StereoWorker::ApplyParameters(const ParameterSet& params) {

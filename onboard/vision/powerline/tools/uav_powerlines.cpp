@@ -1,5 +1,5 @@
-// uav-powerlines IMAGE|FOLDER... [--out DIR] [--truth DIR] [--overlay DIR] [--mode any|horizontal]: the power-line
-// detector on photos. With --out, for each image: DIR/<name>_lines.png (the input's size, 255 on
+// uav-powerlines IMAGE|FOLDER... [--out DIR] [--truth DIR] [--overlay DIR] [--mode any|horizontal]
+// [--segments edlines|lsd]: the power-line detector on photos. With --out, for each image: DIR/<name>_lines.png (the input's size, 255 on
 // the wires drawn 2 px wide, 0 elsewhere) and DIR/<name>.json (each wire's quadratic, frame,
 // end points and width). With --truth, each image is scored against TRUTH/<name>.png (non-zero
 // on a wire) the way power-line benchmarks score boundaries: a pixel matches within 0.0075 of the
@@ -80,7 +80,7 @@ cv::Mat TruthMask(const std::string& truth_dir, const std::string& image_path, c
 int main(int argc, char** argv) {
   CLI::App cli{"uav-powerlines: power-line detection in photos (thesis 3.6)"};
   std::vector<std::string> inputs;
-  std::string out_dir, truth_dir, overlay_dir, mode = "any";
+  std::string out_dir, truth_dir, overlay_dir, mode = "any", segments = "edlines";
   cli.add_option("images", inputs, "input images (JPEG, PNG, ...) or folders of them")->required();
   cli.add_option("--out", out_dir, "output directory for masks and wire files (created if missing)");
   cli.add_option("--truth", truth_dir, "folder of ground-truth masks <name>.png: score precision, recall and F1")
@@ -88,6 +88,9 @@ int main(int argc, char** argv) {
   cli.add_option("--overlay", overlay_dir, "write each image with its wires drawn (red; the truth in green)");
   cli.add_option("--mode", mode, "any: wires at any angle; horizontal: the thesis's forward-camera mode")
       ->check(CLI::IsMember({"any", "horizontal"}))
+      ->capture_default_str();
+  cli.add_option("--segments", segments, "straight pieces of the edge map by EDLines or by OpenCV's LSD (the vehicle's pwl_segments)")
+      ->check(CLI::IsMember({"edlines", "lsd"}))
       ->capture_default_str();
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
@@ -109,6 +112,8 @@ int main(int argc, char** argv) {
   uav::vision::PowerLineParams params;
   params.mode = mode == "horizontal" ? uav::vision::PowerLineParams::Mode::kHorizontal
                                      : uav::vision::PowerLineParams::Mode::kAny;
+  params.segments = segments == "lsd" ? uav::vision::PowerLineParams::Segments::kLsd
+                                      : uav::vision::PowerLineParams::Segments::kEdLines;
   const uav::vision::PowerLineDetector detector(params);
   for (const std::string& dir : {out_dir, overlay_dir}) {
     if (dir.empty()) continue;
@@ -179,6 +184,7 @@ int main(int argc, char** argv) {
   }
   progress.Finish(images.size());
   nlohmann::json report;
+  report["segments"] = segments;
   report["images"] = images.size();
   report["processed"] = processed;
   report["not_processed"] = failed;

@@ -1,7 +1,7 @@
 #pragma once
 // Power lines in one image (thesis 3.6): a thickness filter keeps only structures thinner than a
 // wire can be, Sobel gradients of what is left (Eq. 3.28-3.30) with an inverse threshold give an
-// edge map, the line segment detector (LSD) finds straight pieces in it, short pieces are
+// edge map, a line segment detector (EDLines, or LSD) finds straight pieces in it, short pieces are
 // removed, pieces that continue one another are grouped into wires, and each wire is fitted
 // with a least-squares quadratic (Eq. 3.31-3.40) in its own frame, so wires at any angle work
 // (a downward or tilted camera sees them so); the thesis's forward-camera mode, near-horizontal
@@ -24,8 +24,12 @@ struct PowerLineParams {
   double max_wire_width_px = 4.0;     // thickness filter: thinner structures pass ...
   int pyramid_levels = 2;             // ... at full resolution, twice as wide at each coarser level
   double edge_threshold = 7.0;        // [grey levels] weakest thin-structure edge kept (inverse threshold)
+  // The straight pieces of the edge map: EDLines, or OpenCV's LSD (3.5 times slower on foliage;
+  // the vehicle's default until the avoidance tables are measured with EDLines: pwl_segments).
+  enum class Segments { kEdLines, kLsd };
+  Segments segments = Segments::kEdLines;
   double lsd_density = 0.4;           // LSD: share of aligned pixels in a segment's rectangle (OpenCV: 0.7)
-  double min_segment_fraction = 0.03;  // of the image diagonal: shorter LSD pieces are dropped
+  double min_segment_fraction = 0.03;  // of the image diagonal: shorter pieces are dropped
   double horizontal_max_angle_deg = 30.0;  // horizontal mode: steeper pieces are dropped
   double group_angle_deg = 5.0;       // pieces of one wire differ in direction by less ...
   double group_offset_px = 2.0;       // ... lie within this of each other's line ...
@@ -37,7 +41,7 @@ struct PowerLineParams {
   // Second search, for faint wires over texture whose ridge breaks into pieces too short for the
   // first: the thin-structure response at half resolution, averaged along straight lines in
   // `line_orientations` directions, less the mean of the parallel lines `line_flank_px` either
-  // side; LSD and the same grouping, fit and tests run on the strongest direction's response.
+  // side; the same segments, grouping, fit and tests run on the strongest direction's response.
   int line_orientations = 24;         // 0: no second search
   double line_length_px = 22.0;       // [px] length of the averaging line
   double line_flank_px = 4.0;         // [px] distance of the subtracted parallel lines
@@ -55,7 +59,7 @@ struct WireCurve {
   double u_min = 0.0, u_max = 0.0;
   double rms_px = 0.0;        // residual of the fit over its supporting pieces
   double support = 0.0;       // share of [u_min, u_max] covered by pieces
-  int segments = 0;           // LSD pieces grouped into it
+  int segments = 0;           // straight pieces grouped into it
   double width_px = 0.0;      // between its flanks (0 when only one flank was found)
   Eigen::Vector2d PointAt(double u) const;  // image pixel at u
   Eigen::Vector2d NormalAt(double u) const;  // unit normal of the curve at u (the tangent turned +90 degrees)
