@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include <Eigen/Dense>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ximgproc/edge_drawing.hpp>
 
@@ -381,16 +382,18 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
   // camera is wider. Each coarser pyramid level doubles the width that passes, and its pieces,
   // scaled back, join the finer levels' in the grouping.
   const cv::Mat thin = ThinStructureResponse(gray, P.max_wire_width_px);
-  std::vector<cv::Vec4f> raw = ThinStructureSegments(thin, P);
-  cv::Mat level = gray;
-  for (int l = 1; l < P.pyramid_levels; ++l) {
-    cv::pyrDown(level, level);
-    const float scale = static_cast<float>(1 << l);
-    for (const cv::Vec4f& r : ThinStructureSegments(ThinStructureResponse(level, P.max_wire_width_px), P))
-      raw.push_back(r * scale);
-  }
-  std::vector<WireCurve> wires = WiresOfPieces(raw, gray, P);
-  if (P.line_orientations > 0) {
+  // The full-resolution pieces, and the coarser levels' with the second search's, are found at
+  // once on two threads (OpenCV's pool; the same result on one): each is half of the work.
+  std::vector<cv::Vec4f> raw, coarser, faint;
+  const auto coarser_and_faint_pieces = [&] {
+    cv::Mat level = gray;
+    for (int l = 1; l < P.pyramid_levels; ++l) {
+      cv::pyrDown(level, level);
+      const float scale = static_cast<float>(1 << l);
+      for (const cv::Vec4f& r : ThinStructureSegments(ThinStructureResponse(level, P.max_wire_width_px), P))
+        coarser.push_back(r * scale);
+    }
+    if (P.line_orientations == 0) return;
     // The second search, for the wires whose ridge the texture around them broke into pieces
     // too short to keep. At half resolution (max-pooled, so a wire a pixel wide keeps its
     // strength), four times cheaper; averaged along a line of n pixels, texture's spread falls by
@@ -401,11 +404,19 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
     cv::resize(pooled, half, cv::Size(thin.cols / 2, thin.rows / 2), 0, 0, cv::INTER_NEAREST);
     const int length = 2 * static_cast<int>(P.line_length_px / 4.0) + 1;  // half resolution, odd
     const int flank = std::max(1, static_cast<int>(std::lround(P.line_flank_px / 2.0)));
-    std::vector<cv::Vec4f> pieces =
-        ThinStructureSegments(OrientedLineResponse(half, P.line_orientations, length, flank), P, 2.0);
-    for (cv::Vec4f& r : pieces) r = 2.0f * r + cv::Vec4f::all(0.5f);  // half-resolution pixel centres
-    for (const WireCurve& w : WiresOfPieces(pieces, gray, P)) wires.push_back(OnTheRidge(thin, w));
-  }
+    faint = ThinStructureSegments(OrientedLineResponse(half, P.line_orientations, length, flank), P, 2.0);
+    for (cv::Vec4f& r : faint) r = 2.0f * r + cv::Vec4f::all(0.5f);  // half-resolution pixel centres
+  };
+  cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& tasks) {
+    for (int task = tasks.start; task < tasks.end; ++task) {
+      if (task == 0) raw = ThinStructureSegments(thin, P);
+      else coarser_and_faint_pieces();
+    }
+  });
+  raw.insert(raw.end(), coarser.begin(), coarser.end());
+  std::vector<WireCurve> wires = WiresOfPieces(raw, gray, P);
+  if (!faint.empty())
+    for (const WireCurve& w : WiresOfPieces(faint, gray, P)) wires.push_back(OnTheRidge(thin, w));
   // One curve per wire, longest first: a curve lying along a longer one (its other flank, the same
   // wire found again on the coarser pyramid level or by the second search) is that wire.
   std::sort(wires.begin(), wires.end(),
