@@ -42,7 +42,7 @@ install(CODE "
 " COMPONENT onboard)
 
 install(TARGETS uav-survey uav-avoid-bench uav-ulion-bench uav-render uav-sysid uav-vo uav-vo-eval uav-active-stereo
-                uav-powerlines uav-monodepth uav-stereo uav-stereo-error uav-stereo-calibrate uav-track uav-stitch
+                uav-powerlines uav-powerlines-train uav-monodepth uav-stereo uav-stereo-error uav-stereo-calibrate uav-track uav-stitch
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)
 install(PROGRAMS ${CMAKE_BINARY_DIR}/bin/uav-demo DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)
 

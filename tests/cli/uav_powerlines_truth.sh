@@ -23,18 +23,18 @@ t = r["truth"]
 ours, lsd = t["ours"], t["lsd_baseline"]
 print(f"{segments}: ours F1 {ours['f1']:.2f} (P {ours['precision']:.3f} R {ours['recall']:.3f}), LSD-only F1 {lsd['f1']:.2f}")
 assert r["processed"] == 50 and r["segments"] == segments, r
-assert abs(ours["f1"] - {"edlines": 98.07, "lsd": 98.48}[segments]) < 0.3, ours
+assert abs(ours["f1"] - {"edlines": 98.40, "lsd": 98.61}[segments]) < 0.3, ours
 assert abs(lsd["f1"] - 93.38) < 0.3, lsd
 assert ours["f1"] > lsd["f1"] + 4.5
 # Each photo's own figures, to find the hard ones: one entry per photo, and the ones that score
-# under F1 90 (two wires a few pixels apart over forest; a faint wire over a hillside; with
-# EDLines, two faint wires over a field in part) are the ones the documentation names.
+# under F1 90 (two wires a few pixels apart over forest; a faint wire over a hillside) are the
+# ones the documentation names.
 per = t["per_image"]
 assert len(per) == 50 and len({p["image"] for p in per}) == 50, len(per)
 assert all(0 <= p["precision"] <= 1 and 0 <= p["recall"] <= 1 for p in per)
 worst = sorted(p["image"] for p in per if p["f1"] < 90)
 print("photos under F1 90:", worst)
-assert worst == {"edlines": ["12.jpg", "195.jpg", "221.jpg"], "lsd": ["12.jpg", "195.jpg"]}[segments], worst
+assert worst == ["12.jpg", "195.jpg"], worst
 PY
 # Photos without wires (a building's facade, a butterfly, fruit, a face, paintings, aerial
 # photos, graffiti, a fish, a board): false wires per image, at most what was measured.
@@ -46,17 +46,20 @@ python3 - "$work/none.json" $segments <<'PY' || fail "more false wires than meas
 import json, sys
 r = json.load(open(sys.argv[1]))
 print(f"photos without wires: {r['wires']} false wires on {r['processed']} photos ({r['wires_per_image']:.2f} per photo)")
-assert r["processed"] == 17 and r["wires"] <= {"edlines": 35, "lsd": 45}[sys.argv[2]]
+assert r["processed"] == 17 and r["wires"] <= {"edlines": 20, "lsd": 18}[sys.argv[2]]
 PY
 done
-# The urban photos (roofs, roads, facades under the wires), with EDLines.
+# The urban photos (roofs, roads, facades under the wires), with EDLines. The learned verifier was
+# trained on these photos and the mountain ones, so both figures here are on its training data;
+# cli.uav_powerlines_train holds the cross-validated ones, and the photos without wires above
+# were never seen in training.
 urban=$2/powerlines_real_urban
 "$bin/uav-powerlines" "$urban/images" --truth "$urban/truth" > "$work/urban.json" 2> /dev/null || fail "the urban photos were not all processed"
 python3 - "$work/urban.json" <<'PY' || fail "urban scores moved"
 import json, sys
 t = json.load(open(sys.argv[1]))["truth"]
 print(f"urban: ours F1 {t['ours']['f1']:.2f}, LSD-only F1 {t['lsd_baseline']['f1']:.2f}")
-assert abs(t["ours"]["f1"] - 83.77) < 0.3 and t["ours"]["f1"] > t["lsd_baseline"]["f1"] + 5.0, t
+assert abs(t["ours"]["f1"] - 89.01) < 0.3 and t["ours"]["f1"] > t["lsd_baseline"]["f1"] + 5.0, t
 PY
 # A truth folder without the image's mask: named, nothing scored for it, exit 1.
 mkdir "$work/empty_truth"

@@ -95,6 +95,7 @@ Result Evaluate(const View& v, Segments segments = Segments::kEdLines, PowerLine
   PowerLineParams params;
   params.mode = mode;
   params.segments = segments;
+  if (segments == Segments::kLsd) params.min_wire_probability = 0.0;  // the vehicle's: LSD's pieces, no learned check
   const auto wires = PowerLineDetector(params).Detect(f.image);
   const cv::Mat ours = DrawWireMask(f.image.size(), wires, 2);
   const cv::Mat lsd = DrawSegmentMask(f.image.size(), LsdSegments(f.image), 2);
@@ -107,7 +108,7 @@ Result Evaluate(const View& v, Segments segments = Segments::kEdLines, PowerLine
     r.found_within_30m += ScoreMasks(ours, truth.wires[i], 3.0).recall > 0.5;
   }
   std::printf("%-8s %-22s %-24s ours P %.3f R %.3f F1 %.3f | LSD-only P %.3f R %.3f F1 %.3f | wires <= 30 m found %d/%d (%zu detected)\n",
-              segments == Segments::kLsd ? "LSD" : "EDLines", v.scene, v.name, r.ours.precision, r.ours.recall, r.ours.f1, r.lsd.precision, r.lsd.recall, r.lsd.f1,
+              segments == Segments::kLsd ? "vehicle" : "default", v.scene, v.name, r.ours.precision, r.ours.recall, r.ours.f1, r.lsd.precision, r.lsd.recall, r.lsd.f1,
               r.found_within_30m, r.wires_within_30m, wires.size());
   if (const char* dir = std::getenv("UAV_POWERLINE_PICTURES")) {
     cv::Mat shown = f.image.clone();
@@ -130,7 +131,8 @@ const View kViews[] = {
     {"power_lines_village", "tilted_down_above", {12, 0, -16}, 0, -40},
 };
 
-// Both segment detectors: EDLines (the detector's default) and LSD (the vehicle's, pwl_segments 0).
+// Both configurations: the detector's default (EDLines' pieces and the learned check) and the
+// vehicle's (LSD's pieces, no check: pwl_segments 0, pwl_verify 0).
 class PowerLineAccuracy : public ::testing::TestWithParam<std::tuple<View, Segments>> {};
 
 TEST_P(PowerLineAccuracy, FindsEveryNearWireAndBeatsLsdAlone) {
@@ -151,13 +153,15 @@ INSTANTIATE_TEST_SUITE_P(Scenes, PowerLineAccuracy, ::testing::Combine(::testing
 // span 30 % of the diagonal, where 15 % let through 3.6 times as many false wires on photos
 // without wires). At 20 m the far wires, broken where they cross one another and the trees, are
 // rendered as fragments shorter than that, and a thin strip along a field boundary is taken for a
-// wire (before: F1 1.000 and 0.935). LSD's pieces lose more of them than EDLines' (F1 0.683 and
-// 0.933 against 0.886 and 0.983). Pinned at today's values so that they can only get better.
+// wire (before: F1 1.000 and 0.935). The vehicle's configuration (LSD's pieces, no learned check)
+// loses more of them than the default (F1 0.683 and 0.933 against 0.990 and 0.964; EDLines'
+// pieces without the check: 0.886 and 0.983). Pinned at today's values so that they can only get
+// better.
 TEST(PowerLineAccuracyRegressed, ForwardAtTwentyMetres) {
   const View open_view{"power_lines", "forward_20m", {0, 15, -6}, 10, 8};
   const View village_view{"power_lines_village", "forward_20m", {0, 15, -6}, 10, 8};
   for (const auto& [segments, open_f1, village_f1] :
-       {std::tuple{Segments::kEdLines, 0.86, 0.95}, std::tuple{Segments::kLsd, 0.66, 0.83}}) {
+       {std::tuple{Segments::kEdLines, 0.95, 0.95}, std::tuple{Segments::kLsd, 0.66, 0.83}}) {
     const Result open = Evaluate(open_view, segments);
     EXPECT_EQ(open.found_within_30m, open.wires_within_30m);
     EXPECT_GT(open.ours.f1, open_f1);
@@ -173,15 +177,16 @@ TEST(PowerLineAccuracyRegressed, ForwardAtTwentyMetres) {
 // The background test (different surfaces either side of a wire are a boundary, not a wire)
 // drops wires with near and far fields either side. The village's three wires, strung 2-3 px
 // apart, are one bundle whose six flanks spread 2.6 px about their mean offset, over the flank
-// model's 2 px: EDLines finds none of them, LSD (whose density of 0.4 returns chords across the
-// bundle) finds 3 of 6. In the open fields EDLines finds 3 of 6, LSD 2. Pinned at today's values
-// so that they can only get better.
+// model's 2 px: EDLines' pieces (the default) find none of them, LSD's (the vehicle's; at a
+// density of 0.4 LSD returns chords across the bundle) 3 of 6. In the open fields the default
+// finds 3 of 6 (F1 0.682, 0.574 without the learned check), the vehicle's 2. Pinned at today's
+// values so that they can only get better.
 TEST(PowerLineAccuracyKnownHard, ObliqueWiresAcrossTheFields) {
   const View open_view{"power_lines", "oblique_15m", {8, -30, -9}, 40, 5};
   const View village_view{"power_lines_village", "oblique_15m", {8, -30, -9}, 40, 5};
   const Result open_edlines = Evaluate(open_view, Segments::kEdLines);
   EXPECT_GE(open_edlines.found_within_30m, 3);
-  EXPECT_GT(open_edlines.ours.f1, 0.55);
+  EXPECT_GT(open_edlines.ours.f1, 0.65);
   const Result open_lsd = Evaluate(open_view, Segments::kLsd);
   EXPECT_GE(open_lsd.found_within_30m, 2);
   const Result village_lsd = Evaluate(village_view, Segments::kLsd);

@@ -41,6 +41,7 @@ StereoWorkerParams StereoWorkerParams::FromParameters(const ParameterSet& p) {
   s.ranging.Validate();
   s.detection.segments =
       p.Get("pwl_segments") != 0.0 ? vision::PowerLineParams::Segments::kEdLines : vision::PowerLineParams::Segments::kLsd;
+  if (p.Get("pwl_verify") == 0.0) s.detection.min_wire_probability = 0.0;
   static constexpr vision::MatcherKind kMatchers[] = {vision::MatcherKind::kBlockMatching, vision::MatcherKind::kSemiGlobal,
                                                       vision::MatcherKind::kCensusSemiGlobal};
   s.obstacles.disparity.matcher = kMatchers[static_cast<int>(p.Get("obs_matcher"))];

@@ -1,5 +1,7 @@
 #include "uav/vision/power_line_detector.hpp"
 
+#include "wire_verifier.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -192,6 +194,7 @@ void PowerLineParams::Validate() const {
   check(line_orientations >= 0 && line_orientations <= 180, "line_orientations (0..180)");
   check(line_length_px >= 4 && line_length_px <= 200, "line_length_px (4..200)");
   check(line_flank_px >= 2 && line_flank_px <= 50, "line_flank_px (2..50)");
+  check(min_wire_probability >= 0 && min_wire_probability <= 1, "min_wire_probability (0..1)");
 }
 
 Eigen::Vector2d WireCurve::PointAt(double u) const {
@@ -437,7 +440,16 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
     };
     if (std::none_of(kept.begin(), kept.end(), along_kept)) kept.push_back(w);
   }
-  return kept;
+  if (P.min_wire_probability <= 0.0) return kept;
+  // The learned check: paving joints, kerbs, window mullions and brush strokes pass every test
+  // above; the verifier, trained on what the tests let through on real photos, drops most of them.
+  const detail::WireVerifier& verifier = detail::WireVerifier::Embedded();
+  std::vector<WireCurve> verified;
+  for (WireCurve& w : kept) {
+    w.probability = verifier.Probability(detail::MeasureWire(gray, thin, w));
+    if (w.probability >= P.min_wire_probability) verified.push_back(w);
+  }
+  return verified;
 }
 
 cv::Mat OrientedLineResponse(const cv::Mat& thin, int orientations, int length_px, int flank_px) {

@@ -50,6 +50,7 @@ std::string Json(const std::vector<uav::vision::WireCurve>& wires, const cv::Mat
         {"support", w.support},
         {"segments", w.segments},
         {"width_px", w.width_px},
+        {"probability", w.probability},
     });
   }
   return j.dump(2) + "\n";

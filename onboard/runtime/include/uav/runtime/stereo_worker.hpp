@@ -29,7 +29,7 @@ struct StereoWorkerParams {
   bool detect_obstacles = true;
   bool power_lines = true;             // pwl_enable
   vision::WireRangingParams ranging;   // pwl_min_range, pwl_max_range
-  vision::PowerLineParams detection;   // pwl_segments
+  vision::PowerLineParams detection;   // pwl_segments, pwl_verify
   vision::ObstacleParams obstacles;    // obs_matcher, obs_max_sigma, obs_margin, obs_min_voxels
   double cloud_rate_hz = 1.0;          // obs_cloud_rate
   bool to_map = false;                 // avd_enable: every pair's points, obstacles and wires go to the 3-D map

@@ -43,6 +43,9 @@ struct PowerLineParams {
   // `line_orientations` directions, less the mean of the parallel lines `line_flank_px` either
   // side; the same segments, grouping, fit and tests run on the strongest direction's response.
   int line_orientations = 24;         // 0: no second search
+  // The learned check (wire_verifier.hpp): curves the verifier gives a lower probability of being
+  // a wire are dropped. 0: no check.
+  double min_wire_probability = 0.6;
   double line_length_px = 22.0;       // [px] length of the averaging line
   double line_flank_px = 4.0;         // [px] distance of the subtracted parallel lines
 
@@ -61,6 +64,7 @@ struct WireCurve {
   double support = 0.0;       // share of [u_min, u_max] covered by pieces
   int segments = 0;           // straight pieces grouped into it
   double width_px = 0.0;      // between its flanks (0 when only one flank was found)
+  double probability = 1.0;   // the learned verifier's that it is a wire (1 when it did not run)
   Eigen::Vector2d PointAt(double u) const;  // image pixel at u
   Eigen::Vector2d NormalAt(double u) const;  // unit normal of the curve at u (the tangent turned +90 degrees)
   std::vector<Eigen::Vector2d> Sample(double step_px) const;  // from u_min to u_max
