@@ -250,7 +250,7 @@ const ParameterSchema& VehicleParameterSchema() {
     {"pwl_min_range", "m", 1.5, 0.5, 20, "nearest wire searched for (largest disparity)", kStart},
     {"pwl_max_range", "m", 60, 5, 500, "farthest wire ranged (smallest disparity)", kStart},
     {"pwl_segments", "-", 0, 0, 1, "straight pieces of the wires' edge map by 0: LSD, 1: EDLines (a fifth of LSD's time over foliage; the avoidance tables were measured with LSD)", kStart},
-    {"pwl_verify", "-", 0, 0, 1, "drop the curves the learned verifier, trained on real photos, gives under 0.6 of being a wire (the avoidance tables were measured without it)", kStart},
+    {"pwl_verify", "-", 0, 0, 1, "drop the curves the learned verifier, trained on real photos, gives under 0.7 of being a wire (the avoidance tables were measured without it)", kStart},
     {"pwl_rig", "-", -1, -1, 7, "stereo rig (the scene's, from 0) for wires alone, beside obs_rig: a pair rolled about its axis ranges the level wires a level pair cannot; -1: wires on obs_rig", kStart},
 
     // --- Stereo obstacles (STEREO thread, thesis 3.2, 3.5) ---

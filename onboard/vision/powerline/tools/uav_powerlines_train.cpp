@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> sets;
   std::string out;
   int trees = 30, depth = 4, folds = 5;
-  double min_probability = 0.6;
+  double min_probability = 0.7;
   cli.add_option("sets", sets, "folders, each with images/ and truth/<name>.png")->required()->check(CLI::ExistingDirectory);
   cli.add_option("--out", out, "model file to write (OpenCV YAML)")->required();
   cli.add_option("--trees", trees, "trees in the forest")->check(CLI::Range(1, 1000))->capture_default_str();

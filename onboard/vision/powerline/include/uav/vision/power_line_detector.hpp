@@ -45,7 +45,7 @@ struct PowerLineParams {
   int line_orientations = 24;         // 0: no second search
   // The learned check (wire_verifier.hpp): curves the verifier gives a lower probability of being
   // a wire are dropped. 0: no check.
-  double min_wire_probability = 0.6;
+  double min_wire_probability = 0.7;
   double line_length_px = 22.0;       // [px] length of the averaging line
   double line_flank_px = 4.0;         // [px] distance of the subtracted parallel lines
 
