@@ -4,7 +4,7 @@
 # (resources/models/wire_verifier.yml; training is deterministic), and its cross-validated figures
 # (each photo judged by a forest that did not see it) are held at the values measured when this
 # test was written: over towns F1 from 83.8 to 86.9, over mountains not lower. A set without its
-# masks is named and nothing is written. Usage: uav_powerlines_train.sh BIN_DIR DATA_DIR SOURCE_DIR
+# masks is named and nothing is written, and so is a model that cannot be written. Usage: uav_powerlines_train.sh BIN_DIR DATA_DIR SOURCE_DIR
 set -uo pipefail
 bin=$1 data=$2 src=$3
 fail() { echo "FAIL: $*"; exit 1; }
@@ -34,4 +34,9 @@ status=$?
 [ $status -eq 1 ] || fail "exit $status for a missing mask, expected 1"
 grep -q "12.png missing" "$work/err" || grep -q "12.jpg: unreadable, or its truth" "$work/err" || fail "the missing mask is not named: $(cat "$work/err")"
 [ ! -e "$work/bad.yml" ] || fail "a model was written from a set without masks"
+# A model that cannot be written: named, exit 1.
+"$bin/uav-powerlines-train" "$data/powerlines_real" --out "$work/no/such/dir/model.yml" > /dev/null 2> "$work/err"
+status=$?
+[ $status -eq 1 ] || fail "exit $status for an unwritable model, expected 1"
+grep -q "no/such/dir/model.yml" "$work/err" || fail "the unwritable model is not named: $(cat "$work/err")"
 echo "uav-powerlines-train: the shipped model and its cross-validated figures held"

@@ -210,8 +210,13 @@ int main(int argc, char** argv) {
   forest->write(fs_out);
   fs_out << "}";
   const std::string yaml = fs_out.releaseAndGetString();
-  uav::WriteFileAtomically(out, yaml);
-  uav::vision::detail::WireVerifier::FromFile(out);  // it loads as the detector will load it
+  try {
+    uav::WriteFileAtomically(out, yaml);
+    uav::vision::detail::WireVerifier::FromFile(out);  // it loads as the detector will load it
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "uav-powerlines-train: %s\n", e.what());
+    return 1;
+  }
   report["out"] = out;
   std::printf("%s\n", report.dump(2).c_str());
   return 0;
