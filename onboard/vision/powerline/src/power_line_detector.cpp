@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -125,40 +126,194 @@ bool BackgroundAlikeOnBothSides(const cv::Mat& gray, const WireCurve& w, double 
   // [px] Past the widest wire the detector passes: a wide wire found by one flank only has its
   // curve on that flank, and the wire's own grey must not count as a side.
   const double beyond = std::max(0.5 * w.width_px, widest_px) + 2.0;
-  auto grey_at = [&](const Eigen::Vector2d& p, double* value) {
-    const int u = cvRound(p.x()), v = cvRound(p.y());
-    if (u < 0 || v < 0 || u >= gray.cols || v >= gray.rows) return false;
-    *value = gray.at<uint8_t>(v, u);
-    return true;
-  };
-  auto median = [](std::vector<double> x) {
-    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
-    return x[x.size() / 2];
-  };
   std::vector<double> side_difference, contrast;
-  for (const Eigen::Vector2d& p : w.Sample(3.0)) {
-    const Eigen::Vector2d n = w.NormalAt(w.axis.dot(p - w.origin_px));
-    // Each side's level is the median over a strip 8 px wide beyond the flank, so a second wire
-    // strung beside this one, a pixel or two of the strip, does not count as a different surface.
-    std::vector<double> left_strip, right_strip;
-    for (double t = beyond; t <= beyond + 8.0; t += 1.0) {
-      double g;
-      if (grey_at(p - t * n, &g)) left_strip.push_back(g);
-      if (grey_at(p + t * n, &g)) right_strip.push_back(g);
-    }
-    if (left_strip.size() < 5 || right_strip.size() < 5) continue;
-    const double left = median(left_strip), right = median(right_strip), background = 0.5 * (left + right);
-    // The wire itself: the grey level between the flanks that stands out most from the background.
-    double c = background;
-    for (double t = -0.5 * w.width_px - 1.0; t <= 0.5 * w.width_px + 1.0; t += 0.5) {
-      double g;
-      if (grey_at(p + t * n, &g) && std::abs(g - background) > std::abs(c - background)) c = g;
-    }
-    side_difference.push_back(left - right);
-    contrast.push_back(c - background);
+  for (const detail::StripsBeside& s : detail::ReadStripsBeside(gray, w, beyond)) {
+    side_difference.push_back(s.left - s.right);
+    contrast.push_back(s.contrast);
   }
   if (side_difference.size() < 5) return true;  // too little of it inside the image to tell
-  return std::abs(median(side_difference)) < max_ratio * std::abs(median(contrast));
+  return std::abs(detail::Median(side_difference)) < max_ratio * std::abs(detail::Median(contrast));
+}
+
+
+// Bilinear grey at p, NaN outside the image.
+float GreyAt(const cv::Mat& gray, const Eigen::Vector2d& p) {
+  if (!(p.x() >= 0 && p.y() >= 0 && p.x() <= gray.cols - 2 && p.y() <= gray.rows - 2))
+    return std::numeric_limits<float>::quiet_NaN();
+  const int x = static_cast<int>(p.x()), y = static_cast<int>(p.y());
+  const float fx = static_cast<float>(p.x() - x), fy = static_cast<float>(p.y() - y);
+  const uint8_t* r0 = gray.ptr<uint8_t>(y) + x;
+  const uint8_t* r1 = gray.ptr<uint8_t>(y + 1) + x;
+  return (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) + fy * ((1 - fx) * r1[0] + fx * r1[1]);
+}
+
+// Up to 100 points of the curve, evenly spaced and at most 2 px apart, each with its normal: the
+// statistics below are medians, which that many samples fix well enough.
+std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> AlongTheCurve(const WireCurve& w) {
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> at;
+  for (const Eigen::Vector2d& p : w.Sample(2.0))
+    at.emplace_back(p, w.NormalAt(w.axis.dot(p - w.origin_px)));
+  return at;
+}
+
+// The grey across a curve: per offset t in [-reach, reach] (1 px apart) along the normal, the
+// grey at each of the points whose whole profile lies inside the image (row-major: one row of
+// 2 reach + 1 offsets per point).
+struct Across {
+  int offsets = 0, points = 0;
+  std::vector<float> grey;
+  float at(int point, int offset) const { return grey[static_cast<std::size_t>(point) * offsets + offset]; }
+};
+Across GreyAcross(const cv::Mat& gray, const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& at, int reach) {
+  Across across;
+  across.offsets = 2 * reach + 1;
+  across.grey.reserve(at.size() * across.offsets);
+  for (const auto& [p, n] : at) {
+    const Eigen::Vector2d first = p - reach * n, last = p + reach * n;
+    if (std::min({first.x(), first.y(), last.x(), last.y()}) < 0 || std::max(first.x(), last.x()) > gray.cols - 2 ||
+        std::max(first.y(), last.y()) > gray.rows - 2)
+      continue;  // a straight profile inside at both ends is inside all along
+    for (int t = -reach; t <= reach; ++t) across.grey.push_back(GreyAt(gray, p + t * n));
+    ++across.points;
+  }
+  return across;
+}
+
+float MedianOf(std::vector<float>& x) {  // reorders x
+  if (x.empty()) return std::numeric_limits<float>::quiet_NaN();
+  std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+  return x[x.size() / 2];
+}
+
+// Over offsets [from, to] of `across`: the median grey, and the median absolute deviation of
+// each sample from its own offset's median (how steady the grey is along the curve).
+struct Band {
+  float level = 0, spread = 0;
+};
+Band BandOf(const Across& across, int from, int to) {
+  std::vector<float> all, column, deviation;
+  for (int k = from; k <= to; ++k) {
+    column.clear();
+    for (int i = 0; i < across.points; ++i) column.push_back(across.at(i, k));
+    all.insert(all.end(), column.begin(), column.end());
+    const float m = MedianOf(column);
+    for (int i = 0; i < across.points; ++i) deviation.push_back(std::abs(across.at(i, k) - m));
+  }
+  return {MedianOf(all), MedianOf(deviation)};
+}
+
+// A cable near the camera is wider than the thickness filter passes, and is found by a highlight
+// or a stripe along it: its curve then lies inside the cable, drawn as a thin line. Its true
+// edges are where the background begins. Across the curve, the grey at a fixed offset is steady
+// along a cable's length (the same surface all along it) while over a textured background it
+// varies from sample to sample: per offset, the median absolute deviation of the grey over the
+// samples (MAD) is low on the cable and high beyond its edges. An edge is the first offset out
+// from the curve where the MAD passes halfway between the cable's (on the curve) and the
+// background's (at the far ends) and stays past it. Over a smooth background (sky, pavement) the
+// two do not differ and the curve is left as it was; so is a wire no wider than its flanks showed.
+WireCurve ToTheCableEdges(const cv::Mat& gray, const WireCurve& w, double diag) {
+  const int reach = static_cast<int>(std::ceil(0.04 * diag));  // [px] wider than a cable is seen
+  const Across across = GreyAcross(gray, AlongTheCurve(w), reach);
+  if (across.points < 10) return w;
+  // Each offset's spread, worked out when first asked for: a thin wire's edges are found a few
+  // offsets out, and the offsets beyond them are not needed.
+  std::vector<float> mad(2 * reach + 1, -1.0f);
+  const auto spread_at = [&](int k) {
+    if (mad[k] < 0) mad[k] = BandOf(across, k, k).spread;
+    return mad[k];
+  };
+  const auto median_of_five = [&](int first) {
+    std::vector<float> five;
+    for (int k = first; k < first + 5; ++k) five.push_back(spread_at(k));
+    return MedianOf(five);
+  };
+  const float cable = median_of_five(reach - 2);
+  const auto edge = [&](int step) {
+    const float background = median_of_five(step < 0 ? 0 : 2 * reach - 4);
+    if (background < 2.0f * cable) return std::numeric_limits<double>::quiet_NaN();  // no less steady than the cable
+    const float threshold = 0.5f * (cable + background);
+    for (int t = 1; t < reach - 1; ++t)
+      if (spread_at(reach + step * t) > threshold && spread_at(reach + step * (t + 1)) > threshold) return step * (t - 0.5);
+    return std::numeric_limits<double>::quiet_NaN();
+  };
+  const double left = edge(-1);
+  if (!std::isfinite(left)) return w;
+  const double right = edge(+1), width = right - left;
+  if (!std::isfinite(width) || width <= w.width_px + 3.0) return w;
+  WireCurve cable_edges = w;
+  cable_edges.b(0) += 0.5 * (left + right);
+  cable_edges.width_px = width;
+  return cable_edges;
+}
+
+// A wide cable found over part of its length (pieces of it, over a background that hid its
+// thin edges, gave nothing to group) goes on along its curve. From each end, 20 px at a time, the
+// stretch ahead is the cable's when it is the same cable: its grey within the cable's own
+// spread of the found part's, steady along it, and set apart from what lies 2 to 5 px beyond
+// its edges (a background twice as unsteady and by 3 grey levels, or a contrast of three times
+// the cable's spread and 5 grey levels). The
+// best of the curve's extrapolation and 1-2 px either side is taken, and the quadratic is fitted
+// again through the found part and the stretches taken.
+WireCurve AlongTheCable(const cv::Mat& gray, const WireCurve& w) {
+  const int half = std::max(1, static_cast<int>(std::floor(0.5 * w.width_px)) - 1);  // the cable's inside
+  const int reach = half + 6;
+  const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> found = AlongTheCurve(w);
+  const Across found_across = GreyAcross(gray, found, reach);
+  if (found_across.points < 10) return w;
+  const Band cable = BandOf(found_across, reach - half, reach + half);
+  // Whether the stretch in `across`, centred on its column `centre`, is the cable's.
+  const auto is_cable = [&](const Across& across, int centre, double* steadiness) {
+    if (across.points < 8) return false;
+    const Band inside = BandOf(across, centre - half, centre + half);
+    const Band left = BandOf(across, centre - reach, centre - reach + 3);
+    const Band right = BandOf(across, centre + reach - 3, centre + reach);
+    *steadiness = inside.spread;
+    const float tolerance = std::max(3.0f * cable.spread, 10.0f);
+    if (std::abs(inside.level - cable.level) > tolerance) return false;
+    const auto apart = [&](const Band& side) {
+      return side.spread >= 2.0f * inside.spread || std::abs(side.level - inside.level) >= 3.0f * cable.spread + 5.0f;
+    };
+    return apart(left) && apart(right);
+  };
+  const Eigen::Vector2d perp(-w.axis.y(), w.axis.x());
+  std::vector<Eigen::Vector2d> uv;
+  for (const Eigen::Vector2d& p : w.Sample(2.0)) uv.emplace_back(w.axis.dot(p - w.origin_px), perp.dot(p - w.origin_px));
+  double u_min = w.u_min, u_max = w.u_max;
+  constexpr double kStretchPx = 20.0;
+  for (const int direction : {-1, +1}) {
+    double u = direction < 0 ? w.u_min : w.u_max, shift = 0.0;
+    for (;;) {
+      // The stretch read 2 px wider either side, so each lateral shift is a shift of columns.
+      constexpr int kShift = 2;
+      std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> ahead;
+      for (double a = 1.0; a <= kStretchPx; a += 1.0) {
+        const Eigen::Vector2d n = w.NormalAt(u + direction * a);
+        ahead.emplace_back(w.PointAt(u + direction * a) + shift * n, n);
+      }
+      const Across stretch = GreyAcross(gray, ahead, reach + kShift);
+      double best = std::numeric_limits<double>::infinity(), best_shift = 0.0;
+      // The steadiest, nearest the extrapolation first: inside a cable wider than the window all
+      // are alike, and the curve must not wander across it.
+      for (const int ds : {0, -1, 1, -2, 2}) {
+        double steadiness = 0.0;
+        if (is_cable(stretch, reach + kShift + ds, &steadiness) && steadiness < best - 0.5) best = steadiness, best_shift = shift + ds;
+      }
+      if (!std::isfinite(best)) break;
+      shift = best_shift;
+      for (double a = 2.0; a <= kStretchPx; a += 2.0) {
+        const Eigen::Vector2d q = w.PointAt(u + direction * a) + shift * w.NormalAt(u + direction * a);
+        uv.emplace_back(w.axis.dot(q - w.origin_px), perp.dot(q - w.origin_px));
+      }
+      u += direction * kStretchPx;
+      (direction < 0 ? u_min : u_max) = u;
+    }
+  }
+  if (u_min == w.u_min && u_max == w.u_max) return w;
+  WireCurve longer = w;
+  longer.b = FitQuadratic(uv);
+  longer.u_min = u_min;
+  longer.u_max = u_max;
+  return longer;
 }
 
 void CheckImage(const cv::Mat& bgr) {
@@ -440,6 +595,9 @@ std::vector<WireCurve> PowerLineDetector::Detect(const cv::Mat& bgr) const {
     };
     if (std::none_of(kept.begin(), kept.end(), along_kept)) kept.push_back(w);
   }
+  // A cable near the camera, found by a highlight or over part of its length, is taken to its
+  // edges and along its length.
+  for (WireCurve& w : kept) w = AlongTheCable(gray, ToTheCableEdges(gray, w, std::hypot(gray.cols, gray.rows)));
   if (P.min_wire_probability <= 0.0) return kept;
   // The learned check: paving joints, kerbs, window mullions and brush strokes pass every test
   // above; the verifier, trained on what the tests let through on real photos, drops most of them.
@@ -563,5 +721,50 @@ MaskScore ScoreMasks(const cv::Mat& detected, const cv::Mat& truth, double tol_p
   tally.Add(detected, truth, tol_px);
   return tally.Score();
 }
+
+namespace detail {
+
+double Median(std::vector<double> x) {
+  if (x.empty()) return 0.0;
+  std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+  return x[x.size() / 2];
+}
+
+std::vector<StripsBeside> ReadStripsBeside(const cv::Mat& gray, const WireCurve& w, double beyond) {
+  auto grey_at = [&](const Eigen::Vector2d& p, double* value) {
+    const int u = cvRound(p.x()), v = cvRound(p.y());
+    if (u < 0 || v < 0 || u >= gray.cols || v >= gray.rows) return false;
+    *value = gray.at<uint8_t>(v, u);
+    return true;
+  };
+  std::vector<StripsBeside> out;
+  for (const Eigen::Vector2d& p : w.Sample(3.0)) {
+    StripsBeside s;
+    s.p = p;
+    s.n = w.NormalAt(w.axis.dot(p - w.origin_px));
+    // Each side's level is the median over a strip 8 px wide beyond the flank, so a second wire
+    // strung beside this one, a pixel or two of the strip, does not count as a different surface.
+    for (double t = beyond; t <= beyond + 8.0; t += 1.0) {
+      double g;
+      if (grey_at(p - t * s.n, &g)) s.left_strip.push_back(g);
+      if (grey_at(p + t * s.n, &g)) s.right_strip.push_back(g);
+    }
+    if (s.left_strip.size() < 5 || s.right_strip.size() < 5) continue;
+    s.left = Median(s.left_strip);
+    s.right = Median(s.right_strip);
+    const double background = 0.5 * (s.left + s.right);
+    // The wire itself: the grey level between the flanks that stands out most from the background.
+    double c = background;
+    for (double t = -0.5 * w.width_px - 1.0; t <= 0.5 * w.width_px + 1.0; t += 0.5) {
+      double g;
+      if (grey_at(p + t * s.n, &g) && std::abs(g - background) > std::abs(c - background)) c = g;
+    }
+    s.contrast = c - background;
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace detail
 
 }  // namespace uav::vision

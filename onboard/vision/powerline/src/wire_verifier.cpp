@@ -13,12 +13,6 @@ extern const char* const kEmbeddedWireVerifierYaml;  // generated from resources
 
 namespace {
 
-double Median(std::vector<double> x) {
-  if (x.empty()) return 0.0;
-  std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
-  return x[x.size() / 2];
-}
-
 bool ValueAt(const cv::Mat& m, const Eigen::Vector2d& p, double* value) {
   const int u = cvRound(p.x()), v = cvRound(p.y());
   if (u < 0 || v < 0 || u >= m.cols || v >= m.rows) return false;
@@ -34,39 +28,28 @@ WireFeatureVector MeasureWire(const cv::Mat& gray, const cv::Mat& thin, const Wi
   const double beyond = std::max(0.5 * w.width_px, 8.0) + 2.0;
   std::vector<double> side_difference, contrast, ridge, flank, texture;
   int samples = 0, edges = 0;
-  for (const Eigen::Vector2d& p : w.Sample(3.0)) {
-    const Eigen::Vector2d n = w.NormalAt(w.axis.dot(p - w.origin_px));
-    std::vector<double> left, right;
-    double g;
-    for (double t = beyond; t <= beyond + 8.0; t += 1.0) {
-      if (ValueAt(gray, p - t * n, &g)) left.push_back(g);
-      if (ValueAt(gray, p + t * n, &g)) right.push_back(g);
-    }
-    if (left.size() < 5 || right.size() < 5) continue;
-    const double l = Median(left), r = Median(right), background = 0.5 * (l + r);
-    double c = background, peak = 0.0;
-    for (double t = -0.5 * w.width_px - 1.5; t <= 0.5 * w.width_px + 1.5; t += 0.5) {
-      if (std::abs(t) <= 0.5 * w.width_px + 1.0 && ValueAt(gray, p + t * n, &g) && std::abs(g - background) > std::abs(c - background))
-        c = g;
-      if (ValueAt(thin, p + t * n, &g)) peak = std::max(peak, g);
-    }
-    side_difference.push_back(l - r);
-    contrast.push_back(c - background);
+  for (const StripsBeside& s : ReadStripsBeside(gray, w, beyond)) {
+    double g, peak = 0.0;
+    for (double t = -0.5 * w.width_px - 1.5; t <= 0.5 * w.width_px + 1.5; t += 0.5)
+      if (ValueAt(thin, s.p + t * s.n, &g)) peak = std::max(peak, g);
+    side_difference.push_back(s.left - s.right);
+    contrast.push_back(s.contrast);
     ridge.push_back(peak);
     ++samples;
     edges += peak > 7.0;
     double beside = 0.0;
     int beside_n = 0;
     for (const double t : {-beyond - 4.0, beyond + 4.0})
-      if (ValueAt(thin, p + t * n, &g)) beside += g, ++beside_n;
+      if (ValueAt(thin, s.p + t * s.n, &g)) beside += g, ++beside_n;
     if (beside_n > 0) flank.push_back(beside / beside_n);
     double mean = 0.0, sq = 0.0;
-    for (const double x : left) mean += x;
-    for (const double x : right) mean += x;
-    mean /= static_cast<double>(left.size() + right.size());
-    for (const double x : left) sq += (x - mean) * (x - mean);
-    for (const double x : right) sq += (x - mean) * (x - mean);
-    texture.push_back(std::sqrt(sq / static_cast<double>(left.size() + right.size())));
+    for (const double x : s.left_strip) mean += x;
+    for (const double x : s.right_strip) mean += x;
+    const double strips = static_cast<double>(s.left_strip.size() + s.right_strip.size());
+    mean /= strips;
+    for (const double x : s.left_strip) sq += (x - mean) * (x - mean);
+    for (const double x : s.right_strip) sq += (x - mean) * (x - mean);
+    texture.push_back(std::sqrt(sq / strips));
   }
   const double median_contrast = Median(contrast), median_ridge = Median(ridge), median_flank = Median(flank);
   int polarity = 0;

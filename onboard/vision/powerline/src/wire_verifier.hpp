@@ -5,6 +5,7 @@
 // ships in resources/models/wire_verifier.yml and is compiled into the library.
 #include <array>
 #include <string>
+#include <vector>
 
 #include <opencv2/core/mat.hpp>
 
@@ -22,6 +23,18 @@ namespace uav::vision::detail {
 // response on the curve and beside it (their medians and ratio, the share of samples where the
 // response is an edge), and the texture of its background.
 inline constexpr int kWireFeatures = 15;
+
+// Along the curve every 3 px (samples with both strips inside the image): the grey of the strips
+// 8 px wide beyond each flank, from `beyond` px out, their medians, and the wire's contrast
+// against their mean (the grey between the flanks, 1 px either side, that stands out most).
+// What the background test (step 7) reads, and part of what the verifier measures.
+struct StripsBeside {
+  Eigen::Vector2d p, n;  // the sample and the curve's normal there
+  std::vector<double> left_strip, right_strip;
+  double left = 0.0, right = 0.0, contrast = 0.0;
+};
+std::vector<StripsBeside> ReadStripsBeside(const cv::Mat& gray, const WireCurve& w, double beyond);
+double Median(std::vector<double> x);  // 0 for none
 using WireFeatureVector = std::array<float, kWireFeatures>;
 WireFeatureVector MeasureWire(const cv::Mat& gray, const cv::Mat& thin, const WireCurve& w);
 
