@@ -157,27 +157,35 @@ std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> AlongTheCurve(const Wir
 }
 
 // The grey across a curve: per offset t in [-reach, reach] (1 px apart) along the normal, the
-// grey at each of the points whose whole profile lies inside the image (row-major: one row of
-// 2 reach + 1 offsets per point).
-struct Across {
-  int offsets = 0, points = 0;
-  std::vector<float> grey;
-  float at(int point, int offset) const { return grey[static_cast<std::size_t>(point) * offsets + offset]; }
-};
-Across GreyAcross(const cv::Mat& gray, const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& at, int reach) {
-  Across across;
-  across.offsets = 2 * reach + 1;
-  across.grey.reserve(at.size() * across.offsets);
-  for (const auto& [p, n] : at) {
-    const Eigen::Vector2d first = p - reach * n, last = p + reach * n;
-    if (std::min({first.x(), first.y(), last.x(), last.y()}) < 0 || std::max(first.x(), last.x()) > gray.cols - 2 ||
-        std::max(first.y(), last.y()) > gray.rows - 2)
-      continue;  // a straight profile inside at both ends is inside all along
-    for (int t = -reach; t <= reach; ++t) across.grey.push_back(GreyAt(gray, p + t * n));
-    ++across.points;
+// grey at each of the points whose whole profile lies inside the image. An offset's column is
+// read when first asked for: the cable's edges are found a few offsets out, and most of the
+// background's are never needed.
+class Across {
+ public:
+  Across(const cv::Mat& gray, const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& at, int reach)
+      : gray_(gray), reach_(reach), columns_(2 * reach + 1) {
+    for (const auto& [p, n] : at) {
+      const Eigen::Vector2d first = p - reach * n, last = p + reach * n;
+      // A straight profile inside at both ends is inside all along.
+      if (std::min({first.x(), first.y(), last.x(), last.y()}) >= 0 && std::max(first.x(), last.x()) <= gray.cols - 2 &&
+          std::max(first.y(), last.y()) <= gray.rows - 2)
+        at_.emplace_back(p, n);
+    }
   }
-  return across;
-}
+  int points() const { return static_cast<int>(at_.size()); }
+  const std::vector<float>& Column(int k) const {
+    std::vector<float>& column = columns_[k];
+    if (column.empty())
+      for (const auto& [p, n] : at_) column.push_back(GreyAt(gray_, p + (k - reach_) * n));
+    return column;
+  }
+
+ private:
+  const cv::Mat& gray_;
+  int reach_;
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> at_;
+  mutable std::vector<std::vector<float>> columns_;
+};
 
 float MedianOf(std::vector<float>& x) {  // reorders x
   if (x.empty()) return std::numeric_limits<float>::quiet_NaN();
@@ -193,11 +201,11 @@ struct Band {
 Band BandOf(const Across& across, int from, int to) {
   std::vector<float> all, column, deviation;
   for (int k = from; k <= to; ++k) {
-    column.clear();
-    for (int i = 0; i < across.points; ++i) column.push_back(across.at(i, k));
-    all.insert(all.end(), column.begin(), column.end());
+    const std::vector<float>& grey = across.Column(k);
+    column = grey;
+    all.insert(all.end(), grey.begin(), grey.end());
     const float m = MedianOf(column);
-    for (int i = 0; i < across.points; ++i) deviation.push_back(std::abs(across.at(i, k) - m));
+    for (const float g : grey) deviation.push_back(std::abs(g - m));
   }
   return {MedianOf(all), MedianOf(deviation)};
 }
@@ -213,8 +221,8 @@ Band BandOf(const Across& across, int from, int to) {
 // two do not differ and the curve is left as it was; so is a wire no wider than its flanks showed.
 WireCurve ToTheCableEdges(const cv::Mat& gray, const WireCurve& w, double diag) {
   const int reach = static_cast<int>(std::ceil(0.04 * diag));  // [px] wider than a cable is seen
-  const Across across = GreyAcross(gray, AlongTheCurve(w), reach);
-  if (across.points < 10) return w;
+  const Across across(gray, AlongTheCurve(w), reach);
+  if (across.points() < 10) return w;
   // Each offset's spread, worked out when first asked for: a thin wire's edges are found a few
   // offsets out, and the offsets beyond them are not needed.
   std::vector<float> mad(2 * reach + 1, -1.0f);
@@ -258,12 +266,12 @@ WireCurve AlongTheCable(const cv::Mat& gray, const WireCurve& w) {
   const int half = std::max(1, static_cast<int>(std::floor(0.5 * w.width_px)) - 1);  // the cable's inside
   const int reach = half + 6;
   const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> found = AlongTheCurve(w);
-  const Across found_across = GreyAcross(gray, found, reach);
-  if (found_across.points < 10) return w;
+  const Across found_across(gray, found, reach);
+  if (found_across.points() < 10) return w;
   const Band cable = BandOf(found_across, reach - half, reach + half);
   // Whether the stretch in `across`, centred on its column `centre`, is the cable's.
   const auto is_cable = [&](const Across& across, int centre, double* steadiness) {
-    if (across.points < 8) return false;
+    if (across.points() < 8) return false;
     const Band inside = BandOf(across, centre - half, centre + half);
     const Band left = BandOf(across, centre - reach, centre - reach + 3);
     const Band right = BandOf(across, centre + reach - 3, centre + reach);
@@ -290,7 +298,7 @@ WireCurve AlongTheCable(const cv::Mat& gray, const WireCurve& w) {
         const Eigen::Vector2d n = w.NormalAt(u + direction * a);
         ahead.emplace_back(w.PointAt(u + direction * a) + shift * n, n);
       }
-      const Across stretch = GreyAcross(gray, ahead, reach + kShift);
+      const Across stretch(gray, ahead, reach + kShift);
       double best = std::numeric_limits<double>::infinity(), best_shift = 0.0;
       // The steadiest, nearest the extrapolation first: inside a cable wider than the window all
       // are alike, and the curve must not wander across it.

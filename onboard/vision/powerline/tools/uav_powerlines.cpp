@@ -1,5 +1,5 @@
 // uav-powerlines IMAGE|FOLDER... [--out DIR] [--truth DIR] [--overlay DIR] [--mode any|horizontal]
-// [--segments edlines|lsd]: the power-line detector on photos. With --out, for each image: DIR/<name>_lines.png (the input's size, 255 on
+// [--segments edlines|lsd] [--min-probability P]: the power-line detector on photos. With --out, for each image: DIR/<name>_lines.png (the input's size, 255 on
 // the wires drawn 2 px wide, 0 elsewhere) and DIR/<name>.json (each wire's quadratic, frame,
 // end points and width). With --truth, each image is scored against TRUTH/<name>.png (non-zero
 // on a wire) the way power-line benchmarks score boundaries: a pixel matches within 0.0075 of the
@@ -93,6 +93,12 @@ int main(int argc, char** argv) {
   cli.add_option("--segments", segments, "straight pieces of the edge map by EDLines or by OpenCV's LSD (the vehicle's pwl_segments)")
       ->check(CLI::IsMember({"edlines", "lsd"}))
       ->capture_default_str();
+  double min_probability = uav::vision::PowerLineParams{}.min_wire_probability;
+  cli.add_option("--min-probability", min_probability,
+                 "the learned check: curves it gives a lower probability of being a wire are dropped (0: no check, "
+                 "the vehicle's pwl_verify 0)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   uav::PrepareCommandLine(cli);
   CLI11_PARSE(cli, argc, argv);
   if (out_dir.empty() && truth_dir.empty() && overlay_dir.empty()) {
@@ -115,6 +121,7 @@ int main(int argc, char** argv) {
                                      : uav::vision::PowerLineParams::Mode::kAny;
   params.segments = segments == "lsd" ? uav::vision::PowerLineParams::Segments::kLsd
                                       : uav::vision::PowerLineParams::Segments::kEdLines;
+  params.min_wire_probability = min_probability;
   const uav::vision::PowerLineDetector detector(params);
   for (const std::string& dir : {out_dir, overlay_dir}) {
     if (dir.empty()) continue;
@@ -186,6 +193,7 @@ int main(int argc, char** argv) {
   progress.Finish(images.size());
   nlohmann::json report;
   report["segments"] = segments;
+  report["min_probability"] = min_probability;
   report["images"] = images.size();
   report["processed"] = processed;
   report["not_processed"] = failed;
