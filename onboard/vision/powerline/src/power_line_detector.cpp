@@ -147,8 +147,7 @@ float GreyAt(const cv::Mat& gray, const Eigen::Vector2d& p) {
   return (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) + fy * ((1 - fx) * r1[0] + fx * r1[1]);
 }
 
-// Up to 100 points of the curve, evenly spaced and at most 2 px apart, each with its normal: the
-// statistics below are medians, which that many samples fix well enough.
+// The curve's points 2 px apart, each with its normal.
 std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> AlongTheCurve(const WireCurve& w) {
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> at;
   for (const Eigen::Vector2d& p : w.Sample(2.0))
@@ -187,27 +186,20 @@ class Across {
   mutable std::vector<std::vector<float>> columns_;
 };
 
-float MedianOf(std::vector<float>& x) {  // reorders x
-  if (x.empty()) return std::numeric_limits<float>::quiet_NaN();
-  std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
-  return x[x.size() / 2];
-}
-
 // Over offsets [from, to] of `across`: the median grey, and the median absolute deviation of
 // each sample from its own offset's median (how steady the grey is along the curve).
 struct Band {
   float level = 0, spread = 0;
 };
 Band BandOf(const Across& across, int from, int to) {
-  std::vector<float> all, column, deviation;
+  std::vector<float> all, deviation;
   for (int k = from; k <= to; ++k) {
     const std::vector<float>& grey = across.Column(k);
-    column = grey;
     all.insert(all.end(), grey.begin(), grey.end());
-    const float m = MedianOf(column);
+    const float m = detail::Median(grey);
     for (const float g : grey) deviation.push_back(std::abs(g - m));
   }
-  return {MedianOf(all), MedianOf(deviation)};
+  return {detail::Median(std::move(all)), detail::Median(std::move(deviation))};
 }
 
 // A cable near the camera is wider than the thickness filter passes, and is found by a highlight
@@ -233,7 +225,7 @@ WireCurve ToTheCableEdges(const cv::Mat& gray, const WireCurve& w, double diag) 
   const auto median_of_five = [&](int first) {
     std::vector<float> five;
     for (int k = first; k < first + 5; ++k) five.push_back(spread_at(k));
-    return MedianOf(five);
+    return detail::Median(std::move(five));
   };
   const float cable = median_of_five(reach - 2);
   const auto edge = [&](int step) {
@@ -258,10 +250,9 @@ WireCurve ToTheCableEdges(const cv::Mat& gray, const WireCurve& w, double diag) 
 // thin edges, gave nothing to group) goes on along its curve. From each end, 20 px at a time, the
 // stretch ahead is the cable's when it is the same cable: its grey within the cable's own
 // spread of the found part's, steady along it, and set apart from what lies 2 to 5 px beyond
-// its edges (a background twice as unsteady and by 3 grey levels, or a contrast of three times
-// the cable's spread and 5 grey levels). The
-// best of the curve's extrapolation and 1-2 px either side is taken, and the quadratic is fitted
-// again through the found part and the stretches taken.
+// its edges (a background twice as unsteady, or a contrast of three times the cable's spread and
+// 5 grey levels). The steadiest of the curve's extrapolation and 1-2 px either side is taken, and
+// the quadratic is fitted again through the found part and the stretches taken.
 WireCurve AlongTheCable(const cv::Mat& gray, const WireCurve& w) {
   const int half = std::max(1, static_cast<int>(std::floor(0.5 * w.width_px)) - 1);  // the cable's inside
   const int reach = half + 6;
@@ -732,19 +723,14 @@ MaskScore ScoreMasks(const cv::Mat& detected, const cv::Mat& truth, double tol_p
 
 namespace detail {
 
-double Median(std::vector<double> x) {
-  if (x.empty()) return 0.0;
-  std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
-  return x[x.size() / 2];
+bool ValueAt(const cv::Mat& image, const Eigen::Vector2d& p, double* value) {
+  const int u = cvRound(p.x()), v = cvRound(p.y());
+  if (u < 0 || v < 0 || u >= image.cols || v >= image.rows) return false;
+  *value = image.at<uint8_t>(v, u);
+  return true;
 }
 
 std::vector<StripsBeside> ReadStripsBeside(const cv::Mat& gray, const WireCurve& w, double beyond) {
-  auto grey_at = [&](const Eigen::Vector2d& p, double* value) {
-    const int u = cvRound(p.x()), v = cvRound(p.y());
-    if (u < 0 || v < 0 || u >= gray.cols || v >= gray.rows) return false;
-    *value = gray.at<uint8_t>(v, u);
-    return true;
-  };
   std::vector<StripsBeside> out;
   for (const Eigen::Vector2d& p : w.Sample(3.0)) {
     StripsBeside s;
@@ -754,8 +740,8 @@ std::vector<StripsBeside> ReadStripsBeside(const cv::Mat& gray, const WireCurve&
     // strung beside this one, a pixel or two of the strip, does not count as a different surface.
     for (double t = beyond; t <= beyond + 8.0; t += 1.0) {
       double g;
-      if (grey_at(p - t * s.n, &g)) s.left_strip.push_back(g);
-      if (grey_at(p + t * s.n, &g)) s.right_strip.push_back(g);
+      if (ValueAt(gray, p - t * s.n, &g)) s.left_strip.push_back(g);
+      if (ValueAt(gray, p + t * s.n, &g)) s.right_strip.push_back(g);
     }
     if (s.left_strip.size() < 5 || s.right_strip.size() < 5) continue;
     s.left = Median(s.left_strip);
@@ -765,7 +751,7 @@ std::vector<StripsBeside> ReadStripsBeside(const cv::Mat& gray, const WireCurve&
     double c = background;
     for (double t = -0.5 * w.width_px - 1.0; t <= 0.5 * w.width_px + 1.0; t += 0.5) {
       double g;
-      if (grey_at(p + t * s.n, &g) && std::abs(g - background) > std::abs(c - background)) c = g;
+      if (ValueAt(gray, p + t * s.n, &g) && std::abs(g - background) > std::abs(c - background)) c = g;
     }
     s.contrast = c - background;
     out.push_back(std::move(s));

@@ -13,12 +13,6 @@ extern const char* const kEmbeddedWireVerifierYaml;  // generated from resources
 
 namespace {
 
-bool ValueAt(const cv::Mat& m, const Eigen::Vector2d& p, double* value) {
-  const int u = cvRound(p.x()), v = cvRound(p.y());
-  if (u < 0 || v < 0 || u >= m.cols || v >= m.rows) return false;
-  *value = m.at<uint8_t>(v, u);
-  return true;
-}
 
 }  // namespace
 

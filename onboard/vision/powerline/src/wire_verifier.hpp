@@ -3,6 +3,7 @@
 // over a few measurements of the curve and of the image along it gives the probability that the
 // curve is a wire. Trained by uav-powerlines-train on the real photos with pixel masks; the model
 // ships in resources/models/wire_verifier.yml and is compiled into the library.
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -34,7 +35,15 @@ struct StripsBeside {
   double left = 0.0, right = 0.0, contrast = 0.0;
 };
 std::vector<StripsBeside> ReadStripsBeside(const cv::Mat& gray, const WireCurve& w, double beyond);
-double Median(std::vector<double> x);  // 0 for none
+// The median (the upper one of an even count); T{} for none.
+template <typename T>
+T Median(std::vector<T> x) {
+  if (x.empty()) return T{};
+  std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+  return x[x.size() / 2];
+}
+// The grey (or response) of the 8-bit image's pixel nearest p; false outside the image.
+bool ValueAt(const cv::Mat& image, const Eigen::Vector2d& p, double* value);
 using WireFeatureVector = std::array<float, kWireFeatures>;
 WireFeatureVector MeasureWire(const cv::Mat& gray, const cv::Mat& thin, const WireCurve& w);
 
