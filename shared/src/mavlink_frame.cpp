@@ -173,4 +173,11 @@ std::vector<Frame> Parser::Push(const uint8_t* data, std::size_t size) {
   return out;
 }
 
+std::vector<Frame> Parser::PushDatagram(const uint8_t* data, std::size_t size) {
+  std::vector<Frame> out = Push(data, size);
+  counts_.skipped_bytes += static_cast<int64_t>(buffer_.size());
+  buffer_.clear();
+  return out;
+}
+
 }  // namespace uav::mavlink

@@ -56,19 +56,20 @@ class UdpTransport : public MavlinkTransport {
     }
   }
   ~UdpTransport() override { ::close(fd_); }
-  std::vector<uint8_t> Receive() override {
-    std::vector<uint8_t> out;
+  std::vector<std::vector<uint8_t>> Receive() override {
+    std::vector<std::vector<uint8_t>> out;
     uint8_t buf[65536];
     for (;;) {
       sockaddr_in from{};
       socklen_t len = sizeof from;
       const ssize_t n = ::recvfrom(fd_, buf, sizeof buf, 0, reinterpret_cast<sockaddr*>(&from), &len);
-      if (n <= 0) break;
-      out.insert(out.end(), buf, buf + n);
+      if (n < 0) break;
+      out.emplace_back(buf, buf + n);
       if (listening_) remote_ = from;
     }
     return out;
   }
+  bool datagrams() const override { return true; }
   bool Send(const std::vector<uint8_t>& bytes) override {
     if (!remote_) return false;
     return ::sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&*remote_), sizeof *remote_) ==
@@ -108,13 +109,15 @@ class SerialTransport : public MavlinkTransport {
     ::tcsetattr(fd_, TCSANOW, &t);
   }
   ~SerialTransport() override { ::close(fd_); }
-  std::vector<uint8_t> Receive() override {
-    std::vector<uint8_t> out;
+  std::vector<std::vector<uint8_t>> Receive() override {
+    std::vector<uint8_t> bytes;
     uint8_t buf[4096];
     ssize_t n;
-    while ((n = ::read(fd_, buf, sizeof buf)) > 0) out.insert(out.end(), buf, buf + n);
-    return out;
+    while ((n = ::read(fd_, buf, sizeof buf)) > 0) bytes.insert(bytes.end(), buf, buf + n);
+    if (bytes.empty()) return {};
+    return {std::move(bytes)};
   }
+  bool datagrams() const override { return false; }
   bool Send(const std::vector<uint8_t>& bytes) override {
     return ::write(fd_, bytes.data(), bytes.size()) == static_cast<ssize_t>(bytes.size());
   }

@@ -1,14 +1,18 @@
 // The vehicle's MAVLink endpoint apart from any vehicle: on a memq:// bus, it turns a signed
 // COMMAND_LONG into the vehicle's own command (signed on the bus, from "mavlink:<sysid>"), drops
 // and counts unsigned, foreign-key and replayed frames, garbage and bus messages that do not
-// convert, denies a reposition to no place, and names what is wrong with an endpoint it cannot open.
+// convert (a truncated datagram is dropped alone: the command after it still arrives), denies a
+// reposition to no place, resends a command the bus lost, and names what is wrong with an endpoint
+// it cannot open.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "uav/runtime/mavlink_endpoint.hpp"
@@ -17,6 +21,8 @@
 #include "unit/free_port.hpp"
 #include "uav/shared/time.hpp"
 #include "uav/wire/bus.hpp"
+#include "uav/wire/messages.hpp"
+#include "uavmsg/command_ack_t.hpp"
 #include "uavmsg/command_t.hpp"
 #include "uavmsg/vehicle_state_t.hpp"
 
@@ -54,28 +60,44 @@ std::vector<uint8_t> Arm(const SecretKey* key, uint64_t timestamp) {
   return Encode(f, FindLayout(CommandLong::kId)->crc_extra, key, 1, timestamp);
 }
 
+// An endpoint on a memq:// bus, listening on a free UDP port; a ground station's socket aimed at
+// it; what the endpoint published on the bus and said.
+class Rig {
+ public:
+  explicit Rig(MavlinkParams p = {}) {
+    bus_.Subscribe<uavmsg::command_t>(Channel("UAV1", Topic::kCommand),
+                                      [this](const std::string&, const uavmsg::command_t& m) { commands_.push_back(m); });
+    const int port = FreePort();
+    p.endpoint = "udpin:127.0.0.1:" + std::to_string(port);
+    p.video_host.clear();
+    endpoint_ = std::make_unique<MavlinkEndpoint>("UAV1", bus_, p, key_,
+                                                  [this](Severity, const std::string& t) { said_.push_back(t); });
+    gcs_.vehicle.sin_family = AF_INET;
+    gcs_.vehicle.sin_port = htons(static_cast<uint16_t>(port));
+    gcs_.vehicle.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  }
+  // A link tick after `sleep_us` (what the GCS sent has arrived), then the bus.
+  void Tick(int sleep_us = 20'000) {
+    ::usleep(static_cast<useconds_t>(sleep_us));
+    endpoint_->Tick(1'000'000);
+    bus_.Handle(0);
+  }
+  auto Parts() { return std::tie(bus_, key_, commands_, said_, gcs_, *endpoint_); }
+
+ private:
+  Bus bus_{"memq://"};
+  SigningKey key_ = SigningKey::FromPassphrase("the crew's passphrase");
+  std::vector<uavmsg::command_t> commands_;
+  std::vector<std::string> said_;
+  Peer gcs_;
+  std::unique_ptr<MavlinkEndpoint> endpoint_;
+};
+
 TEST(MavlinkEndpointTest, ASignedCommandBecomesTheVehiclesOwnAndEverythingElseIsDroppedAndCounted) {
-  Bus bus("memq://");
-  std::vector<uavmsg::command_t> commands;
-  bus.Subscribe<uavmsg::command_t>(Channel("UAV1", Topic::kCommand),
-                                   [&](const std::string&, const uavmsg::command_t& m) { commands.push_back(m); });
-  const SigningKey key = SigningKey::FromPassphrase("the crew's passphrase");
+  Rig rig;
+  auto [bus, key, commands, said, gcs, endpoint] = rig.Parts();
   const SigningKey other = SigningKey::FromPassphrase("not the crew's");
-  std::vector<std::string> said;
-  MavlinkParams p;
-  const int port = FreePort();
-  p.endpoint = "udpin:127.0.0.1:" + std::to_string(port);
-  p.video_host.clear();
-  MavlinkEndpoint endpoint("UAV1", bus, p, key, [&](Severity, const std::string& t) { said.push_back(t); });
-  Peer gcs;
-  gcs.vehicle.sin_family = AF_INET;
-  gcs.vehicle.sin_port = htons(static_cast<uint16_t>(port));
-  gcs.vehicle.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  auto tick = [&] {
-    ::usleep(20'000);
-    endpoint.Tick(1'000'000);
-    bus.Handle(0);
-  };
+  auto tick = [&] { rig.Tick(); };
   const uint64_t now = static_cast<uint64_t>(SigningTimestamp(WallTimeMicros()));
   const std::vector<uint8_t> arm = Arm(&key.bytes, now);
   gcs.Send(arm);
@@ -92,13 +114,14 @@ TEST(MavlinkEndpointTest, ASignedCommandBecomesTheVehiclesOwnAndEverythingElseIs
   std::vector<uint8_t> damaged = Arm(&key.bytes, now + 20);
   damaged[15] ^= 0x40;
   gcs.Send(damaged);
+  gcs.Send({0xfd, 0xf0, 0x00, 0x00, 0x01, 0xff});  // a truncated frame claiming 240 bytes
   tick();
   EXPECT_EQ(commands.size(), 1u) << "none of them reached the vehicle";
   const MavlinkEndpoint::Counts c = endpoint.counts();
   EXPECT_EQ(c.replayed, 1);
   EXPECT_EQ(c.unsigned_frames, 1);
   EXPECT_EQ(c.bad_signature, 1);
-  EXPECT_GE(c.skipped_bytes, 5);
+  EXPECT_GE(c.skipped_bytes, 5 + 6);
   EXPECT_EQ(c.bad_checksum, 1);
   std::string all;
   for (const std::string& s : said) all += s + "\n";
@@ -144,6 +167,63 @@ TEST(MavlinkEndpointTest, ASignedCommandBecomesTheVehiclesOwnAndEverythingElseIs
     }
   EXPECT_TRUE(px4) << "a signed PX4 heartbeat";
   EXPECT_TRUE(denied) << "DO_REPOSITION to latitude 200 denied";
+}
+
+// The bus loses the command on its way to the flight controller (nobody answers): the endpoint
+// publishes it again with the same sequence number (the vehicle's intake never runs a resend
+// twice) until an answer comes, and the GCS gets that answer. A command never answered ends in
+// MAV_RESULT_FAILED with the reason said, instead of a GCS waiting for ever.
+TEST(MavlinkEndpointTest, ACommandTheBusLostIsPublishedAgainAndOneNeverAnsweredFails) {
+  MavlinkParams p;
+  p.command_resend_s = 0.05;
+  p.command_tries = 3;
+  Rig rig(p);
+  auto [bus, key, commands, said, gcs, endpoint] = rig.Parts();
+  auto tick = [&] { rig.Tick(30'000); };
+  std::vector<int> acks;  // MAV_RESULT of every COMMAND_ACK of 400, in order
+  Parser parser(Lookup());
+  auto read_acks = [&] {
+    uint8_t buf[2048];
+    for (ssize_t n; (n = ::recv(gcs.fd, buf, sizeof buf, MSG_DONTWAIT)) > 0;)
+      for (const Frame& f : parser.Push(buf, static_cast<std::size_t>(n)))
+        if (f.msgid == mavlink::CommandAck::kId && Unpack<mavlink::CommandAck>(f).command == 400)
+          acks.push_back(Unpack<mavlink::CommandAck>(f).result);
+  };
+  uint64_t now = static_cast<uint64_t>(SigningTimestamp(WallTimeMicros()));
+  gcs.Send(Arm(&key.bytes, now));
+  for (int i = 0; i < 4; ++i) tick();  // 120 ms: the first publication and at least one more
+  ASSERT_GE(commands.size(), 2u);
+  for (const auto& c : commands) {
+    EXPECT_EQ(c.command_seq, commands[0].command_seq) << "a resend, not a new command";
+    EXPECT_EQ(c.text, "arm");
+  }
+  EXPECT_GT(commands[1].signature.timestamp, commands[0].signature.timestamp) << "signed afresh";
+  // The flight controller answers (the resend reached it): the GCS hears the answer, the resends stop.
+  uav::CommandAck done{"mavlink:1", commands[0].command_seq, "arm", CommandResult::kCompleted, 100, ""};
+  uavmsg::command_ack_t m = ToMessage(done);
+  m.header.vehicle_id = "UAV1";
+  bus.Publish(Channel("UAV1", Topic::kCommandAck), m);
+  bus.Handle(0);
+  const std::size_t published = commands.size();
+  for (int i = 0; i < 6; ++i) tick();
+  EXPECT_EQ(commands.size(), published) << "answered: no more resends";
+  read_acks();
+  ASSERT_EQ(acks.size(), 1u);
+  EXPECT_EQ(acks[0], 0) << "ACCEPTED";
+  EXPECT_EQ(endpoint.counts().commands_unanswered, 0);
+
+  // A second arm nobody ever answers: three publications, then FAILED and the reason.
+  commands.clear();
+  gcs.Send(Arm(&key.bytes, now + 1000));
+  for (int i = 0; i < 10; ++i) tick();
+  EXPECT_EQ(commands.size(), 3u);
+  read_acks();
+  ASSERT_EQ(acks.size(), 2u);
+  EXPECT_EQ(acks[1], 4) << "FAILED";
+  EXPECT_EQ(endpoint.counts().commands_unanswered, 1);
+  std::string all;
+  for (const std::string& s : said) all += s + "\n";
+  EXPECT_NE(all.find("MAVLink command 'arm': no answer from the flight controller in 0.15 s"), std::string::npos) << all;
 }
 
 TEST(MavlinkEndpointTest, AnEndpointItCannotOpenIsNamed) {

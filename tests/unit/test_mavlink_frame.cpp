@@ -1,6 +1,6 @@
 // MAVLink framing from the specification: the checksum's standard check value, MAVLink 2 and 1
 // frames through the parser (truncated zeros padded back, garbage and damaged frames skipped and
-// counted), and signing (a tampered frame or another key fails).
+// counted, a broken datagram dropped alone), and signing (a tampered frame or another key fails).
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -88,6 +88,28 @@ TEST(MavlinkFrame, DamagedUnknownAndFlaggedFramesAreSkippedAndCounted) {
   EXPECT_GE(parser.counts().bad_checksum, 2);
   EXPECT_EQ(parser.counts().unknown_message, 1);
   EXPECT_EQ(parser.counts().bad_flags, 1);
+}
+
+// UDP: a truncated frame, or garbage that starts like a long frame, ends with its datagram. As a
+// stream (Push) the heartbeat of the next datagram is swallowed into the bogus frame; datagram by
+// datagram (PushDatagram) it is kept.
+TEST(MavlinkFrame, ABrokenDatagramNeverSwallowsTheNextOne) {
+  const std::vector<uint8_t> truncated = {0xfd, 0x09, 0x00, 0x00, 0x01, 0xff};  // a header claiming 9 bytes
+  const std::vector<uint8_t> bogus = {0xfd, 0xf0, 0x02, 0x00, 0x01, 0xff, 0x01, 0x00, 0x00, 0x00};  // 240 bytes, a flag
+  const std::vector<uint8_t> good = Encode(Heartbeat(2), 50);
+  for (const auto& broken : {truncated, bogus}) {
+    Parser stream(Lookup);
+    stream.Push(broken.data(), broken.size());
+    std::size_t streamed = 0;
+    for (int i = 0; i < 5; ++i) streamed += stream.Push(good.data(), good.size()).size();
+    EXPECT_LT(streamed, 5u) << "as a stream, a good frame is lost";
+    Parser datagrams(Lookup);
+    EXPECT_TRUE(datagrams.PushDatagram(broken.data(), broken.size()).empty());
+    EXPECT_EQ(datagrams.counts().skipped_bytes, static_cast<int64_t>(broken.size()));
+    std::size_t kept = 0;
+    for (int i = 0; i < 5; ++i) kept += datagrams.PushDatagram(good.data(), good.size()).size();
+    EXPECT_EQ(kept, 5u) << "datagram by datagram, every good frame";
+  }
 }
 
 TEST(MavlinkFrame, ASignedFrameVerifiesWithItsKeyOnly) {

@@ -240,17 +240,15 @@ struct MavlinkLink::Impl {
   void Receive(double t, const uint8_t* extra = nullptr, std::size_t extra_size = 0) {
     now = t;
     if (extra) Ingest(extra, extra_size);
-    for (;;) {
-      const std::vector<uint8_t> bytes = transport ? transport->Receive() : std::vector<uint8_t>{};
-      if (bytes.empty()) break;
-      Ingest(bytes.data(), bytes.size());
-    }
+    if (transport)
+      for (const std::vector<uint8_t>& piece : transport->Receive()) Ingest(piece.data(), piece.size());
     Periodic();
   }
 
   void Ingest(const uint8_t* data, std::size_t size) {
     {
-      for (const Frame& f : parser.Push(data, size)) {
+      for (const Frame& f : transport && transport->datagrams() ? parser.PushDatagram(data, size)
+                                                                : parser.Push(data, size)) {
         ++counts.frames_in;
         const auto verdict = streams.Check(f, static_cast<uint64_t>(SigningTimestamp(WallTimeMicros())));
         if (verdict != SignedStreams::Verdict::kAccepted) {

@@ -150,6 +150,11 @@ struct MavlinkEndpoint::Impl {
     bool param_set = false;
     std::string param_name;
     bool final_sent = false;
+    // The bus message and its resends (see ResendUnanswered).
+    uavmsg::command_t message{};
+    int64_t published_us = 0;  // monotonic
+    int publications = 0;
+    bool answered = false;
   };
   int64_t command_seq = 0;
   std::map<int64_t, Pending> pending;
@@ -333,6 +338,7 @@ struct MavlinkEndpoint::Impl {
     const auto it = pending.find(a.command_seq);
     if (it == pending.end()) return;
     Pending& p = it->second;
+    p.answered = true;
     if (p.param_set) {
       // PARAM_SET is answered by PARAM_VALUE: the new value once the table has it, the old one
       // (and why) when refused.
@@ -382,9 +388,11 @@ struct MavlinkEndpoint::Impl {
 
   // ---- inbound MAVLink ----
   void Receive() {
-    const std::vector<uint8_t> bytes = transport->Receive();
-    if (bytes.empty()) return;
-    const std::vector<Frame> frames = parser.Push(bytes.data(), bytes.size());
+    std::vector<Frame> frames;
+    for (const std::vector<uint8_t>& piece : transport->Receive())
+      for (Frame& f : transport->datagrams() ? parser.PushDatagram(piece.data(), piece.size())
+                                             : parser.Push(piece.data(), piece.size()))
+        frames.push_back(std::move(f));
     const Parser::Counts& c = parser.counts();
     counts.bad_checksum = c.bad_checksum, counts.unknown_message = c.unknown_message, counts.bad_flags = c.bad_flags,
     counts.skipped_bytes = c.skipped_bytes;
@@ -623,8 +631,41 @@ struct MavlinkEndpoint::Impl {
     m.source = source;
     m.command_seq = ++command_seq;
     m.text = text;
-    pending[m.command_seq] = std::move(p);
-    Publish(Topic::kCommand, m);
+    p.message = m;
+    Pending& kept = pending[m.command_seq] = std::move(p);
+    PublishCommand(kept);
+  }
+  void PublishCommand(Pending& p) {
+    Publish(Topic::kCommand, p.message);  // a fresh header and signature, the same command_seq
+    p.published_us = MonotonicMicros();
+    ++p.publications;
+  }
+
+  // A command the bus lost (a datagram dropped by a loaded machine or a real network) is published
+  // again with its sequence number: the vehicle's intake answers a resend with what it already
+  // decided and never runs a command twice. Still unanswered after `command_tries` publications,
+  // the GCS is told it failed instead of waiting for an answer that will not come.
+  void ResendUnanswered() {
+    const int64_t wall = MonotonicMicros();
+    const auto resend_us = static_cast<int64_t>(params.command_resend_s * 1e6);
+    for (auto it = pending.begin(); it != pending.end();) {
+      Pending& p = it->second;
+      if (p.answered || wall - p.published_us < resend_us) {
+        ++it;
+      } else if (p.publications < params.command_tries) {
+        PublishCommand(p);
+        ++counts.commands_resent;
+        ++it;
+      } else {
+        ++counts.commands_unanswered;
+        // A fault inside the vehicle: both links hear it.
+        say(Severity::kWarning, "MAVLink command '" + p.message.text + "': no answer from the flight controller in " +
+                                     Number(params.command_tries * params.command_resend_s) + " s");
+        if (p.param_set) SendParam(p.param_name);
+        else Ack(p.cmd, kResultFailed);
+        it = pending.erase(it);
+      }
+    }
   }
 
   void OnTrack(const MavCommand& c) {
@@ -1101,6 +1142,7 @@ struct MavlinkEndpoint::Impl {
     now = utime;
     if (start < 0) start = utime;
     Receive();
+    ResendUnanswered();
     CheckUploadTimeout();
     PumpUploader();
     StatusTexts();

@@ -72,6 +72,9 @@ class Parser {
   explicit Parser(MessageLookup lookup) : lookup_(std::move(lookup)) {}
   // Appends `size` bytes; returns the frames they complete, in order.
   std::vector<Frame> Push(const uint8_t* data, std::size_t size);
+  // Takes one datagram, which holds whole frames: what is left of an incomplete or bogus frame at
+  // its end is dropped (counted as skipped), never joined to the next datagram.
+  std::vector<Frame> PushDatagram(const uint8_t* data, std::size_t size);
   struct Counts {
     int64_t frames = 0;          // good frames
     int64_t bad_checksum = 0;    // a start marker and a length, then a checksum that fails

@@ -12,8 +12,13 @@ namespace uav::mavlink {
 class MavlinkTransport {
  public:
   virtual ~MavlinkTransport() = default;
-  // Every byte that has arrived since the last call (empty: none).
-  virtual std::vector<uint8_t> Receive() = 0;
+  // What arrived since the last call, in the pieces the link delivers (empty: nothing): one per
+  // UDP datagram, one for a serial line's bytes.
+  virtual std::vector<std::vector<uint8_t>> Receive() = 0;
+  // Whether each piece holds whole frames (a datagram: a sender never splits a frame across two,
+  // so a damaged or truncated datagram is dropped alone instead of swallowing the frames after
+  // it) or is part of a stream (a serial line: a frame may span two reads).
+  virtual bool datagrams() const = 0;
   // Sends one frame (dropped, and counted by the caller, when the peer is unknown or the link full).
   virtual bool Send(const std::vector<uint8_t>& bytes) = 0;
   virtual std::string Describe() const = 0;

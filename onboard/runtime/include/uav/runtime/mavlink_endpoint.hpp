@@ -28,6 +28,11 @@ struct MavlinkParams {
   // RTP/H.264 video of the vehicle's video camera, QGroundControl's default ("" none).
   std::string video_host = "127.0.0.1";
   int video_port = 5600;
+  // A command handed to the vehicle on the bus and not answered within `command_resend_s` [s,
+  // wall clock] is published again (the bus lost it); after `command_tries` publications the GCS
+  // gets MAV_RESULT_FAILED and a status text saying so.
+  double command_resend_s = 1.0;
+  int command_tries = 5;
 };
 
 class MavlinkEndpoint {
@@ -50,6 +55,7 @@ class MavlinkEndpoint {
     int64_t bad_checksum = 0, unknown_message = 0, bad_flags = 0, skipped_bytes = 0;
     int64_t unsigned_frames = 0, bad_signature = 0, replayed = 0, stale = 0;
     int64_t commands = 0, commands_refused = 0;
+    int64_t commands_resent = 0, commands_unanswered = 0;  // bus publications again; given up
     int64_t bad_bus_messages = 0;  // the vehicle's own channels: messages that did not convert
   };
   Counts counts() const;
