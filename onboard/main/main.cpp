@@ -115,7 +115,8 @@ void DeclareOptions(CLI::App& cli, CommandLine& o) {
       ->capture_default_str();
   cli.add_option("--sensing-benchmark", o.benchmark_path,
                  "at exit, write the sensing benchmark (JSON: each vision worker's rate against its camera's, latency, "
-                 "drops; the control loop's period; CPU use) to this file, '-' for stdout (needs --scene)");
+                 "drops; the work per frame and, of it, the camera's capture (rendering, decoding); the control loop's period; CPU "
+                 "use) to this file, '-' for stdout (needs --scene or --rig)");
   cli.add_option("--duration", o.duration_s, "stop after this many simulated seconds (0: run until signalled)")
       ->check(CLI::Range(0.0, 1e7));
 }

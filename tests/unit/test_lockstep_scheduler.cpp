@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "uav/runtime/lockstep_scheduler.hpp"
+#include "uav/runtime/vision_worker.hpp"
 
 namespace uav::runtime {
 namespace {
@@ -153,6 +154,29 @@ TEST(LockstepScheduler, ASlowVisionWorkerDoesNotDelayControl) {
   const auto health = s.VisionHealth();
   EXPECT_GE(health[0].dropped, 5);
   EXPECT_GT(health[0].latency_p50_ms, 65.0);
+}
+
+// The camera's capture (rendering, decoding) is timed apart from the rest of the work: the
+// sensing report gives it beside the whole work, so a simulator's rendering is not taken for
+// perception.
+TEST(LockstepScheduler, TheCapturesTimeIsGivenApartFromTheWholeWork) {
+  LockstepScheduler s({0, 2000, 1.0, 500'000});
+  s.AddVisionWorker("VO", {100000, 0, 0, true, 1'000'000, "pair"},
+                    {[](int64_t) {},
+                     [] {
+                       TimedCapture([] {
+                         std::this_thread::sleep_for(std::chrono::milliseconds(20));
+                         return 0;
+                       });
+                       std::this_thread::sleep_for(std::chrono::milliseconds(30));
+                     },
+                     [] {}});
+  s.Run([](int64_t) {});
+  const auto health = s.VisionHealth();
+  ASSERT_EQ(health.size(), 1u);
+  EXPECT_GE(health[0].results, 3);
+  EXPECT_GE(health[0].capture_p50_ms, 20.0);
+  EXPECT_GE(health[0].compute_p50_ms, health[0].capture_p50_ms + 30.0);
 }
 
 // A worker that hangs: at a fixed latency the clock waits for it (here a second of wall time),

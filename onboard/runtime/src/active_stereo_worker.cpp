@@ -27,7 +27,7 @@ ActiveStereoWorker::ActiveStereoWorker(hal::StereoCamera& camera, Blackboard& bo
 void ActiveStereoWorker::Work(Outbox& out) {
   const int64_t utime = utime_;
   const BlackboardData& d = at_begin_;
-  const hal::StereoImages pair = camera_.Capture(utime, hal::Emitter::kOn);
+  const hal::StereoImages pair = TimedCapture([&] { return camera_.Capture(utime, hal::Emitter::kOn); });
   if (pair.left.empty()) return;  // the camera's problem shows in the sensing health
   vision::ActiveStereoResult r = stereo_.Process(pair.left, pair.right, camera_.left().T_BC, RotationNBFromEuler(d.estimate.euler));
   ground_.Apply(&r, d.estimate.p_N.z(), utime);

@@ -60,7 +60,7 @@ CameraWorker::~CameraWorker() {
 void CameraWorker::Work(Outbox& out) {
   const int64_t utime = utime_;
   const BlackboardData& d = at_begin_;
-  const hal::CameraFrame frame = camera_.Capture(utime);
+  const hal::CameraFrame frame = TimedCapture([&] { return camera_.Capture(utime); });
   if (frame.image.empty()) return;  // the camera's problem shows in the sensing health
   Eigen::Isometry3d T_NB_estimate = Eigen::Isometry3d::Identity();
   T_NB_estimate.linear() = RotationNBFromEuler(d.estimate.euler);

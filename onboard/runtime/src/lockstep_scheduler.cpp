@@ -39,7 +39,8 @@ struct LockstepScheduler::Vision {
   std::condition_variable wake;
   bool go = false;                 // a frame handed to the thread (under mutex_)
   std::atomic<bool> done{false};   // its work has returned (set under mutex_)
-  double compute_ms = 0.0;         // of the work that just returned (written before done)
+  double compute_ms = 0.0;         // of the work that just returned (written before done) ...
+  double capture_ms = 0.0;         // ... and of it, its camera's capture
   // The clock thread's.
   int64_t visible_utime = 0;       // fixed latency: when the result is due
   // Under stats_mutex_ (written by the clock thread, read by VisionHealth).
@@ -51,8 +52,18 @@ struct LockstepScheduler::Vision {
   int64_t frames_due = 0;          // the camera's frames so far
   int64_t results = 0, dropped = 0;
   std::deque<int64_t> result_utimes;  // the last 2 s
-  std::deque<double> latency_ms, compute_ms_recent;  // the last 64
+  std::deque<double> latency_ms, compute_ms_recent, capture_ms_recent;  // the last 64
 };
+
+double& CaptureMsOfThisThread() {
+  thread_local double capture_ms = 0.0;
+  return capture_ms;
+}
+double TakeCaptureMs() {
+  const double taken = CaptureMsOfThisThread();
+  CaptureMsOfThisThread() = 0.0;
+  return taken;
+}
 
 namespace {
 // Rates are counted over the last 2 s, or the last 5 frames asked for where that is longer (a
@@ -116,8 +127,10 @@ void LockstepScheduler::AddVisionWorker(const std::string& name, const VisionTim
         raw->go = false;
       }
       const auto started = std::chrono::steady_clock::now();
+      TakeCaptureMs();
       raw->job.work();
       raw->compute_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+      raw->capture_ms = TakeCaptureMs();
       {
         std::lock_guard<std::mutex> lock(mutex_);
         raw->done.store(true, std::memory_order_release);
@@ -159,8 +172,10 @@ void LockstepScheduler::PublishDue(Vision& v, int64_t utime) {
   const double latency_ms = ((fixed ? v.visible_utime : utime) - v.capture_utime) * 1e-3;
   v.latency_ms.push_back(latency_ms);
   v.compute_ms_recent.push_back(v.compute_ms);
+  v.capture_ms_recent.push_back(v.capture_ms);
   if (v.latency_ms.size() > kRecent) v.latency_ms.pop_front();
   if (v.compute_ms_recent.size() > kRecent) v.compute_ms_recent.pop_front();
+  if (v.capture_ms_recent.size() > kRecent) v.capture_ms_recent.pop_front();
   v.result_utimes.push_back(utime);
   ++v.results;
   v.in_flight = false;
@@ -225,6 +240,7 @@ std::vector<SensingWorker> LockstepScheduler::VisionHealth() const {
     h.latency_p50_ms = Percentile(latency, 0.5);
     h.latency_p99_ms = Percentile(latency, 0.99);
     h.compute_p50_ms = Percentile({v->compute_ms_recent.begin(), v->compute_ms_recent.end()}, 0.5);
+    h.capture_p50_ms = Percentile({v->capture_ms_recent.begin(), v->capture_ms_recent.end()}, 0.5);
     h.results = v->results;
     h.dropped = v->dropped;
     char reason[160] = "";

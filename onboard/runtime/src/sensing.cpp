@@ -298,6 +298,8 @@ std::string Sensing::BenchmarkJson(const LockstepScheduler& scheduler, double sp
                             {"latency_p50_ms", w.latency_p50_ms},
                             {"latency_p99_ms", w.latency_p99_ms},
                             {"compute_p50_ms", w.compute_p50_ms},
+                            {"capture_p50_ms", w.capture_p50_ms},
+                            {"perception_p50_ms", w.compute_p50_ms - w.capture_p50_ms},
                             {"results", w.results},
                             {"dropped", w.dropped},
                             {"healthy", w.healthy},

@@ -83,7 +83,7 @@ void StereoWorker::Begin(int64_t utime) {
 void StereoWorker::Work(Outbox& out) {
   const int64_t utime = utime_;
   const Eigen::Isometry3d T_NB = T_NB_;
-  const hal::StereoImages pair = camera_.Capture(utime, hal::Emitter::kOn);
+  const hal::StereoImages pair = TimedCapture([&] { return camera_.Capture(utime, hal::Emitter::kOn); });
   // One rectification of the pair for every algorithm that reads it. A pair that cannot be used
   // (a camera gone blank, a wrong size, a navigation solution gone non-finite) leaves the
   // channel unhealthy: nothing stale is reported and the thread keeps running.

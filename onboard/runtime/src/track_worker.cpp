@@ -40,7 +40,7 @@ void TrackWorker::Begin(int64_t utime) {
 void TrackWorker::Work(Outbox& out) {
   const int64_t utime = utime_;
   const BlackboardData& d = at_begin_;
-  hal::CameraFrame frame = camera_.Capture(utime);
+  hal::CameraFrame frame = TimedCapture([&] { return camera_.Capture(utime); });
   if (frame.image.empty()) return;  // the camera's problem shows in the sensing health; requests wait
   ++frames_;
   if (preview_.Due(utime)) out.Post([f = preview_.Encode(utime, frame.image)](Blackboard& b) { b.previews.Put(f.camera, f); });

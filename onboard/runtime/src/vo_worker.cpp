@@ -46,7 +46,7 @@ VoWorker::~VoWorker() {
 void VoWorker::Work(Outbox& out) {
   const int64_t utime = utime_;
   const BlackboardData& d = at_begin_;
-  const hal::StereoImages pair = camera_.Capture(utime, hal::Emitter::kOff);
+  const hal::StereoImages pair = TimedCapture([&] { return camera_.Capture(utime, hal::Emitter::kOff); });
   vision::RectifiedPair rect;
   rect.left_utime = pair.left_utime;
   rect.right_utime = pair.right_utime;

@@ -18,6 +18,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "uav/shared/image_files.hpp"
 #include "uav/shared/progress_bar.hpp"
@@ -145,8 +146,12 @@ int main(int argc, char** argv) {
     const std::string stem = std::filesystem::path(path).stem().string();
     try {
       if (const std::string problem = uav::ImageFileProblem(path); !problem.empty()) throw std::invalid_argument(problem);
-      const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
+      cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
       if (image.empty()) throw std::invalid_argument("cannot read it as an image");
+      // A grey camera's frames (KITTI's, most aerial mono cameras') and a PNG with alpha are
+      // taken as colour; other depths (16-bit, float) are named by the detector.
+      if (image.depth() == CV_8U && image.channels() == 1) cv::cvtColor(image, image, cv::COLOR_GRAY2BGR);
+      if (image.depth() == CV_8U && image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2BGR);
       const cv::Mat truth = truth_dir.empty() ? cv::Mat() : TruthMask(truth_dir, path, image.size());
       const auto t0 = std::chrono::steady_clock::now();
       const auto wires = detector.Detect(image);

@@ -18,7 +18,8 @@ struct SensingWorker {
   double rate_hz = 0.0;              // results made visible per second, over the last 2 s
   double latency_p50_ms = 0.0;       // capture to visible, over the last 64 results
   double latency_p99_ms = 0.0;
-  double compute_p50_ms = 0.0;       // wall-clock time of the work alone
+  double compute_p50_ms = 0.0;       // wall-clock time of the work alone, its camera's capture included
+  double capture_p50_ms = 0.0;       // of it, the capture: rendering in the simulator, decoding a recording
   int64_t results = 0;               // since start
   int64_t dropped = 0;               // frames the camera gave while the worker was busy
   bool healthy = true;

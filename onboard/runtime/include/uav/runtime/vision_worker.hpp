@@ -5,6 +5,7 @@
 // its own thread (Work), and what it writes reaches the blackboard only when its result becomes
 // visible, at capture time plus its latency (LockstepScheduler::AddVisionWorker). Until then the
 // rest of the vehicle acts on the previous, older result, stamped with its capture time.
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <utility>
@@ -14,6 +15,20 @@
 #include "uav/shared/parameters.hpp"
 
 namespace uav::runtime {
+
+// The wall time this thread spent in cameras' Capture since it was last taken [ms]: rendering in
+// the simulator, decoding a recording, grabbing from a device. The scheduler takes it after each
+// frame's work (TakeCaptureMs), and the sensing report gives it apart from the whole work.
+double& CaptureMsOfThisThread();
+double TakeCaptureMs();
+// Runs `capture` (a camera's Capture) and counts its wall time as this thread's capture time.
+template <class Capture>
+auto TimedCapture(Capture&& capture) {
+  const auto started = std::chrono::steady_clock::now();
+  auto frame = capture();
+  CaptureMsOfThisThread() += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  return frame;
+}
 
 // What a worker writes during Work, applied to the blackboard in order when the result is due.
 // Each write captures what it writes by value: it runs after the work that made it has returned.
