@@ -99,6 +99,30 @@ TEST(StereoWorker, PostsTheObstacleRangeAhead) {
 
 // The downward active rig over the indoor scene's bare floor at 1.2 m: the height goes to the
 // report and to the INS; over the table, whose top hides the floor from every dot, neither.
+// Workers sharing a pair at one rate ask for the same exposure: it is rendered once, and each gets
+// its own copy. The projector's mode matters only on a rig that has one.
+TEST(SimStereoCamera, OneExposureIsRenderedOnceAndEachWorkerGetsItsOwnCopy) {
+  const world::Scene forest = LoadScene("forest");
+  sim::SimStereoCamera plain(forest, *forest.stereo_camera(), [](int64_t) { return Pose(0, 0, -1.5); });
+  hal::StereoImages dark = plain.Capture(1'000'000, hal::Emitter::kOff);
+  const hal::StereoImages lit = plain.Capture(1'000'000, hal::Emitter::kOn);
+  EXPECT_EQ(plain.renders(), 1) << "no projector: one exposure";
+  EXPECT_EQ(cv::norm(dark.left, lit.left, cv::NORM_INF), 0.0);
+  EXPECT_NE(dark.left.data, lit.left.data) << "each its own copy";
+  dark.left.setTo(0);
+  EXPECT_GT(cv::norm(plain.Capture(1'000'000, hal::Emitter::kOff).left, cv::NORM_L1), 0.0)
+      << "a worker's change does not reach the next";
+  EXPECT_GT(cv::norm(plain.Capture(1'100'000, hal::Emitter::kOff).left, lit.left, cv::NORM_L1), 0.0)
+      << "another exposure time: rendered again";
+  EXPECT_EQ(plain.renders(), 2);
+  const world::Scene room = LoadScene("indoor_active");
+  sim::SimStereoCamera projector(room, *room.stereo_camera(), [](int64_t) { return Pose(0.5, -1.5, -1.2); });
+  const cv::Mat off = projector.Capture(1'000'000, hal::Emitter::kOff).left;
+  const cv::Mat on = projector.Capture(1'000'000, hal::Emitter::kOn).left;
+  EXPECT_GT(cv::norm(on, off, cv::NORM_L1), 0.0) << "the dots are on one exposure and not the other";
+  EXPECT_EQ(projector.renders(), 2);
+}
+
 TEST(ActiveStereoWorker, PostsTheHeightForTheLinkAndTheInsAndNoneOverATable) {
   const world::Scene scene = LoadScene("indoor_active");
   Blackboard board;

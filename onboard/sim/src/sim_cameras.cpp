@@ -55,17 +55,26 @@ SimStereoCamera::SimStereoCamera(const world::Scene& scene, const world::StereoS
     : renderer_(scene, setup),
       left_(CameraInfoOf(setup.left)),
       right_(CameraInfoOf(setup.right)),
-      truth_T_NB_(std::move(truth_T_NB)) {}
+      truth_T_NB_(std::move(truth_T_NB)),
+      has_projector_(setup.laser.enabled) {}
 
 hal::StereoImages SimStereoCamera::Capture(int64_t utime, hal::Emitter emitter) {
   std::lock_guard<std::mutex> lock(capture_mutex_);
   const Eigen::Isometry3d T_NB = truth_T_NB_(utime);
-  world::StereoFrame pair = renderer_.Render(T_NB, utime, emitter == hal::Emitter::kOn);
-  if (failed_) {
-    pair.left.image.setTo(0);
-    pair.right.image.setTo(0);
+  const bool projector_on = has_projector_ && emitter == hal::Emitter::kOn;
+  if (utime != last_utime_ || projector_on != last_projector_on_) {
+    last_ = renderer_.Render(T_NB, utime, projector_on);
+    ++renders_;
+    last_utime_ = utime;
+    last_projector_on_ = projector_on;
   }
-  return {pair.left.image, pair.right.image, utime, utime, T_NB};
+  // Each worker its own copy: none of them can change another's.
+  hal::StereoImages pair{last_.left.image.clone(), last_.right.image.clone(), utime, utime, T_NB};
+  if (failed_) {
+    pair.left.setTo(0);
+    pair.right.setTo(0);
+  }
+  return pair;
 }
 
 }  // namespace uav::sim

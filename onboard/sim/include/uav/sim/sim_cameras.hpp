@@ -76,13 +76,23 @@ class SimStereoCamera : public hal::StereoCamera {
   // The simulator's fault: a failed pair delivers black images (a camera whose sensor or cable
   // died), so the vision workers find nothing in them and say so.
   void SetFailed(bool failed) { failed_ = failed; }
+  // Exposures rendered so far: one per exposure time (and projector mode), however many workers ask.
+  int64_t renders() const { return renders_; }
 
  private:
   std::atomic<bool> failed_{false};
+  std::atomic<int64_t> renders_{0};
   world::StereoRenderer renderer_;
   hal::CameraInfo left_, right_;
   TruthPose truth_T_NB_;
+  bool has_projector_ = false;
   std::mutex capture_mutex_;  // one exposure at a time, as a camera driver delivers them
+  // The last exposure (under capture_mutex_): workers sharing the pair at one rate (odometry with
+  // obstacles and wires) ask for the same one, which a camera exposes once; without a projector
+  // the emitter mode changes nothing in it.
+  int64_t last_utime_ = -1;
+  bool last_projector_on_ = false;
+  world::StereoFrame last_;
 };
 
 }  // namespace uav::sim
